@@ -1,0 +1,64 @@
+"""What every reported quantity means: point, frame of components, kind, units.
+
+One table, used by the command line, ``relacc check`` and the report, so a
+number never travels without its meaning.
+"""
+
+from __future__ import annotations
+
+QUANTITIES = ("position", "velocity", "acceleration", "V", "Vdot")
+"""The outputs of :func:`relacc.g2_kinematics` that are cross-validated."""
+
+SYMBOLS = {
+    "position": "r_G2",
+    "velocity": "v_G2",
+    "acceleration": "a_G2",
+    "V": "V",
+    "Vdot": "Vdot",
+}
+
+CONVENTIONS = {
+    "position": "G2 from R's origin; fixed-frame components; m",
+    "velocity": "velocity of G2 in R; fixed-frame components; m/s",
+    "acceleration": "classical acceleration of G2 in R (d2r/dt2, not spatial); fixed-frame components; m/s^2",
+    "V": "partial velocities of G2, v = V u; fixed-frame components; 3x12",
+    "Vdot": "dV/dt along the motion, a = V udot + Vdot u; fixed-frame components; 3x12",
+}
+
+CASE_NAMES = {
+    1: "fixed-frame angular velocity components",
+    2: "body-frame angular velocity components",
+    3: "1-2-3 orientation angle rates",
+}
+
+SPEEDS = {
+    1: "[s1_dot (fixed), omega_B1 (fixed), s2'_dot (B1), omega_hat_B2 (B1)]",
+    2: "[s1_dot (fixed), omega'_B1 (B1), s2'_dot (B1), omega_hat'_B2 (B2)]",
+    3: "[s1_dot (fixed), theta_B1_dot, s2'_dot (B1), theta_B2_dot]",
+}
+
+COORDINATES = {
+    1: "[s1 (fixed), quat_B1 (w,x,y,z), s2' (B1), quat_B2/B1 (w,x,y,z)]",
+    2: "[s1 (fixed), quat_B1 (w,x,y,z), s2' (B1), quat_B2/B1 (w,x,y,z)]",
+    3: "[s1 (fixed), theta_B1 (1-2-3), s2' (B1), theta_B2 (1-2-3)]",
+}
+
+ENGINE_MAPPINGS = {
+    ("mujoco", "quaternion"): (
+        "two_body.xml; qpos = [s1, quat_B1 (w first), s2', quat_B2/B1 (w first)]; "
+        "qvel = [s1_dot (world), omega'_B1 (B1), s2'_dot, omega_hat'_B2 (B2)] = Case 2 speeds; "
+        "G2: mj_jac, mj_jacDot (after mj_comVel), mj_objectAcceleration with gravity 0"
+    ),
+    ("mujoco", "euler"): (
+        "two_body_euler.xml; qpos = case-3 q, qvel = case-3 u (slides, hinges x, y, z); no map"
+    ),
+    ("pinocchio", "quaternion"): (
+        "two_body.xml, composite joint split; q = [s1, quat_B1 (x,y,z,w), s2', quat_B2/B1 (x,y,z,w)]; "
+        "v = [[R_B1] s1_dot (B1), omega'_B1, s2'_dot, omega_hat'_B2]; "
+        "a = [[R_B1] s1_ddot - omega'_B1 x [R_B1] s1_dot, ...]; G2: LOCAL_WORLD_ALIGNED frame "
+        "Jacobian, its time variation, getFrameClassicalAcceleration"
+    ),
+    ("pinocchio", "euler"): (
+        "two_body_euler.urdf; q = case-3 q, v = case-3 u (prismatic, revolute x, y, z); no map"
+    ),
+}

@@ -1,0 +1,202 @@
+"""The interface every engine adapter implements.
+
+An adapter evaluates G2's position, velocity, classical acceleration, V and
+Vdot for a case's state with an established engine and returns the core's
+:class:`relacc.G2Kinematics`, all in fixed-frame components.
+
+Two routes:
+
+* ``"quaternion"`` (cases 1, 2, 3): the MJCF fixture ``two_body.xml``. The
+  case's state goes to the body speeds of :mod:`relacc.speeds`
+  (``nu = [W] u``), then to the engine's own velocity vector
+  ``v_e = [P(q)] nu`` by the adapter's documented map ``P``. With
+  ``[E] = [P][W]`` (``v_e = [E] u``) and ``[E_dot] = [P_dot][W] + [P][W_dot]``,
+  ``V = [J][E]``, ``Vdot = [J_dot][E] + [J][E_dot]``, and the engine is handed
+  ``a_e = [E] udot + [E_dot] u``.
+* ``"euler"`` (case 3 only): the Euler-angle fixtures, whose joint positions
+  and velocities *are* the case-3 ``q`` and ``u``: no mapping at all.
+
+Each adapter computes the acceleration by the engine's own acceleration
+routine, independently of its Jacobian time variation.
+"""
+
+from __future__ import annotations
+
+import abc
+from dataclasses import dataclass
+
+import numpy as np
+
+from relacc.cases import Case, as_case, check_q, check_u
+from relacc.errors import EngineError
+from relacc.kinematics import G2Kinematics
+from relacc.note.common import mv
+from relacc.rotations import angles_123_from_matrix, matrix_from_quaternion
+from relacc.speeds import body_speed_map, quaternion_coordinates
+
+ROUTES = ("quaternion", "euler")
+
+
+@dataclass(frozen=True)
+class EngineInput:
+    """A batch of states in an engine's own coordinates.
+
+    Attributes:
+        q: ``(n, nq_e)`` engine positions. v: ``(n, nv_e)`` velocities.
+        a: ``(n, nv_e)`` accelerations (None without udot).
+        E: ``(n, nv_e, 12)``, ``v_e = [E] u``. E_dot: ``(n, nv_e, 12)`` its rate.
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray | None
+    E: np.ndarray
+    E_dot: np.ndarray
+
+
+@dataclass(frozen=True)
+class PointKinematics:
+    """What the engine computes for G2 at one state, in its own velocity coordinates.
+
+    Attributes:
+        position: ``(3,)`` G2 in world (= fixed frame R) components, m.
+        J: ``(3, nv_e)`` translational Jacobian of G2, world components.
+        J_dot: ``(3, nv_e)`` its time derivative along the motion.
+        acceleration: ``(3,)`` classical acceleration of G2, world components,
+            from the engine's acceleration routine (None without ``a``).
+    """
+
+    position: np.ndarray
+    J: np.ndarray
+    J_dot: np.ndarray
+    acceleration: np.ndarray | None
+
+
+class Engine(abc.ABC):
+    """An engine loaded with the chain's fixtures.
+
+    Subclasses set ``name`` and implement :meth:`engine_input` (the
+    coordinate map) and :meth:`point` (one state through the engine).
+    """
+
+    name: str = ""
+
+    @property
+    @abc.abstractmethod
+    def version(self) -> str:
+        """The engine's version string."""
+
+    @abc.abstractmethod
+    def engine_input(self, route: str, case: Case, q, u, udot) -> EngineInput:
+        """Map a batch of a case's states to the engine's coordinates."""
+
+    @abc.abstractmethod
+    def note_coordinates(self, route: str, case: Case, q_e) -> np.ndarray:
+        """Inverse of the coordinate map: engine positions ``(n, nq_e)`` to the case's ``q``."""
+
+    def note_state(self, route: str, case, x: EngineInput):
+        """Inverse of :meth:`engine_input`: ``(q, u, udot)`` of the case from engine coordinates.
+
+        ``u = [E]^-1 v_e`` and ``udot = [E]^-1 (a_e - [E_dot] u)``. For case 3 on
+        the quaternion route this goes through :func:`relacc.rotations.angles_123_from_matrix`,
+        ill-conditioned near gimbal lock; it serves round-trip tests, not comparisons.
+        """
+        c = as_case(case)
+        q = self.note_coordinates(route, c, x.q)
+        u = np.linalg.solve(x.E, x.v[..., None])[..., 0]
+        udot = None if x.a is None else np.linalg.solve(x.E, (x.a - mv(x.E_dot, u))[..., None])[..., 0]
+        return q, u, udot
+
+    @abc.abstractmethod
+    def point(self, route: str, q, v, a) -> PointKinematics:
+        """Evaluate G2 for one state in engine coordinates."""
+
+    def g2_kinematics(self, case, q, u, udot=None, *, route="quaternion") -> G2Kinematics:
+        """G2's kinematics by this engine, in the core's conventions.
+
+        Args:
+            case: 1, 2 or 3. q: ``(..., 14)`` or ``(..., 12)``; u, udot: ``(..., 12)``.
+            route: ``"quaternion"`` (any case) or ``"euler"`` (case 3 only).
+
+        Returns:
+            :class:`relacc.G2Kinematics`, fixed-frame components, classical
+            acceleration; ``variant`` names the engine and route.
+
+        Raises:
+            EngineError: unknown route or the euler route for cases 1-2.
+            InputError: as :func:`relacc.g2_kinematics`.
+        """
+        c = as_case(case)
+        if route not in ROUTES:
+            raise EngineError(f"unknown route {route!r}: accepted are {', '.join(ROUTES)}")
+        if route == "euler" and c is not Case.ANGLE_RATES:
+            raise EngineError(f"the euler route takes case 3 states only, got case {int(c)}")
+        q = check_q(c, q)
+        u = check_u(f"u for case {int(c)}", u)
+        udot = None if udot is None else check_u(f"udot for case {int(c)}", udot)
+        batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1], () if udot is None else udot.shape[:-1])
+        q = np.broadcast_to(q, batch + q.shape[-1:]).reshape(-1, q.shape[-1])
+        u = np.broadcast_to(u, batch + (12,)).reshape(-1, 12)
+        udot = None if udot is None else np.broadcast_to(udot, batch + (12,)).reshape(-1, 12)
+        x = self.engine_input(route, c, q, u, udot)
+        n = q.shape[0]
+        pos, acc = np.empty((n, 3)), np.empty((n, 3))
+        V, Vdot = np.empty((n, 3, 12)), np.empty((n, 3, 12))
+        for i in range(n):
+            p = self.point(route, x.q[i], x.v[i], None if x.a is None else x.a[i])
+            pos[i] = p.position
+            V[i] = p.J @ x.E[i]
+            Vdot[i] = p.J_dot @ x.E[i] + p.J @ x.E_dot[i]
+            if x.a is not None:
+                acc[i] = p.acceleration
+        shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
+        return G2Kinematics(
+            position=shape(pos, (3,)),
+            velocity=shape(np.einsum("nij,nj->ni", V, u), (3,)),
+            acceleration=None if udot is None else shape(acc, (3,)),
+            V=shape(V, (3, 12)),
+            Vdot=shape(Vdot, (3, 12)),
+            case=c,
+            variant=f"{self.name}:{route}",
+        )
+
+
+def quaternion_route_input(case: Case, q, u, udot, P, P_dot, engine_q) -> EngineInput:
+    """Build an :class:`EngineInput` from body speeds and an engine's map ``P``.
+
+    Args:
+        P, P_dot: functions ``(q14, nu) -> (n, nv_e, 12)`` giving the engine
+            velocity map on top of the body speeds and its rate.
+        engine_q: function ``q14 -> (n, nq_e)`` engine positions.
+    """
+    q14 = quaternion_coordinates(case, q)
+    W, W_dot = body_speed_map(case, q, u)
+    nu = mv(W, u)
+    Pm, Pd = P(q14, nu), P_dot(q14, nu)
+    E = Pm @ W
+    E_dot = Pd @ W + Pm @ W_dot
+    v = mv(E, u)
+    a = None if udot is None else mv(E, udot) + mv(E_dot, u)
+    return EngineInput(q=engine_q(q14), v=v, a=a, E=E, E_dot=E_dot)
+
+
+def note_from_quaternions(case: Case, q14) -> np.ndarray:
+    """Quaternion coordinates ``(n, 14)`` back to the case's ``q`` (angles for case 3)."""
+    if case is not Case.ANGLE_RATES:
+        return q14
+    return np.concatenate(
+        [
+            q14[:, 0:3],
+            angles_123_from_matrix(matrix_from_quaternion(q14[:, 3:7])),
+            q14[:, 7:10],
+            angles_123_from_matrix(matrix_from_quaternion(q14[:, 10:14])),
+        ],
+        1,
+    )
+
+
+def identity_input(q, u, udot) -> EngineInput:
+    """The euler route: engine coordinates are the case-3 ``q``, ``u``, ``udot`` themselves."""
+    n = q.shape[0]
+    E = np.broadcast_to(np.eye(12), (n, 12, 12))
+    return EngineInput(q=q, v=u, a=udot, E=E, E_dot=np.zeros((n, 12, 12)))

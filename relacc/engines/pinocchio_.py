@@ -1,0 +1,189 @@
+"""Pinocchio adapter: imports only ``pinocchio``.
+
+Conventions of Pinocchio, converted here and nowhere else:
+
+* Free-flyer ``q = [x, y, z, qx, qy, qz, qw]``: the quaternion is scalar *last*.
+* Free-flyer ``v = [linear, angular]`` in the *body* frame (LOCAL): the
+  linear part is B1's origin velocity in B1 components,
+  ``[R_B1] s1_dot``, the angular part ``omega'_B1``. Its time derivative is
+  what Pinocchio takes as ``a``: ``[R_B1] s1_ddot - omega'_B1 x ([R_B1] s1_dot)``
+  (the derivative of the B1-component velocity, not the B1 components of
+  the acceleration).
+* B2's three slides and ball: ``s2'``, then ``quat_B2/B1`` scalar last; the
+  spherical joint's velocity is ``omega_hat'_B2`` (child components).
+
+So on the quaternion route ``v_e = [P] nu`` with
+``[P] = diag([R_B1], I, I, I)`` and ``[P_dot] = diag(-[omega'_B1~][R_B1], 0, 0, 0)``.
+
+G2 is the frame ``G2``. Position: ``oMf``. Jacobian and time variation:
+``getFrameJacobian`` / ``getFrameJacobianTimeVariation`` in
+``LOCAL_WORLD_ALIGNED`` (in ``WORLD`` they describe the spatial velocity of
+the point at the world origin, something else). Acceleration:
+``forwardKinematics(q, v, a)`` then ``getFrameClassicalAcceleration`` in
+``LOCAL_WORLD_ALIGNED``.
+
+**Composite joints.** ``buildModelFromMJCF`` merges the slides and ball of
+body B2 into one ``JointModelComposite``. In pin 4.1.0 the Jacobian time
+variation of such a joint is wrong in its slide columns (it treats every
+column as fixed in the composite's output frame, which the ball rotates):
+on this model the slide columns are off by order one (1.09 1/s at one random
+state, and ``J a + Jdot v`` misses the classical acceleration by 2.5 m/s^2;
+``scripts/pinocchio_composite_jdot.py``), while positions, velocities,
+Jacobians and classical accelerations stay right (a similar report:
+stack-of-tasks/pinocchio#2519). The adapter therefore loads the
+MJCF and rebuilds the model with each composite split into its sub-joints,
+copying every placement, inertia and frame (:func:`split_composites`); the
+tests check the rebuilt model against the loaded one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from relacc.engines.base import (
+    Engine,
+    PointKinematics,
+    identity_input,
+    note_from_quaternions,
+    quaternion_route_input,
+)
+from relacc.errors import EngineError, FixtureError
+from relacc.fixtures import Fixture
+from relacc.rotations import matrix_from_quaternion, quaternion_from_xyzw, quaternion_to_xyzw, tilde
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def split_composites(model: "pin.Model") -> "pin.Model":
+    """The same model with every ``JointModelComposite`` replaced by its sub-joints.
+
+    Sub-joints keep their order (so ``q`` and ``v`` keep their layout); the
+    composite's placement goes to its first sub-joint, the body inertia to its
+    last; massless bodies sit in between. Frames are re-attached to the last
+    sub-joint with their placements unchanged.
+
+    Raises:
+        EngineError: a composite with non-identity internal placements.
+    """
+    new = pin.Model()
+    new.name = model.name
+    new.gravity = model.gravity
+    joint_map = {0: 0}
+    for jid in range(1, model.njoints):
+        jm = model.joints[jid]
+        parent = joint_map[model.parents[jid]]
+        placement = model.jointPlacements[jid]
+        if jm.shortname() == "JointModelComposite":
+            comp = jm.extract()
+            subs, places = list(comp.joints), list(comp.jointPlacements)
+            if any(not p.isIdentity() for p in places):
+                raise EngineError(f"composite joint {model.names[jid]} has internal placements; cannot split")
+            for k, sub in enumerate(subs):
+                parent = new.addJoint(parent, sub, placement if k == 0 else pin.SE3.Identity(),
+                                      f"{model.names[jid]}[{k}]")
+                if k < len(subs) - 1:
+                    new.appendBodyToJoint(parent, pin.Inertia.Zero(), pin.SE3.Identity())
+            new_id = parent
+        else:
+            new_id = new.addJoint(parent, jm, placement, model.names[jid])
+        new.appendBodyToJoint(new_id, model.inertias[jid], pin.SE3.Identity())
+        joint_map[jid] = new_id
+    for frame in list(model.frames)[1:]:
+        new.addFrame(
+            pin.Frame(frame.name, joint_map[frame.parentJoint], frame.parentFrame, frame.placement,
+                      frame.type, frame.inertia),
+            False,
+        )
+    return new
+
+
+class _Route:
+    """One model with its data and the id of frame G2."""
+
+    def __init__(self, model, path):
+        self.model = model
+        self.model.gravity.setZero()  # set explicitly; the MJCF loader ignores <option gravity>
+        self.data = model.createData()
+        if not model.existFrame("G2"):
+            raise FixtureError(f"{path}: Pinocchio finds no frame named G2")
+        self.frame = model.getFrameId("G2")
+
+
+def _load_mjcf(path):
+    try:
+        return pin.buildModelFromMJCF(str(path))
+    except Exception as exc:
+        raise FixtureError(f"{path}: Pinocchio cannot load it: {exc}") from None
+
+
+def _load_urdf(path):
+    try:
+        return pin.buildModelFromUrdf(str(path))
+    except Exception as exc:
+        raise FixtureError(f"{path}: Pinocchio cannot load it: {exc}") from None
+
+
+class PinocchioEngine(Engine):
+    """Pinocchio with the chain's MJCF (quaternion route) and URDF (euler route)."""
+
+    name = "pinocchio"
+
+    def __init__(self, fixture: Fixture):
+        mjcf = fixture.path("two_body.xml")
+        urdf = fixture.path("two_body_euler.urdf")
+        self.loaded = _load_mjcf(mjcf)
+        self.routes = {
+            "quaternion": _Route(split_composites(self.loaded), mjcf),
+            "euler": _Route(_load_urdf(urdf), urdf),
+        }
+
+    @property
+    def version(self) -> str:
+        return pin.__version__
+
+    def engine_input(self, route, case, q, u, udot):
+        if route == "euler":
+            return identity_input(q, u, udot)
+        n = q.shape[0]
+
+        def P(q14, nu):
+            out = np.broadcast_to(np.eye(12), (n, 12, 12)).copy()
+            out[:, 0:3, 0:3] = np.swapaxes(matrix_from_quaternion(q14[:, 3:7]), 1, 2)  # [R_B1]
+            return out
+
+        def P_dot(q14, nu):
+            out = np.zeros((n, 12, 12))
+            R_B1 = np.swapaxes(matrix_from_quaternion(q14[:, 3:7]), 1, 2)
+            out[:, 0:3, 0:3] = -tilde(nu[:, 3:6]) @ R_B1
+            return out
+
+        def engine_q(q14):
+            return np.concatenate(
+                [q14[:, 0:3], quaternion_to_xyzw(q14[:, 3:7]), q14[:, 7:10], quaternion_to_xyzw(q14[:, 10:14])], 1
+            )
+
+        return quaternion_route_input(case, q, u, udot, P, P_dot, engine_q)
+
+    def note_coordinates(self, route, case, q_e):
+        if route == "euler":
+            return q_e
+        q14 = np.concatenate(
+            [q_e[:, 0:3], quaternion_from_xyzw(q_e[:, 3:7]), q_e[:, 7:10], quaternion_from_xyzw(q_e[:, 10:14])], 1
+        )
+        return note_from_quaternions(case, q14)
+
+    def point(self, route, q, v, a):
+        r = self.routes[route]
+        m, d, f = r.model, r.data, r.frame
+        pin.forwardKinematics(m, d, q, v, np.zeros(m.nv) if a is None else a)
+        pin.updateFramePlacements(m, d)
+        pos = d.oMf[f].translation.copy()
+        pin.computeJointJacobians(m, d)
+        pin.computeJointJacobiansTimeVariation(m, d, q, v)
+        J = pin.getFrameJacobian(m, d, f, LWA)[:3].copy()
+        J_dot = pin.getFrameJacobianTimeVariation(m, d, f, LWA)[:3].copy()
+        acc = None
+        if a is not None:
+            acc = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear.copy()
+        return PointKinematics(position=pos, J=J, J_dot=J_dot, acceleration=acc)

@@ -1,0 +1,32 @@
+"""The errors relacc raises on purpose.
+
+Every error relacc raises deliberately is a :class:`RelaccError`. Each message
+says what was wrong and what is accepted, so that the command line can print
+it as one line and exit non-zero.
+"""
+
+from __future__ import annotations
+
+
+class RelaccError(Exception):
+    """Base of every error relacc raises on purpose."""
+
+
+class InputError(RelaccError, ValueError):
+    """A numeric input has the wrong shape, type or value (NaN, inf, norm)."""
+
+
+class CaseError(InputError):
+    """An unknown choice of generalized speeds (accepted: 1, 2, 3)."""
+
+
+class VariantError(InputError):
+    """An unknown formula variant or equation id."""
+
+
+class FixtureError(RelaccError):
+    """A model or scene file is missing or malformed (path and field named)."""
+
+
+class EngineError(RelaccError):
+    """An engine cannot be used as asked (unknown engine, unsupported case)."""

@@ -1,0 +1,167 @@
+"""G2's position, velocity, acceleration and partial velocity matrices, by the note.
+
+Entry point: :func:`g2_kinematics`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from relacc.cases import Case, as_case, check_q, check_u
+from relacc.chain import TwoBodyChain
+from relacc.errors import InputError, VariantError
+from relacc.note import case1, case2, case3
+from relacc.note.common import assemble, configuration, position
+from relacc.note.equations import BY_ID, IDS
+
+
+@dataclass(frozen=True, eq=False)
+class G2Kinematics:
+    """Kinematics of G2, B2's mass center, in the fixed frame R. Immutable.
+
+    Every array is in **fixed-frame components** and carries the batch shape
+    ``...`` of the inputs.
+
+    Attributes:
+        position: ``{r_G2}``, G2 from R's origin, ``(..., 3)``, m.
+        velocity: ``{v_G2}``, G2's velocity in R, ``(..., 3)``, m/s.
+        acceleration: ``{a_G2}``, G2's classical acceleration in R (second
+            time derivative of ``position``; not a spatial acceleration),
+            ``(..., 3)``, m/s^2; None when no ``udot`` was given.
+        V: partial velocity matrix, ``{v_G2} = [V]{u}``, ``(..., 3, 12)``;
+            columns in m/s per unit of the case's speed (1 for translational
+            speeds, m for angular ones).
+        Vdot: ``d[V]/dt`` along the motion, ``{a_G2} = [V]{udot} + [Vdot]{u}``,
+            ``(..., 3, 12)``, the units of ``V`` per second.
+        case: the choice of generalized speeds.
+        variant: ``"corrected"``, ``"printed"`` or the sorted printed ids.
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray | None
+    V: np.ndarray
+    Vdot: np.ndarray
+    case: Case
+    variant: str
+
+    def __post_init__(self):
+        for name in ("position", "velocity", "acceleration", "V", "Vdot"):
+            value = getattr(self, name)
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+
+
+def resolve_variant(variant) -> frozenset:
+    """The set of equation ids to take in their printed form.
+
+    Args:
+        variant: ``"corrected"`` (none), ``"printed"`` (all; where the note
+            prints two forms, ``eq9.2`` and ``case2-a.2`` win), or an iterable
+            of equation ids.
+
+    Raises:
+        VariantError: unknown variant name or equation id.
+    """
+    if isinstance(variant, str):
+        if variant == "corrected":
+            return frozenset()
+        if variant == "printed":
+            return frozenset(IDS)
+        raise VariantError(
+            f"unknown variant {variant!r}: accepted are 'corrected', 'printed' or a set of "
+            f"equation ids ({', '.join(IDS)})"
+        )
+    try:
+        ids = frozenset(variant)
+    except TypeError:
+        raise VariantError(
+            f"unknown variant {variant!r}: accepted are 'corrected', 'printed' or a set of equation ids"
+        ) from None
+    unknown = sorted(str(i) for i in ids if i not in BY_ID)
+    if unknown:
+        raise VariantError(f"unknown equation ids {unknown}: accepted are {', '.join(IDS)}")
+    return ids
+
+
+def _variant_label(variant, printed) -> str:
+    if isinstance(variant, str):
+        return variant
+    return ",".join(sorted(printed)) if printed else "corrected"
+
+
+def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected") -> G2Kinematics:
+    """Position, velocity, acceleration, V and Vdot of G2 by the note's formulas.
+
+    Args:
+        chain: :class:`relacc.TwoBodyChain` (``q2'``, ``r2'``).
+        case: 1, 2, 3 or :class:`relacc.Case`.
+        q: coordinates of the case, ``(..., 14)`` for cases 1-2
+            ``[s1, quat_B1 (w,x,y,z), s2', quat_B2/B1]``, ``(..., 12)`` for
+            case 3 ``[s1, theta_B1, s2', theta_B2]``.
+        u: ``(..., 12)`` generalized speeds of the case (see :mod:`relacc.cases`).
+        udot: ``(..., 12)`` their time derivatives, or None to skip the
+            acceleration.
+        variant: ``"corrected"`` (default), ``"printed"`` (the note's printed
+            formulas where they differ) or a set of equation ids to take as
+            printed (see :mod:`relacc.note.equations`).
+
+    Batch dimensions of ``q``, ``u`` and ``udot`` broadcast against each
+    other. Complex inputs are accepted (every formula is analytic), which the
+    complex-step derivative checks use.
+
+    Returns:
+        :class:`G2Kinematics`, every array in fixed-frame components.
+
+    Raises:
+        InputError: bad shapes, non-finite values, non-unit quaternions or a
+            chain that is not a :class:`TwoBodyChain`.
+        CaseError: unknown case. VariantError: unknown variant.
+    """
+    if not isinstance(chain, TwoBodyChain):
+        raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
+    c = as_case(case)
+    printed = resolve_variant(variant)
+    q = check_q(c, q)
+    u = check_u(f"u for case {int(c)}", u)
+    if udot is not None:
+        udot = check_u(f"udot for case {int(c)}", udot)
+    shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
+    try:
+        np.broadcast_shapes(*shapes)
+    except ValueError:
+        raise InputError(
+            f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes"
+        ) from None
+
+    cfg = configuration(chain, c, q)
+    if c is Case.FIXED_FRAME:
+        velocity = case1.eq1_velocity(cfg, u)
+        V = case1.eq3_partials(cfg)
+        Vdot = case1.partials_dot(cfg, u, printed)
+        acc = None if udot is None else case1.eq4_acceleration(cfg, u, udot, V, Vdot, printed)
+    elif c is Case.BODY_FRAME:
+        velocity = case2.eq2_velocity(cfg, u)
+        V = case2.eq10_partials(cfg)
+        Vdot = case2.partials_dot(cfg, u, printed)
+        acc = None if udot is None else case2.eq11_acceleration(V, Vdot, u, udot)
+    else:
+        velocity = case3.velocity(cfg, u, printed)
+        V = case3.partials(cfg, printed)
+        Vdot = case3.partials_dot(cfg, u, printed)
+        acc = None if udot is None else case3.eq12_acceleration(V, Vdot, u, udot)
+
+    batch = np.broadcast_shapes(*shapes)
+    bvec = lambda a: np.ascontiguousarray(np.broadcast_to(a, batch + (3,)))  # noqa: E731
+    bmat = lambda blocks: np.ascontiguousarray(np.broadcast_to(assemble(blocks), batch + (3, 12)))  # noqa: E731
+    return G2Kinematics(
+        position=bvec(position(cfg)),
+        velocity=bvec(velocity),
+        acceleration=None if acc is None else bvec(acc),
+        V=bmat(V),
+        Vdot=bmat(Vdot),
+        case=c,
+        variant=_variant_label(variant, printed),
+    )

@@ -1,0 +1,170 @@
+"""The one error model of relacc: every tolerance in the project comes from here.
+
+A computed quantity ``x`` is compared with a reference ``x_ref`` through its
+*normalized error*
+
+    err = max_i |x_i - x_ref_i| / scale,
+
+where ``scale`` is the magnitude of the terms that are summed to form ``x``
+(:func:`term_scales`). Two float64 evaluations of the same sum of products
+differ by at most ``k * eps * scale`` where ``k`` is the number of dependent
+roundings along the longest chain of operations. The comparison passes when
+
+    err <= ROUNDING_FACTOR * eps + truncation,
+
+with ``truncation`` the derivative method's own error, zero for exact methods.
+
+``ROUNDING_FACTOR`` (c = 64) covers the longest chain in the formulas: a
+quaternion -> matrix (4 roundings), a product of three 3x3 matrices (2 x 3
+roundings each), a 3x3 times a vector (3), and a 12-term sum (12 in the worst
+order), about 30 in all, doubled for the reference's own rounding. The
+observed worst cases are written in ``docs/error-model.md``. ``c * eps`` is
+1.4e-14, well inside the project's 1e-12 target.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+EPS = float(np.finfo(np.float64).eps)
+"""Machine epsilon of float64, 2.22e-16."""
+
+ROUNDING_FACTOR = 64
+"""c: bound on the dependent roundings of one evaluation plus its reference."""
+
+TARGET = 1e-12
+"""Project target for normalized agreement; ``ROUNDING_FACTOR * EPS`` must stay below it."""
+
+QUATERNION_NORM_TOLERANCE = 1e-12
+"""Largest accepted ``|w^2 + x^2 + y^2 + z^2 - 1|``; relacc never normalizes.
+
+A deviation ``d`` perturbs every vector rotated by the quaternion by at most
+``d`` relative to its length, so accepted quaternions keep results within the
+1e-12 target.
+"""
+
+COMPLEX_STEP = 1e-20
+"""Step ``h`` of the complex-step derivative ``Im f(x + i h) / h``.
+
+Its truncation error is ``h^2 |f'''| / 6``, below 1e-40 relative here; it has no
+subtractive cancellation, so the derivative is exact to rounding.
+"""
+
+
+def rounding_tolerance(factor: float = ROUNDING_FACTOR) -> float:
+    """Tolerance on a normalized error that comes from rounding only: ``factor * eps``."""
+    return factor * EPS
+
+
+def central_difference_truncation(h: float, third_derivative_scale: float) -> float:
+    """Truncation bound ``h^2 / 6 * |f'''|`` of the central difference ``(f(h) - f(-h)) / 2h``."""
+    return h * h / 6.0 * third_derivative_scale
+
+
+def normalized_error(x, ref, scale):
+    """``max |x - ref| / scale`` over the trailing (vector or matrix) axes.
+
+    Args:
+        x, ref: arrays of equal shape ``(..., 3)`` or ``(..., 3, 12)``.
+        scale: ``(...)`` magnitude of the terms (same units as ``x``).
+
+    Returns:
+        ``(...)`` dimensionless normalized error; ``0`` where ``x == ref``
+        exactly, even if ``scale`` is zero.
+    """
+    x, ref, scale = np.asarray(x), np.asarray(ref), np.asarray(scale, dtype=float)
+    diff = np.abs(x - ref)
+    extra = diff.ndim - scale.ndim
+    diff = diff.reshape(diff.shape[: diff.ndim - extra] + (-1,)).max(axis=-1)
+    tiny = np.finfo(np.float64).tiny
+    return np.where(diff == 0, 0.0, diff / np.maximum(scale, tiny))
+
+
+@dataclass(frozen=True)
+class TermScales:
+    """Magnitude of the terms summed in each quantity, one value per state.
+
+    Every field has the leading batch shape of the state. Units: ``position``
+    m, ``velocity`` m/s, ``acceleration`` m/s^2, ``V`` m per unit speed
+    (1 or m), ``Vdot`` the same per second.
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    V: np.ndarray
+    Vdot: np.ndarray
+
+    def of(self, quantity: str) -> np.ndarray:
+        """The scale of one quantity by name (``"position"``, ..., ``"Vdot"``)."""
+        return getattr(self, quantity)
+
+
+def term_scales(chain, case, q, u, udot=None) -> TermScales:
+    """Magnitudes of the terms of position, velocity, acceleration, V and Vdot.
+
+    With ``l = |q2'| + |s2'| + |r2'|`` (lever from B1's origin to G2),
+    ``W = |u_ang1| + |u_ang2|`` (angular speeds; the 1-2-3 partial matrices
+    have unit columns, so their norm is at most sqrt(3), absorbed in c),
+    ``A = |udot_ang1| + |udot_ang2|``:
+
+    * position: ``|s1| + l``
+    * V: ``1 + l``
+    * velocity: ``|s1_dot| + |s2'_dot| + l W``
+    * Vdot: ``W (1 + l) + |s2'_dot|``
+    * acceleration: ``|s1_ddot| + |s2'_ddot| + l A + W (W l + 2 |s2'_dot|)``
+
+    Args:
+        chain: :class:`relacc.TwoBodyChain`.
+        case: 1, 2 or 3.
+        q: ``(..., 14)`` or ``(..., 12)`` coordinates of the case.
+        u: ``(..., 12)`` speeds of the case.
+        udot: ``(..., 12)`` speed derivatives, or None (acceleration scale 0).
+    """
+    from relacc.cases import layout  # local: cases imports this module
+
+    lay = layout(case)
+    q, u = np.asarray(q), np.asarray(u)
+    n = lambda a: np.linalg.norm(np.real(a), axis=-1)  # noqa: E731
+    lever = n(chain.q2) + n(q[..., lay.s2_p]) + n(chain.r2)
+    s1 = n(q[..., lay.s1])
+    sd1, sd2 = n(u[..., 0:3]), n(u[..., 6:9])
+    w = n(u[..., 3:6]) + n(u[..., 9:12])
+    if udot is None:
+        acc = np.zeros_like(w)
+    else:
+        udot = np.asarray(udot)
+        sdd = n(udot[..., 0:3]) + n(udot[..., 6:9])
+        alpha = n(udot[..., 3:6]) + n(udot[..., 9:12])
+        acc = sdd + lever * alpha + w * (w * lever + 2 * sd2)
+    shape = np.broadcast_shapes(lever.shape, w.shape)
+    b = lambda a: np.broadcast_to(a, shape)  # noqa: E731
+    return TermScales(
+        position=b(s1 + lever),
+        velocity=b(sd1 + sd2 + lever * w),
+        acceleration=b(acc),
+        V=b(1 + lever),
+        Vdot=b(w * (1 + lever) + sd2),
+    )
+
+
+def assert_agree(x, ref, scale, *, what: str, seed=None, factor: float = ROUNDING_FACTOR, truncation: float = 0.0):
+    """Assert ``normalized_error(x, ref, scale) <= factor * eps + truncation`` everywhere.
+
+    On failure the message names the quantity, the worst state's batch index,
+    the error in units of eps, the tolerance and the seed.
+
+    Returns:
+        The ``(...)`` array of normalized errors, for reporting.
+    """
+    err = np.asarray(normalized_error(x, ref, scale))
+    tol = factor * EPS + truncation
+    if not np.all(err <= tol):
+        idx = np.unravel_index(np.argmax(np.where(np.isnan(err), np.inf, err)), err.shape) if err.ndim else ()
+        raise AssertionError(
+            f"{what}: normalized error {float(err[idx]):.3g} ({float(err[idx]) / EPS:.1f} eps) > "
+            f"tolerance {tol:.3g} at state {tuple(int(i) for i in idx)} (seed {seed})"
+        )
+    return err

@@ -1,0 +1,99 @@
+"""The relacc command line: outputs name their frames, errors are one line, exit codes mean something."""
+
+import json
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import relacc
+from relacc.cli import main
+
+SPIN = ["--case", "1", "--q", "0,0,0, 1,0,0,0, 0,0,0, 1,0,0,0", "--u", "0,0,0, 0,0,2.5, 0,0,0, 0,0,0",
+        "--udot", "0,0,0,0,0,0,0,0,0,0,0,0"]
+
+
+def test_version_via_python_m():
+    """`python -m relacc --version` prints the package version."""
+    out = subprocess.run([sys.executable, "-m", "relacc", "--version"], capture_output=True, text=True)
+    assert out.returncode == 0 and out.stdout.strip() == f"relacc {relacc.__version__}"
+
+
+def test_eval_text_names_point_and_frames(capsys, fixture):
+    """eval prints each vector with its point, frame and kind (classical)."""
+    assert main(["eval", *SPIN, "--model", str(fixture.source)]) == 0
+    out = capsys.readouterr().out
+    assert "fixed-frame components" in out and "classical" in out and "case 1" in out
+
+
+def test_eval_json_equals_library(capsys, fixture, chain):
+    """eval --json returns what relacc.g2_kinematics returns for the same state."""
+    assert main(["eval", *SPIN, "--json", "--model", str(fixture.source)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    u = np.zeros(12)
+    u[5] = 2.5
+    q = np.r_[0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0.0]
+    k = relacc.g2_kinematics(fixture.chain, 1, q, u, np.zeros(12))
+    assert out["velocity"] == k.velocity.tolist() and out["acceleration"] == k.acceleration.tolist()
+    assert out["V"] == k.V.tolist() and "fixed-frame" in out["conventions"]["velocity"]
+
+
+def test_eval_reads_a_json_state_file(tmp_path, capsys, fixture):
+    """eval STATE.json takes case, q, u, udot from a file."""
+    path = tmp_path / "state.json"
+    path.write_text(json.dumps({"case": 3, "q": [0.0] * 12, "u": [0.0] * 12}))
+    assert main(["eval", str(path), "--json", "--model", str(fixture.source)]) == 0
+    assert json.loads(capsys.readouterr().out)["acceleration"] is None
+
+
+@pytest.mark.parametrize(
+    "argv,match",
+    [
+        (["eval", "--case", "1", "--q", "0,0,0,0.7,0,0,0.7,0,0,0,1,0,0,0", "--u", "0"], "does not normalize"),
+        (["eval", "--case", "1", "--q", "0,0,0,1,0,0,0,0,0,0,1,0,0,0", "--u", "0"], r"shape \(\.\.\., 12\)"),
+        (["eval", "--case", "5", "--q", "0", "--u", "0"], "accepted cases"),
+        (["eval", "--case", "1", "--q", "a,b", "--u", "0"], "expected numbers"),
+        (["eval", "--case", "1", "--u", "0"], "missing q"),
+        (["eval", "nonexistent.json"], "cannot read"),
+        (["check", "--engines", "bullet", "--states", "5"], "unknown engines"),
+        (["check", "--states", "0"], "at least 1"),
+        (["fixtures", "--model", "nope.toml"], "cannot read"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(capsys, argv, match):
+    """Every bad input prints exactly one line on stderr, no traceback, and exits 2."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert re.search(match, err), err
+
+
+def test_check_json_passes_and_names_conventions(capsys, fixture):
+    """check --json exits 0 and every comparison carries its convention."""
+    assert main(["check", "--states", "50", "--quiet", "--json", "--model", str(fixture.source)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["passed"] and len(out["comparisons"]) == 40
+    assert all("fixed-frame" in c["convention"] for c in out["comparisons"])
+
+
+def test_check_text_table(capsys, fixture):
+    """check prints a table with pass per row and a final verdict."""
+    assert main(["check", "--states", "20", "--cases", "2", "--engines", "mujoco", "--quiet",
+                 "--model", str(fixture.source)]) == 0
+    out = capsys.readouterr().out
+    assert "all 5 comparisons agree" in out and "classical" in out
+
+
+def test_errata_json_lists_every_id(capsys, fixture):
+    """errata --json is a list with exactly the five documented keys per id."""
+    assert main(["errata", "--states", "50", "--quiet", "--json", "--model", str(fixture.source)]) == 0
+    items = json.loads(capsys.readouterr().out)
+    assert [i["id"] for i in items] == [e.id for e in relacc.EQUATIONS]
+    assert all(set(i) == {"id", "status", "printed_error", "corrected_error", "explanation"} for i in items)
+
+
+def test_fixtures_check_is_up_to_date(capsys, fixture):
+    """fixtures --check exits 0 on the checked-in files."""
+    assert main(["fixtures", "--check", "--model", str(fixture.source)]) == 0

@@ -1,0 +1,97 @@
+"""Engine adapters: coordinate round trips and the rebuilt Pinocchio model."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from relacc.cases import as_case
+from relacc.check import routes_for
+from relacc.engines import load_engine
+from relacc.engines.pinocchio_ import LWA, split_composites
+from relacc.errors import EngineError
+from relacc.states import random_states
+from relacc.tolerances import assert_agree
+
+from .conftest import seed_for
+
+
+@pytest.fixture(scope="module")
+def engines(fixture):
+    return {name: load_engine(name, fixture) for name in ("pinocchio", "mujoco")}
+
+
+@pytest.mark.parametrize("engine", ["pinocchio", "mujoco"])
+def test_round_trip_note_engine_note(engines, engine, case):
+    """note -> engine -> note returns the same q, u and udot (angles away from gimbal lock)."""
+    s = random_states(case, 200, seed_for(case, 20))
+    q = s.q.copy()
+    if case == 3:  # keep theta2 inside (-pi/2, pi/2), where 1-2-3 angles are unique
+        q[:, [4, 10]] = np.clip(q[:, [4, 10]] / 2, -1.4, 1.4)
+    e = engines[engine]
+    for route in routes_for(case):
+        x = e.engine_input(route, as_case(case), q, s.u, s.udot)
+        q2, u2, udot2 = e.note_state(route, case, x)
+        scale = np.ones(len(q))
+        assert_agree(q2, q, scale, what=f"{engine}/{route} q", seed=s.seed, factor=16)
+        assert_agree(u2, s.u, np.linalg.norm(s.u, axis=-1), what="u", seed=s.seed, factor=16)
+        ref = np.linalg.norm(s.udot, axis=-1) + np.linalg.norm(s.u, axis=-1) ** 2
+        assert_agree(udot2, s.udot, ref, what="udot", seed=s.seed, factor=16)
+
+
+def test_split_pinocchio_model_matches_loaded(engines):
+    """The composite-free model gives the loaded model's frames, velocities, accelerations, J and M."""
+    e = engines["pinocchio"]
+    loaded, split = e.loaded, e.routes["quaternion"].model
+    assert (loaded.nq, loaded.nv) == (split.nq, split.nv)
+    dl, ds = loaded.createData(), split.createData()
+    rng = np.random.default_rng(seed_for(1, 21))
+    for _ in range(50):
+        q = pin.randomConfiguration(loaded, -np.ones(loaded.nq), np.ones(loaded.nq))
+        v, a = rng.normal(size=(2, loaded.nv))
+        for m, d in ((loaded, dl), (split, ds)):
+            pin.forwardKinematics(m, d, q, v, a)
+            pin.updateFramePlacements(m, d)
+            pin.computeJointJacobians(m, d, q)
+            pin.crba(m, d, q)
+        for name in ("G2", "B1", "B2"):
+            fl, fs = loaded.getFrameId(name), split.getFrameId(name)
+            assert np.allclose(dl.oMf[fl].homogeneous, ds.oMf[fs].homogeneous, atol=1e-14)
+            for get in (pin.getFrameVelocity, pin.getFrameClassicalAcceleration):
+                assert np.allclose(get(loaded, dl, fl, LWA).vector, get(split, ds, fs, LWA).vector, atol=1e-13)
+            assert np.allclose(pin.getFrameJacobian(loaded, dl, fl, LWA), pin.getFrameJacobian(split, ds, fs, LWA), atol=1e-14)
+        Ml, Ms = np.triu(dl.M), np.triu(ds.M)
+        assert np.allclose(Ml, Ms, atol=1e-14)
+
+
+def test_split_model_time_variation_matches_classical_acceleration(engines):
+    """On the rebuilt model, J a + Jdot v is Pinocchio's own classical acceleration of G2."""
+    r = engines["pinocchio"].routes["quaternion"]
+    m, d, f = r.model, r.data, r.frame
+    rng = np.random.default_rng(seed_for(1, 22))
+    for _ in range(50):
+        q = pin.randomConfiguration(m, -np.ones(m.nq), np.ones(m.nq))
+        v, a = rng.normal(size=(2, m.nv))
+        pin.forwardKinematics(m, d, q, v, a)
+        pin.updateFramePlacements(m, d)
+        acc = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear
+        pin.computeJointJacobians(m, d)
+        pin.computeJointJacobiansTimeVariation(m, d, q, v)
+        J = pin.getFrameJacobian(m, d, f, LWA)[:3]
+        Jd = pin.getFrameJacobianTimeVariation(m, d, f, LWA)[:3]
+        scale = np.abs(J) @ np.abs(a) + np.abs(Jd) @ np.abs(v)
+        assert np.all(np.abs(J @ a + Jd @ v - acc) <= 64 * np.finfo(float).eps * scale.max())
+
+
+def test_euler_route_rejects_cases_1_and_2(engines):
+    """The Euler fixtures hold case-3 coordinates only: asking for case 1 there is an EngineError."""
+    s = random_states(1, 2, 0)
+    with pytest.raises(EngineError, match="case 3"):
+        engines["mujoco"].g2_kinematics(1, s.q, s.u, route="euler")
+    with pytest.raises(EngineError, match="unknown route"):
+        engines["mujoco"].g2_kinematics(1, s.q, s.u, route="spatial")
+
+
+def test_unknown_engine_is_an_engine_error():
+    """load_engine names the accepted engines."""
+    with pytest.raises(EngineError, match="pinocchio, mujoco"):
+        load_engine("bullet")
