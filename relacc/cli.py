@@ -174,10 +174,12 @@ def cmd_fixtures(args) -> int:
 def cmd_report(args) -> int:
     from relacc.report import build_report
 
-    path = build_report(out=args.out, n_states=args.states, seed=args.seed, quick=args.quick,
-                        model=args.model, progress=_progress(args))
-    print(f"wrote {path}")
-    return 0
+    path, ctx = build_report(out=args.out, n_states=args.states, seed=args.seed, quick=args.quick,
+                             model=args.model, progress=_progress(args))
+    agree = ctx.check.passed and all(e.agrees for e in ctx.errata)
+    verdict = "everything agrees" if agree else "DISAGREEMENTS found (see the verdict)"
+    print(f"wrote {path}: {verdict}")
+    return 0 if agree else 1
 
 
 def build_parser() -> argparse.ArgumentParser:

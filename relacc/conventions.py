@@ -17,13 +17,24 @@ SYMBOLS = {
     "Vdot": "Vdot",
 }
 
-CONVENTIONS = {
-    "position": "G2 from R's origin; fixed-frame components; m",
-    "velocity": "velocity of G2 in R; fixed-frame components; m/s",
-    "acceleration": "classical acceleration of G2 in R (d2r/dt2, not spatial); fixed-frame components; m/s^2",
-    "V": "partial velocities of G2, v = V u; fixed-frame components; 3x12",
-    "Vdot": "dV/dt along the motion, a = V udot + Vdot u; fixed-frame components; 3x12",
+MEANINGS = {
+    # quantity: (point, what, components, kind, units)
+    "position": ("G2", "position from R's origin", "fixed-frame", "", "m"),
+    "velocity": ("G2", "velocity in R", "fixed-frame", "", "m/s"),
+    "acceleration": ("G2", "acceleration in R", "fixed-frame", "classical (d2r/dt2), not spatial", "m/s^2"),
+    "V": ("G2", "partial velocity matrix, v = V u", "fixed-frame", "3x12", "m/s per unit of each speed"),
+    "Vdot": ("G2", "dV/dt along the motion, a = V udot + Vdot u", "fixed-frame", "3x12", "V's units per second"),
 }
+"""Structured meaning of each quantity: point, what, components, kind, units."""
+
+
+def _sentence(q: str) -> str:
+    point, what, comps, kind, units = MEANINGS[q]
+    return f"{point} {what}; {comps} components" + (f"; {kind}" if kind else "") + f"; {units}"
+
+
+CONVENTIONS = {q: _sentence(q) for q in QUANTITIES}
+"""One line per quantity, printed beside every number."""
 
 CASE_NAMES = {
     1: "fixed-frame angular velocity components",

@@ -1,0 +1,109 @@
+"""The self-contained HTML agreement report (``relacc report``).
+
+A report is a list of sections. Each section is one module in
+:mod:`relacc.report.sections` with ``ID``, ``TITLE`` and ``build(ctx) -> dict``
+(plain data), plus one template ``templates/sections/<ID>.html.j2``. Adding a
+section is adding those two files and listing the module in ``SECTIONS``.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import os
+import platform
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
+
+from relacc import fixtures
+from relacc.check import CheckReport, Harness
+from relacc.errata import Erratum, errata
+from relacc.errors import InputError, RelaccError
+from relacc.report.sections import SECTIONS
+
+DEFAULT_STATES = 2000
+QUICK_STATES = 200
+
+
+@dataclass(frozen=True)
+class ReportContext:
+    """Everything the sections read: the harness, its results and the run's metadata."""
+
+    harness: Harness
+    check: CheckReport
+    errata: list[Erratum]
+    quick: bool
+    created: dt.datetime
+    machine: str
+
+
+def _machine() -> str:
+    cpu = platform.processor() or platform.machine()
+    return f"{platform.system()} {platform.machine()}, {os.cpu_count()} logical CPUs ({cpu})"
+
+
+def build_context(n_states=None, seed=0, quick=False, model=None, progress=None) -> ReportContext:
+    """Run the cross-validation and the errata that the report shows."""
+    n = n_states if n_states is not None else (QUICK_STATES if quick else DEFAULT_STATES)
+    harness = Harness(fixtures.load(model), n_states=n, seed=seed, progress=progress)
+    return ReportContext(
+        harness=harness,
+        check=harness.check(),
+        errata=errata(harness),
+        quick=quick,
+        created=dt.datetime.now(dt.timezone.utc),
+        machine=_machine(),
+    )
+
+
+def render(ctx: ReportContext) -> str:
+    """The report's HTML text."""
+    env = Environment(
+        loader=PackageLoader("relacc", "report/templates"),
+        autoescape=select_autoescape(["html", "j2"], default=True),
+        undefined=StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+    sections = [{"id": m.ID, "title": m.TITLE, "data": m.build(ctx)} for m in SECTIONS]
+    return env.get_template("report.html.j2").render(sections=sections)
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file and a rename: all or nothing."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def build_report(out="reports/agreement.html", n_states=None, seed=0, quick=False, model=None, progress=None):
+    """Run everything and write the report atomically.
+
+    Returns:
+        ``(path, ctx)``: the written file and the context it was made from.
+
+    Raises:
+        InputError: an output path that is a directory. Any RelaccError of
+            the run; nothing is written then.
+    """
+    path = Path(out)
+    if path.is_dir():
+        raise InputError(f"--out {out}: is a directory; give a file name such as {path / 'agreement.html'}")
+    ctx = build_context(n_states=n_states, seed=seed, quick=quick, model=model, progress=progress)
+    html = render(ctx)
+    try:
+        write_atomic(path, html)
+    except OSError as exc:
+        raise RelaccError(f"--out {out}: cannot write the report ({exc.strerror or exc})") from None
+    return path, ctx

@@ -1,0 +1,29 @@
+"""What every number means: point, frame of components, classical or spatial; engine maps."""
+
+from __future__ import annotations
+
+from relacc.conventions import CASE_NAMES, COORDINATES, ENGINE_MAPPINGS, MEANINGS, QUANTITIES, SPEEDS
+from relacc.tolerances import EPS, QUATERNION_NORM_TOLERANCE, ROUNDING_FACTOR
+
+ID = "conventions"
+TITLE = "Conventions"
+
+
+def build(ctx) -> dict:
+    return {
+        "quantities": [
+            dict(zip(("quantity", "point", "what", "components", "kind", "units"), (q, *MEANINGS[q])))
+            for q in QUANTITIES
+        ],
+        "cases": [
+            {"case": c, "name": CASE_NAMES[c], "q": COORDINATES[c], "u": SPEEDS[c]} for c in (1, 2, 3)
+        ],
+        "engines": [
+            {"engine": engine, "route": route, "mapping": text}
+            for (engine, route), text in ENGINE_MAPPINGS.items()
+            if engine in ctx.harness.engines
+        ],
+        "rounding_factor": ROUNDING_FACTOR,
+        "tolerance": ROUNDING_FACTOR * EPS,
+        "quaternion_tolerance": QUATERNION_NORM_TOLERANCE,
+    }

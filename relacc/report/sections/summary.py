@@ -1,0 +1,44 @@
+"""The verdict at the top: does everything agree, and what does the note get wrong."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+from relacc.tolerances import EPS
+
+ID = "summary"
+TITLE = "Verdict"
+
+
+def build(ctx) -> dict:
+    check, items = ctx.check, ctx.errata
+    worst = max(check.comparisons, key=lambda c: c.max_error)
+    statuses = Counter(e.status for e in items)
+    corrected_ok = all(e.agrees for e in items)
+    agree = check.passed and corrected_ok
+    failures = [
+        f"case {c.case} {c.engine}/{c.route} {c.quantity}: {c.max_error / EPS:.1f} eps"
+        for c in check.failures
+    ] + [f"{e.id}: corrected form off by {e.corrected_error:.2e}" for e in items if not e.agrees]
+    return {
+        "agree": agree,
+        "headline": (
+            "The corrected formulas agree with Pinocchio and MuJoCo in all three cases."
+            if agree
+            else f"{len(failures)} disagreement(s) between the corrected formulas and the engines."
+        ),
+        "worst_eps": worst.max_error / EPS,
+        "worst_where": f"case {worst.case}, {worst.engine}/{worst.route}, {worst.quantity}",
+        "tolerance_eps": worst.tolerance / EPS,
+        "n_comparisons": len(check.comparisons),
+        "statuses": {s: statuses.get(s, 0) for s in ("ok", "wrong", "ambiguous", "missing")},
+        "not_ok": [e.id for e in items if e.status != "ok"],
+        "failures": failures,
+        "n_states": check.n_states,
+        "seed": check.seed,
+        "versions": check.versions,
+        "created": ctx.created.strftime("%Y-%m-%d %H:%M UTC"),
+        "machine": ctx.machine,
+        "quick": ctx.quick,
+        "model": str(ctx.harness.fixture.source.name),
+    }

@@ -1,0 +1,88 @@
+"""Self-contained pictures for the report: matplotlib figures and formulas as SVG data URIs.
+
+Every picture is an SVG with glyphs drawn as paths (no font, no network) and
+no timestamp, embedded as ``data:image/svg+xml;base64,...`` so that ids of
+different pictures never collide.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.mathtext import math_to_image  # noqa: E402
+
+plt.rcParams.update(
+    {
+        "svg.fonttype": "path",
+        "svg.hashsalt": "relacc",
+        "font.size": 9,
+        "axes.grid": True,
+        "grid.alpha": 0.3,
+    }
+)
+
+
+def data_uri(svg: bytes) -> str:
+    """``data:image/svg+xml;base64,...`` of an SVG document."""
+    return "data:image/svg+xml;base64," + base64.b64encode(svg).decode("ascii")
+
+
+def figure(fig) -> str:
+    """A matplotlib figure as an SVG data URI; the figure is closed."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="svg", bbox_inches="tight", metadata={"Date": None})
+    plt.close(fig)
+    return data_uri(buf.getvalue())
+
+
+def split_tex(tex: str, width: int = 160) -> list[str]:
+    """Break a long formula at top-level ``" + "``, ``" - "`` and ``",\\;"`` into lines of about ``width`` characters.
+
+    Only breaks outside every ``{}``, ``()`` and ``[]`` group; continuation
+    lines start with ``\\quad``.
+    """
+    pieces, depth, start, i = [], 0, 0, 0
+    while i < len(tex):
+        ch = tex[i]
+        if ch in "{([":
+            depth += 1
+        elif ch in "})]":
+            depth -= 1
+        elif depth == 0 and (tex.startswith(" + ", i) or tex.startswith(" - ", i)):
+            pieces.append(tex[start:i])
+            start, i = i, i + 3
+            continue
+        elif depth == 0 and tex.startswith(r",\;", i):
+            pieces.append(tex[start : i + 3])
+            start = i = i + 3
+            continue
+        i += 1
+    pieces.append(tex[start:])
+    lines, current = [], ""
+    for piece in pieces:
+        if current and len(current) + len(piece) > width:
+            lines.append(current)
+            current = piece
+        else:
+            current += piece
+    lines.append(current)
+    return [lines[0]] + [r"\quad " + line.strip() for line in lines[1:]]
+
+
+def formula_lines(tex: str, fontsize: int = 12) -> list[str]:
+    """A formula as SVG data URIs, one per line of :func:`split_tex`."""
+    return [formula(line, fontsize) for line in split_tex(tex)]
+
+
+def formula(tex: str, fontsize: int = 11) -> str:
+    """A LaTeX formula (matplotlib mathtext subset) as an SVG data URI."""
+    buf = io.BytesIO()
+    prop = matplotlib.font_manager.FontProperties(size=fontsize)
+    math_to_image(f"${tex}$", buf, prop=prop, format="svg", dpi=72)
+    return data_uri(buf.getvalue())

@@ -1,0 +1,102 @@
+"""The HTML agreement report: content, self-containment, atomic writes, and a real browser."""
+
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from relacc import report as report_mod
+from relacc.cli import main
+from relacc.report.sections import SECTIONS
+
+REPO = Path(__file__).resolve().parents[1]
+CHROMIUM_FLAGS = [
+    "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync",
+]
+
+
+@pytest.fixture(scope="module")
+def quick_report(tmp_path_factory, fixture):
+    """`relacc report --quick` written through the command line."""
+    out = tmp_path_factory.mktemp("report") / "agreement.html"
+    assert main(["report", "--quick", "--quiet", "--out", str(out), "--model", str(fixture.source)]) == 0
+    return out
+
+
+def test_report_has_verdict_and_every_section(quick_report):
+    """The page carries the verdict, the versions, the seed and one <section> per section module."""
+    html = quick_report.read_text()
+    assert 'id="verdict"' in html and "agree with Pinocchio and MuJoCo" in html
+    for name in ("pinocchio", "mujoco", "numpy", "python", "relacc"):
+        assert name in html
+    for module in SECTIONS:
+        assert f'<section id="{module.ID}"' in html
+    assert "seed 0" in html
+
+
+def test_report_is_self_contained(quick_report):
+    """No src/href points outside the file: only data: URIs and in-page anchors."""
+    html = quick_report.read_text()
+    refs = re.findall(r'(?:src|href)="([^"]*)"', html)
+    assert refs, "no pictures or links found"
+    assert all(r.startswith(("data:", "#")) for r in refs), [r for r in refs if not r.startswith(("data:", "#"))]
+    assert "<script" not in html and "@import" not in html and "url(http" not in html
+
+
+def test_report_shows_every_erratum(quick_report):
+    """Every equation id has a row with a status badge."""
+    html = quick_report.read_text()
+    from relacc.note.equations import IDS
+
+    for i in IDS:
+        assert f'id="eq-{i}"' in html
+
+
+def test_failed_run_leaves_no_file(tmp_path, monkeypatch, fixture):
+    """If rendering fails, neither the report nor a temporary file is left behind."""
+    def boom(ctx):
+        raise RuntimeError("render failed")
+
+    monkeypatch.setattr(report_mod, "render", boom)
+    out = tmp_path / "agreement.html"
+    with pytest.raises(RuntimeError):
+        report_mod.build_report(out=out, quick=True, n_states=5, model=fixture.source)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_out_is_a_directory_is_one_line_error(tmp_path, capsys):
+    """--out pointing at a directory is a one-line error with exit 2."""
+    assert main(["report", "--quick", "--quiet", "--out", str(tmp_path)]) == 2
+    assert "is a directory" in capsys.readouterr().err
+
+
+def test_report_in_headless_chromium(quick_report):
+    """Chromium loads the page with no console error and no network request; sections render; screenshot saved."""
+    from playwright.sync_api import sync_playwright
+
+    chromium = shutil.which("chromium")
+    assert chromium, "Debian's chromium is required for this test (apt-get install chromium; .ci/run does it)"
+    console_errors, requests = [], []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=CHROMIUM_FLAGS)
+        page = browser.new_page(viewport={"width": 1366, "height": 900})
+        page.on("console", lambda m: console_errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: console_errors.append(str(e)))
+        page.on("request", lambda r: requests.append(r.url))
+        page.goto(quick_report.as_uri(), wait_until="load")
+        assert page.locator("#verdict").is_visible()
+        assert "agree" in page.inner_text("#verdict")
+        for module in SECTIONS:
+            assert page.locator(f"section#{module.ID} h2").is_visible()
+        broken = page.evaluate("[...document.images].filter(i => !i.complete || i.naturalWidth === 0).length")
+        n_images = page.evaluate("document.images.length")
+        shot = REPO / "reports" / "report-quick.png"
+        shot.parent.mkdir(exist_ok=True)
+        page.screenshot(path=str(shot), full_page=True)
+        browser.close()
+    assert console_errors == []
+    outside = [u for u in requests if not u.startswith(("file://", "data:"))]
+    assert outside == [], f"network requests: {outside}"
+    assert n_images > 30 and broken == 0
