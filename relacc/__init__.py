@@ -11,6 +11,7 @@ from relacc.errors import (
     FixtureError,
     InputError,
     RelaccError,
+    SingularityError,
     VariantError,
 )
 from relacc.kinematics import G2Kinematics, g2_kinematics
@@ -37,6 +38,7 @@ __all__ = [
     "G2Kinematics",
     "InputError",
     "RelaccError",
+    "SingularityError",
     "TwoBodyChain",
     "VariantError",
     "g2_kinematics",

@@ -140,3 +140,16 @@ def check_u(name: str, u) -> np.ndarray:
         InputError: wrong length or non-finite entries.
     """
     return _as_array(name, u, NU, "[s1 (3), B1 angular (3), s2' (3), B2 angular (3)] rates")
+
+
+def check_int(name: str, value, minimum: int | None = None) -> int:
+    """Validate an integer argument (a count or a seed).
+
+    Raises:
+        InputError: not an integer, or below ``minimum``.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{name}: expected an integer, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise InputError(f"{name}: must be at least {minimum}, got {value}")
+    return int(value)

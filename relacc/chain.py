@@ -12,11 +12,19 @@ _ZERO = (0.0, 0.0, 0.0)
 _UNIT_INERTIA = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
 
-def _vector(name, value) -> np.ndarray:
+def _real(name, value, what) -> np.ndarray:
+    """``value`` as a new float64 array; InputError unless it holds real numbers."""
     try:
-        arr = np.array(value, dtype=np.float64)
+        arr = np.array(value)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"TwoBodyChain.{name}: expected 3 finite numbers (m), {exc}") from None
+        raise InputError(f"TwoBodyChain.{name}: expected {what}, {exc}") from None
+    if arr.dtype.kind not in "iuf":
+        raise InputError(f"TwoBodyChain.{name}: expected {what} (real numbers), got dtype {arr.dtype}")
+    return arr.astype(np.float64)
+
+
+def _vector(name, value) -> np.ndarray:
+    arr = _real(name, value, "3 finite numbers (m)")
     if arr.shape != (3,):
         raise InputError(f"TwoBodyChain.{name}: expected 3 numbers (m), got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
@@ -26,20 +34,16 @@ def _vector(name, value) -> np.ndarray:
 
 
 def _mass(name, value) -> float:
-    try:
-        m = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"TwoBodyChain.{name}: expected a positive mass in kg, got {value!r}") from None
+    if isinstance(value, (bool, complex, np.complexfloating)) or not isinstance(value, (int, float, np.number)):
+        raise InputError(f"TwoBodyChain.{name}: expected a positive mass in kg, got {value!r}")
+    m = float(value)
     if not np.isfinite(m) or m <= 0:
         raise InputError(f"TwoBodyChain.{name}: expected a finite positive mass in kg, got {m}")
     return m
 
 
 def _inertia(name, value) -> np.ndarray:
-    try:
-        arr = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"TwoBodyChain.{name}: expected a 3x3 inertia tensor (kg m^2), {exc}") from None
+    arr = _real(name, value, "a 3x3 inertia tensor (kg m^2)")
     if arr.shape != (3, 3):
         raise InputError(f"TwoBodyChain.{name}: expected a 3x3 tensor (kg m^2), got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import relacc
-from relacc.cases import as_case
+from relacc.cases import as_case, check_int
 from relacc.conventions import CONVENTIONS, QUANTITIES
 from relacc.engines import ENGINES, load_engine
 from relacc.errors import EngineError
@@ -35,7 +35,10 @@ class Comparison:
 
     Attributes:
         errors: ``(n,)`` normalized error per state (dimensionless).
-        tolerance: the error model's bound on the normalized error.
+        tolerance: ``c eps``, the error model's bound for a condition of 1.
+        bounds: ``(n,)`` the engine's accuracy model per state
+            (:meth:`relacc.engines.base.Engine.bound`: ``c eps`` times the
+            condition, plus any offset the engine's model loses).
     """
 
     case: int
@@ -44,6 +47,7 @@ class Comparison:
     quantity: str
     errors: np.ndarray = field(repr=False)
     tolerance: float
+    bounds: np.ndarray = field(repr=False)
 
     @property
     def max_error(self) -> float:
@@ -58,8 +62,17 @@ class Comparison:
         return int(np.argmax(self.errors))
 
     @property
+    def max_ratio(self) -> float:
+        """Largest error relative to its state's bound; pass when <= 1."""
+        return float(np.max(self.errors / self.bounds))
+
+    @property
+    def max_bound(self) -> float:
+        return float(np.max(self.bounds))
+
+    @property
     def passed(self) -> bool:
-        return bool(np.all(self.errors <= self.tolerance))
+        return bool(np.all(self.errors <= self.bounds))
 
     def as_dict(self) -> dict:
         return {
@@ -71,6 +84,8 @@ class Comparison:
             "median_error": self.median_error,
             "max_error_eps": self.max_error / EPS,
             "tolerance": self.tolerance,
+            "max_bound": self.max_bound,
+            "max_ratio": self.max_ratio,
             "passed": self.passed,
             "worst_state": self.worst_state,
             "convention": CONVENTIONS[self.quantity],
@@ -91,10 +106,11 @@ class Harness:
     """
 
     def __init__(self, fixture: Fixture | None = None, engines=ENGINES, n_states=1000, seed=0, progress=None):
-        if int(n_states) < 1:
-            raise relacc.InputError(f"number of states must be at least 1, got {n_states}")
+        n_states = check_int("number of states", n_states, minimum=1)
+        seed = check_int("seed", seed, minimum=0)
         self.fixture = fixture if fixture is not None else load()
         self.chain = self.fixture.chain
+        engines = tuple(engines) if isinstance(engines, (list, tuple)) else (engines,)
         unknown = [e for e in engines if e not in ENGINES]
         if unknown:
             raise EngineError(f"unknown engines {unknown}: accepted are {', '.join(ENGINES)}")
@@ -148,7 +164,9 @@ class Harness:
         core = getattr(self.core_result(case, variant), quantity)
         ref = getattr(self.engine_result(case, engine, route), quantity)
         errors = normalized_error(core, ref, self.scales(case).of(quantity))
-        return Comparison(int(case), engine, route, quantity, errors, rounding_tolerance())
+        s = self.states(case)
+        bounds = self.engines[engine].bound(route, quantity, self.chain, case, s.q, s.u, s.udot)
+        return Comparison(int(case), engine, route, quantity, errors, rounding_tolerance(), bounds)
 
     def check(self, cases=(1, 2, 3), quantities=QUANTITIES) -> "CheckReport":
         """Every case x engine x route x quantity comparison of the corrected core."""
@@ -186,6 +204,7 @@ class CheckReport:
             "seed": self.seed,
             "tolerance": rounding_tolerance(),
             "error": "max |x - x_engine| / magnitude of the terms (relacc.tolerances.term_scales)",
+            "bound": "per state: tolerance * condition + lost offset (relacc.engines.base.Engine.bound)",
             "versions": self.versions,
             "comparisons": [c.as_dict() for c in self.comparisons],
         }

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.cases import Case, as_case, layout
+from relacc.cases import Case, as_case, check_q, check_u, layout
 from relacc.errors import InputError
 from relacc.rotations import quaternion_exp, quaternion_multiply
 from relacc.tolerances import COMPLEX_STEP
@@ -44,8 +44,10 @@ def advance(case, q, u, t):
     """
     c = as_case(case)
     lay = layout(c)
-    q = np.asarray(q)
-    u = np.asarray(u)
+    q = check_q(c, q)
+    u = check_u("u", u)
+    if not isinstance(t, (int, float, complex, np.number)) or isinstance(t, bool) or not np.isfinite(t):
+        raise InputError(f"t: expected a finite real or complex time step in seconds, got {t!r}")
     batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
     q = np.broadcast_to(q, batch + q.shape[-1:])
     u = np.broadcast_to(u, batch + (12,))

@@ -24,6 +24,10 @@ class VariantError(InputError):
     """An unknown formula variant or equation id."""
 
 
+class SingularityError(InputError):
+    """An inverse map asked for at or too near its singularity (1-2-3 gimbal lock)."""
+
+
 class FixtureError(RelaccError):
     """A model or scene file is missing or malformed (path and field named)."""
 

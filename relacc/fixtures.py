@@ -188,6 +188,8 @@ def render(fixture: Fixture) -> dict[str, str]:
         "I1": _full_inertia(c.I1),
         "I2": _full_inertia(c.I2),
         "bodies": _urdf_bodies(c),
+        # a capsule from the joint point to G2 needs some length; else a sphere at G2 (visual only)
+        "b2_capsule": bool(np.linalg.norm(c.r2) >= 1e-3),
     }
     return {name: env.get_template(f"{name}.j2").render(**values) for name in MODEL_FILES}
 

@@ -86,6 +86,21 @@ def resolve_variant(variant) -> frozenset:
     return ids
 
 
+def check_finite_result(arrays, q, u, udot=None) -> None:
+    """Raise :class:`InputError` if finite inputs produced a non-finite result (float64 overflow).
+
+    relacc never returns inf or NaN: results beyond about 1e308 mean the
+    inputs are out of float64's range for these formulas.
+    """
+    for a in arrays:
+        if a is not None and not np.all(np.isfinite(a)):
+            big = max(float(np.max(np.abs(x))) for x in (q, u, udot) if x is not None)
+            raise InputError(
+                f"the result overflowed float64 (largest input magnitude {big:.3g}); accelerations grow "
+                "with the square of the speeds: keep |u| below about 1e150 and positions below 1e300"
+            )
+
+
 def _variant_label(variant, printed) -> str:
     if isinstance(variant, str):
         return variant
@@ -136,6 +151,11 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected") -> G2Kin
             f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes"
         ) from None
 
+    with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an InputError
+        return _evaluate(chain, c, q, u, udot, printed, shapes, variant)
+
+
+def _evaluate(chain, c, q, u, udot, printed, shapes, variant) -> G2Kinematics:
     cfg = configuration(chain, c, q)
     if c is Case.FIXED_FRAME:
         velocity = case1.eq1_velocity(cfg, u)
@@ -154,6 +174,7 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected") -> G2Kin
         acc = None if udot is None else case3.eq12_acceleration(V, Vdot, u, udot)
 
     batch = np.broadcast_shapes(*shapes)
+    check_finite_result((position(cfg), velocity, acc, assemble(V), assemble(Vdot)), q, u, udot)
     bvec = lambda a: np.ascontiguousarray(np.broadcast_to(a, batch + (3,)))  # noqa: E731
     bmat = lambda blocks: np.ascontiguousarray(np.broadcast_to(assemble(blocks), batch + (3, 12)))  # noqa: E731
     return G2Kinematics(

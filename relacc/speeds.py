@@ -138,3 +138,96 @@ def to_body_speeds(case, q, u, udot=None):
     nu = mv(W, u)
     nu_dot = None if udot is None else mv(W, check_u("udot", udot)) + mv(W_dot, u)
     return quaternion_coordinates(case, q), nu, nu_dot
+
+
+def _condition_123(theta2):
+    """2-norm condition number of ``W(theta)``: ``(1 + |sin theta2|) / |cos theta2|``.
+
+    ``W^T W`` has eigenvalues 1 and ``1 +- |sin theta2|`` (unit columns, only
+    the first and third not orthogonal), hence singular values
+    ``sqrt(1 +- |sin theta2|)``.
+    """
+    s, c = np.abs(np.sin(theta2)), np.abs(np.cos(theta2))
+    return np.divide(1 + s, c, out=np.full_like(c, np.inf, dtype=float), where=c > 0)
+
+
+def inverse_condition(case, q):
+    """Condition number of the speed map ``[W(q)]`` per state (its inverse's error amplification).
+
+    1 for cases 1 and 2 (rotations); for case 3 the larger of B1's and B2's
+    ``(1 + |sin theta2|) / |cos theta2|``, which grows like ``2 / delta`` at a
+    distance ``delta`` from gimbal lock. The forward map (rates to angular
+    velocity) is well conditioned everywhere; only its inverse suffers.
+
+    Returns:
+        ``(...)`` array >= 1, dimensionless.
+    """
+    c = as_case(case)
+    q = check_q(c, q)
+    if c is not Case.ANGLE_RATES:
+        return np.ones(q.shape[:-1])
+    lay = layout(c)
+    return np.maximum(_condition_123(np.real(q[..., lay.B1][..., 1])), _condition_123(np.real(q[..., lay.B2][..., 1])))
+
+
+def check_invertible(case, q, max_condition=None):
+    """Raise :class:`relacc.SingularityError` where the case's speed map is too ill-conditioned.
+
+    Args:
+        max_condition: largest accepted condition number (default
+            ``relacc.tolerances.MAX_CONDITION`` = 1e8).
+
+    Raises:
+        SingularityError: naming the body, the angle, its distance from gimbal
+            lock and the condition number.
+    """
+    from relacc.errors import SingularityError
+    from relacc.tolerances import MAX_CONDITION
+
+    limit = MAX_CONDITION if max_condition is None else float(max_condition)
+    c = as_case(case)
+    q = check_q(c, q)
+    if c is not Case.ANGLE_RATES:
+        return
+    lay = layout(c)
+    for label, sl in (("theta_B1", lay.B1), ("theta_B2", lay.B2)):
+        theta2 = np.real(q[..., sl][..., 1])
+        cond = _condition_123(theta2)
+        if np.any(cond > limit):
+            idx = np.unravel_index(np.argmax(cond), cond.shape) if cond.ndim else ()
+            t = float(theta2[idx])
+            distance = float(np.arctan2(abs(np.cos(t)), abs(np.sin(t))))
+            lock = "+pi/2" if np.sin(t) > 0 else "-pi/2"
+            at = f" at batch index {tuple(int(i) for i in idx)}" if idx else ""
+            raise SingularityError(
+                f"{label}[1] = {t!r} rad{at} is {distance:.3g} rad from the 1-2-3 gimbal lock at {lock} "
+                f"(mod pi): the map from angular velocity to 1-2-3 rates has condition number "
+                f"{float(cond[idx]):.3g} > {limit:g}, so the rates are not defined to useful accuracy; "
+                "use case 1 or 2 speeds there"
+            )
+
+
+def case_speeds(case, q, nu, nu_dot=None, *, max_condition=None):
+    """Inverse of :func:`to_body_speeds`: the case's ``(u, udot)`` from body speeds.
+
+    Args:
+        case: 1, 2 or 3. q: the case's coordinates.
+        nu: ``(..., 12)`` body speeds (Case 2 speeds). nu_dot: their rates or None.
+        max_condition: see :func:`check_invertible`.
+
+    Returns:
+        ``u`` ``(..., 12)`` and ``udot`` ``(..., 12)`` (None without ``nu_dot``).
+
+    Raises:
+        SingularityError: case 3 within the gimbal-lock limit.
+    """
+    c = as_case(case)
+    check_invertible(c, q, max_condition)
+    nu = check_u("nu (body speeds)", nu)
+    W = body_speed_map(c, q)
+    u = np.linalg.solve(W, nu[..., None])[..., 0]
+    if nu_dot is None:
+        return u, None
+    _, W_dot = body_speed_map(c, q, u)
+    udot = np.linalg.solve(W, (check_u("nu_dot", nu_dot) - mv(W_dot, u))[..., None])[..., 0]
+    return u, udot

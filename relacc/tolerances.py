@@ -45,6 +45,15 @@ A deviation ``d`` perturbs every vector rotated by the quaternion by at most
 1e-12 target.
 """
 
+MAX_CONDITION = 1e8
+"""Largest condition number of the case-3 inverse speed map relacc accepts.
+
+Mapping angular velocities back to 1-2-3 rates amplifies relative errors by
+the condition number of ``W(theta)``, ``(1 + |sin theta2|) / |cos theta2|``; at
+1e8 the rates carry relative errors up to about 1e8 eps = 2e-8. Beyond it
+(within about 2e-8 rad of gimbal lock) relacc raises instead of answering.
+"""
+
 COMPLEX_STEP = 1e-20
 """Step ``h`` of the complex-step derivative ``Im f(x + i h) / h``.
 
@@ -100,6 +109,61 @@ class TermScales:
     def of(self, quantity: str) -> np.ndarray:
         """The scale of one quantity by name (``"position"``, ..., ``"Vdot"``)."""
         return getattr(self, quantity)
+
+
+def lever_sensitivity(quantity: str, case, q, u, udot=None):
+    """How much a quantity changes per metre of error in a lever arm, one value per state.
+
+    ``1`` for position and V, ``W`` for velocity and Vdot, ``A + W^2`` for the
+    acceleration (``W``, ``A`` as in :func:`term_scales`): a point misplaced
+    by ``d`` metres on a body moves the quantity by at most ``d`` times this.
+    """
+    u = np.asarray(u)
+    n = lambda a: np.linalg.norm(np.real(a), axis=-1)  # noqa: E731
+    w = n(u[..., 3:6]) + n(u[..., 9:12])
+    if quantity in ("position", "V"):
+        return np.ones_like(w)
+    if quantity in ("velocity", "Vdot"):
+        return w
+    alpha = 0.0 if udot is None else n(np.asarray(udot)[..., 3:6]) + n(np.asarray(udot)[..., 9:12])
+    return alpha + w * w
+
+
+def global_condition(quantity: str, chain, case, q, u, udot=None):
+    """Condition of a quantity computed in global coordinates, one value per state.
+
+    An engine that forms lever arms as differences of world positions
+    (MuJoCo's Jacobians and accelerations; Pinocchio's world-frame Jacobians)
+    loses about ``eps |s1|`` in every lever arm, so relative to the terms'
+    magnitude the condition is
+
+        1 + |s1| lever_sensitivity / scale.
+
+    Position is a sum whose scale already contains ``|s1|``: condition 1.
+
+    Returns:
+        ``(...)`` array >= 1.
+    """
+    sc = term_scales(chain, case, q, u, udot).of(quantity)
+    if quantity == "position":
+        return np.ones_like(sc)
+    from relacc.cases import layout
+
+    s1 = np.linalg.norm(np.real(np.asarray(q)[..., layout(case).s1]), axis=-1)
+    tiny = np.finfo(np.float64).tiny
+    return 1 + s1 * lever_sensitivity(quantity, case, q, u, udot) / np.maximum(sc, tiny)
+
+
+def offset_error(lost: float, quantity: str, chain, case, q, u, udot=None):
+    """Normalized error of a model that puts G2 ``lost`` metres off (an engine's compile-time rounding).
+
+    ``lost * lever_sensitivity / scale``, one value per state; 0 when nothing is lost.
+    """
+    sc = term_scales(chain, case, q, u, udot).of(quantity)
+    if lost == 0:
+        return np.zeros_like(sc)
+    tiny = np.finfo(np.float64).tiny
+    return lost * lever_sensitivity(quantity, case, q, u, udot) / np.maximum(sc, tiny)
 
 
 def term_scales(chain, case, q, u, udot=None) -> TermScales:

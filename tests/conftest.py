@@ -47,3 +47,13 @@ def fixture():
     from relacc.fixtures import load
 
     return load(Path(__file__).resolve().parents[1] / "models" / "two_body.toml")
+
+
+# Hypothesis: one fixed, derandomized profile for the whole suite (bounded budget, no database).
+from hypothesis import HealthCheck, settings  # noqa: E402
+
+settings.register_profile(
+    "relacc", max_examples=150, derandomize=True, database=None, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+settings.load_profile("relacc")

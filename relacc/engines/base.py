@@ -29,10 +29,11 @@ import numpy as np
 
 from relacc.cases import Case, as_case, check_q, check_u
 from relacc.errors import EngineError
-from relacc.kinematics import G2Kinematics
+from relacc.kinematics import G2Kinematics, check_finite_result
 from relacc.note.common import mv
 from relacc.rotations import angles_123_from_matrix, matrix_from_quaternion
-from relacc.speeds import body_speed_map, quaternion_coordinates
+from relacc.speeds import body_speed_map, check_invertible, quaternion_coordinates
+from relacc.tolerances import global_condition, offset_error, rounding_tolerance, term_scales
 
 ROUTES = ("quaternion", "euler")
 
@@ -80,6 +81,26 @@ class Engine(abc.ABC):
     """
 
     name: str = ""
+    global_coordinates: frozenset = frozenset()
+    """Quantities the engine forms from differences of world positions; their
+    accuracy follows :func:`relacc.tolerances.global_condition`."""
+
+    def lost_offset(self, route: str) -> float:
+        """Metres by which the compiled model misplaces G2 (0 unless an engine rounds the model)."""
+        return 0.0
+
+    def bound(self, route: str, quantity: str, chain, case, q, u, udot=None):
+        """Per-state bound on the normalized error of ``quantity`` against the core.
+
+        ``c eps condition + offset``: the condition is
+        :func:`relacc.tolerances.global_condition` for the quantities in
+        ``global_coordinates`` (else 1), the offset
+        :func:`relacc.tolerances.offset_error` of :meth:`lost_offset`.
+        """
+        sc = term_scales(chain, case, q, u, udot).of(quantity)
+        cond = global_condition(quantity, chain, case, q, u, udot) if quantity in self.global_coordinates \
+            else np.ones_like(sc)
+        return rounding_tolerance() * cond + offset_error(self.lost_offset(route), quantity, chain, case, q, u, udot)
 
     @property
     @abc.abstractmethod
@@ -100,9 +121,13 @@ class Engine(abc.ABC):
         ``u = [E]^-1 v_e`` and ``udot = [E]^-1 (a_e - [E_dot] u)``. For case 3 on
         the quaternion route this goes through :func:`relacc.rotations.angles_123_from_matrix`,
         ill-conditioned near gimbal lock; it serves round-trip tests, not comparisons.
+
+        Raises:
+            SingularityError: case 3 within ``MAX_CONDITION`` of gimbal lock.
         """
         c = as_case(case)
         q = self.note_coordinates(route, c, x.q)
+        check_invertible(c, q)
         u = np.linalg.solve(x.E, x.v[..., None])[..., 0]
         udot = None if x.a is None else np.linalg.solve(x.E, (x.a - mv(x.E_dot, u))[..., None])[..., 0]
         return q, u, udot
@@ -149,6 +174,7 @@ class Engine(abc.ABC):
             Vdot[i] = p.J_dot @ x.E[i] + p.J @ x.E_dot[i]
             if x.a is not None:
                 acc[i] = p.acceleration
+        check_finite_result((pos, V, Vdot, acc if x.a is not None else None), q, u, udot)
         shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
         return G2Kinematics(
             position=shape(pos, (3,)),

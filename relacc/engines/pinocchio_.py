@@ -22,6 +22,12 @@ the point at the world origin, something else). Acceleration:
 ``forwardKinematics(q, v, a)`` then ``getFrameClassicalAcceleration`` in
 ``LOCAL_WORLD_ALIGNED``.
 
+Accuracy: the frame Jacobian and its time variation are assembled in the
+WORLD frame (the twist of the body point at the world origin) and shifted to
+G2, so far from the origin they lose about ``eps |s1|`` per metre of lever
+(``global_coordinates``; measured: 9e7 eps at |s1| = 1e8 m). The classical
+acceleration is propagated in local frames and keeps full accuracy.
+
 **Composite joints.** ``buildModelFromMJCF`` merges the slides and ball of
 body B2 into one ``JointModelComposite``. In pin 4.1.0 the Jacobian time
 variation of such a joint is wrong in its slide columns (it treats every
@@ -128,6 +134,7 @@ class PinocchioEngine(Engine):
     """Pinocchio with the chain's MJCF (quaternion route) and URDF (euler route)."""
 
     name = "pinocchio"
+    global_coordinates = frozenset({"velocity", "V", "Vdot"})
 
     def __init__(self, fixture: Fixture):
         mjcf = fixture.path("two_body.xml")

@@ -21,10 +21,13 @@ from relacc import fixtures
 from relacc.check import CheckReport, Harness
 from relacc.errata import Erratum, errata
 from relacc.errors import InputError, RelaccError
+from relacc.hardcases import Result, Worst, hypothesis_search, run_catalogue
 from relacc.report.sections import SECTIONS
 
 DEFAULT_STATES = 2000
 QUICK_STATES = 200
+DEFAULT_EXAMPLES = 300
+QUICK_EXAMPLES = 40
 
 
 @dataclass(frozen=True)
@@ -34,6 +37,8 @@ class ReportContext:
     harness: Harness
     check: CheckReport
     errata: list[Erratum]
+    hard: list[Result]
+    worst: Worst
     quick: bool
     created: dt.datetime
     machine: str
@@ -47,11 +52,22 @@ def _machine() -> str:
 def build_context(n_states=None, seed=0, quick=False, model=None, progress=None) -> ReportContext:
     """Run the cross-validation and the errata that the report shows."""
     n = n_states if n_states is not None else (QUICK_STATES if quick else DEFAULT_STATES)
-    harness = Harness(fixtures.load(model), n_states=n, seed=seed, progress=progress)
+    fixture = fixtures.load(model)
+    harness = Harness(fixture, n_states=n, seed=seed, progress=progress)
+    check, items = harness.check(), errata(harness)
+    if progress:
+        progress("hard-case catalogue")
+    hard = run_catalogue(fixture, seed=seed)
+    examples = QUICK_EXAMPLES if quick else DEFAULT_EXAMPLES
+    if progress:
+        progress(f"Hypothesis search, {examples} examples")
+    worst = hypothesis_search(fixture, max_examples=examples, seed=seed)
     return ReportContext(
         harness=harness,
-        check=harness.check(),
-        errata=errata(harness),
+        check=check,
+        errata=items,
+        hard=hard,
+        worst=worst,
         quick=quick,
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),
