@@ -14,7 +14,7 @@ from relacc.errors import (
     SingularityError,
     VariantError,
 )
-from relacc.kinematics import G2Kinematics, g2_kinematics
+from relacc.kinematics import G2Kinematics, g2_acceleration, g2_kinematics
 from relacc.note.equations import EQUATIONS
 from relacc.rotations import (
     matrix_from_123,
@@ -41,6 +41,7 @@ __all__ = [
     "SingularityError",
     "TwoBodyChain",
     "VariantError",
+    "g2_acceleration",
     "g2_kinematics",
     "matrix_from_123",
     "matrix_from_quaternion",

@@ -80,7 +80,7 @@ def layout(case) -> Layout:
     return _ANGLES if as_case(case) is Case.ANGLE_RATES else _QUAT
 
 
-def _as_array(name: str, value, length: int, what: str) -> np.ndarray:
+def _as_array(name: str, value, length: int, what: str, values: bool = True) -> np.ndarray:
     try:
         arr = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
@@ -91,7 +91,7 @@ def _as_array(name: str, value, length: int, what: str) -> np.ndarray:
         raise InputError(f"{name}: expected shape (..., {length}) ({what}), got shape {arr.shape}")
     if arr.dtype.kind in "iu":
         arr = arr.astype(np.float64)
-    if not np.all(np.isfinite(arr)):
+    if values and not np.all(np.isfinite(arr)):
         bad = np.argwhere(~np.isfinite(arr))[0]
         raise InputError(
             f"{name}: non-finite value {arr[tuple(bad)]} at index {tuple(int(i) for i in bad)}; "
@@ -100,11 +100,13 @@ def _as_array(name: str, value, length: int, what: str) -> np.ndarray:
     return arr
 
 
-def check_q(case, q) -> np.ndarray:
+def check_q(case, q, values: bool = True) -> np.ndarray:
     """Validate a case's coordinates; return them as a float (or complex) array.
 
     Quaternions must be unit to ``QUATERNION_NORM_TOLERANCE``; they are never
-    normalized here.
+    normalized here. With ``values=False`` only the type and shape are
+    checked (the fused kernels check the values themselves, see
+    :mod:`relacc.fast`, and call back here to report what they find).
 
     Raises:
         InputError: wrong length, non-finite entries or non-unit quaternions.
@@ -116,11 +118,11 @@ def check_q(case, q) -> np.ndarray:
         if lay.quaternions
         else "[s1 (3), theta_B1 (3), s2' (3), theta_B2 (3)]"
     )
-    arr = _as_array(f"q for case {int(c)}", q, lay.nq, what)
-    if lay.quaternions:
+    arr = _as_array(f"q for case {int(c)}", q, lay.nq, what, values)
+    if values and lay.quaternions:
         for label, sl in (("quat_B1", lay.B1), ("quat_B2/B1", lay.B2)):
             quat = arr[..., sl]
-            dev = np.abs(np.sum(quat * quat, axis=-1) - 1)
+            dev = np.abs(np.einsum("...i,...i->...", quat, quat) - 1)
             if np.any(dev > QUATERNION_NORM_TOLERANCE):
                 idx = np.unravel_index(np.argmax(dev), dev.shape) if dev.ndim else ()
                 at = f" at batch index {tuple(int(i) for i in idx)}" if idx else ""
@@ -133,13 +135,13 @@ def check_q(case, q) -> np.ndarray:
     return arr
 
 
-def check_u(name: str, u) -> np.ndarray:
+def check_u(name: str, u, values: bool = True) -> np.ndarray:
     """Validate generalized speeds (or their derivatives), shape ``(..., 12)``.
 
     Raises:
-        InputError: wrong length or non-finite entries.
+        InputError: wrong length or (with ``values``) non-finite entries.
     """
-    return _as_array(name, u, NU, "[s1 (3), B1 angular (3), s2' (3), B2 angular (3)] rates")
+    return _as_array(name, u, NU, "[s1 (3), B1 angular (3), s2' (3), B2 angular (3)] rates", values)
 
 
 def check_int(name: str, value, minimum: int | None = None) -> int:

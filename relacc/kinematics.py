@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from relacc import fast
 from relacc.cases import Case, as_case, check_q, check_u
 from relacc.chain import TwoBodyChain
 from relacc.errors import InputError, VariantError
@@ -107,7 +108,35 @@ def _variant_label(variant, printed) -> str:
     return ",".join(sorted(printed)) if printed else "corrected"
 
 
-def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected") -> G2Kinematics:
+BACKENDS = ("auto", "fast", "reference")
+
+
+def _check_backend(backend, printed, *arrays) -> str:
+    """Resolve ``backend`` to ``"fast"`` or ``"reference"``."""
+    if backend not in BACKENDS:
+        raise InputError(f"unknown backend {backend!r}: accepted are {', '.join(BACKENDS)}")
+    real = all(a is None or a.dtype.kind == "f" for a in arrays)
+    if backend == "fast" and (printed or not real):
+        raise InputError("backend 'fast' evaluates the corrected variant on real inputs only; "
+                         "use backend 'reference' for printed variants or complex inputs")
+    if backend == "auto":
+        return "fast" if (real and not printed) else "reference"
+    return backend
+
+
+def _check_values(c, q, u, udot) -> None:
+    """The value checks of :func:`check_q` and :func:`check_u` (finite, unit quaternions)."""
+    check_q(c, q)
+    check_u(f"u for case {int(c)}", u)
+    if udot is not None:
+        check_u(f"udot for case {int(c)}", udot)
+
+
+def _flat(a, batch, width):
+    return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width), dtype=np.float64)
+
+
+def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend="auto") -> G2Kinematics:
     """Position, velocity, acceleration, V and Vdot of G2 by the note's formulas.
 
     Args:
@@ -122,6 +151,10 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected") -> G2Kin
         variant: ``"corrected"`` (default), ``"printed"`` (the note's printed
             formulas where they differ) or a set of equation ids to take as
             printed (see :mod:`relacc.note.equations`).
+        backend: ``"auto"`` (default: the fused kernels of :mod:`relacc.fast`
+            for the corrected variant on real inputs, else the reference),
+            ``"fast"`` or ``"reference"`` (the note's formulas one by one, as
+            labelled in :mod:`relacc.note`; the two agree to a few ulps).
 
     Batch dimensions of ``q``, ``u`` and ``udot`` broadcast against each
     other. Complex inputs are accepted (every formula is analytic), which the
@@ -139,10 +172,14 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected") -> G2Kin
         raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
     c = as_case(case)
     printed = resolve_variant(variant)
-    q = check_q(c, q)
-    u = check_u(f"u for case {int(c)}", u)
+    # Types and shapes first; values (finite, unit quaternions) here or, on the fast path, in the kernel.
+    q = check_q(c, q, values=False)
+    u = check_u(f"u for case {int(c)}", u, values=False)
     if udot is not None:
-        udot = check_u(f"udot for case {int(c)}", udot)
+        udot = check_u(f"udot for case {int(c)}", udot, values=False)
+    path = _check_backend(backend, printed, q, u, udot)
+    if path == "reference":
+        _check_values(c, q, u, udot)
     shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
     try:
         np.broadcast_shapes(*shapes)
@@ -151,8 +188,59 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected") -> G2Kin
             f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes"
         ) from None
 
+    batch = np.broadcast_shapes(*shapes)
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an InputError
+        if path == "fast":
+            n = q.shape[-1]
+            flat = [_flat(q, batch, n), _flat(u, batch, 12), None if udot is None else _flat(udot, batch, 12)]
+            (pos, vel, acc, V, Vdot), bad, bad_in = fast.kinematics(int(c), *flat, chain.q2, chain.r2)
+            if bad_in:
+                _check_values(c, q, u, udot)  # raises, naming the bad entry
+            if bad:
+                check_finite_result((pos, vel, acc, V, Vdot), q, u, udot)
+            shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
+            return G2Kinematics(shape(pos, (3,)), shape(vel, (3,)), None if acc is None else shape(acc, (3,)),
+                                shape(V, (3, 12)), shape(Vdot, (3, 12)), c, _variant_label(variant, printed))
         return _evaluate(chain, c, q, u, udot, printed, shapes, variant)
+
+
+def g2_acceleration(chain, case, q, u, udot, *, backend="auto"):
+    """G2's classical acceleration alone (corrected formulas), the fastest path.
+
+    Same arguments and checks as :func:`g2_kinematics`, without V, Vdot.
+
+    Returns:
+        ``(..., 3)`` acceleration of G2 in R (second time derivative of its
+        position), fixed-frame components, m/s^2.
+    """
+    if not isinstance(chain, TwoBodyChain):
+        raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
+    c = as_case(case)
+    q = check_q(c, q, values=False)
+    u = check_u(f"u for case {int(c)}", u, values=False)
+    udot = check_u(f"udot for case {int(c)}", udot, values=False)
+    path = _check_backend(backend, frozenset(), q, u, udot)
+    if path == "reference":
+        _check_values(c, q, u, udot)
+    try:
+        batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1], udot.shape[:-1])
+    except ValueError:
+        raise InputError("batch shapes of q, u, udot do not broadcast; give equal leading shapes") from None
+    with np.errstate(over="ignore", invalid="ignore"):
+        if path == "fast":
+            flat = (_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), _flat(udot, batch, 12))
+            acc, bad, bad_in = fast.acceleration(int(c), *flat, chain.q2, chain.r2)
+            if bad_in:
+                _check_values(c, q, u, udot)  # raises, naming the bad entry
+            acc = acc.reshape(batch + (3,))
+            if bad:
+                check_finite_result((acc,), q, u, udot)
+        else:
+            acc = _evaluate(chain, c, q, u, udot, frozenset(), [q.shape[:-1], u.shape[:-1], udot.shape[:-1]],
+                            "corrected").acceleration
+    if isinstance(acc, np.ndarray):
+        acc.setflags(write=False)
+    return acc
 
 
 def _evaluate(chain, c, q, u, udot, printed, shapes, variant) -> G2Kinematics:

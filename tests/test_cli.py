@@ -51,7 +51,8 @@ def test_eval_reads_a_json_state_file(tmp_path, capsys, fixture):
 @pytest.mark.parametrize(
     "argv,match",
     [
-        (["eval", "--case", "1", "--q", "0,0,0,0.7,0,0,0.7,0,0,0,1,0,0,0", "--u", "0"], "does not normalize"),
+        (["eval", "--case", "1", "--q", "0,0,0,0.7,0,0,0.7,0,0,0,1,0,0,0", "--u", ",".join("0" * 12)],
+         "does not normalize"),
         (["eval", "--case", "1", "--q", "0,0,0,1,0,0,0,0,0,0,1,0,0,0", "--u", "0"], r"shape \(\.\.\., 12\)"),
         (["eval", "--case", "5", "--q", "0", "--u", "0"], "accepted cases"),
         (["eval", "--case", "1", "--q", "a,b", "--u", "0"], "expected numbers"),

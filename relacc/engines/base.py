@@ -57,13 +57,13 @@ class EngineInput:
 
 @dataclass(frozen=True)
 class PointKinematics:
-    """What the engine computes for G2 at one state, in its own velocity coordinates.
+    """What the engine computes for G2 over a batch, in its own velocity coordinates.
 
     Attributes:
-        position: ``(3,)`` G2 in world (= fixed frame R) components, m.
-        J: ``(3, nv_e)`` translational Jacobian of G2, world components.
-        J_dot: ``(3, nv_e)`` its time derivative along the motion.
-        acceleration: ``(3,)`` classical acceleration of G2, world components,
+        position: ``(n, 3)`` G2 in world (= fixed frame R) components, m.
+        J: ``(n, 3, nv_e)`` translational Jacobian of G2, world components.
+        J_dot: ``(n, 3, nv_e)`` its time derivative along the motion.
+        acceleration: ``(n, 3)`` classical acceleration of G2, world components,
             from the engine's acceleration routine (None without ``a``).
     """
 
@@ -133,8 +133,12 @@ class Engine(abc.ABC):
         return q, u, udot
 
     @abc.abstractmethod
-    def point(self, route: str, q, v, a) -> PointKinematics:
-        """Evaluate G2 for one state in engine coordinates."""
+    def points(self, route: str, q, v, a) -> PointKinematics:
+        """Evaluate G2 for a batch ``(n, nq_e)``, ``(n, nv_e)`` in engine coordinates.
+
+        One tight loop over the states with the engine's model and data
+        reused; results go straight into preallocated arrays.
+        """
 
     def g2_kinematics(self, case, q, u, udot=None, *, route="quaternion") -> G2Kinematics:
         """G2's kinematics by this engine, in the core's conventions.
@@ -164,17 +168,12 @@ class Engine(abc.ABC):
         u = np.broadcast_to(u, batch + (12,)).reshape(-1, 12)
         udot = None if udot is None else np.broadcast_to(udot, batch + (12,)).reshape(-1, 12)
         x = self.engine_input(route, c, q, u, udot)
-        n = q.shape[0]
-        pos, acc = np.empty((n, 3)), np.empty((n, 3))
-        V, Vdot = np.empty((n, 3, 12)), np.empty((n, 3, 12))
-        for i in range(n):
-            p = self.point(route, x.q[i], x.v[i], None if x.a is None else x.a[i])
-            pos[i] = p.position
-            V[i] = p.J @ x.E[i]
-            Vdot[i] = p.J_dot @ x.E[i] + p.J @ x.E_dot[i]
-            if x.a is not None:
-                acc[i] = p.acceleration
-        check_finite_result((pos, V, Vdot, acc if x.a is not None else None), q, u, udot)
+        p = self.points(route, np.ascontiguousarray(x.q), np.ascontiguousarray(x.v),
+                        None if x.a is None else np.ascontiguousarray(x.a))
+        pos, acc = p.position, p.acceleration
+        V = p.J @ x.E
+        Vdot = p.J_dot @ x.E + p.J @ x.E_dot
+        check_finite_result((pos, V, Vdot, acc), q, u, udot)
         shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
         return G2Kinematics(
             position=shape(pos, (3,)),

@@ -74,10 +74,6 @@ class _Route:
         self.body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, "B2")
         if self.site < 0 or self.body < 0:
             raise FixtureError(f"{path}: needs a site named G2 and a body named B2")
-        nv = self.model.nv
-        self.jacp = np.zeros((3, nv))
-        self.jacp_dot = np.zeros((3, nv))
-        self.acc6 = np.zeros(6)
 
 
 class MujocoEngine(Engine):
@@ -113,21 +109,25 @@ class MujocoEngine(Engine):
     def note_coordinates(self, route, case, q_e):
         return q_e if route == "euler" else note_from_quaternions(case, q_e)
 
-    def point(self, route, q, v, a):
+    def points(self, route, q, v, a):
         r = self.routes[route]
-        m, d = r.model, r.data
-        d.qpos[:] = q
-        d.qvel[:] = v
-        mujoco.mj_kinematics(m, d)
-        mujoco.mj_comPos(m, d)
-        mujoco.mj_comVel(m, d)
-        pos = d.site_xpos[r.site].copy()
-        mujoco.mj_jac(m, d, r.jacp, None, pos, r.body)
-        mujoco.mj_jacDot(m, d, r.jacp_dot, None, pos, r.body)
-        acc = None
-        if a is not None:
-            d.qacc[:] = a
-            mujoco.mj_rnePostConstraint(m, d)
-            mujoco.mj_objectAcceleration(m, d, mujoco.mjtObj.mjOBJ_SITE, r.site, r.acc6, 0)
-            acc = r.acc6[3:].copy()  # [angular; linear], world components
-        return PointKinematics(position=pos, J=r.jacp.copy(), J_dot=r.jacp_dot.copy(), acceleration=acc)
+        m, d, site, body = r.model, r.data, r.site, r.body
+        n, nv = q.shape[0], m.nv
+        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, nv)), np.empty((n, 3, nv))
+        acc = None if a is None else np.empty((n, 3))
+        res = np.empty(6)
+        for i in range(n):
+            d.qpos[:] = q[i]
+            d.qvel[:] = v[i]
+            mujoco.mj_kinematics(m, d)
+            mujoco.mj_comPos(m, d)
+            mujoco.mj_comVel(m, d)
+            pos[i] = d.site_xpos[site]
+            mujoco.mj_jac(m, d, J[i], None, pos[i], body)
+            mujoco.mj_jacDot(m, d, Jd[i], None, pos[i], body)
+            if a is not None:
+                d.qacc[:] = a[i]
+                mujoco.mj_rnePostConstraint(m, d)
+                mujoco.mj_objectAcceleration(m, d, mujoco.mjtObj.mjOBJ_SITE, site, res, 0)
+                acc[i] = res[3:]  # [angular; linear], world components
+        return PointKinematics(position=pos, J=J, J_dot=Jd, acceleration=acc)

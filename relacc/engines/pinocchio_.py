@@ -180,17 +180,20 @@ class PinocchioEngine(Engine):
         )
         return note_from_quaternions(case, q14)
 
-    def point(self, route, q, v, a):
+    def points(self, route, q, v, a):
         r = self.routes[route]
         m, d, f = r.model, r.data, r.frame
-        pin.forwardKinematics(m, d, q, v, np.zeros(m.nv) if a is None else a)
-        pin.updateFramePlacements(m, d)
-        pos = d.oMf[f].translation.copy()
-        pin.computeJointJacobians(m, d)
-        pin.computeJointJacobiansTimeVariation(m, d, q, v)
-        J = pin.getFrameJacobian(m, d, f, LWA)[:3].copy()
-        J_dot = pin.getFrameJacobianTimeVariation(m, d, f, LWA)[:3].copy()
-        acc = None
-        if a is not None:
-            acc = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear.copy()
-        return PointKinematics(position=pos, J=J, J_dot=J_dot, acceleration=acc)
+        n, nv = q.shape[0], m.nv
+        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, nv)), np.empty((n, 3, nv))
+        acc = None if a is None else np.empty((n, 3))
+        for i in range(n):
+            # one pass: forward kinematics with v, joint Jacobians and their time variation
+            pin.computeJointJacobiansTimeVariation(m, d, q[i], v[i])
+            pin.updateFramePlacement(m, d, f)
+            pos[i] = d.oMf[f].translation
+            J[i] = pin.getFrameJacobian(m, d, f, LWA)[:3]
+            Jd[i] = pin.getFrameJacobianTimeVariation(m, d, f, LWA)[:3]
+            if a is not None:  # second pass: accelerations, read as classical
+                pin.forwardKinematics(m, d, q[i], v[i], a[i])
+                acc[i] = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear
+        return PointKinematics(position=pos, J=J, J_dot=Jd, acceleration=acc)

@@ -28,6 +28,8 @@ DEFAULT_STATES = 2000
 QUICK_STATES = 200
 DEFAULT_EXAMPLES = 300
 QUICK_EXAMPLES = 40
+DEFAULT_BENCH = (20_000, 5)
+QUICK_BENCH = (2_000, 3)
 
 
 @dataclass(frozen=True)
@@ -39,6 +41,7 @@ class ReportContext:
     errata: list[Erratum]
     hard: list[Result]
     worst: Worst
+    throughput: dict
     quick: bool
     created: dt.datetime
     machine: str
@@ -62,12 +65,19 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
     if progress:
         progress(f"Hypothesis search, {examples} examples")
     worst = hypothesis_search(fixture, max_examples=examples, seed=seed)
+    n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
+    if progress:
+        progress(f"throughput, {n_bench} states per case")
+    from relacc.benchmark import run as run_benchmark
+
+    throughput = run_benchmark(n_bench, repeats, seed, fixture)
     return ReportContext(
         harness=harness,
         check=check,
         errata=items,
         hard=hard,
         worst=worst,
+        throughput=throughput,
         quick=quick,
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),

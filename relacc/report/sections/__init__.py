@@ -1,5 +1,5 @@
 """Report sections, in page order. Each module has ``ID``, ``TITLE`` and ``build(ctx) -> dict``."""
 
-from relacc.report.sections import agreement, conventions, errata, hardcases, summary, system
+from relacc.report.sections import agreement, conventions, errata, hardcases, summary, system, throughput
 
-SECTIONS = (summary, system, conventions, agreement, errata, hardcases)
+SECTIONS = (summary, system, conventions, agreement, errata, hardcases, throughput)

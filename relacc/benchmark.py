@@ -1,0 +1,181 @@
+"""Throughput: relacc's batched kernels against looping Pinocchio and MuJoCo from Python.
+
+One run, the same states for everyone, per case and per output:
+
+* ``acceleration``: G2's classical acceleration only. Pinocchio:
+  ``forwardKinematics(q, v, a)`` + ``updateFramePlacement`` +
+  ``getFrameClassicalAcceleration`` per state. MuJoCo: ``mj_kinematics``,
+  ``mj_comPos``, ``mj_comVel``, ``mj_rnePostConstraint``,
+  ``mj_objectAcceleration`` per state.
+* ``full``: position, velocity, acceleration, V and Vdot. Pinocchio adds
+  ``computeJointJacobians``, ``computeJointJacobiansTimeVariation``,
+  ``getFrameJacobian``, ``getFrameJacobianTimeVariation`` (LOCAL_WORLD_ALIGNED);
+  MuJoCo adds ``mj_jac`` and ``mj_jacDot``.
+
+Every loop stores its results into preallocated arrays. Engine coordinates
+are prepared before timing (cases 1-2: the quaternion fixture; case 3: the
+Euler fixtures, whose coordinates are case 3's own), and the engines return
+Jacobians in their own velocity coordinates: the comparison favours the
+engines. Times are medians of repeats after a full-size warm-up.
+
+Used by ``benchmarks/throughput.py`` (the recorded runs) and by the report's
+throughput section (a smaller run on the machine the report is made on).
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+import relacc
+from relacc import fast
+from relacc.engines import load_engine
+from relacc.fixtures import load
+from relacc.states import random_states
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def machine() -> dict:
+    return {
+        "date": dt.date.today().isoformat(),
+        "cpu": cpu_model(),
+        "logical_cpus": os.cpu_count(),
+        "system": f"{platform.system()} {platform.release()} {platform.machine()}",
+        "python": sys.version.split()[0],
+        "numpy": np.__version__,
+        "numba": fast.numba.__version__ if fast.HAVE_NUMBA else None,
+        "relacc_backend": fast.BACKEND,
+        "pinocchio": pin.__version__,
+        "mujoco": mujoco.__version__,
+        "relacc": relacc.__version__,
+    }
+
+
+def median_time(fn, repeats: int) -> float:
+    """Median wall time of ``repeats`` calls after two full-size warm-up calls."""
+    fn()  # warm-up at full size (compilation, thread pool, first-touch memory)
+    fn()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return float(np.median(times))
+
+
+def pinocchio_loop(model, data, frame, q, v, a, full: bool):
+    n = q.shape[0]
+    acc = np.empty((n, 3))
+    if full:
+        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, model.nv)), np.empty((n, 3, model.nv))
+
+    def run():
+        for i in range(n):
+            pin.forwardKinematics(model, data, q[i], v[i], a[i])
+            pin.updateFramePlacement(model, data, frame)
+            acc[i] = pin.getFrameClassicalAcceleration(model, data, frame, LWA).linear
+            if full:
+                pos[i] = data.oMf[frame].translation
+                pin.computeJointJacobiansTimeVariation(model, data, q[i], v[i])
+                J[i] = pin.getFrameJacobian(model, data, frame, LWA)[:3]
+                Jd[i] = pin.getFrameJacobianTimeVariation(model, data, frame, LWA)[:3]
+
+    return run
+
+
+def mujoco_loop(model, data, site, body, q, v, a, full: bool):
+    n = q.shape[0]
+    acc, res = np.empty((n, 3)), np.empty(6)
+    if full:
+        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, model.nv)), np.empty((n, 3, model.nv))
+
+    def run():
+        for i in range(n):
+            data.qpos[:] = q[i]
+            data.qvel[:] = v[i]
+            data.qacc[:] = a[i]
+            mujoco.mj_kinematics(model, data)
+            mujoco.mj_comPos(model, data)
+            mujoco.mj_comVel(model, data)
+            mujoco.mj_rnePostConstraint(model, data)
+            mujoco.mj_objectAcceleration(model, data, mujoco.mjtObj.mjOBJ_SITE, site, res, 0)
+            acc[i] = res[3:]
+            if full:
+                pos[i] = data.site_xpos[site]
+                mujoco.mj_jac(model, data, J[i], None, pos[i], body)
+                mujoco.mj_jacDot(model, data, Jd[i], None, pos[i], body)
+
+    return run
+
+
+def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
+    """Time every row (see the module docstring); returns plain data with the machine's description."""
+    fixture = fixture if fixture is not None else load()
+    chain = fixture.chain
+    engines = {name: load_engine(name, fixture) for name in ("pinocchio", "mujoco")}
+    states = {case: random_states(case, n_states, [seed, case]) for case in (1, 2, 3)}
+    timings = {}
+    # relacc first, every case, so its timings never follow seconds of single-threaded engine loops
+    for case, s in states.items():
+        timings[(case, "relacc", "acceleration")] = median_time(
+            lambda: relacc.g2_acceleration(chain, case, s.q, s.u, s.udot), repeats)
+        timings[(case, "relacc", "full")] = median_time(
+            lambda: relacc.g2_kinematics(chain, case, s.q, s.u, s.udot), repeats)
+        small = slice(0, max(n_states // 10, 1))  # the note's reference implementation, for information
+        timings[(case, "relacc-reference", "full")] = median_time(
+            lambda: relacc.g2_kinematics(chain, case, s.q[small], s.u[small], s.udot[small], backend="reference"),
+            repeats) * (n_states / len(s.q[small]))
+    for case, s in states.items():
+        route = "euler" if case == 3 else "quaternion"
+        c = relacc.Case(case)
+        e = engines["pinocchio"]
+        x = e.engine_input(route, c, s.q, s.u, s.udot)
+        r = e.routes[route]
+        for output in ("acceleration", "full"):
+            timings[(case, "pinocchio", output)] = median_time(
+                pinocchio_loop(r.model, r.data, r.frame, x.q, x.v, x.a, output == "full"), max(1, repeats // 3))
+        e = engines["mujoco"]
+        x = e.engine_input(route, c, s.q, s.u, s.udot)
+        r = e.routes[route]
+        for output in ("acceleration", "full"):
+            timings[(case, "mujoco", output)] = median_time(
+                mujoco_loop(r.model, r.data, r.site, r.body, x.q, x.v, x.a, output == "full"), max(1, repeats // 3))
+    rows = [
+        {"case": case, "who": who, "output": output, "seconds": seconds, "states_per_second": n_states / seconds,
+         "engine_route": ("euler" if case == 3 else "quaternion") if who in ("pinocchio", "mujoco") else None}
+        for (case, who, output), seconds in sorted(timings.items())
+    ]
+    for row in rows:
+        base = next(r for r in rows if r["case"] == row["case"] and r["output"] == row["output"]
+                    and r["who"] == "relacc")
+        row["relacc_speedup_over_this"] = row["seconds"] / base["seconds"]
+    return {"machine": machine(), "n_states": n_states, "repeats": repeats, "seed": seed, "rows": rows}
+
+
+def print_table(result: dict) -> None:
+    m = result["machine"]
+    print(f"throughput, {result['n_states']} states per case, median of {result['repeats']} repeats; "
+          f"{m['date']}, {m['cpu']}, {m['logical_cpus']} CPUs, relacc backend {m['relacc_backend']}")
+    print(f"{'case':4s} {'output':13s} {'who':17s} {'states/s':>12s} {'relacc is x faster':>19s}")
+    for r in result["rows"]:
+        print(f"{r['case']:<4d} {r['output']:13s} {r['who']:17s} {r['states_per_second']:12,.0f} "
+              f"{r['relacc_speedup_over_this']:19.1f}")

@@ -1,0 +1,57 @@
+"""Throughput: relacc's batched kernels against looping the engines, measured on this machine."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib import pyplot as plt
+
+from relacc.report import svg
+
+ID = "throughput"
+TITLE = "Throughput"
+
+WHO = ("relacc", "relacc-reference", "pinocchio", "mujoco")
+COLORS = {"relacc": "black", "relacc-reference": "#999999", "pinocchio": "#1f77b4", "mujoco": "#d62728"}
+
+
+def _plot(rows) -> str:
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.0), sharey=True)
+    for ax, output in zip(axes, ("acceleration", "full")):
+        present = [w for w in WHO if any(r["who"] == w and r["output"] == output for r in rows)]
+        width = 0.8 / len(present)
+        for k, who in enumerate(present):
+            xs, ys = [], []
+            for case in (1, 2, 3):
+                row = next((r for r in rows if (r["case"], r["who"], r["output"]) == (case, who, output)), None)
+                if row:
+                    xs.append(case + (k - (len(present) - 1) / 2) * width)
+                    ys.append(row["states_per_second"])
+            ax.bar(xs, ys, width=width, color=COLORS[who], label=who)
+        ax.set_yscale("log")
+        ax.set_xticks([1, 2, 3], ["case 1", "case 2", "case 3"])
+        ax.set_title("acceleration only" if output == "acceleration" else "position, velocity, acceleration, V, Vdot",
+                     fontsize=9)
+    axes[0].set_ylabel("states per second")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=4, bbox_to_anchor=(0.5, -0.1))
+    return svg.figure(fig)
+
+
+def build(ctx) -> dict:
+    t = ctx.throughput
+    rows = t["rows"]
+    table = []
+    for case in (1, 2, 3):
+        for output in ("acceleration", "full"):
+            by = {r["who"]: r for r in rows if r["case"] == case and r["output"] == output}
+            table.append({
+                "case": case, "output": output,
+                "relacc": by["relacc"]["states_per_second"],
+                "pinocchio": by["pinocchio"]["states_per_second"],
+                "mujoco": by["mujoco"]["states_per_second"],
+                "vs_pinocchio": by["pinocchio"]["relacc_speedup_over_this"],
+                "vs_mujoco": by["mujoco"]["relacc_speedup_over_this"],
+                "reference": by.get("relacc-reference", {}).get("states_per_second"),
+            })
+    return {"machine": t["machine"], "n_states": t["n_states"], "repeats": t["repeats"], "table": table,
+            "figure": _plot(rows), "min_vs_pinocchio": float(np.min([r["vs_pinocchio"] for r in table]))}
