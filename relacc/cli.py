@@ -171,6 +171,60 @@ def cmd_fixtures(args) -> int:
     return 0
 
 
+def cmd_simulate(args) -> int:
+    import time as _time
+
+    from relacc import scenes, simulate
+
+    scene = scenes.load(args.scene)
+    changes = {k: v for k, v in (("dt", args.dt), ("integrator", args.integrator), ("duration", args.duration))
+               if v is not None}
+    if args.engines:
+        changes["engines"] = tuple(args.engines.split(","))
+    if changes:
+        scene = scene.replace(**changes)
+    start = _time.perf_counter()
+    last = [0.0]
+
+    def progress(engine, fraction):  # a progress bar once the run has taken more than 2 s
+        now = _time.perf_counter()
+        if args.quiet or now - start < 2.0 or now - last[0] < 0.2:
+            return
+        last[0] = now
+        bar = "#" * int(30 * fraction)
+        print(f"\r  {engine:9s} [{bar:30s}] {100 * fraction:5.1f} %", end="", file=sys.stderr, flush=True)
+
+    result = simulate.run(scene, progress=progress)
+    if _time.perf_counter() - start >= 2.0 and not args.quiet:
+        print(file=sys.stderr)
+    if args.out:
+        for path in simulate.write_csv(result, args.out):
+            if not args.json:
+                print(f"wrote {path}")
+    summary = result.summary()
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    eff = scene.effects
+    print(f"{scene.title} ({scene.name}): case {scene.case}, {scene.integrator}, dt = {scene.dt} s, "
+          f"{scene.duration} s, effects: {', '.join(eff.active()) or 'none'}")
+    print(f"{'engine':10s} {'G2 position at the end (fixed comps, m)':44s} {'energy drift':>12s} "
+          f"{'momentum drift':>15s} {'seconds':>8s}")
+    for name, e in summary["engines"].items():
+        pos = ", ".join(f"{x:.9f}" for x in e["g2_position_final"])
+        ed = "-" if e["energy_drift"] is None else f"{e['energy_drift']:.2e}"
+        md = "-" if e["momentum_drift"] is None else f"{e['momentum_drift']:.2e}"
+        print(f"{name:10s} [{pos:42s}] {ed:>12s} {md:>15s} {e['seconds']:8.3f}")
+    print(f"largest G2 difference between engines over the run: position "
+          f"{summary['max_g2_position_difference']:.3e} m, velocity {summary['max_g2_velocity_difference']:.3e} m/s")
+    for name, err in summary["note_acceleration_vs_engines"].items():
+        print(f"note's acceleration along relacc's trajectory vs {name}: {err:.2e} (normalized, "
+              f"{err / EPS:.1f} eps)")
+    print("energy drift: max |E - E0| / |E0| where only conservative effects act; momentum drift: max |p - p0| "
+          "(kg m/s) where no external force acts")
+    return 0
+
+
 def cmd_report(args) -> int:
     from relacc.report import build_report
 
@@ -226,6 +280,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--check", action="store_true", help="only check they are up to date")
     model_opt(p)
     p.set_defaults(func=cmd_fixtures)
+
+    p = sub.add_parser("simulate", help="run a scene on relacc, Pinocchio and MuJoCo and compare them")
+    p.add_argument("scene", help="scene TOML file (models/scenes/*.toml)")
+    p.add_argument("--out", help="directory for one CSV per engine")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--engines", help="comma-separated subset of relacc,pinocchio,mujoco")
+    p.add_argument("--dt", type=float, help="override the scene's time step (s)")
+    p.add_argument("--duration", type=float, help="override the scene's duration (s)")
+    p.add_argument("--integrator", help="override the scene's integrator")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("report", help="write the self-contained HTML agreement report")
     p.add_argument("--out", default="reports/agreement.html", help="output file")

@@ -11,13 +11,13 @@ into three engine files (Jinja2 templates in ``relacc/templates``):
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from jinja2 import Environment, PackageLoader, StrictUndefined
 
+from relacc import tomlfile
 from relacc.chain import TwoBodyChain
 from relacc.errors import FixtureError, InputError
 
@@ -55,18 +55,6 @@ class Fixture:
         return self.source.parent / filename
 
 
-def _line_of(text: str, table: str | None, key: str) -> int | None:
-    """1-based line of ``key =`` inside ``[table]`` (or the top level), if found."""
-    current = None
-    for number, raw in enumerate(text.splitlines(), 1):
-        line = raw.strip()
-        if line.startswith("[") and line.endswith("]"):
-            current = line[1:-1].strip()
-        elif current == table and line.split("=", 1)[0].strip() == key and "=" in line:
-            return number
-    return None
-
-
 def load(path=None) -> Fixture:
     """Read a chain's TOML source of truth.
 
@@ -78,14 +66,7 @@ def load(path=None) -> Fixture:
             missing or invalid field (path, line and field named).
     """
     path = Path(path) if path is not None else default_model_path()
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise FixtureError(f"{path}: cannot read the model file ({exc.strerror or exc})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise FixtureError(f"{path}: not valid TOML: {exc}") from None
+    data, text = tomlfile.read(path)
 
     def get(table, key):
         container = data if table is None else data.get(table)
@@ -99,9 +80,7 @@ def load(path=None) -> Fixture:
         try:
             return convert(value)
         except InputError as exc:
-            line = _line_of(text, table, key)
-            at = f" line {line}," if line else ""
-            raise FixtureError(f"{path}:{at} field [{table}].{key}: {exc}") from None
+            raise tomlfile.field_error(path, text, table, key, str(exc)) from None
 
     name = get(None, "name")
     if not isinstance(name, str) or not name:

@@ -232,3 +232,46 @@ def assert_agree(x, ref, scale, *, what: str, seed=None, factor: float = ROUNDIN
             f"tolerance {tol:.3g} at state {tuple(int(i) for i in idx)} (seed {seed})"
         )
     return err
+
+
+def dynamics_scales(chain, case, q, u, effects=None):
+    """Magnitudes of the terms of Kane's ``M`` and ``f``, one value per state.
+
+    With ``m = m1 + m2``, ``J = |I1| + |I2|`` (Frobenius), ``l``, ``W`` as in
+    :func:`term_scales` and ``l1 = |r1'|``:
+
+    * ``M``: ``m (1 + l + l1)^2 + J`` (kg m^2; the translational blocks are smaller);
+    * ``f``: ``m (1 + l + l1) (W^2 (l + l1) + 2 W |s2'_dot| + |g|) + J W^2`` plus
+      every active effect's size (``|K| |s2' - rest| + |C| |s2'_dot| + c W
+      + |F| (1 + l) + |T1| + |T2|``).
+    """
+    from relacc.cases import layout
+
+    sc = term_scales(chain, case, q, u)
+    q, u = np.asarray(q), np.asarray(u)
+    n = lambda a: np.linalg.norm(np.real(a), axis=-1)  # noqa: E731
+    lever = sc.V - 1 + np.linalg.norm(chain.r1)
+    w = n(u[..., 3:6]) + n(u[..., 9:12])
+    sd = n(u[..., 6:9])
+    m = chain.m1 + chain.m2
+    J = np.linalg.norm(chain.I1) + np.linalg.norm(chain.I2)
+    M = m * (1 + lever) ** 2 + J
+    g = 0.0
+    extra = 0.0
+    if effects is not None:
+        s2 = q[..., layout(case).s2_p]
+        if effects.gravity is not None:
+            g = np.linalg.norm(effects.gravity)
+        if effects.spring_stiffness is not None:
+            extra = extra + n(effects.spring_stiffness) * n(s2 - effects.spring_rest)
+        if effects.spring_damping is not None:
+            extra = extra + n(effects.spring_damping) * sd
+        if effects.ball_damping is not None:
+            extra = extra + effects.ball_damping * w
+        if effects.force_G2 is not None:
+            extra = extra + n(effects.force_G2) * (1 + lever)
+        for T in (effects.torque_B1, effects.torque_B2):
+            if T is not None:
+                extra = extra + n(T)
+    f = m * (1 + lever) * (w * w * lever + 2 * w * sd + g) + J * w * w + extra
+    return M, f

@@ -133,6 +133,51 @@ class Engine(abc.ABC):
         return q, u, udot
 
     @abc.abstractmethod
+    def dynamics(self, q, v, effects):
+        """Engine equations ``M_e vdot_e = f_e`` on the quaternion route, for a batch.
+
+        Args:
+            q, v: ``(n, nq_e)``, ``(n, nv_e)`` engine coordinates.
+            effects: :class:`relacc.effects.Effects`, the only effects applied.
+
+        Returns:
+            ``M_e`` ``(n, nv_e, nv_e)`` and ``f_e`` ``(n, nv_e)``: generalized
+            forces of the effects minus the bias forces, in engine coordinates.
+        """
+
+    @abc.abstractmethod
+    def forward_dynamics(self, q, v, effects):
+        """Engine accelerations ``vdot_e`` ``(n, nv_e)`` at ``(q, v)`` under exactly ``effects`` (quaternion route)."""
+
+    @abc.abstractmethod
+    def simulate(self, q, v, effects, dt: float, n_steps: int, integrator: str, record_every: int = 1,
+                 progress=None):
+        """Integrate from engine coordinates ``(q, v)`` for ``n_steps`` steps of ``dt`` seconds.
+
+        Returns:
+            ``(t, Q, V)``: times ``(m,)`` (s) and engine states ``(m, nq_e)``,
+            ``(m, nv_e)`` every ``record_every`` steps, the initial state first.
+        """
+
+    @abc.abstractmethod
+    def body_state(self, q, v):
+        """Engine coordinates ``(n, nq_e)``, ``(n, nv_e)`` to Case 2's ``(q14, nu)`` (quaternion route)."""
+
+    def equations_of_motion(self, case, q, u, effects):
+        """The engine's ``(M, f)`` mapped to a case's speeds: ``E^T M_e E`` and ``E^T (f_e - M_e E_dot u)``.
+
+        With ``v_e = E u``, ``vdot_e = E udot + E_dot u``; quaternion route.
+        """
+        c = as_case(case)
+        q = check_q(c, q)
+        u = check_u(f"u for case {int(c)}", u)
+        x = self.engine_input("quaternion", c, np.atleast_2d(q), np.atleast_2d(u), None)
+        Me, fe = self.dynamics(np.ascontiguousarray(x.q), np.ascontiguousarray(x.v), effects)
+        M = np.swapaxes(x.E, -1, -2) @ Me @ x.E
+        f = np.einsum("nji,nj->ni", x.E, fe - np.einsum("nij,njk,nk->ni", Me, x.E_dot, np.atleast_2d(u)))
+        return M.reshape(q.shape[:-1] + (12, 12)), f.reshape(q.shape[:-1] + (12,))
+
+    @abc.abstractmethod
     def points(self, route: str, q, v, a) -> PointKinematics:
         """Evaluate G2 for a batch ``(n, nq_e)``, ``(n, nv_e)`` in engine coordinates.
 

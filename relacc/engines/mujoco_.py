@@ -50,7 +50,7 @@ from relacc.engines.base import (
     note_from_quaternions,
     quaternion_route_input,
 )
-from relacc.errors import FixtureError
+from relacc.errors import EngineError, FixtureError
 from relacc.fixtures import Fixture
 
 
@@ -62,6 +62,14 @@ def _load(path) -> mujoco.MjModel:
     model.opt.gravity[:] = 0.0  # set explicitly: accelerations below are then classical
     model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
     return model
+
+
+def _full_inertia(m, d, dst):
+    """Dense joint-space inertia into ``dst``: ``mj_fullM`` takes ``(m, d, dst)`` in MuJoCo 4, ``(m, dst, qM)`` before."""
+    if hasattr(d, "qM"):
+        mujoco.mj_fullM(m, dst, d.qM)
+    else:
+        mujoco.mj_fullM(m, d, dst)
 
 
 class _Route:
@@ -109,6 +117,115 @@ class MujocoEngine(Engine):
     def note_coordinates(self, route, case, q_e):
         return q_e if route == "euler" else note_from_quaternions(case, q_e)
 
+    def configure(self, effects, route="quaternion"):
+        """Make the model apply exactly ``effects`` and nothing else.
+
+        Disabled always: contacts, constraints, equality, friction loss,
+        limits, actuation. Gravity: ``opt.gravity`` and the gravity flag off
+        when absent. Spring and damper on the slides: ``jnt_stiffness``,
+        ``qpos_spring``, ``dof_damping``; ball damping: ``dof_damping`` of the
+        ball's three dofs; the passive flag off when none is present. Force at
+        G2 and torques: ``xfrc_applied`` (applied at each body's center of
+        mass, world components). Returns the flags actually set, for reports.
+        """
+        r = self.routes[route]
+        m, d = r.model, r.data
+        D = mujoco.mjtDisableBit
+        flags = D.mjDSBL_CONTACT | D.mjDSBL_CONSTRAINT | D.mjDSBL_EQUALITY | D.mjDSBL_FRICTIONLOSS \
+            | D.mjDSBL_LIMIT | D.mjDSBL_ACTUATION
+        m.opt.gravity[:] = 0.0 if effects.gravity is None else effects.gravity
+        if effects.gravity is None:
+            flags |= D.mjDSBL_GRAVITY
+        m.jnt_stiffness[:] = 0.0
+        m.dof_damping[:] = 0.0
+        slides = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"s2_{a}") for a in "xyz"]
+        for k, j in enumerate(slides):
+            if effects.spring_stiffness is not None:
+                m.jnt_stiffness[j] = effects.spring_stiffness[k]
+                m.qpos_spring[m.jnt_qposadr[j]] = effects.spring_rest[k]
+            if effects.spring_damping is not None:
+                m.dof_damping[m.jnt_dofadr[j]] = effects.spring_damping[k]
+        if effects.ball_damping is not None:
+            if route != "quaternion":
+                raise EngineError("ball damping needs the ball joint of the quaternion route")
+            ball = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, "B2_ball")
+            m.dof_damping[m.jnt_dofadr[ball]:m.jnt_dofadr[ball] + 3] = effects.ball_damping
+        active = set(effects.active())
+        if hasattr(D, "mjDSBL_SPRING"):  # MuJoCo >= 3.3.3 splits the passive flag in two
+            if "spring_stiffness" not in active:
+                flags |= D.mjDSBL_SPRING
+            if not {"spring_damping", "ball_damping"} & active:
+                flags |= D.mjDSBL_DAMPER
+        elif not {"spring_stiffness", "spring_damping", "ball_damping"} & active:
+            flags |= D.mjDSBL_PASSIVE
+        m.opt.disableflags = int(flags)
+        d.xfrc_applied[:] = 0.0
+        b1 = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "B1")
+        if effects.force_G2 is not None:
+            d.xfrc_applied[r.body, 0:3] = effects.force_G2
+        if effects.torque_B2 is not None:
+            d.xfrc_applied[r.body, 3:6] = effects.torque_B2
+        if effects.torque_B1 is not None:
+            d.xfrc_applied[b1, 3:6] = effects.torque_B1
+        return sorted(name[len("mjDSBL_"):].lower() for name, bit in D.__members__.items()
+                      if name.startswith("mjDSBL_") and bit and int(flags) & int(bit) == int(bit))
+
+    def dynamics(self, q, v, effects):
+        self.configure(effects)
+        r = self.routes["quaternion"]
+        m, d = r.model, r.data
+        n, nv = q.shape[0], m.nv
+        M, f = np.empty((n, nv, nv)), np.empty((n, nv))
+        for i in range(n):
+            d.qpos[:] = q[i]
+            d.qvel[:] = v[i]
+            mujoco.mj_forward(m, d)
+            _full_inertia(m, d, M[i])
+            f[i] = d.qfrc_smooth  # passive - bias + applied (xfrc_applied included)
+        return M, f
+
+    def forward_dynamics(self, q, v, effects):
+        self.configure(effects)
+        r = self.routes["quaternion"]
+        m, d = r.model, r.data
+        out = np.empty((q.shape[0], m.nv))
+        for i in range(q.shape[0]):
+            d.qpos[:] = q[i]
+            d.qvel[:] = v[i]
+            mujoco.mj_forward(m, d)
+            out[i] = d.qacc
+        return out
+
+    INTEGRATORS = {"rk4": "mjINT_RK4", "euler": "mjINT_EULER", "implicit": "mjINT_IMPLICIT",
+                   "implicitfast": "mjINT_IMPLICITFAST"}
+
+    def simulate(self, q, v, effects, dt, n_steps, integrator, record_every=1, progress=None):
+        """MuJoCo's own ``mj_step`` with ``opt.integrator`` and ``opt.timestep = dt``."""
+        if integrator not in self.INTEGRATORS:
+            raise EngineError(f"MuJoCo integrators: {', '.join(self.INTEGRATORS)}; got {integrator!r}")
+        self.configure(effects)
+        r = self.routes["quaternion"]
+        m, d = r.model, r.data
+        m.opt.timestep = dt
+        m.opt.integrator = getattr(mujoco.mjtIntegrator, self.INTEGRATORS[integrator])
+        mujoco.mj_resetData(m, d)
+        self.configure(effects)  # resetData clears xfrc_applied
+        d.qpos[:], d.qvel[:] = q, v
+        n_rec = n_steps // record_every + 1
+        t, Q, V = np.empty(n_rec), np.empty((n_rec, m.nq)), np.empty((n_rec, m.nv))
+        t[0], Q[0], V[0] = 0.0, d.qpos, d.qvel
+        for k in range(1, n_steps + 1):
+            mujoco.mj_step(m, d)
+            if k % record_every == 0:
+                j = k // record_every
+                t[j], Q[j], V[j] = k * dt, d.qpos, d.qvel
+            if progress and k % 1000 == 0:
+                progress(k / n_steps)
+        return t, Q, V
+
+    def body_state(self, q, v):
+        return np.array(q, dtype=float), np.array(v, dtype=float)  # qpos, qvel are Case 2's q and u
+
     def points(self, route, q, v, a):
         r = self.routes[route]
         m, d, site, body = r.model, r.data, r.site, r.body
@@ -116,6 +233,9 @@ class MujocoEngine(Engine):
         pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, nv)), np.empty((n, 3, nv))
         acc = None if a is None else np.empty((n, 3))
         res = np.empty(6)
+        # mj_objectAcceleration reports proper acceleration (the world is given -gravity): add it back.
+        gravity_on = not m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY
+        g = m.opt.gravity.copy() if gravity_on else np.zeros(3)
         for i in range(n):
             d.qpos[:] = q[i]
             d.qvel[:] = v[i]
@@ -129,5 +249,5 @@ class MujocoEngine(Engine):
                 d.qacc[:] = a[i]
                 mujoco.mj_rnePostConstraint(m, d)
                 mujoco.mj_objectAcceleration(m, d, mujoco.mjtObj.mjOBJ_SITE, site, res, 0)
-                acc[i] = res[3:]  # [angular; linear], world components
+                acc[i] = res[3:] + g  # [angular; linear], world components; proper -> classical
         return PointKinematics(position=pos, J=J, J_dot=Jd, acceleration=acc)

@@ -104,6 +104,33 @@ def split_composites(model: "pin.Model") -> "pin.Model":
     return new
 
 
+class PinocchioSpace:
+    """Pinocchio's configuration manifold for :mod:`relacc.integrate`.
+
+    ``integrate`` is ``pin.integrate`` (SE(3) exponential for the free-flyer,
+    SO(3) for the spherical joint); ``dexpinv`` inverts ``pin.dIntegrate``
+    with respect to the increment, which maps local increments at ``q`` to
+    velocities at the moved configuration.
+    """
+
+    def __init__(self, model):
+        self.model = model
+
+    def integrate(self, q, delta):
+        return pin.integrate(self.model, q, delta)
+
+    def dexpinv(self, delta, w):
+        if not np.any(delta):
+            return w
+        J = pin.dIntegrate(self.model, self._q0, delta, pin.ArgumentPosition.ARG1)
+        return np.linalg.solve(J, w)
+
+    def at(self, q0):
+        """Set the base configuration of the current step (dIntegrate needs it)."""
+        self._q0 = q0
+        return self
+
+
 class _Route:
     """One model with its data and the id of frame G2."""
 
@@ -179,6 +206,100 @@ class PinocchioEngine(Engine):
             [q_e[:, 0:3], quaternion_from_xyzw(q_e[:, 3:7]), q_e[:, 7:10], quaternion_from_xyzw(q_e[:, 10:14])], 1
         )
         return note_from_quaternions(case, q14)
+
+    def generalized_forces(self, q, v, effects, data=None):
+        """The effects' generalized forces ``tau`` ``(nv,)`` in Pinocchio's coordinates, one state.
+
+        Gravity is not here (it is in ``model.gravity`` and the bias of
+        ``rnea``). Slides: ``-k (s2' - rest) - c s2'_dot``; ball: ``-c omega_hat'_B2``
+        on its three velocity coordinates; force at G2 and torques through the
+        LOCAL_WORLD_ALIGNED frame Jacobians: ``J_G2^T F``, ``J_Bi,angular^T T_i``.
+        """
+        r = self.routes["quaternion"]
+        m, d = r.model, data if data is not None else r.data
+        tau = np.zeros(m.nv)
+        if effects.spring_stiffness is not None:
+            tau[6:9] -= effects.spring_stiffness * (q[7:10] - effects.spring_rest)
+        if effects.spring_damping is not None:
+            tau[6:9] -= effects.spring_damping * v[6:9]
+        if effects.ball_damping is not None:
+            tau[9:12] -= effects.ball_damping * v[9:12]
+        if {"force_G2", "torque_B1", "torque_B2"} & set(effects.active()):
+            pin.computeJointJacobians(m, d, q)
+            pin.updateFramePlacements(m, d)
+            if effects.force_G2 is not None:
+                tau += pin.getFrameJacobian(m, d, r.frame, LWA)[:3].T @ effects.force_G2
+            for name, torque in (("B1", effects.torque_B1), ("B2", effects.torque_B2)):
+                if torque is not None:
+                    tau += pin.getFrameJacobian(m, d, m.getFrameId(name), LWA)[3:].T @ torque
+        return tau
+
+    def dynamics(self, q, v, effects):
+        r = self.routes["quaternion"]
+        m, d = r.model, r.data
+        m.gravity.linear[:] = 0.0 if effects.gravity is None else effects.gravity
+        n, nv = q.shape[0], m.nv
+        M, f = np.empty((n, nv, nv)), np.empty((n, nv))
+        zero = np.zeros(nv)
+        for i in range(n):
+            upper = pin.crba(m, d, q[i])
+            M[i] = np.triu(upper) + np.triu(upper, 1).T  # crba fills the upper triangle
+            f[i] = self.generalized_forces(q[i], v[i], effects) - pin.rnea(m, d, q[i], v[i], zero)
+        m.gravity.setZero()
+        return M, f
+
+    def _tau_and_gravity(self, effects):
+        m = self.routes["quaternion"].model
+        m.gravity.linear[:] = 0.0 if effects.gravity is None else effects.gravity
+        return m
+
+    def forward_dynamics(self, q, v, effects):
+        r = self.routes["quaternion"]
+        m, d = self._tau_and_gravity(effects), r.data
+        out = np.empty((q.shape[0], m.nv))
+        for i in range(q.shape[0]):
+            out[i] = pin.aba(m, d, q[i], v[i], self.generalized_forces(q[i], v[i], effects))
+        m.gravity.setZero()
+        return out
+
+    def simulate(self, q, v, effects, dt, n_steps, integrator, record_every=1, progress=None):
+        """RKMK4 (or semi-implicit Euler) on Pinocchio's manifold with ``pin.aba`` accelerations.
+
+        Pinocchio has no integrator of its own; ``pin.integrate`` and
+        ``pin.dIntegrate`` give the manifold structure.
+        """
+        from relacc.integrate import STEPPERS
+
+        if integrator not in STEPPERS:
+            raise EngineError(f"Pinocchio integrators here: {', '.join(STEPPERS)}; got {integrator!r}")
+        r = self.routes["quaternion"]
+        m, d = self._tau_and_gravity(effects), r.data
+        space = PinocchioSpace(m)
+        step = STEPPERS[integrator]
+        derivs = lambda x, w: (w, pin.aba(m, d, x, w, self.generalized_forces(x, w, effects)))  # noqa: E731
+        n_rec = n_steps // record_every + 1
+        t, Q, V = np.empty(n_rec), np.empty((n_rec, m.nq)), np.empty((n_rec, m.nv))
+        x, w = np.array(q, dtype=float), np.array(v, dtype=float)
+        t[0], Q[0], V[0] = 0.0, x, w
+        try:
+            for k in range(1, n_steps + 1):
+                x, w = step(space.at(x), x, w, dt, derivs)
+                if k % record_every == 0:
+                    j = k // record_every
+                    t[j], Q[j], V[j] = k * dt, x, w
+                if progress and k % 1000 == 0:
+                    progress(k / n_steps)
+        finally:
+            m.gravity.setZero()
+        return t, Q, V
+
+    def body_state(self, q, v):
+        q, v = np.atleast_2d(q), np.atleast_2d(v)
+        q14 = np.concatenate([q[:, 0:3], quaternion_from_xyzw(q[:, 3:7]), q[:, 7:10],
+                              quaternion_from_xyzw(q[:, 10:14])], 1)
+        nu = v.copy()
+        nu[:, 0:3] = np.einsum("nij,nj->ni", matrix_from_quaternion(q14[:, 3:7]), v[:, 0:3])  # [R_B1]^T v_local
+        return q14, nu
 
     def points(self, route, q, v, a):
         r = self.routes[route]

@@ -1,0 +1,119 @@
+"""The physical effects a scene may switch on. Absent means off, and off means not computed.
+
+Every vector is in fixed-frame components unless said otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from relacc.errors import InputError
+
+
+def _vec3(name, value):
+    try:
+        arr = np.array(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: expected 3 numbers, got {value!r}") from None
+    if arr.dtype.kind not in "iuf" or arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise InputError(f"{name}: expected 3 finite numbers, got {value!r}")
+    arr = arr.astype(float)
+    arr.setflags(write=False)
+    return arr
+
+
+def _nonneg(name, value, allow_vector=True):
+    """A non-negative scalar, or (``allow_vector``) three non-negative numbers, as a (3,) array."""
+    if isinstance(value, (bool, str)) or value is None:
+        raise InputError(f"{name}: expected a non-negative number{' or 3 of them' if allow_vector else ''}, "
+                         f"got {value!r}")
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: expected a non-negative number, got {value!r}") from None
+    if arr.shape == ():
+        arr = np.full(3, float(arr))
+    if arr.shape != (3,) or (not allow_vector and not np.all(arr == arr[0])):
+        raise InputError(f"{name}: expected a non-negative number{' or 3 of them' if allow_vector else ''}, "
+                         f"got {value!r}")
+    if not np.all(np.isfinite(arr)) or np.any(arr < 0):
+        raise InputError(f"{name}: must be finite and >= 0, got {value!r}")
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class Effects:
+    """What acts on the chain. Every field None means that effect is off.
+
+    Attributes:
+        gravity: ``(3,)`` gravitational acceleration, fixed components, m/s^2.
+        spring_stiffness: ``(3,)`` stiffness of the spring on the prismatic
+            offset, per B1 axis, N/m; with ``spring_rest`` ``(3,)`` m (B1 components).
+        spring_damping: ``(3,)`` viscous damping on the prismatic offset, N s/m.
+        ball_damping: viscous damping on the spherical joint, N m s/rad: a
+            torque ``-c omega_hat_B2`` on B2 and its reaction on B1.
+        force_G2: ``(3,)`` constant force at G2, fixed components, N.
+        torque_B1, torque_B2: ``(3,)`` constant torques on B1, B2, fixed components, N m.
+    """
+
+    gravity: np.ndarray | None = None
+    spring_stiffness: np.ndarray | None = None
+    spring_rest: np.ndarray | None = None
+    spring_damping: np.ndarray | None = None
+    ball_damping: float | None = None
+    force_G2: np.ndarray | None = None
+    torque_B1: np.ndarray | None = None
+    torque_B2: np.ndarray | None = None
+
+    def __post_init__(self):
+        for name in ("gravity", "spring_rest", "force_G2", "torque_B1", "torque_B2"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _vec3(f"effects.{name}", getattr(self, name)))
+        for name in ("spring_stiffness", "spring_damping"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _nonneg(f"effects.{name}", getattr(self, name)))
+        if self.spring_stiffness is not None and self.spring_rest is None:
+            object.__setattr__(self, "spring_rest", _vec3("effects.spring_rest", (0.0, 0.0, 0.0)))
+        if self.ball_damping is not None:
+            object.__setattr__(self, "ball_damping",
+                               float(_nonneg("effects.ball_damping", self.ball_damping, allow_vector=False)[0]))
+
+    def active(self) -> tuple[str, ...]:
+        """Names of the effects that are on, in a fixed order."""
+        names = ("gravity", "spring_stiffness", "spring_damping", "ball_damping", "force_G2", "torque_B1",
+                 "torque_B2")
+        return tuple(n for n in names if getattr(self, n) is not None)
+
+    @property
+    def conserves_energy(self) -> bool:
+        """True when only conservative effects act (gravity, spring stiffness)."""
+        return not set(self.active()) - {"gravity", "spring_stiffness"}
+
+    @property
+    def conserves_momentum(self) -> bool:
+        """True when no external force or torque acts (internal springs and dampers allowed)."""
+        return not set(self.active()) & {"gravity", "force_G2", "torque_B1", "torque_B2"}
+
+    def without(self, name: str) -> "Effects":
+        """The same effects with one switched off (``spring_stiffness`` also drops ``spring_rest``)."""
+        kw = {n: getattr(self, n) for n in ("gravity", "spring_stiffness", "spring_rest", "spring_damping",
+                                            "ball_damping", "force_G2", "torque_B1", "torque_B2")}
+        kw[name] = None
+        if name == "spring_stiffness":
+            kw["spring_rest"] = None
+        return Effects(**kw)
+
+    def describe(self) -> dict:
+        """Plain data: each active effect and its value."""
+        out = {}
+        for n in self.active() + (("spring_rest",) if self.spring_stiffness is not None else ()):
+            v = getattr(self, n)
+            out[n] = v.tolist() if isinstance(v, np.ndarray) else v
+        return out
+
+
+NONE = Effects()
+"""No effect at all: torque-free, force-free motion."""

@@ -1,0 +1,247 @@
+"""Run a scene on relacc, Pinocchio and MuJoCo and compare what they do.
+
+* relacc integrates Kane's equations (:mod:`relacc.dynamics`) in the scene's
+  own coordinates (quaternions on SO(3) by RKMK4 for cases 1-2, angles for
+  case 3); Pinocchio is integrated by the same RKMK4 on its own manifold
+  (``pin.aba``, ``pin.integrate``); MuJoCo steps itself (``mj_step``).
+* Along every trajectory: G2's position, velocity and classical acceleration
+  (fixed components), the energy of the conservative effects and both momenta.
+* Along relacc's trajectory the note's acceleration formulas
+  (:func:`relacc.g2_kinematics` with Kane's ``udot``) are compared with each
+  engine's own acceleration at the same states.
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from relacc import dynamics
+from relacc.engines import load_engine
+from relacc.fastdyn import Rates
+from relacc.errors import RelaccError
+from relacc.integrate import STEPPERS, CaseSpace
+from relacc.kinematics import g2_kinematics
+from relacc.scenes import Scene
+from relacc.tolerances import normalized_error, term_scales
+
+NOTE_CHECK_STATES = 40
+"""States of relacc's trajectory at which the note's accelerations meet the engines'."""
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """One engine's run. Arrays share the leading time axis.
+
+    Attributes:
+        engine: ``relacc``, ``pinocchio`` or ``mujoco``.
+        t: ``(m,)`` s. q, u: ``(m, .)`` the engine's own coordinates (relacc:
+            the scene's case coordinates and speeds).
+        columns: names of the ``q`` and ``u`` columns.
+        position, velocity, acceleration: ``(m, 3)`` G2 in R, fixed components
+            (m, m/s, m/s^2; classical acceleration).
+        energy: ``(m,)`` J (kinetic + potential of the conservative effects).
+        momentum, angular_momentum: ``(m, 3)`` about R's origin, fixed components.
+        seconds: wall time of the integration. applied: what the engine was told to apply.
+    """
+
+    engine: str
+    t: np.ndarray
+    q: np.ndarray
+    u: np.ndarray
+    columns: tuple[list, list]
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    energy: np.ndarray
+    momentum: np.ndarray
+    angular_momentum: np.ndarray
+    seconds: float
+    applied: dict = field(default_factory=dict)
+
+    def energy_drift(self) -> float:
+        """``max |E(t) - E(0)| / max(|E(0)|, T(0))``: relative drift of the energy."""
+        ref = max(abs(self.energy[0]), 1e-300)
+        return float(np.max(np.abs(self.energy - self.energy[0])) / ref)
+
+    def momentum_drift(self) -> tuple[float, float]:
+        """Largest change of the linear (kg m/s) and angular (kg m^2/s) momenta over the run."""
+        return (float(np.max(np.linalg.norm(self.momentum - self.momentum[0], axis=1))),
+                float(np.max(np.linalg.norm(self.angular_momentum - self.angular_momentum[0], axis=1))))
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationResult:
+    """All engines' trajectories of one scene, and their comparison."""
+
+    scene: Scene
+    trajectories: dict
+    note_check: dict
+
+    def differences(self):
+        """Largest G2 position and velocity difference over the run, over every pair of engines."""
+        names = list(self.trajectories)
+        pos = vel = 0.0
+        pairs = {}
+        for i, a in enumerate(names):
+            for b in names[i + 1:]:
+                ta, tb = self.trajectories[a], self.trajectories[b]
+                dp = float(np.max(np.linalg.norm(ta.position - tb.position, axis=1)))
+                dv = float(np.max(np.linalg.norm(ta.velocity - tb.velocity, axis=1)))
+                pairs[f"{a}-{b}"] = {"position": dp, "velocity": dv}
+                pos, vel = max(pos, dp), max(vel, dv)
+        return pos, vel, pairs
+
+    def summary(self) -> dict:
+        """The ``relacc simulate --json`` object."""
+        pos, vel, pairs = self.differences()
+        eff = self.scene.effects
+        engines = {}
+        for name, tr in self.trajectories.items():
+            p_drift, h_drift = tr.momentum_drift()
+            engines[name] = {
+                "g2_position_final": tr.position[-1].tolist(),
+                "energy_drift": tr.energy_drift() if eff.conserves_energy else None,
+                "momentum_drift": p_drift if eff.conserves_momentum else None,
+                "angular_momentum_drift": h_drift if eff.conserves_momentum else None,
+                "seconds": tr.seconds,
+                "applied": tr.applied,
+            }
+        return {
+            "scene": self.scene.name,
+            "case": self.scene.case,
+            "integrator": self.scene.integrator,
+            "dt": self.scene.dt,
+            "duration": self.scene.duration,
+            "effects": eff.describe(),
+            "engines": engines,
+            "max_g2_position_difference": pos,
+            "max_g2_velocity_difference": vel,
+            "pairs": pairs,
+            "note_acceleration_vs_engines": self.note_check,
+        }
+
+
+def _relacc(scene: Scene, progress=None) -> Trajectory:
+    chain, case, eff = scene.fixture.chain, scene.case, scene.effects
+    space = CaseSpace(case)
+    step = STEPPERS[scene.integrator]
+    derivs = Rates(chain, case, eff)
+    n, every = scene.n_steps, scene.record_every
+    m = n // every + 1
+    Q, U = np.empty((m, scene.q.size)), np.empty((m, 12))
+    q, u = scene.q.astype(float), scene.u.astype(float)
+    Q[0], U[0] = q, u
+    start = time.perf_counter()
+    for k in range(1, n + 1):
+        q, u = step(space, q, u, scene.dt, derivs)
+        if k % every == 0:
+            Q[k // every], U[k // every] = q, u
+        if progress and k % 200 == 0:
+            progress(k / n)
+    seconds = time.perf_counter() - start
+    Udot = dynamics.accelerations(chain, case, Q, U, eff)
+    k = g2_kinematics(chain, case, Q, U, Udot)
+    p, H = dynamics.momenta(chain, case, Q, U)
+    names_q = [f"q{i}" for i in range(Q.shape[1])]
+    return Trajectory("relacc", np.arange(m) * scene.dt * every, Q, U, (names_q, [f"u{i}" for i in range(12)]),
+                      k.position, k.velocity, k.acceleration, dynamics.energy(chain, case, Q, U, eff), p, H,
+                      seconds, {"equations": "Kane, " + (", ".join(eff.active()) or "no effects")})
+
+
+def _engine(name: str, engine, scene: Scene, progress=None) -> Trajectory:
+    chain, eff = scene.fixture.chain, scene.effects
+    x = engine.engine_input("quaternion", _case(scene.case), scene.q[None], scene.u[None], None)
+    start = time.perf_counter()
+    t, Q, V = engine.simulate(x.q[0], x.v[0], eff, scene.dt, scene.n_steps, scene.integrator,
+                              scene.record_every, progress)
+    seconds = time.perf_counter() - start
+    A = engine.forward_dynamics(Q, V, eff)
+    applied = engine.configure(eff) if hasattr(engine, "configure") else None
+    pts = _points(engine, Q, V, A, eff)
+    q14, nu = engine.body_state(Q, V)
+    p, H = dynamics.momenta(chain, 2, q14, nu)
+    velocity = np.einsum("nij,nj->ni", pts.J, V)
+    info = {"disabled": applied} if applied is not None else {"gravity": "model.gravity",
+                                                             "generalized forces": list(eff.active())}
+    return Trajectory(name, t, Q, V, ([f"q{i}" for i in range(Q.shape[1])], [f"v{i}" for i in range(V.shape[1])]),
+                      pts.position, velocity, pts.acceleration, dynamics.energy(chain, 2, q14, nu, eff), p, H,
+                      seconds, info)
+
+
+def _points(engine, Q, V, A, eff):
+    """G2 from the engine, with the engine's gravity set as in the scene (MuJoCo reports proper acceleration)."""
+    if engine.name == "pinocchio":
+        return engine.points("quaternion", Q, V, A)  # kinematic: gravity plays no part
+    engine.configure(eff)
+    return engine.points("quaternion", Q, V, A)
+
+
+def _case(case):
+    from relacc.cases import as_case
+
+    return as_case(case)
+
+
+def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
+    """Max normalized difference between the note's a_G2 and each engine's, at relacc's states."""
+    chain, case, eff = scene.fixture.chain, scene.case, scene.effects
+    idx = np.unique(np.linspace(0, len(rel.t) - 1, NOTE_CHECK_STATES).astype(int))
+    Q, U = rel.q[idx], rel.u[idx]
+    Udot = dynamics.accelerations(chain, case, Q, U, eff)
+    note = g2_kinematics(chain, case, Q, U, Udot).acceleration
+    scale = term_scales(chain, case, Q, U, Udot).acceleration
+    out = {}
+    for name, engine in engines.items():
+        x = engine.engine_input("quaternion", _case(case), Q, U, None)
+        A = engine.forward_dynamics(x.q, x.v, eff)
+        pts = _points(engine, x.q, x.v, A, eff)
+        out[name] = float(np.max(normalized_error(pts.acceleration, note, scale)))
+    return out
+
+
+def run(scene: Scene, engines=None, progress=None) -> SimulationResult:
+    """Simulate a scene on its engines (or ``engines``) and compare them.
+
+    Args:
+        progress: callable ``(engine, fraction)`` or None.
+
+    Raises:
+        RelaccError: unknown engine or an integrator an engine lacks.
+    """
+    names = tuple(engines) if engines is not None else scene.engines
+    bad = [n for n in names if n not in ("relacc", "pinocchio", "mujoco")]
+    if bad:
+        raise RelaccError(f"unknown engines {bad}: accepted are relacc, pinocchio, mujoco")
+    loaded = {n: load_engine(n, scene.fixture) for n in names if n != "relacc"}
+    trajectories = {}
+    for name in names:
+        cb = (lambda f, n=name: progress(n, f)) if progress else None
+        trajectories[name] = _relacc(scene, cb) if name == "relacc" else _engine(name, loaded[name], scene, cb)
+    note = _note_check(scene, trajectories["relacc"], loaded) if "relacc" in trajectories and loaded else {}
+    return SimulationResult(scene, trajectories, note)
+
+
+def write_csv(result: SimulationResult, directory) -> list[Path]:
+    """One CSV per engine in ``directory``: time, q, u (engine coordinates), G2 r, v, a (fixed comps), energy."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for name, tr in result.trajectories.items():
+        path = directory / f"{result.scene.name}-{name}.csv"
+        header = (["t_s"] + tr.columns[0] + tr.columns[1]
+                  + [f"G2_r{a}_m" for a in "xyz"] + [f"G2_v{a}_m_s" for a in "xyz"]
+                  + [f"G2_a{a}_m_s2" for a in "xyz"] + ["energy_J"])
+        rows = np.column_stack([tr.t, tr.q, tr.u, tr.position, tr.velocity, tr.acceleration, tr.energy])
+        with path.open("w", newline="") as fh:
+            fh.write(f"# relacc simulate {result.scene.name} ({name}); q, u in {name}'s coordinates; "
+                     "G2 position, velocity, classical acceleration in fixed-frame components\n")
+            writer = csv.writer(fh)
+            writer.writerow(header)
+            writer.writerows(rows.tolist())
+        paths.append(path)
+    return paths

@@ -1,0 +1,173 @@
+"""Scenes: shipped scenes agree across engines, converge at the integrator's order, conserve what they should."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from relacc import scenes, simulate
+from relacc.cli import main
+from relacc.errors import FixtureError, InputError
+from relacc.tolerances import rounding_tolerance
+
+SHIPPED = scenes.shipped()
+ENGINES = ("relacc", "pinocchio", "mujoco")
+FLOOR = 1e-12
+"""Differences below this (m, or relative energy) are rounding, where orders cannot be read."""
+
+
+@pytest.fixture(scope="module", params=SHIPPED, ids=lambda p: p.stem)
+def scene_run(request):
+    scene = scenes.load(request.param)
+    return scene, simulate.run(scene)
+
+
+def test_four_scenes_are_shipped():
+    """At least: tumbling, gravity with spring-damper, forced and damped, fast spin near gimbal lock."""
+    assert {"tumbling", "gravity_spring", "forced_damped", "gimbal_spin"} <= {p.stem for p in SHIPPED}
+
+
+def test_engines_agree_to_a_micrometre(scene_run):
+    """With the scene's own integrator and step, every pair of engines keeps G2 within 1e-6 m."""
+    scene, result = scene_run
+    pos, vel, pairs = result.differences()
+    assert set(result.trajectories) == set(ENGINES)
+    assert pos <= 1e-6, f"{scene.name}: {pairs}"
+
+
+def test_note_accelerations_match_engines_along_the_run(scene_run):
+    """Along relacc's trajectory the note's a_G2 equals each engine's to c eps of the terms."""
+    scene, result = scene_run
+    for engine, err in result.note_check.items():
+        assert err <= rounding_tolerance(), f"{scene.name} {engine}: {err:.3g}"
+
+
+def test_trajectories_are_finite_and_start_at_the_scene_state(scene_run):
+    """Every trajectory is finite and all engines start with the same G2 position."""
+    scene, result = scene_run
+    starts = [tr.position[0] for tr in result.trajectories.values()]
+    for tr in result.trajectories.values():
+        for a in (tr.q, tr.u, tr.position, tr.velocity, tr.acceleration, tr.energy):
+            assert np.all(np.isfinite(a))
+    assert np.allclose(starts, starts[0], rtol=0, atol=1e-12)
+
+
+def _coarse(scene, factor):
+    """The scene at ``factor`` times its step, over at most 0.5 s (convergence runs)."""
+    duration = min(scene.duration, 0.5)
+    dt = scene.dt * factor
+    return scene.replace(dt=dt, duration=round(duration / dt) * dt)
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
+def test_engine_differences_shrink_at_the_integrators_order(path):
+    """Each engine's distance to a tight reference (relacc at dt/4) shrinks at order >= 3.5 for RK4 (theory 4)."""
+    scene = scenes.load(path)
+    ref = simulate.run(_coarse(scene, 0.25), engines=["relacc"]).trajectories["relacc"]
+    coarse = {f: simulate.run(_coarse(scene, f)) for f in (8, 4)}
+    for engine in ENGINES:
+        errs = [np.linalg.norm(coarse[f].trajectories[engine].position[-1] - ref.position[-1]) for f in (8, 4)]
+        if errs[0] < 16 * FLOOR:
+            continue  # already at rounding: no order to read
+        order = np.log2(errs[0] / errs[1])
+        assert order >= 3.5, f"{scene.name} {engine}: errors {errs}, observed order {order:.2f}"
+
+
+@pytest.mark.parametrize("path", [p for p in SHIPPED if scenes.load(p).effects.conserves_energy],
+                         ids=lambda p: p.stem)
+def test_conservative_scenes_conserve_energy_and_momentum(path):
+    """Energy and momentum drifts shrink with the step at RK4's order (or sit at rounding)."""
+    scene = scenes.load(path)
+    runs = {f: simulate.run(_coarse(scene, f)) for f in (8, 4)}
+    for engine in ENGINES:
+        drifts = [runs[f].trajectories[engine].energy_drift() for f in (8, 4)]
+        if drifts[0] > 16 * FLOOR:
+            assert np.log2(drifts[0] / drifts[1]) >= 3.5, f"{scene.name} {engine}: energy drifts {drifts}"
+        if scene.effects.conserves_momentum:
+            p = [runs[f].trajectories[engine].momentum_drift()[0] for f in (8, 4)]
+            if p[0] > 16 * FLOOR:
+                assert np.log2(p[0] / p[1]) >= 3.5, f"{scene.name} {engine}: momentum drifts {p}"
+
+
+def test_mujoco_applies_only_the_listed_effects():
+    """Torque-free tumbling disables gravity, springs and dampers in MuJoCo; the spring scene keeps them."""
+    free = simulate.run(scenes.load(scenes.scenes_dir() / "tumbling.toml").replace(duration=0.01),
+                        engines=["mujoco"])
+    assert {"gravity", "spring", "damper", "contact"} <= set(free.trajectories["mujoco"].applied["disabled"])
+    spring = simulate.run(scenes.load(scenes.scenes_dir() / "gravity_spring.toml").replace(duration=0.01),
+                          engines=["mujoco"])
+    disabled = set(spring.trajectories["mujoco"].applied["disabled"])
+    assert "contact" in disabled and not {"gravity", "spring", "damper"} & disabled
+
+
+SCENE = """title = "t"
+[model]
+fixture = "two_body"
+[initial]
+case = 2
+q = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
+u = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+[effects]
+gravity = [0.0, 0.0, -9.81]
+[simulate]
+duration = 0.01
+dt = 0.001
+"""
+
+
+def _scene_file(tmp_path, text):
+    models = tmp_path / "models"
+    (models / "scenes").mkdir(parents=True)
+    src = scenes.scenes_dir().parent
+    for name in ("two_body.toml", "two_body.xml", "two_body_euler.xml", "two_body_euler.urdf"):
+        (models / name).write_text((src / name).read_text())
+    path = models / "scenes" / "s.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("edit,match", [
+    (("dt = 0.001", "dt = -1"), r"line 12, field \[simulate\]\.dt: expected a positive"),
+    (("gravity = [0.0, 0.0, -9.81]", "gravty = 1"), r"field \[effects\]\.gravty: unknown effect"),
+    (("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, -9.81]"), r"line 9, field \[effects\]\.gravity"),
+    (("case = 2", "case = 7"), r"line 5, field \[initial\]\.case: unknown case"),
+    (("q = [0.0, 0.0, 0.0, 1.0", "q = [0.0, 0.0, 0.0, 2.0"), r"field \[initial\]\.q: .*does not normalize"),
+    (('fixture = "two_body"', 'fixture = "nope"'), r"field \[model\]\.fixture: no model file"),
+    (("duration = 0.01", 'duration = 0.01\nintegrator = "implicit"'), r"exists in MuJoCo only"),
+    (("[simulate]", "[simulat]"), r"unknown top-level keys \['simulat'\]"),
+])
+def test_malformed_scene_files(tmp_path, edit, match):
+    """A bad scene raises FixtureError naming the file, the line and the field."""
+    path = _scene_file(tmp_path, SCENE.replace(*edit))
+    with pytest.raises(FixtureError, match=match):
+        scenes.load(path)
+
+
+def test_inline_model_writes_its_own_engine_files(tmp_path):
+    """[model] with inline geometry builds fixtures in a temporary directory and runs on every engine."""
+    text = SCENE.replace('fixture = "two_body"', "q2 = [0.2, 0.0, 0.1]\nr2 = [0.1, 0.1, 0.0]\nm1 = 1.5")
+    scene = scenes.load(_scene_file(tmp_path, text))
+    pos, _, _ = simulate.run(scene).differences()
+    assert scene.fixture.chain.m1 == 1.5 and pos < 1e-9
+
+
+def test_scene_overrides_are_validated():
+    """Scene.replace checks dt, integrator and engines like the file loader does."""
+    scene = scenes.load(SHIPPED[0])
+    with pytest.raises(InputError, match="dt"):
+        scene.replace(dt=0.0)
+    with pytest.raises(InputError, match="engines"):
+        scene.replace(engines=("bullet",))
+
+
+def test_cli_simulate_json_and_csv(tmp_path, capsys):
+    """relacc simulate --json prints the documented keys; --out writes one CSV per engine."""
+    path = _scene_file(tmp_path, SCENE)
+    assert main(["simulate", str(path), "--json", "--quiet", "--out", str(tmp_path / "out")]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert {"engines", "max_g2_position_difference", "max_g2_velocity_difference"} <= set(summary)
+    for name in ENGINES:
+        assert set(summary["engines"][name]) >= {"g2_position_final", "energy_drift", "seconds"}
+        csv = Path(tmp_path / "out" / f"s-{name}.csv").read_text().splitlines()
+        assert csv[0].startswith("# relacc simulate") and csv[1].startswith("t_s,") and len(csv) == 2 + 11
