@@ -217,9 +217,9 @@ def cmd_simulate(args) -> int:
         print(f"{name:10s} [{pos:42s}] {ed:>12s} {md:>15s} {e['seconds']:8.3f}")
     print(f"largest G2 difference between engines over the run: position "
           f"{summary['max_g2_position_difference']:.3e} m, velocity {summary['max_g2_velocity_difference']:.3e} m/s")
-    for name, err in summary["note_acceleration_vs_engines"].items():
-        print(f"note's acceleration along relacc's trajectory vs {name}: {err:.2e} (normalized, "
-              f"{err / EPS:.1f} eps)")
+    for name, c in summary["note_acceleration_vs_engines"].items():
+        print(f"note's acceleration along relacc's trajectory vs {name}: {c['error']:.2e} (normalized, "
+              f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
     print("energy drift: max |E - E0| / |E0| where only conservative effects act; momentum drift: max |p - p0| "
           "(kg m/s) where no external force acts")
     return 0

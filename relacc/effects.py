@@ -106,6 +106,11 @@ class Effects:
             kw["spring_rest"] = None
         return Effects(**kw)
 
+    def without_all_but(self, name: str) -> "Effects":
+        """Only one of these effects (``spring_stiffness`` keeps its ``spring_rest``)."""
+        keep = (name, "spring_rest") if name == "spring_stiffness" else (name,)
+        return Effects(**{k: getattr(self, k) for k in keep})
+
     def describe(self) -> dict:
         """Plain data: each active effect and its value."""
         out = {}

@@ -42,6 +42,7 @@ class ReportContext:
     hard: list[Result]
     worst: Worst
     throughput: dict
+    simulations: list
     quick: bool
     created: dt.datetime
     machine: str
@@ -71,6 +72,7 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
     from relacc.benchmark import run as run_benchmark
 
     throughput = run_benchmark(n_bench, repeats, seed, fixture)
+    simulations = run_scenes(quick, progress)
     return ReportContext(
         harness=harness,
         check=check,
@@ -78,10 +80,41 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
         hard=hard,
         worst=worst,
         throughput=throughput,
+        simulations=simulations,
         quick=quick,
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),
     )
+
+
+SWEEP = (1, 2, 4, 8, 16)
+"""Multiples of each scene's own step at which the report measures the engines' agreement."""
+
+
+def run_scenes(quick: bool, progress=None) -> list:
+    """Each shipped scene at its own step, and its agreement at coarser steps.
+
+    Quick runs cap every scene at 0.2 s and sweep two steps only.
+    """
+    from relacc import scenes, simulate
+
+    out = []
+    for path in scenes.shipped():
+        scene = scenes.load(path)
+        if quick:
+            scene = scene.replace(duration=round(min(scene.duration, 0.2) / scene.dt) * scene.dt)
+        if progress:
+            progress(f"scene {scene.name}")
+        result = simulate.run(scene)
+        sweep = []
+        for factor in (SWEEP[:2] if quick else SWEEP):
+            dt = scene.dt * factor
+            coarse = result if factor == 1 else simulate.run(scene.replace(
+                dt=dt, duration=max(round(scene.duration / dt), 1) * dt))
+            pos, vel, _ = coarse.differences()
+            sweep.append({"dt": dt, "position": pos, "velocity": vel})
+        out.append({"result": result, "sweep": sweep})
+    return out
 
 
 def render(ctx: ReportContext) -> str:

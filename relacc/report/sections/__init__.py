@@ -1,5 +1,14 @@
 """Report sections, in page order. Each module has ``ID``, ``TITLE`` and ``build(ctx) -> dict``."""
 
-from relacc.report.sections import agreement, conventions, errata, hardcases, summary, system, throughput
+from relacc.report.sections import (
+    agreement,
+    conventions,
+    errata,
+    hardcases,
+    simulation,
+    summary,
+    system,
+    throughput,
+)
 
-SECTIONS = (summary, system, conventions, agreement, errata, hardcases, throughput)
+SECTIONS = (summary, system, conventions, agreement, errata, hardcases, simulation, throughput)
