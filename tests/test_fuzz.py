@@ -143,3 +143,41 @@ def test_cli_never_raises(argv):
 def test_harness_and_engines_junk(fixture, n_states, seed, engine):
     """Harness and engine loading reject junk with RelaccError."""
     _only_relacc_errors(lambda: Harness(fixture, engines=(engine,), n_states=n_states, seed=seed))
+
+
+@given(st.data())
+def test_malformed_scene_files(tmp_path_factory, data):
+    """Random edits of a shipped scene (lines deleted, garbled, values replaced) give a FixtureError or a scene."""
+    from relacc import scenes
+
+    source = scenes.shipped()[0]
+    lines = source.read_text().splitlines()
+    for _ in range(data.draw(st.integers(1, 3))):
+        i = data.draw(st.integers(0, len(lines) - 1))
+        action = data.draw(st.sampled_from(["delete", "garble", "value"]))
+        if action == "delete":
+            del lines[i]
+        elif action == "garble":
+            lines[i] = data.draw(st.text(max_size=20))
+        elif "=" in lines[i]:
+            lines[i] = lines[i].split("=")[0] + "= " + data.draw(st.sampled_from(
+                ["nan", "-1", "[1, 2]", '"rk9"', '["bullet"]', "0", "1e300", "[]", "true", '"two_body"']))
+        if not lines:
+            break
+    models = tmp_path_factory.mktemp("scene") / "models"
+    (models / "scenes").mkdir(parents=True)
+    for f in source.parent.parent.glob("two_body*"):
+        (models / f.name).write_text(f.read_text())
+    path = models / "scenes" / "s.toml"
+    path.write_text("\n".join(lines))
+    _only_relacc_errors(lambda: scenes.load(path))
+
+
+@given(CASES, JUNK, JUNK)
+def test_equations_of_motion_junk(chain, case, q, u):
+    """Kane's equations reject junk with RelaccError; what they return is finite."""
+    from relacc import dynamics
+
+    out = _only_relacc_errors(lambda: dynamics.equations_of_motion(chain, case, q, u))
+    if out is not None:
+        assert all(np.all(np.isfinite(a)) for a in out)
