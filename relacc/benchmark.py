@@ -83,6 +83,7 @@ def median_time(fn, repeats: int) -> float:
 
 
 def pinocchio_loop(model, data, frame, q, v, a, full: bool):
+    """A closure looping Pinocchio over the states; its ``acc`` attribute holds G2's accelerations (world)."""
     n = q.shape[0]
     acc = np.empty((n, 3))
     if full:
@@ -99,10 +100,16 @@ def pinocchio_loop(model, data, frame, q, v, a, full: bool):
                 J[i] = pin.getFrameJacobian(model, data, frame, LWA)[:3]
                 Jd[i] = pin.getFrameJacobianTimeVariation(model, data, frame, LWA)[:3]
 
+    run.acc = acc
     return run
 
 
 def mujoco_loop(model, data, site, body, q, v, a, full: bool):
+    """A closure looping MuJoCo over the states; its ``acc`` attribute holds G2's accelerations (world).
+
+    Gravity must be off in ``model`` (the adapters keep it so): ``mj_objectAcceleration``
+    reports proper acceleration.
+    """
     n = q.shape[0]
     acc, res = np.empty((n, 3)), np.empty(6)
     if full:
@@ -124,6 +131,7 @@ def mujoco_loop(model, data, site, body, q, v, a, full: bool):
                 mujoco.mj_jac(model, data, J[i], None, pos[i], body)
                 mujoco.mj_jacDot(model, data, Jd[i], None, pos[i], body)
 
+    run.acc = acc
     return run
 
 

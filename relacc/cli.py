@@ -225,6 +225,37 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+def cmd_tradeoff(args) -> int:
+    from relacc import tradeoff
+
+    progress = None if (args.quiet or args.json) else (lambda line: print(f"  {line}", file=sys.stderr, flush=True))
+    result = tradeoff.run(quick=args.quick, seed=args.seed, progress=progress)
+    if args.json:
+        print(json.dumps(result.as_json(), indent=2))
+        return 0
+    print("relacc tradeoff: what accuracy costs in time (errors: acceleration normalized by its term scale; "
+          "trajectories: |r_G2(T) - reference| in m)")
+    print("\nAcceleration, Pareto front per case (cheapest method for each accuracy level):")
+    print(f"  {'case':4s} {'method':20s} {'h':>9s} {'error':>9s} {'s/state':>10s}")
+    for case in sorted({r["case"] for r in result.derivatives}):
+        for r in tradeoff.pareto([r for r in result.derivatives if r["case"] == case], cost="seconds_per_state"):
+            h = "-" if r["param"] is None else f"{r['param']:.1e}"
+            print(f"  {case:<4d} {r['method']:20s} {h:>9s} {r['error']:9.1e} {r['seconds_per_state']:10.2e}")
+    for ref in result.references:
+        print(f"\nTrajectories, scene {ref['scene']} (reference: {ref['reference']}; {ref['check']} agrees to "
+              f"{ref['agreement_m']:.1e} m), Pareto front:")
+        print(f"  {'engine':10s} {'integrator':12s} {'dt or tol':>10s} {'error (m)':>10s} {'seconds':>9s}")
+        for r in tradeoff.pareto([r for r in result.integrators if r["scene"] == ref["scene"]]):
+            print(f"  {r['engine']:10s} {r['integrator']:12s} {r['dt_or_tol']:10.1e} {r['error']:10.1e} "
+                  f"{r['seconds']:9.4f}")
+    print("\nObserved order of convergence (median over scenes) vs theory:")
+    from relacc.tradeoff.integrators import THEORY
+
+    for key, order in result.orders.items():
+        print(f"  {key:22s} {order:5.2f}   (theory {THEORY[key.split('/')[1]]})")
+    return 0
+
+
 def cmd_report(args) -> int:
     from relacc.report import build_report
 
@@ -291,6 +322,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--integrator", help="override the scene's integrator")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser("tradeoff", help="work-precision sweeps: accelerations and integrators")
+    p.add_argument("--quick", action="store_true", help="a small sweep (seconds)")
+    p.add_argument("--json", action="store_true", help="print all points and orders as JSON")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_tradeoff)
 
     p = sub.add_parser("report", help="write the self-contained HTML agreement report")
     p.add_argument("--out", default="reports/agreement.html", help="output file")

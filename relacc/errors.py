@@ -34,3 +34,7 @@ class FixtureError(RelaccError):
 
 class EngineError(RelaccError):
     """An engine cannot be used as asked (unknown engine, unsupported case)."""
+
+
+class IntegrationError(RelaccError):
+    """A simulation diverged: its state became non-finite (reduce the step or change the coordinates)."""

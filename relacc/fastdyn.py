@@ -198,12 +198,22 @@ class Rates:
         self.case, self.cp, self.ep = int(case), chain_params(chain), effect_params(effects)
 
     def __call__(self, q, u):
-        if fast.BACKEND == "numba":
-            nu, udot = _rates_one(self.case, q, u, self.cp, self.ep)
-        else:
-            M, f, nu = np.empty((12, 12)), np.empty(12), np.empty(12)
-            _eom(self.case, q, u, self.cp, self.ep, M, f, nu)
-            udot = np.linalg.solve(M, f)
+        from relacc.errors import IntegrationError
+
+        message = ("the integration diverged: the state or its equations of motion became non-finite or "
+                   "singular; reduce the step (or, near case-3 gimbal lock, use quaternion coordinates)")
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(u))):
+            raise IntegrationError(message)
+        try:
+            with np.errstate(over="ignore", invalid="ignore"):
+                if fast.BACKEND == "numba":
+                    nu, udot = _rates_one(self.case, q, u, self.cp, self.ep)
+                else:
+                    M, f, nu = np.empty((12, 12)), np.empty(12), np.empty(12)
+                    _eom(self.case, q, u, self.cp, self.ep, M, f, nu)
+                    udot = np.linalg.solve(M, f)
+        except np.linalg.LinAlgError:
+            raise IntegrationError(message) from None
         return (u if self.case == 3 else nu), udot
 
 

@@ -113,3 +113,50 @@ def euler_step(space, x, v, h, derivs):
 
 STEPPERS = {"rk4": rkmk4_step, "euler": euler_step}
 """Integrators for relacc and Pinocchio, by scene name."""
+
+
+def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: float, atol: float,
+                   rotations=(slice(3, 6), slice(9, 12)), max_chart: float = 1.0):
+    """Adaptive integration with :func:`scipy.integrate.solve_ivp` in local coordinates.
+
+    The state is ``x = integrate(x_base, delta)``, ``v``; ``solve_ivp`` integrates
+    ``d(delta)/dt = dexpinv(delta, w)``, ``dv/dt = a`` from ``delta = 0``. A terminal
+    event re-bases the chart before any rotation vector (``rotations``) passes
+    ``max_chart`` rad, far from the singularity of ``dexpinv`` at 2 pi, and the
+    integration restarts there with the last step size. Quaternions stay unit
+    without any normalization.
+
+    Returns:
+        ``(x, v, n_evaluations)`` at ``t = duration``.
+    """
+    from scipy.integrate import solve_ivp
+
+    x, v, t, nfev, first = x0, np.asarray(v0, dtype=float), 0.0, 0, None
+    n = np.asarray(v0).size
+    while t < duration * (1 - 1e-14):
+        if hasattr(space, "at"):
+            space.at(x)
+        base = x
+
+        def rhs(_, y, base=base):
+            delta, w = y[:n], y[n:]
+            xs = space.integrate(base, delta)
+            tangent, a = derivs(xs, w)
+            return np.concatenate([space.dexpinv(delta, tangent), a])
+
+        def chart(_, y):
+            return max_chart - max((np.linalg.norm(y[r]) for r in rotations), default=0.0)
+
+        chart.terminal = True
+        if first is not None:
+            first = min(first, duration - t)
+        sol = solve_ivp(rhs, (t, duration), np.concatenate([np.zeros(n), v]), method=method, rtol=rtol,
+                        atol=atol, events=chart if rotations else None, first_step=first)
+        if sol.status < 0:
+            from relacc.errors import RelaccError
+
+            raise RelaccError(f"solve_ivp {method} failed at t = {sol.t[-1]:.6g} s: {sol.message}")
+        nfev += sol.nfev
+        x, v, t = space.integrate(base, sol.y[:n, -1]), sol.y[n:, -1], sol.t[-1]
+        first = float(np.diff(sol.t[-2:])[0]) if sol.t.size > 1 and sol.t[-1] > sol.t[-2] else None
+    return x, v, nfev

@@ -23,7 +23,7 @@ import numpy as np
 from relacc import dynamics
 from relacc.engines import load_engine
 from relacc.fastdyn import Rates
-from relacc.errors import RelaccError
+from relacc.errors import IntegrationError, RelaccError
 from relacc.integrate import STEPPERS, CaseSpace
 from relacc.kinematics import g2_kinematics
 from relacc.scenes import Scene
@@ -140,6 +140,9 @@ def _relacc(scene: Scene, progress=None) -> Trajectory:
     start = time.perf_counter()
     for k in range(1, n + 1):
         q, u = step(space, q, u, scene.dt, derivs)
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(u))):
+            raise IntegrationError(f"relacc: the integration diverged at t = {k * scene.dt:.6g} s "
+                                   f"(dt = {scene.dt} s, {scene.integrator}); reduce the step")
         if k % every == 0:
             Q[k // every], U[k // every] = q, u
         if progress and k % 200 == 0:

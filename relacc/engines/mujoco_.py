@@ -50,7 +50,7 @@ from relacc.engines.base import (
     note_from_quaternions,
     quaternion_route_input,
 )
-from relacc.errors import EngineError, FixtureError
+from relacc.errors import EngineError, FixtureError, IntegrationError
 from relacc.fixtures import Fixture
 
 
@@ -121,7 +121,8 @@ class MujocoEngine(Engine):
         """Make the model apply exactly ``effects`` and nothing else.
 
         Disabled always: contacts, constraints, equality, friction loss,
-        limits, actuation. Gravity: ``opt.gravity`` and the gravity flag off
+        limits, actuation, and the automatic reset on instability (a diverged
+        run raises :class:`relacc.IntegrationError` instead of restarting). Gravity: ``opt.gravity`` and the gravity flag off
         when absent. Spring and damper on the slides: ``jnt_stiffness``,
         ``qpos_spring``, ``dof_damping``; ball damping: ``dof_damping`` of the
         ball's three dofs; the passive flag off when none is present. Force at
@@ -133,6 +134,8 @@ class MujocoEngine(Engine):
         D = mujoco.mjtDisableBit
         flags = D.mjDSBL_CONTACT | D.mjDSBL_CONSTRAINT | D.mjDSBL_EQUALITY | D.mjDSBL_FRICTIONLOSS \
             | D.mjDSBL_LIMIT | D.mjDSBL_ACTUATION
+        if hasattr(D, "mjDSBL_AUTORESET"):  # never restart silently from qpos0 when unstable: we report it
+            flags |= D.mjDSBL_AUTORESET
         m.opt.gravity[:] = 0.0 if effects.gravity is None else effects.gravity
         if effects.gravity is None:
             flags |= D.mjDSBL_GRAVITY
@@ -216,6 +219,9 @@ class MujocoEngine(Engine):
         t[0], Q[0], V[0] = 0.0, d.qpos, d.qvel
         for k in range(1, n_steps + 1):
             mujoco.mj_step(m, d)
+            if not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
+                raise IntegrationError(f"mujoco: the integration diverged at t = {k * dt:.6g} s "
+                                       f"(dt = {dt} s, {integrator}); reduce the step")
             if k % record_every == 0:
                 j = k // record_every
                 t[j], Q[j], V[j] = k * dt, d.qpos, d.qvel

@@ -54,7 +54,7 @@ from relacc.engines.base import (
     note_from_quaternions,
     quaternion_route_input,
 )
-from relacc.errors import EngineError, FixtureError
+from relacc.errors import EngineError, FixtureError, IntegrationError
 from relacc.fixtures import Fixture
 from relacc.rotations import matrix_from_quaternion, quaternion_from_xyzw, quaternion_to_xyzw, tilde
 
@@ -284,6 +284,9 @@ class PinocchioEngine(Engine):
         try:
             for k in range(1, n_steps + 1):
                 x, w = step(space.at(x), x, w, dt, derivs)
+                if not (np.all(np.isfinite(x)) and np.all(np.isfinite(w))):
+                    raise IntegrationError(f"pinocchio: the integration diverged at t = {k * dt:.6g} s "
+                                           f"(dt = {dt} s, {integrator}); reduce the step")
                 if k % record_every == 0:
                     j = k // record_every
                     t[j], Q[j], V[j] = k * dt, x, w

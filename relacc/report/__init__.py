@@ -43,6 +43,7 @@ class ReportContext:
     worst: Worst
     throughput: dict
     simulations: list
+    tradeoff: object
     quick: bool
     created: dt.datetime
     machine: str
@@ -73,6 +74,9 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
 
     throughput = run_benchmark(n_bench, repeats, seed, fixture)
     simulations = run_scenes(quick, progress)
+    from relacc import tradeoff as tradeoff_mod
+
+    tradeoff = tradeoff_mod.run(quick=quick, seed=seed, progress=progress, fixture=fixture)
     return ReportContext(
         harness=harness,
         check=check,
@@ -81,6 +85,7 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
         worst=worst,
         throughput=throughput,
         simulations=simulations,
+        tradeoff=tradeoff,
         quick=quick,
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),

@@ -9,6 +9,7 @@ from relacc.report.sections import (
     summary,
     system,
     throughput,
+    tradeoff,
 )
 
-SECTIONS = (summary, system, conventions, agreement, errata, hardcases, simulation, throughput)
+SECTIONS = (summary, system, conventions, agreement, errata, hardcases, simulation, tradeoff, throughput)

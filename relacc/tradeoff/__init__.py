@@ -1,0 +1,84 @@
+"""What accuracy costs in time: work-precision sweeps and their Pareto fronts (``relacc tradeoff``).
+
+* :mod:`relacc.tradeoff.derivatives`: G2's acceleration by the analytic
+  formulas, finite differences, Richardson, complex step and the engines.
+* :mod:`relacc.tradeoff.integrators`: trajectories by each engine's
+  integrators over a sweep of step or tolerance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from relacc.tradeoff import derivatives, integrators
+
+QUICK = {"states": 20, "scenes": ("tumbling", "gravity_spring"), "duration": 0.25, "factors": (8, 4, 2),
+         "euler_factors": (8, 4, 2), "tolerances": (1e-6, 1e-9), "repeats": 1}
+FULL = {"states": 1000, "scenes": None, "duration": None, "factors": (16, 8, 4, 2, 1),
+        "euler_factors": (2, 1, 0.5, 0.25), "tolerances": (1e-4, 1e-6, 1e-8, 1e-10), "repeats": 3}
+
+
+@dataclass(frozen=True)
+class Tradeoff:
+    """Both sweeps' rows, the integrators' reference checks and the observed orders."""
+
+    derivatives: list
+    integrators: list
+    references: list
+    orders: dict
+
+    def as_json(self) -> dict:
+        """The ``relacc tradeoff --json`` object."""
+        return {
+            "derivatives": [{k: r[k] for k in ("case", "method", "param", "error", "seconds_per_state")}
+                            for r in self.derivatives],
+            "integrators": [{k: r[k] for k in ("scene", "engine", "integrator", "case", "dt_or_tol", "error",
+                                               "energy_drift", "seconds", "diverged")} for r in self.integrators],
+            "orders": self.orders,
+            "references": self.references,
+        }
+
+
+def pareto(rows, error="error", cost="seconds"):
+    """The rows not beaten on both error and cost by another row, cheapest first (diverged runs excluded)."""
+    front, best = [], float("inf")
+    for r in sorted((r for r in rows if not r.get("diverged")), key=lambda r: (r[cost], r[error])):
+        if r[error] < best:
+            front.append(r)
+            best = r[error]
+    return front
+
+
+def run(quick: bool = False, seed: int = 0, progress=None, fixture=None) -> Tradeoff:
+    """Run both sweeps (``quick``: a small one for tests and CI)."""
+    from relacc import scenes
+    from relacc.engines import load_engine
+    from relacc.fixtures import load
+
+    cfg = QUICK if quick else FULL
+    fixture = fixture if fixture is not None else load()
+    if progress:
+        progress("derivative sweep")
+    engines = {n: load_engine(n, fixture) for n in ("pinocchio", "mujoco")}
+    drows = derivatives.sweep(fixture.chain, cfg["states"], seed, cfg["repeats"], engines)
+    irows, refs = [], []
+    for path in scenes.shipped():
+        if cfg["scenes"] and path.stem not in cfg["scenes"]:
+            continue
+        scene = scenes.load(path)
+        if cfg["duration"]:
+            scene = scene.replace(duration=round(min(scene.duration, cfg["duration"]) / scene.dt) * scene.dt)
+        if progress:
+            progress(f"integrator sweep: {scene.name}")
+        rows, ref = integrators.sweep(scene, cfg["factors"], cfg["tolerances"], cfg["euler_factors"])
+        irows += rows
+        refs.append(ref)
+    orders = {}
+    for engine, names in integrators.FIXED.items():
+        for integrator in names:
+            per_scene = [o for o in (integrators.observed_order(irows, engine, integrator, r["scene"])
+                                     for r in refs) if o is not None]
+            if per_scene:
+                per_scene.sort()
+                orders[f"{engine}/{integrator}"] = per_scene[len(per_scene) // 2]
+    return Tradeoff(drows, irows, refs, orders)

@@ -1,0 +1,78 @@
+"""Work-precision machinery on a small sweep: orders, best steps, references, Pareto fronts."""
+
+import json
+
+import numpy as np
+import pytest
+
+from relacc import tradeoff
+from relacc.cli import main
+from relacc.tolerances import rounding_tolerance
+from relacc.tradeoff.derivatives import FORMULAS, best_step, theory_step
+
+ORDER_BAND = 0.5
+"""Observed orders must lie within theory +- 0.5 (the fit uses steps 2x apart, outside rounding)."""
+
+
+@pytest.fixture(scope="module")
+def quick():
+    return tradeoff.run(quick=True)
+
+
+def test_fitted_orders_match_theory(quick):
+    """RK4 (relacc, Pinocchio, MuJoCo) fits order 4, Euler and MuJoCo's implicit integrators order 1."""
+    from relacc.tradeoff.integrators import THEORY
+
+    assert set(quick.orders) >= {"relacc/rk4", "pinocchio/rk4", "mujoco/rk4", "mujoco/euler", "mujoco/implicit"}
+    for key, order in quick.orders.items():
+        assert abs(order - THEORY[key.split("/")[1]]) <= ORDER_BAND, (key, order)
+
+
+@pytest.mark.parametrize("method", ["forward", "central"])
+def test_finite_difference_minimum_where_theory_puts_it(quick, method):
+    """The best h is within 1.5 decades of eps^(1/2) (forward) and eps^(1/3) (central), every case."""
+    for case in (1, 2, 3):
+        h = best_step(quick.derivatives, method, case)
+        assert abs(np.log10(h / theory_step(method))) <= 1.5, (method, case, h)
+
+
+def test_finite_difference_error_falls_then_rises(quick):
+    """Each stencil's error decreases with h down to its best step, then grows again from round-off."""
+    for method in FORMULAS:
+        pts = sorted((r for r in quick.derivatives if r["case"] == 1 and r["method"] == method),
+                     key=lambda r: -r["param"])
+        errors = np.array([r["error"] for r in pts])
+        i = int(np.argmin(errors))
+        assert 0 < i < len(errors) - 1, method
+        assert errors[0] > 100 * errors[i] and errors[-1] > 100 * errors[i], method
+
+
+def test_exact_methods_reach_rounding(quick):
+    """Analytic formulas, engines and the complex step at h <= 1e-10 are within c eps of the reference."""
+    for r in quick.derivatives:
+        if r["method"] in ("analytic", "analytic-reference", "pinocchio", "mujoco") or (
+                r["method"] == "complex-step" and r["param"] <= 1e-10):
+            assert r["error"] <= rounding_tolerance(), r
+
+
+def test_reference_solutions_agree(quick):
+    """The two independent reference trajectories (DOP853 1e-13; MuJoCo RK4 at dt/16) agree to 1e-10 m."""
+    assert quick.references
+    for ref in quick.references:
+        assert ref["agreement_m"] <= 1e-10, ref
+
+
+def test_pareto_front():
+    """pareto keeps exactly the points no other point beats on both error and cost."""
+    rows = [{"error": e, "seconds": s} for e, s in ((1e-2, 1), (1e-4, 2), (1e-3, 3), (1e-8, 10), (1e-8, 11))]
+    assert [(r["error"], r["seconds"]) for r in tradeoff.pareto(rows)] == [(1e-2, 1), (1e-4, 2), (1e-8, 10)]
+
+
+def test_cli_tradeoff_json(capsys):
+    """relacc tradeoff --quick --json prints derivatives, integrators and orders with the documented keys."""
+    assert main(["tradeoff", "--quick", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out["derivatives"][0]) >= {"method", "param", "error", "seconds_per_state"}
+    assert set(out["integrators"][0]) >= {"engine", "integrator", "case", "dt_or_tol", "error", "energy_drift",
+                                          "seconds"}
+    assert "relacc/rk4" in out["orders"]
