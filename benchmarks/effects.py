@@ -9,12 +9,10 @@ Run:  python benchmarks/effects.py [--states N]
 
 import argparse
 import sys
-import time
-
-import numpy as np
 
 import relacc
 from relacc import fastdyn
+from relacc.benchmark import median_time
 from relacc.effects import NONE, Effects
 from relacc.engines import load_engine
 from relacc.fixtures import load
@@ -25,13 +23,8 @@ ALL = Effects(gravity=[0, 0, -9.81], spring_stiffness=50.0, spring_damping=0.5, 
 
 
 def per_state(fn, n, repeats=7):
-    fn()
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return np.median(times) / n * 1e6
+    """Microseconds per state: median of ``repeats`` calls over ``n`` states."""
+    return median_time(fn, repeats, warmups=1) / n * 1e6
 
 
 def main(argv=None):

@@ -70,10 +70,10 @@ def machine() -> dict:
     }
 
 
-def median_time(fn, repeats: int) -> float:
-    """Median wall time of ``repeats`` calls after two full-size warm-up calls."""
-    fn()  # warm-up at full size (compilation, thread pool, first-touch memory)
-    fn()
+def median_time(fn, repeats: int, warmups: int = 2) -> float:
+    """Median wall time (s) of ``repeats`` calls after ``warmups`` full-size warm-up calls."""
+    for _ in range(warmups):  # compilation, thread pool, first-touch memory
+        fn()
     times = []
     for _ in range(repeats):
         start = time.perf_counter()

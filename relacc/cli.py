@@ -60,7 +60,8 @@ def cmd_eval(args) -> int:
     state = _state_from_args(args)
     fixture = fixtures.load(args.model)
     k = relacc.g2_kinematics(
-        fixture.chain, state["case"], state["q"], state["u"], state.get("udot"), variant=state.get("variant", "corrected")
+        fixture.chain, state["case"], state["q"], state["u"], state.get("udot"),
+        variant=state.get("variant", "corrected"),
     )
     case = int(k.case)
     if args.json:
@@ -125,7 +126,8 @@ def cmd_check(args) -> int:
           f"normalized error = max|x - x_engine| / magnitude of the terms; tolerance {tol:.3g} "
           f"({tol / EPS:.0f} eps)")
     print("versions: " + ", ".join(f"{k} {v}" for k, v in report.versions.items()))
-    header = f"{'case':4s}  {'engine':9s}  {'route':10s}  {'quantity':12s}  {'max':>9s}  {'median':>9s}  {'max/eps':>7s}  result"
+    header = (f"{'case':4s}  {'engine':9s}  {'route':10s}  {'quantity':12s}  {'max':>9s}  {'median':>9s}  "
+              f"{'max/eps':>7s}  result")
     print(header)
     print("-" * len(header))
     for c in report.comparisons:
@@ -205,23 +207,7 @@ def cmd_simulate(args) -> int:
     if args.json:
         print(json.dumps(summary, indent=2))
         return 0
-    eff = scene.effects
-    print(f"{scene.title} ({scene.name}): case {scene.case}, {scene.integrator}, dt = {scene.dt} s, "
-          f"{scene.duration} s, effects: {', '.join(eff.active()) or 'none'}")
-    print(f"{'engine':10s} {'G2 position at the end (fixed comps, m)':44s} {'energy drift':>12s} "
-          f"{'momentum drift':>15s} {'seconds':>8s}")
-    for name, e in summary["engines"].items():
-        pos = ", ".join(f"{x:.9f}" for x in e["g2_position_final"])
-        ed = "-" if e["energy_drift"] is None else f"{e['energy_drift']:.2e}"
-        md = "-" if e["momentum_drift"] is None else f"{e['momentum_drift']:.2e}"
-        print(f"{name:10s} [{pos:42s}] {ed:>12s} {md:>15s} {e['seconds']:8.3f}")
-    print(f"largest G2 difference between engines over the run: position "
-          f"{summary['max_g2_position_difference']:.3e} m, velocity {summary['max_g2_velocity_difference']:.3e} m/s")
-    for name, c in summary["note_acceleration_vs_engines"].items():
-        print(f"note's acceleration along relacc's trajectory vs {name}: {c['error']:.2e} (normalized, "
-              f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
-    print("energy drift: max |E - E0| / |E0| where only conservative effects act; momentum drift: max |p - p0| "
-          "(kg m/s) where no external force acts")
+    print(simulate.format_text(result))
     return 0
 
 
@@ -233,26 +219,7 @@ def cmd_tradeoff(args) -> int:
     if args.json:
         print(json.dumps(result.as_json(), indent=2))
         return 0
-    print("relacc tradeoff: what accuracy costs in time (errors: acceleration normalized by its term scale; "
-          "trajectories: |r_G2(T) - reference| in m)")
-    print("\nAcceleration, Pareto front per case (cheapest method for each accuracy level):")
-    print(f"  {'case':4s} {'method':20s} {'h':>9s} {'error':>9s} {'s/state':>10s}")
-    for case in sorted({r["case"] for r in result.derivatives}):
-        for r in tradeoff.pareto([r for r in result.derivatives if r["case"] == case], cost="seconds_per_state"):
-            h = "-" if r["param"] is None else f"{r['param']:.1e}"
-            print(f"  {case:<4d} {r['method']:20s} {h:>9s} {r['error']:9.1e} {r['seconds_per_state']:10.2e}")
-    for ref in result.references:
-        print(f"\nTrajectories, scene {ref['scene']} (reference: {ref['reference']}; {ref['check']} agrees to "
-              f"{ref['agreement_m']:.1e} m), Pareto front:")
-        print(f"  {'engine':10s} {'integrator':12s} {'dt or tol':>10s} {'error (m)':>10s} {'seconds':>9s}")
-        for r in tradeoff.pareto([r for r in result.integrators if r["scene"] == ref["scene"]]):
-            print(f"  {r['engine']:10s} {r['integrator']:12s} {r['dt_or_tol']:10.1e} {r['error']:10.1e} "
-                  f"{r['seconds']:9.4f}")
-    print("\nObserved order of convergence (median over scenes) vs theory:")
-    from relacc.tradeoff.integrators import THEORY
-
-    for key, order in result.orders.items():
-        print(f"  {key:22s} {order:5.2f}   (theory {THEORY[key.split('/')[1]]})")
+    print(tradeoff.format_text(result))
     return 0
 
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from relacc import fast
 from relacc.effects import Effects
-from relacc.fast import HAVE_NUMBA, _acc_from, _columns, _cross, _jit, _mm, _mv, _state
+from relacc.kernels import HAVE_NUMBA, _acc_from, _columns, _cross, _jit, _mm, _mv, _state
 
 if HAVE_NUMBA:
     import numba
@@ -33,7 +33,10 @@ def chain_params(chain) -> np.ndarray:
 
 
 def effect_params(effects: Effects) -> np.ndarray:
-    """Flags and values of every effect: ``[on, g(3), on, K(3), rest(3), on, C(3), on, c_ball, on, F(3), on, T1(3), on, T2(3)]``."""
+    """Flags and values of every effect for the kernel.
+
+    ``[on, g(3), on, K(3), rest(3), on, C(3), on, c_ball, on, F(3), on, T1(3), on, T2(3)]``.
+    """
     out = np.zeros(N_EFFECTS)
     z3 = np.zeros(3)
 

@@ -178,7 +178,7 @@ def load(path) -> Scene:
         raise err("simulate", *problem)
     extra = set(sim) - {"duration", "dt", "integrator", "engines", "record_every"}
     if extra:
-        raise err("simulate", sorted(extra)[0], f"unknown key; accepted: duration, dt, integrator, engines, "
+        raise err("simulate", sorted(extra)[0], "unknown key; accepted: duration, dt, integrator, engines, "
                                                 "record_every")
     return Scene(name=path.stem, title=str(data.get("title", path.stem)), description=str(data.get("description", "")),
                  fixture=fixture, case=case, q=q, u=u, effects=effects, duration=float(duration), dt=float(dt),

@@ -22,13 +22,13 @@ import numpy as np
 
 from relacc import dynamics
 from relacc.engines import load_engine
-from relacc.fastdyn import Rates
 from relacc.errors import IntegrationError, RelaccError
+from relacc.fastdyn import Rates
 from relacc.integrate import STEPPERS, CaseSpace
 from relacc.kinematics import g2_kinematics
 from relacc.scenes import Scene
 from relacc.speeds import to_body_speeds
-from relacc.tolerances import normalized_error, rounding_tolerance, term_scales
+from relacc.tolerances import EPS, normalized_error, rounding_tolerance, term_scales
 
 NOTE_CHECK_STATES = 40
 """States of relacc's trajectory at which the note's accelerations meet the engines'."""
@@ -265,3 +265,26 @@ def write_csv(result: SimulationResult, directory) -> list[Path]:
             writer.writerows(rows.tolist())
         paths.append(path)
     return paths
+
+
+def format_text(result: SimulationResult) -> str:
+    """The human-readable summary printed by ``relacc simulate``."""
+    scene, summary, eff = result.scene, result.summary(), result.scene.effects
+    out = []
+    out.append(f"{scene.title} ({scene.name}): case {scene.case}, {scene.integrator}, dt = {scene.dt} s, "
+               f"{scene.duration} s, effects: {', '.join(eff.active()) or 'none'}")
+    out.append(f"{'engine':10s} {'G2 position at the end (fixed comps, m)':44s} {'energy drift':>12s} "
+               f"{'momentum drift':>15s} {'seconds':>8s}")
+    for name, e in summary["engines"].items():
+        pos = ", ".join(f"{x:.9f}" for x in e["g2_position_final"])
+        ed = "-" if e["energy_drift"] is None else f"{e['energy_drift']:.2e}"
+        md = "-" if e["momentum_drift"] is None else f"{e['momentum_drift']:.2e}"
+        out.append(f"{name:10s} [{pos:42s}] {ed:>12s} {md:>15s} {e['seconds']:8.3f}")
+    out.append(f"largest G2 difference between engines over the run: position "
+               f"{summary['max_g2_position_difference']:.3e} m, velocity {summary['max_g2_velocity_difference']:.3e} m/s")
+    for name, c in summary["note_acceleration_vs_engines"].items():
+        out.append(f"note's acceleration along relacc's trajectory vs {name}: {c['error']:.2e} (normalized, "
+              f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
+    out.append("energy drift: max |E - E0| / |E0| where only conservative effects act; momentum drift: max |p - p0| "
+               "(kg m/s) where no external force acts")
+    return "\n".join(out)

@@ -7,7 +7,7 @@ import pytest
 from relacc.cases import as_case
 from relacc.check import routes_for
 from relacc.engines import load_engine
-from relacc.engines.pinocchio_ import LWA, split_composites
+from relacc.engines.pinocchio_ import LWA
 from relacc.errors import EngineError
 from relacc.states import random_states
 from relacc.tolerances import assert_agree
@@ -58,7 +58,8 @@ def test_split_pinocchio_model_matches_loaded(engines):
             assert np.allclose(dl.oMf[fl].homogeneous, ds.oMf[fs].homogeneous, atol=1e-14)
             for get in (pin.getFrameVelocity, pin.getFrameClassicalAcceleration):
                 assert np.allclose(get(loaded, dl, fl, LWA).vector, get(split, ds, fs, LWA).vector, atol=1e-13)
-            assert np.allclose(pin.getFrameJacobian(loaded, dl, fl, LWA), pin.getFrameJacobian(split, ds, fs, LWA), atol=1e-14)
+            assert np.allclose(pin.getFrameJacobian(loaded, dl, fl, LWA), pin.getFrameJacobian(split, ds, fs, LWA),
+                               atol=1e-14)
         Ml, Ms = np.triu(dl.M), np.triu(ds.M)
         assert np.allclose(Ml, Ms, atol=1e-14)
 

@@ -96,7 +96,8 @@ inertia = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
         (GOOD.replace("r2 = [0.3, 0.2, 0.1]\n", ""), r"missing field \[B2\]\.r2"),
         (GOOD.replace("[B1]", "[B1"), r"not valid TOML.*line 2"),
         (GOOD.replace("[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n[B2]",
-                      "[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]]\n[B2]"), r"line 5.*not physically realizable"),
+                      "[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]]\n[B2]"),
+         r"line 5.*not physically realizable"),
         (GOOD.replace('name = "x"', "name = 3"), r"name must be a non-empty string"),
     ],
 )

@@ -5,7 +5,8 @@ import pytest
 
 import relacc
 from relacc import speeds
-from relacc.hardcases import Runner, catalogue, hypothesis_search
+from relacc.hardcases import Runner, catalogue
+from relacc.hardsearch import hypothesis_search
 from relacc.tolerances import MAX_CONDITION
 
 from .conftest import SEED

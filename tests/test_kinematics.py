@@ -168,7 +168,8 @@ def test_batch_shapes_broadcast(chain, case):
     k = relacc.g2_kinematics(chain, case, q, s.u[0], s.udot[0])
     assert k.position.shape == (2, 5, 3) and k.V.shape == (2, 5, 3, 12)
     assert k.acceleration.shape == (2, 5, 3) and k.Vdot.shape == (2, 5, 3, 12)
-    flat = relacc.g2_kinematics(chain, case, s.q, np.broadcast_to(s.u[0], (10, 12)), np.broadcast_to(s.udot[0], (10, 12)))
+    flat = relacc.g2_kinematics(chain, case, s.q, np.broadcast_to(s.u[0], (10, 12)),
+                                np.broadcast_to(s.udot[0], (10, 12)))
     assert np.array_equal(k.acceleration.reshape(10, 3), flat.acceleration)
 
 

@@ -65,7 +65,10 @@ def _load(path) -> mujoco.MjModel:
 
 
 def _full_inertia(m, d, dst):
-    """Dense joint-space inertia into ``dst``: ``mj_fullM`` takes ``(m, d, dst)`` in MuJoCo 4, ``(m, dst, qM)`` before."""
+    """Dense joint-space inertia into ``dst``.
+
+    ``mj_fullM`` takes ``(m, d, dst)`` in MuJoCo 4 and ``(m, dst, qM)`` before.
+    """
     if hasattr(d, "qM"):
         mujoco.mj_fullM(m, dst, d.qM)
     else:
@@ -122,7 +125,8 @@ class MujocoEngine(Engine):
 
         Disabled always: contacts, constraints, equality, friction loss,
         limits, actuation, and the automatic reset on instability (a diverged
-        run raises :class:`relacc.IntegrationError` instead of restarting). Gravity: ``opt.gravity`` and the gravity flag off
+        run raises :class:`relacc.IntegrationError` instead of restarting).
+        Gravity: ``opt.gravity`` and the gravity flag off
         when absent. Spring and damper on the slides: ``jnt_stiffness``,
         ``qpos_spring``, ``dof_damping``; ball damping: ``dof_damping`` of the
         ball's three dofs; the passive flag off when none is present. Force at

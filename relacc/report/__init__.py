@@ -21,7 +21,8 @@ from relacc import fixtures
 from relacc.check import CheckReport, Harness
 from relacc.errata import Erratum, errata
 from relacc.errors import InputError, RelaccError
-from relacc.hardcases import Result, Worst, hypothesis_search, run_catalogue
+from relacc.hardcases import Result, run_catalogue
+from relacc.hardsearch import Worst, hypothesis_search
 from relacc.report.sections import SECTIONS
 
 DEFAULT_STATES = 2000

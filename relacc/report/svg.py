@@ -80,6 +80,20 @@ def formula_lines(tex: str, fontsize: int = 12) -> list[str]:
     return [formula(line, fontsize) for line in split_tex(tex)]
 
 
+def legend_below(fig, ax, ncol: int, offset: float = -0.15, fontsize: int = 7) -> None:
+    """One legend for a row of panels, from ``ax``'s labelled lines, centred below the figure."""
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=fontsize, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, offset))
+
+
+def log_axes(ax, title: str, xlabel: str) -> None:
+    """Log-log axes with a small title and an x label."""
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel(xlabel)
+
+
 def formula(tex: str, fontsize: int = 11) -> str:
     """A LaTeX formula (matplotlib mathtext subset) as an SVG data URI."""
     buf = io.BytesIO()

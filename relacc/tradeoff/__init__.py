@@ -82,3 +82,29 @@ def run(quick: bool = False, seed: int = 0, progress=None, fixture=None) -> Trad
                 per_scene.sort()
                 orders[f"{engine}/{integrator}"] = per_scene[len(per_scene) // 2]
     return Tradeoff(drows, irows, refs, orders)
+
+
+def format_text(result: Tradeoff) -> str:
+    """The human-readable report printed by ``relacc tradeoff``: Pareto fronts and observed orders."""
+    out = []
+    out.append("relacc tradeoff: what accuracy costs in time (errors: acceleration normalized by its term scale; "
+               "trajectories: |r_G2(T) - reference| in m)")
+    out.append("\nAcceleration, Pareto front per case (cheapest method for each accuracy level):")
+    out.append(f"  {'case':4s} {'method':20s} {'h':>9s} {'error':>9s} {'s/state':>10s}")
+    for case in sorted({r["case"] for r in result.derivatives}):
+        for r in pareto([r for r in result.derivatives if r["case"] == case], cost="seconds_per_state"):
+            h = "-" if r["param"] is None else f"{r['param']:.1e}"
+            out.append(f"  {case:<4d} {r['method']:20s} {h:>9s} {r['error']:9.1e} {r['seconds_per_state']:10.2e}")
+    for ref in result.references:
+        out.append(f"\nTrajectories, scene {ref['scene']} (reference: {ref['reference']}; {ref['check']} agrees to "
+              f"{ref['agreement_m']:.1e} m), Pareto front:")
+        out.append(f"  {'engine':10s} {'integrator':12s} {'dt or tol':>10s} {'error (m)':>10s} {'seconds':>9s}")
+        for r in pareto([r for r in result.integrators if r["scene"] == ref["scene"]]):
+            out.append(f"  {r['engine']:10s} {r['integrator']:12s} {r['dt_or_tol']:10.1e} {r['error']:10.1e} "
+                  f"{r['seconds']:9.4f}")
+    out.append("\nObserved order of convergence (median over scenes) vs theory:")
+    from relacc.tradeoff.integrators import THEORY
+
+    for key, order in result.orders.items():
+        out.append(f"  {key:22s} {order:5.2f}   (theory {THEORY[key.split('/')[1]]})")
+    return "\n".join(out)

@@ -11,12 +11,10 @@ Errors are normalized by the acceleration's term scale (maximum over states).
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 import relacc
-from relacc.benchmark import mujoco_loop, pinocchio_loop
+from relacc.benchmark import median_time, mujoco_loop, pinocchio_loop
 from relacc.derivatives import advance, along_motion
 from relacc.states import random_states
 from relacc.tolerances import EPS, normalized_error, term_scales
@@ -35,13 +33,9 @@ FORMULAS = {
 
 
 def _timed(fn, n, repeats):
-    fn()
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - start)
-    return out, float(np.median(times)) / n
+    """The method's output and its median time per state (s)."""
+    out = fn()  # also the warm-up
+    return out, median_time(fn, repeats, warmups=0) / n
 
 
 def sweep(chain, n_states: int = 200, seed: int = 0, repeats: int = 3, engines=None, cases=(1, 2, 3)) -> list[dict]:

@@ -53,9 +53,9 @@ def _adaptive(name, engine, scene, method, rtol):
         rotations = () if scene.case == 3 else (slice(3, 6), slice(9, 12))
         x0, v0 = scene.q.astype(float), scene.u.astype(float)
     else:
-        from relacc.engines.pinocchio_ import PinocchioSpace
-
         import pinocchio as pin
+
+        from relacc.engines.pinocchio_ import PinocchioSpace
 
         m = engine.routes["quaternion"].model
         d = engine.routes["quaternion"].data

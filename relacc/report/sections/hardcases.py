@@ -58,15 +58,11 @@ def _plot(results, family, xlabel, scope) -> str:
             models[ev] = (x, bound if prev is None else np.maximum(prev[1], bound))
         for ev, (x, bound) in models.items():
             ax.plot(x, bound, ls="--", lw=1.1, color=COLORS[ev], alpha=0.7)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_title(qty, fontsize=9)
-        ax.set_xlabel(xlabel, fontsize=8)
+        svg.log_axes(ax, qty, xlabel)
         if family == "gimbal":
             ax.set_xticks([ZERO_AT, 1e-12, 1e-8, 1e-4, 1e-1], ["0", "1e-12", "1e-8", "1e-4", "0.1"], fontsize=7)
     np.atleast_1d(axes)[0].set_ylabel("max normalized error (eps)")
-    handles, labels = np.atleast_1d(axes)[-1].get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=5, bbox_to_anchor=(0.5, -0.2))
+    svg.legend_below(fig, np.atleast_1d(axes)[-1], ncol=5, offset=-0.2)
     fig.suptitle(f"{family}: {scope}. Dashed: accuracy model (bound) per evaluator.", fontsize=9, y=1.02)
     return svg.figure(fig)
 

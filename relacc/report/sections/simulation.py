@@ -27,8 +27,7 @@ def _differences_plot(entries) -> str:
         ax.set_title(r.scene.name, fontsize=9)
         ax.set_xlabel("t (s)")
     np.atleast_1d(axes)[0].set_ylabel("|r_G2 difference| (m)")
-    handles, labels = np.atleast_1d(axes)[0].get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=3, bbox_to_anchor=(0.5, -0.22))
+    svg.legend_below(fig, np.atleast_1d(axes)[0], ncol=3, offset=-0.22, fontsize=8)
     return svg.figure(fig)
 
 

@@ -32,8 +32,7 @@ def _plot(rows) -> str:
         ax.set_title("acceleration only" if output == "acceleration" else "position, velocity, acceleration, V, Vdot",
                      fontsize=9)
     axes[0].set_ylabel("states per second")
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=4, bbox_to_anchor=(0.5, -0.1))
+    svg.legend_below(fig, axes[0], ncol=4, offset=-0.1, fontsize=8)
     return svg.figure(fig)
 
 

@@ -33,14 +33,10 @@ def _derivative_plot(rows) -> str:
             e = [max(r["error"], 1e-18) for r in pts]
             ax.plot(t, e, marker=marker, color=color, ls="-" if len(pts) > 1 else "none", ms=6 if len(pts) == 1 else 4,
                     lw=1, label=method)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
+        svg.log_axes(ax, f"case {case}", "seconds per state")
         ax.xaxis.set_minor_formatter(NullFormatter())
-        ax.set_title(f"case {case}", fontsize=9)
-        ax.set_xlabel("seconds per state")
     np.atleast_1d(axes)[0].set_ylabel("max normalized error of a_G2")
-    handles, labels = np.atleast_1d(axes)[0].get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=9, bbox_to_anchor=(0.5, -0.12))
+    svg.legend_below(fig, np.atleast_1d(axes)[0], ncol=9, offset=-0.12)
     return svg.figure(fig)
 
 
@@ -75,13 +71,9 @@ def _integrator_plot(rows, scenes) -> str:
                 if pts:
                     ax.plot([r["seconds"] for r in pts], [max(r["error"], 1e-16) for r in pts], marker=".",
                             ls=styles[integrator], color=colors[engine], lw=1, label=f"{engine}/{integrator}")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_title(scene, fontsize=9)
-        ax.set_xlabel("wall time (s)")
+        svg.log_axes(ax, scene, "wall time (s)")
     np.atleast_1d(axes)[0].set_ylabel("|r_G2(T) - reference| (m)")
-    handles, labels = np.atleast_1d(axes)[0].get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=6, bbox_to_anchor=(0.5, -0.3))
+    svg.legend_below(fig, np.atleast_1d(axes)[0], ncol=6, offset=-0.3)
     return svg.figure(fig)
 
 

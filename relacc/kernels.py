@@ -1,0 +1,231 @@
+"""The per-state mathematics of the fused kernels (shared by :mod:`relacc.fast` and :mod:`relacc.fastdyn`).
+
+Every function here is plain arithmetic on scalars or tuples, so it runs as
+Python on whole numpy columns (the numpy backend) and compiles under numba
+when called from jitted code (``numba.extending.register_jitable``). The
+mathematics is described in :mod:`relacc.fast`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from relacc.tolerances import QUATERNION_NORM_TOLERANCE
+
+try:  # numba is a dependency; without it the functions stay plain Python
+    import numba
+    import numba.extending
+
+    HAVE_NUMBA = True
+except ImportError:  # pragma: no cover - exercised only without numba
+    numba = None
+    HAVE_NUMBA = False
+
+
+def _jit(fn):
+    """Plain Python when called from Python (the numpy backend); compiled when called from numba code."""
+    return numba.extending.register_jitable(fn) if HAVE_NUMBA else fn
+
+
+@_jit
+def _finite(x):
+    """0 for a finite number, 1 for NaN or inf."""
+    return 0 if (x == x and abs(x) < np.inf) else 1
+
+
+@_jit
+def _cross(a0, a1, a2, b0, b1, b2):
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+@_jit
+def _quat(w, x, y, z):
+    return (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+            2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+            2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
+
+
+@_jit
+def _r123(c1, c2, c3, s1, s2, s3):
+    """``Rx Ry Rz`` from the cosines and sines of the three angles."""
+    return (c2 * c3, -c2 * s3, s2,
+            c1 * s3 + s1 * s2 * c3, c1 * c3 - s1 * s2 * s3, -s1 * c2,
+            s1 * s3 - c1 * s2 * c3, s1 * c3 + c1 * s2 * s3, c1 * c2)
+
+
+@_jit
+def _w123(c1, c2, s1, s2, d1, d2):
+    """W(theta) and W_dot(theta, theta_dot), row-major 9-tuples, from cosines and sines of theta1, theta2."""
+    z = 0.0 * c1
+    W = (1.0 + z, z, s2, z, c1, -s1 * c2, z, s1, c1 * c2)
+    Wd = (z, z, c2 * d2, z, -s1 * d1, -c1 * c2 * d1 + s1 * s2 * d2, z, c1 * d1, -s1 * c2 * d1 - c1 * s2 * d2)
+    return W, Wd
+
+
+@_jit
+def _w123_mv(c1, c2, s1, s2, x0, x1, x2):
+    """``W(theta) x`` written out (W has a unit entry and three zeros)."""
+    return x0 + s2 * x2, c1 * x1 - s1 * c2 * x2, s1 * x1 + c1 * c2 * x2
+
+
+@_jit
+def _w123_dot_mv(c1, c2, s1, s2, d1, d2, x1, x2):
+    """``W_dot(theta, theta_dot) x`` written out (its first column is zero, so x0 drops out)."""
+    return (c2 * d2 * x2,
+            -s1 * d1 * x1 + (-c1 * c2 * d1 + s1 * s2 * d2) * x2,
+            c1 * d1 * x1 + (-s1 * c2 * d1 - c1 * s2 * d2) * x2)
+
+
+@_jit
+def _mm(A, B):
+    return (A[0] * B[0] + A[1] * B[3] + A[2] * B[6], A[0] * B[1] + A[1] * B[4] + A[2] * B[7],
+            A[0] * B[2] + A[1] * B[5] + A[2] * B[8],
+            A[3] * B[0] + A[4] * B[3] + A[5] * B[6], A[3] * B[1] + A[4] * B[4] + A[5] * B[7],
+            A[3] * B[2] + A[4] * B[5] + A[5] * B[8],
+            A[6] * B[0] + A[7] * B[3] + A[8] * B[6], A[6] * B[1] + A[7] * B[4] + A[8] * B[7],
+            A[6] * B[2] + A[7] * B[5] + A[8] * B[8])
+
+
+@_jit
+def _mv(A, x0, x1, x2):
+    return (A[0] * x0 + A[1] * x1 + A[2] * x2, A[3] * x0 + A[4] * x1 + A[5] * x2,
+            A[6] * x0 + A[7] * x1 + A[8] * x2)
+
+
+@_jit
+def _cross_cols(w0, w1, w2, A):
+    """The matrix whose column j is ``w x A[:, j]``, row-major."""
+    c0 = _cross(w0, w1, w2, A[0], A[3], A[6])
+    c1 = _cross(w0, w1, w2, A[1], A[4], A[7])
+    c2 = _cross(w0, w1, w2, A[2], A[5], A[8])
+    return (c0[0], c1[0], c2[0], c0[1], c1[1], c2[1], c0[2], c1[2], c2[2])
+
+
+@_jit
+def _trig(q):
+    """Cosines and sines of the six case-3 angles, computed once per state."""
+    return (np.cos(q[3]), np.cos(q[4]), np.cos(q[5]), np.sin(q[3]), np.sin(q[4]), np.sin(q[5]),
+            np.cos(q[9]), np.cos(q[10]), np.cos(q[11]), np.sin(q[9]), np.sin(q[10]), np.sin(q[11]))
+
+
+@_jit
+def _rotations(case, q, t):
+    """``C1 = [R_B1]^T`` and ``M = [^{B2}R_{B1}]`` from quaternions (cases 1-2) or 1-2-3 angles (case 3)."""
+    if case == 3:
+        return _r123(t[0], t[1], t[2], t[3], t[4], t[5]), _r123(t[6], t[7], t[8], t[9], t[10], t[11])
+    return _quat(q[3], q[4], q[5], q[6]), _quat(q[10], q[11], q[12], q[13])
+
+
+@_jit
+def _angular(case, q, u, d, C1, M, t):
+    """``omega_B1``, ``alpha_B1``, ``w_hat`` (B2 in B1) and ``w_hat_dot``, fixed components.
+
+    case 1: speeds are omega_B1 and omega_hat_B2 (B1 comps); case 2: B1 and B2
+    components; case 3: ``W(theta) theta_dot``. ``w_hat_dot = omega_B1 x w_hat + R (rate of the
+    reference-frame components)``. With ``d = None``-like zeros the rates are simply unused.
+    """
+    if case == 1:
+        w = (u[3], u[4], u[5])
+        al = (d[3], d[4], d[5])
+        wh = _mv(C1, u[9], u[10], u[11])
+        hb = _mv(C1, d[9], d[10], d[11])
+    elif case == 2:
+        C2 = _mm(C1, M)
+        w = _mv(C1, u[3], u[4], u[5])
+        al = _mv(C1, d[3], d[4], d[5])
+        wh = _mv(C2, u[9], u[10], u[11])
+        hb = _mv(C2, d[9], d[10], d[11])
+    else:
+        c1, c2, s1, s2 = t[0], t[1], t[3], t[4]
+        w = _w123_mv(c1, c2, s1, s2, u[3], u[4], u[5])
+        a1 = _w123_mv(c1, c2, s1, s2, d[3], d[4], d[5])
+        a2 = _w123_dot_mv(c1, c2, s1, s2, u[3], u[4], u[4], u[5])
+        al = (a1[0] + a2[0], a1[1] + a2[1], a1[2] + a2[2])
+        c1, c2, s1, s2 = t[6], t[7], t[9], t[10]
+        h1 = _w123_mv(c1, c2, s1, s2, u[9], u[10], u[11])
+        wh = _mv(C1, h1[0], h1[1], h1[2])
+        b1 = _w123_mv(c1, c2, s1, s2, d[9], d[10], d[11])
+        b2 = _w123_dot_mv(c1, c2, s1, s2, u[9], u[10], u[10], u[11])
+        hb = _mv(C1, b1[0] + b2[0], b1[1] + b2[1], b1[2] + b2[2])
+    c = _cross(w[0], w[1], w[2], wh[0], wh[1], wh[2])
+    return w, al, wh, (hb[0] + c[0], hb[1] + c[1], hb[2] + c[2])
+
+
+@_jit
+def _state(case, q, u, d, q2p, r2p):
+    """The per-state quantities every output needs (fixed-frame components)."""
+    t = _trig(q) if case == 3 else _NO_TRIG
+    C1, M = _rotations(case, q, t)
+    w, al, wh, hd = _angular(case, q, u, d, C1, M, t)
+    o = 7 if case != 3 else 6  # index of s2' in q
+    rb = _mv(M, r2p[0], r2p[1], r2p[2])
+    r = _mv(C1, rb[0], rb[1], rb[2])
+    l = _mv(C1, q2p[0] + q[o], q2p[1] + q[o + 1], q2p[2] + q[o + 2])  # q2 + s2
+    sd = _mv(C1, u[6], u[7], u[8])  # [R_B1]^T s2'_dot
+    rd = _cross(w[0] + wh[0], w[1] + wh[1], w[2] + wh[2], r[0], r[1], r[2])  # eq7
+    wl = _cross(w[0], w[1], w[2], l[0], l[1], l[2])
+    Ld = (wl[0] + sd[0] + rd[0], wl[1] + sd[1] + rd[1], wl[2] + sd[2] + rd[2])  # q2_dot + s2_dot + r2_dot
+    L = (l[0] + r[0], l[1] + r[1], l[2] + r[2])
+    return C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t
+
+
+@_jit
+def _acc_from(d, C1, r, L, Ld, w, al, wh, hd, sd, rd):
+    """eq4 / eq11 / eq12 in fused form (see the module docstring)."""
+    sdd = _mv(C1, d[6], d[7], d[8])
+    a1 = _cross(al[0], al[1], al[2], L[0], L[1], L[2])
+    a2 = _cross(w[0], w[1], w[2], Ld[0] + sd[0], Ld[1] + sd[1], Ld[2] + sd[2])
+    a3 = _cross(hd[0], hd[1], hd[2], r[0], r[1], r[2])
+    a4 = _cross(wh[0], wh[1], wh[2], rd[0], rd[1], rd[2])
+    return (d[0] + a1[0] + a2[0] + sdd[0] + a3[0] + a4[0],
+            d[1] + a1[1] + a2[1] + sdd[1] + a3[1] + a4[1],
+            d[2] + a1[2] + a2[2] + sdd[2] + a3[2] + a4[2])
+
+
+@_jit
+def _acceleration(case, q, u, d, q2p, r2p):
+    C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, q, u, d, q2p, r2p)
+    return _acc_from(d, C1, r, L, Ld, w, al, wh, hd, sd, rd)
+
+
+@_jit
+def _columns(case, q, u, C1, M, w, wh, t):
+    """Partial angular velocity columns: ``P``, ``P_dot`` (B1) and ``G``, ``G_dot`` (B2), fixed comps."""
+    z = 0.0 * C1[0]
+    if case == 1:
+        P = (1.0 + z, z, z, z, 1.0 + z, z, z, z, 1.0 + z)
+        P_dot = (z, z, z, z, z, z, z, z, z)
+        return P, P_dot, C1, _cross_cols(w[0], w[1], w[2], C1)
+    if case == 2:
+        G = _mm(C1, M)
+        return C1, _cross_cols(w[0], w[1], w[2], C1), G, _cross_cols(w[0] + wh[0], w[1] + wh[1], w[2] + wh[2], G)
+    P, P_dot = _w123(t[0], t[1], t[3], t[4], u[3], u[4])
+    W2, W2d = _w123(t[6], t[7], t[9], t[10], u[9], u[10])
+    G = _mm(C1, W2)
+    Gc, CW = _cross_cols(w[0], w[1], w[2], G), _mm(C1, W2d)
+    G_dot = (Gc[0] + CW[0], Gc[1] + CW[1], Gc[2] + CW[2], Gc[3] + CW[3], Gc[4] + CW[4], Gc[5] + CW[5],
+             Gc[6] + CW[6], Gc[7] + CW[7], Gc[8] + CW[8])
+    return P, P_dot, G, G_dot
+
+
+QUAT_TOL = QUATERNION_NORM_TOLERANCE
+
+
+@_jit
+def _bad_inputs(case, q, u, d):
+    """Count non-finite inputs and (cases 1-2) quaternions off unit norm by more than the tolerance."""
+    bad = 0
+    for k in range(q.shape[0]):
+        bad += _finite(q[k])
+    for k in range(12):
+        bad += _finite(u[k]) + _finite(d[k])
+    if case != 3:
+        if abs(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6] - 1.0) > QUAT_TOL:
+            bad += 1
+        if abs(q[10] * q[10] + q[11] * q[11] + q[12] * q[12] + q[13] * q[13] - 1.0) > QUAT_TOL:
+            bad += 1
+    return bad
+
+
+_NO_TRIG = (0.0,) * 12
+"""Placeholder for the trigonometry of cases 1 and 2 (unused there)."""
