@@ -281,7 +281,8 @@ def format_text(result: SimulationResult) -> str:
         md = "-" if e["momentum_drift"] is None else f"{e['momentum_drift']:.2e}"
         out.append(f"{name:10s} [{pos:42s}] {ed:>12s} {md:>15s} {e['seconds']:8.3f}")
     out.append(f"largest G2 difference between engines over the run: position "
-               f"{summary['max_g2_position_difference']:.3e} m, velocity {summary['max_g2_velocity_difference']:.3e} m/s")
+               f"{summary['max_g2_position_difference']:.3e} m, "
+               f"velocity {summary['max_g2_velocity_difference']:.3e} m/s")
     for name, c in summary["note_acceleration_vs_engines"].items():
         out.append(f"note's acceleration along relacc's trajectory vs {name}: {c['error']:.2e} (normalized, "
               f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")

@@ -77,7 +77,8 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
     simulations = run_scenes(quick, progress)
     from relacc import tradeoff as tradeoff_mod
 
-    tradeoff = tradeoff_mod.run(quick=quick, seed=seed, progress=progress, fixture=fixture)
+    tradeoff = tradeoff_mod.run(seed=seed, progress=progress, fixture=fixture,
+                                profile=tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT)
     return ReportContext(
         harness=harness,
         check=check,

@@ -14,6 +14,9 @@ from relacc.tradeoff import derivatives, integrators
 
 QUICK = {"states": 20, "scenes": ("tumbling", "gravity_spring"), "duration": 0.25, "factors": (8, 4, 2),
          "euler_factors": (8, 4, 2), "tolerances": (1e-6, 1e-9), "repeats": 1}
+REPORT = {"states": 1000, "scenes": None, "duration": 1.0, "factors": (16, 8, 4, 2, 1),
+          "euler_factors": (2, 1, 0.5), "tolerances": (1e-4, 1e-6, 1e-8, 1e-10), "repeats": 3}
+"""The report's sweep: every scene, capped at 1 s, Euler down to half the scene's step."""
 FULL = {"states": 1000, "scenes": None, "duration": None, "factors": (16, 8, 4, 2, 1),
         "euler_factors": (2, 1, 0.5, 0.25), "tolerances": (1e-4, 1e-6, 1e-8, 1e-10), "repeats": 3}
 
@@ -49,13 +52,13 @@ def pareto(rows, error="error", cost="seconds"):
     return front
 
 
-def run(quick: bool = False, seed: int = 0, progress=None, fixture=None) -> Tradeoff:
-    """Run both sweeps (``quick``: a small one for tests and CI)."""
+def run(quick: bool = False, seed: int = 0, progress=None, fixture=None, profile: dict | None = None) -> Tradeoff:
+    """Run both sweeps (``quick``: a small one for tests and CI; ``profile``: QUICK, REPORT or FULL)."""
     from relacc import scenes
     from relacc.engines import load_engine
     from relacc.fixtures import load
 
-    cfg = QUICK if quick else FULL
+    cfg = profile if profile is not None else (QUICK if quick else FULL)
     fixture = fixture if fixture is not None else load()
     if progress:
         progress("derivative sweep")
