@@ -67,9 +67,13 @@ def rounding_tolerance(factor: float = ROUNDING_FACTOR) -> float:
     return factor * EPS
 
 
-def central_difference_truncation(h: float, third_derivative_scale: float) -> float:
-    """Truncation bound ``h^2 / 6 * |f'''|`` of the central difference ``(f(h) - f(-h)) / 2h``."""
-    return h * h / 6.0 * third_derivative_scale
+def richardson_bound(h: float, fifth_derivative_scale, value_scale):
+    """Error bound of Richardson extrapolation of central differences, ``(4 D(h/2) - D(h)) / 3``.
+
+    Truncation ``h^4 |f^(5)| / 480`` plus rounding ``1.5 eps |f| / h`` (the
+    differences amplify each value's rounding by ``1/h``); scales may be arrays.
+    """
+    return h**4 / 480 * fifth_derivative_scale + 1.5 * EPS / h * value_scale
 
 
 def normalized_error(x, ref, scale):

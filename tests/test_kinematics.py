@@ -13,7 +13,7 @@ from relacc import speeds
 from relacc.derivatives import along_motion
 from relacc.note.equations import EQUATIONS
 from relacc.states import random_states
-from relacc.tolerances import assert_agree, normalized_error, rounding_tolerance, term_scales
+from relacc.tolerances import assert_agree, normalized_error, richardson_bound, rounding_tolerance, term_scales
 
 from .conftest import N_STATES, seed_for
 
@@ -77,12 +77,9 @@ def test_richardson_agrees_within_its_truncation_bound(chain, case):
     k = relacc.g2_kinematics(chain, case, s.q, s.u, s.udot)
     ref = along_motion(case, s.q, s.u, s.udot, _field(chain, case, "velocity"), method="richardson", h=h)
     sc = term_scales(chain, case, s.q, s.u, s.udot)
-    # Truncation h^4 |v^(5)| / 480 with |v^(5)| <= (|u| + 1)^5 times the term scale (speeds ~ N(0,1)),
-    # rounding 1.5 eps |v| / h with |v| <= the velocity scale.
+    # |v^(5)| <= (|u| + |udot| + 1)^5 times the terms' magnitude (speeds ~ N(0, 1)); |v| <= its term scale.
     speed = np.linalg.norm(s.u, axis=-1) + np.linalg.norm(s.udot, axis=-1) + 1
-    bound = h**4 / 480 * speed**5 * (sc.acceleration + sc.velocity) + 1.5 * np.finfo(float).eps / h * (
-        sc.velocity + sc.position
-    )
+    bound = richardson_bound(h, speed**5 * (sc.acceleration + sc.velocity), sc.velocity + sc.position)
     err = np.abs(k.acceleration - ref).max(axis=-1)
     assert np.all(err <= bound), f"Richardson error above its bound (seed {s.seed})"
 
