@@ -213,12 +213,16 @@ QUAT_TOL = QUATERNION_NORM_TOLERANCE
 
 @_jit
 def _bad_inputs(case, q, u, d):
-    """Count non-finite inputs and (cases 1-2) quaternions off unit norm by more than the tolerance."""
-    bad = 0
+    """Non-zero when an input is NaN or inf, or (cases 1-2) a quaternion is off unit norm beyond the tolerance.
+
+    Branch-free: ``sum(x * 0)`` is 0 for finite inputs and NaN as soon as one is NaN or inf.
+    """
+    z = 0.0
     for k in range(q.shape[0]):
-        bad += _finite(q[k])
+        z += q[k] * 0.0
     for k in range(12):
-        bad += _finite(u[k]) + _finite(d[k])
+        z += u[k] * 0.0 + d[k] * 0.0
+    bad = 0 if z == 0.0 else 1
     if case != 3:
         if abs(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6] - 1.0) > QUAT_TOL:
             bad += 1
