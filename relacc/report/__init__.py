@@ -51,8 +51,9 @@ class ReportContext:
 
 
 def _machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    return f"{platform.system()} {platform.machine()}, {os.cpu_count()} logical CPUs ({cpu})"
+    from relacc.benchmark import cpu_model
+
+    return f"{platform.system()} {platform.machine()}, {os.cpu_count()} logical CPUs ({cpu_model()})"
 
 
 def build_context(n_states=None, seed=0, quick=False, model=None, progress=None) -> ReportContext:
