@@ -165,7 +165,11 @@ def equations_of_motion(chain, case, q, u, effects: Effects = NONE):
 
 
 def accelerations(chain, case, q, u, effects: Effects = NONE):
-    """``udot`` ``(..., 12)`` solving Kane's equations (``numpy.linalg.solve``)."""
+    """The case's ``udot`` ``(..., 12)`` from Kane's equations (``numpy.linalg.solve``).
+
+    Rates of the case's speeds: m/s^2 for the translational blocks, rad/s^2
+    for the angular ones, in the components the case's speeds use.
+    """
     M, f = equations_of_motion(chain, case, q, u, effects)
     return np.linalg.solve(M, f[..., None])[..., 0]
 

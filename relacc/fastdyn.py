@@ -178,7 +178,13 @@ if HAVE_NUMBA:
 
 
 def equations_of_motion(chain, case, q, u, effects: Effects):
-    """``(M, f, nu)`` for validated float64 ``(n, nq)``, ``(n, 12)`` inputs (see :mod:`relacc.dynamics`)."""
+    """Kane's equations for validated float64 ``q (n, nq)``, ``u (n, 12)`` (see :mod:`relacc.dynamics`).
+
+    Returns:
+        ``M`` ``(n, 12, 12)`` (kg, kg m, kg m^2 blocks), ``f`` ``(n, 12)`` (N and
+        N m per unit speed), both in the case's speeds, and the body speeds
+        ``nu`` ``(n, 12)`` (Case 2's ``u``: m/s, rad/s).
+    """
     n = q.shape[0]
     M, f, nu = np.empty((n, 12, 12)), np.empty((n, 12)), np.empty((n, 12))
     cp, ep = chain_params(chain), effect_params(effects)

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from relacc import dynamics
+from relacc.cases import as_case
 from relacc.engines import load_engine
 from relacc.errors import IntegrationError, RelaccError
 from relacc.fastdyn import Rates
@@ -159,9 +160,9 @@ def _relacc(scene: Scene, progress=None) -> Trajectory:
 
 def _engine(name: str, engine, scene: Scene, progress=None) -> Trajectory:
     chain, eff = scene.fixture.chain, scene.effects
-    x = engine.engine_input("quaternion", _case(scene.case), scene.q[None], scene.u[None], None)
+    q0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
     start = time.perf_counter()
-    t, Q, V = engine.simulate(x.q[0], x.v[0], eff, scene.dt, scene.n_steps, scene.integrator,
+    t, Q, V = engine.simulate(q0, v0, eff, scene.dt, scene.n_steps, scene.integrator,
                               scene.record_every, progress)
     seconds = time.perf_counter() - start
     A = engine.forward_dynamics(Q, V, eff)
@@ -189,12 +190,6 @@ def _points(engine, Q, V, A, eff):
     return engine.points("quaternion", Q, V, A)
 
 
-def _case(case):
-    from relacc.cases import as_case
-
-    return as_case(case)
-
-
 def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
     """The note's a_G2 against each engine's, at relacc's states: error and bound.
 
@@ -217,7 +212,7 @@ def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
     bound = float(rounding_tolerance() * np.max(np.linalg.cond(M_body)))
     out = {}
     for name, engine in engines.items():
-        x = engine.engine_input("quaternion", _case(case), Q, U, None)
+        x = engine.engine_input("quaternion", as_case(case), Q, U, None)
         A = engine.forward_dynamics(x.q, x.v, eff)
         pts = _points(engine, x.q, x.v, A, eff)
         out[name] = {"error": float(np.max(normalized_error(pts.acceleration, note, scale))), "bound": bound}

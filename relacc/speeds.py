@@ -216,7 +216,9 @@ def case_speeds(case, q, nu, nu_dot=None, *, max_condition=None):
         max_condition: see :func:`check_invertible`.
 
     Returns:
-        ``u`` ``(..., 12)`` and ``udot`` ``(..., 12)`` (None without ``nu_dot``).
+        ``u`` ``(..., 12)`` (m/s and rad/s, in the components of the case's
+        speeds, see :mod:`relacc.cases`) and ``udot`` ``(..., 12)`` (their rates,
+        m/s^2 and rad/s^2; None without ``nu_dot``).
 
     Raises:
         SingularityError: case 3 within the gimbal-lock limit.

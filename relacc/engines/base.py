@@ -163,6 +163,15 @@ class Engine(abc.ABC):
     def body_state(self, q, v):
         """Engine coordinates ``(n, nq_e)``, ``(n, nv_e)`` to Case 2's ``(q14, nu)`` (quaternion route)."""
 
+    def initial_state(self, case, q, u):
+        """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates on the quaternion route.
+
+        Returns:
+            ``(q_e (nq_e,), v_e (nv_e,))``, the engine's own units and frames.
+        """
+        x = self.engine_input("quaternion", as_case(case), np.asarray(q)[None], np.asarray(u)[None], None)
+        return x.q[0], x.v[0]
+
     def equations_of_motion(self, case, q, u, effects):
         """The engine's ``(M, f)`` mapped to a case's speeds: ``E^T M_e E`` and ``E^T (f_e - M_e E_dot u)``.
 

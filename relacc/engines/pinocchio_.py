@@ -44,6 +44,8 @@ tests check the rebuilt model against the loaded one.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import numpy as np
 import pinocchio as pin
 
@@ -235,32 +237,43 @@ class PinocchioEngine(Engine):
         return tau
 
     def dynamics(self, q, v, effects):
-        r = self.routes["quaternion"]
-        m, d = r.model, r.data
-        m.gravity.linear[:] = 0.0 if effects.gravity is None else effects.gravity
-        n, nv = q.shape[0], m.nv
-        M, f = np.empty((n, nv, nv)), np.empty((n, nv))
-        zero = np.zeros(nv)
-        for i in range(n):
-            upper = pin.crba(m, d, q[i])
-            M[i] = np.triu(upper) + np.triu(upper, 1).T  # crba fills the upper triangle
-            f[i] = self.generalized_forces(q[i], v[i], effects) - pin.rnea(m, d, q[i], v[i], zero)
-        m.gravity.setZero()
+        d = self.routes["quaternion"].data
+        with self._gravity(effects) as m:
+            n, nv = q.shape[0], m.nv
+            M, f = np.empty((n, nv, nv)), np.empty((n, nv))
+            zero = np.zeros(nv)
+            for i in range(n):
+                upper = pin.crba(m, d, q[i])
+                M[i] = np.triu(upper) + np.triu(upper, 1).T  # crba fills the upper triangle
+                f[i] = self.generalized_forces(q[i], v[i], effects) - pin.rnea(m, d, q[i], v[i], zero)
         return M, f
 
-    def _tau_and_gravity(self, effects):
+    @contextmanager
+    def _gravity(self, effects):
+        """``model.gravity`` set to the scene's (zero when absent) for the block, then zero again."""
         m = self.routes["quaternion"].model
         m.gravity.linear[:] = 0.0 if effects.gravity is None else effects.gravity
-        return m
+        try:
+            yield m
+        finally:
+            m.gravity.setZero()
+
+    @contextmanager
+    def ode(self, effects):
+        """``(space, derivs)`` of the forward dynamics under ``effects``, for :mod:`relacc.integrate`.
+
+        ``derivs(q, v) = (v, pin.aba(q, v, tau))``: tangent velocity (Pinocchio's
+        ``v``) and acceleration (``vdot``, Pinocchio's coordinates); gravity is
+        set for the duration of the block.
+        """
+        r = self.routes["quaternion"]
+        with self._gravity(effects) as m:
+            d = r.data
+            yield PinocchioSpace(m), (lambda x, w: (w, pin.aba(m, d, x, w, self.generalized_forces(x, w, effects))))
 
     def forward_dynamics(self, q, v, effects):
-        r = self.routes["quaternion"]
-        m, d = self._tau_and_gravity(effects), r.data
-        out = np.empty((q.shape[0], m.nv))
-        for i in range(q.shape[0]):
-            out[i] = pin.aba(m, d, q[i], v[i], self.generalized_forces(q[i], v[i], effects))
-        m.gravity.setZero()
-        return out
+        with self.ode(effects) as (_, derivs):
+            return np.array([derivs(q[i], v[i])[1] for i in range(q.shape[0])])
 
     def simulate(self, q, v, effects, dt, n_steps, integrator, record_every=1, progress=None):
         """RKMK4 (or semi-implicit Euler) on Pinocchio's manifold with ``pin.aba`` accelerations.
@@ -272,16 +285,13 @@ class PinocchioEngine(Engine):
 
         if integrator not in STEPPERS:
             raise EngineError(f"Pinocchio integrators here: {', '.join(STEPPERS)}; got {integrator!r}")
-        r = self.routes["quaternion"]
-        m, d = self._tau_and_gravity(effects), r.data
-        space = PinocchioSpace(m)
+        m = self.routes["quaternion"].model
         step = STEPPERS[integrator]
-        derivs = lambda x, w: (w, pin.aba(m, d, x, w, self.generalized_forces(x, w, effects)))  # noqa: E731
         n_rec = n_steps // record_every + 1
         t, Q, V = np.empty(n_rec), np.empty((n_rec, m.nq)), np.empty((n_rec, m.nv))
         x, w = np.array(q, dtype=float), np.array(v, dtype=float)
         t[0], Q[0], V[0] = 0.0, x, w
-        try:
+        with self.ode(effects) as (space, derivs):
             for k in range(1, n_steps + 1):
                 x, w = step(space.at(x), x, w, dt, derivs)
                 if not (np.all(np.isfinite(x)) and np.all(np.isfinite(w))):
@@ -292,8 +302,6 @@ class PinocchioEngine(Engine):
                     t[j], Q[j], V[j] = k * dt, x, w
                 if progress and k % 1000 == 0:
                     progress(k / n_steps)
-        finally:
-            m.gravity.setZero()
         return t, Q, V
 
     def body_state(self, q, v):

@@ -52,26 +52,11 @@ def _adaptive(name, engine, scene, method, rtol):
         derivs = Rates(chain, scene.case, eff)
         rotations = () if scene.case == 3 else (slice(3, 6), slice(9, 12))
         x0, v0 = scene.q.astype(float), scene.u.astype(float)
-    else:
-        import pinocchio as pin
-
-        from relacc.engines.pinocchio_ import PinocchioSpace
-
-        m = engine.routes["quaternion"].model
-        d = engine.routes["quaternion"].data
-        space = PinocchioSpace(m)
-        m.gravity.linear[:] = 0.0 if eff.gravity is None else eff.gravity
-        derivs = lambda x, w: (w, pin.aba(m, d, x, w, engine.generalized_forces(x, w, eff)))  # noqa: E731
-        rotations = (slice(3, 6), slice(9, 12))
-        from relacc.cases import as_case
-
-        xe = engine.engine_input("quaternion", as_case(scene.case), scene.q[None], scene.u[None], None)
-        x0, v0 = xe.q[0], xe.v[0]
-    try:
         return solve_on_space(space, x0, v0, derivs, scene.duration, method, rtol, rtol * 1e-2, rotations)
-    finally:
-        if name != "relacc":
-            engine.routes["quaternion"].model.gravity.setZero()
+    x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
+    with engine.ode(eff) as (space, derivs):
+        return solve_on_space(space, x0, v0, derivs, scene.duration, method, rtol, rtol * 1e-2,
+                              (slice(3, 6), slice(9, 12)))
 
 
 def _fixed(name, engine, scene, integrator, dt):
@@ -82,11 +67,9 @@ def _fixed(name, engine, scene, integrator, dt):
 
         tr = _relacc(run)
         return tr.q[-1], tr.u[-1], tr.seconds
-    from relacc.cases import as_case
-
-    xe = engine.engine_input("quaternion", as_case(scene.case), scene.q[None], scene.u[None], None)
+    q0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
     start = time.perf_counter()
-    _, Q, V = engine.simulate(xe.q[0], xe.v[0], scene.effects, run.dt, steps, integrator)
+    _, Q, V = engine.simulate(q0, v0, scene.effects, run.dt, steps, integrator)
     return Q[-1], V[-1], time.perf_counter() - start
 
 
