@@ -5,7 +5,7 @@ Every vector is in fixed-frame components unless said otherwise.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -83,9 +83,7 @@ class Effects:
 
     def active(self) -> tuple[str, ...]:
         """Names of the effects that are on, in a fixed order."""
-        names = ("gravity", "spring_stiffness", "spring_damping", "ball_damping", "force_G2", "torque_B1",
-                 "torque_B2")
-        return tuple(n for n in names if getattr(self, n) is not None)
+        return tuple(f.name for f in fields(self) if f.name != "spring_rest" and getattr(self, f.name) is not None)
 
     @property
     def conserves_energy(self) -> bool:
@@ -99,12 +97,7 @@ class Effects:
 
     def without(self, name: str) -> "Effects":
         """The same effects with one switched off (``spring_stiffness`` also drops ``spring_rest``)."""
-        kw = {n: getattr(self, n) for n in ("gravity", "spring_stiffness", "spring_rest", "spring_damping",
-                                            "ball_damping", "force_G2", "torque_B1", "torque_B2")}
-        kw[name] = None
-        if name == "spring_stiffness":
-            kw["spring_rest"] = None
-        return Effects(**kw)
+        return replace(self, **{name: None}, **({"spring_rest": None} if name == "spring_stiffness" else {}))
 
     def without_all_but(self, name: str) -> "Effects":
         """Only one of these effects (``spring_stiffness`` keeps its ``spring_rest``)."""

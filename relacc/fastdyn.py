@@ -23,7 +23,6 @@ from relacc.kernels import HAVE_NUMBA, _acc_from, _columns, _cross, _jit, _mm, _
 if HAVE_NUMBA:
     import numba
 
-N_PARAMS = 29
 N_EFFECTS = 29
 
 

@@ -29,7 +29,7 @@ Families:
 from __future__ import annotations
 
 import tempfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -117,10 +117,8 @@ def catalogue() -> tuple[HardCase, ...]:
 
 def chain_for(hc: HardCase, base: TwoBodyChain) -> TwoBodyChain:
     """The base chain with the entry's geometry: each override keeps the vector's direction."""
-    kw = {"q2": base.q2, "r2": base.r2, "r1": base.r1, "m1": base.m1, "m2": base.m2, "I1": base.I1, "I2": base.I2}
-    for key, length in hc.geometry.items():
-        kw[key] = length * kw[key] / np.linalg.norm(kw[key])
-    return TwoBodyChain(**kw)
+    return replace(base, **{key: length * getattr(base, key) / np.linalg.norm(getattr(base, key))
+                            for key, length in hc.geometry.items()})
 
 
 def states_for(hc: HardCase, case: int, n: int = N_STATES, seed: int = 0):
@@ -224,9 +222,10 @@ class Runner:
             core = relacc.g2_kinematics(chain, case, q, u, udot)
             sc = term_scales(chain, case, q, u, udot)
             field_of = lambda name: (lambda qq, uu: getattr(relacc.g2_kinematics(chain, case, qq, uu), name))  # noqa: E731
+            r_dot = along_motion(case, q, u, None, field_of("position"))  # reference for v and V u alike
             refs = {
-                "velocity": (core.velocity, along_motion(case, q, u, None, field_of("position"))),
-                "V": (np.einsum("nij,nj->ni", core.V, u), along_motion(case, q, u, None, field_of("position"))),
+                "velocity": (core.velocity, r_dot),
+                "V": (np.einsum("nij,nj->ni", core.V, u), r_dot),
                 "acceleration": (core.acceleration, along_motion(case, q, u, udot, field_of("velocity"))),
                 "Vdot": (core.Vdot, along_motion(case, q, u, None, field_of("V"))),
             }

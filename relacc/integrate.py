@@ -83,7 +83,6 @@ class CaseSpace:
         return out
 
 
-
 def rkmk4_step(space, x, v, h, derivs):
     """One RKMK4 step of size ``h`` (s). Returns the new ``(x, v)``."""
     w1, a1 = derivs(x, v)
@@ -153,9 +152,9 @@ def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: fl
         sol = solve_ivp(rhs, (t, duration), np.concatenate([np.zeros(n), v]), method=method, rtol=rtol,
                         atol=atol, events=chart if rotations else None, first_step=first)
         if sol.status < 0:
-            from relacc.errors import RelaccError
+            from relacc.errors import IntegrationError
 
-            raise RelaccError(f"solve_ivp {method} failed at t = {sol.t[-1]:.6g} s: {sol.message}")
+            raise IntegrationError(f"solve_ivp {method} failed at t = {sol.t[-1]:.6g} s: {sol.message}")
         nfev += sol.nfev
         x, v, t = space.integrate(base, sol.y[:n, -1]), sol.y[n:, -1], sol.t[-1]
         first = float(np.diff(sol.t[-2:])[0]) if sol.t.size > 1 and sol.t[-1] > sol.t[-2] else None

@@ -168,31 +168,11 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend=
             chain that is not a :class:`TwoBodyChain`.
         CaseError: unknown case. VariantError: unknown variant.
     """
-    if not isinstance(chain, TwoBodyChain):
-        raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
-    c = as_case(case)
     printed = resolve_variant(variant)
-    # Types and shapes first; values (finite, unit quaternions) here or, on the fast path, in the kernel.
-    q = check_q(c, q, values=False)
-    u = check_u(f"u for case {int(c)}", u, values=False)
-    if udot is not None:
-        udot = check_u(f"udot for case {int(c)}", udot, values=False)
-    path = _check_backend(backend, printed, q, u, udot)
-    if path == "reference":
-        _check_values(c, q, u, udot)
-    shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
-    try:
-        np.broadcast_shapes(*shapes)
-    except ValueError:
-        raise InputError(
-            f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes"
-        ) from None
-
-    batch = np.broadcast_shapes(*shapes)
+    c, q, u, udot, path, batch = _inputs(chain, case, q, u, udot, printed, backend)
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an InputError
         if path == "fast":
-            n = q.shape[-1]
-            flat = [_flat(q, batch, n), _flat(u, batch, 12), None if udot is None else _flat(udot, batch, 12)]
+            flat = [_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), None if udot is None else _flat(udot, batch, 12)]
             (pos, vel, acc, V, Vdot), bad, bad_in = fast.kinematics(int(c), *flat, chain.q2, chain.r2)
             if bad_in:
                 _check_values(c, q, u, udot)  # raises, naming the bad entry
@@ -201,7 +181,7 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend=
             shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
             return G2Kinematics(shape(pos, (3,)), shape(vel, (3,)), None if acc is None else shape(acc, (3,)),
                                 shape(V, (3, 12)), shape(Vdot, (3, 12)), c, _variant_label(variant, printed))
-        return _evaluate(chain, c, q, u, udot, printed, shapes, variant)
+        return _evaluate(chain, c, q, u, udot, printed, batch, variant)
 
 
 def g2_acceleration(chain, case, q, u, udot, *, backend="auto"):
@@ -213,19 +193,7 @@ def g2_acceleration(chain, case, q, u, udot, *, backend="auto"):
         ``(..., 3)`` acceleration of G2 in R (second time derivative of its
         position), fixed-frame components, m/s^2.
     """
-    if not isinstance(chain, TwoBodyChain):
-        raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
-    c = as_case(case)
-    q = check_q(c, q, values=False)
-    u = check_u(f"u for case {int(c)}", u, values=False)
-    udot = check_u(f"udot for case {int(c)}", udot, values=False)
-    path = _check_backend(backend, frozenset(), q, u, udot)
-    if path == "reference":
-        _check_values(c, q, u, udot)
-    try:
-        batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1], udot.shape[:-1])
-    except ValueError:
-        raise InputError("batch shapes of q, u, udot do not broadcast; give equal leading shapes") from None
+    c, q, u, udot, path, batch = _inputs(chain, case, q, u, udot, frozenset(), backend, need_udot=True)
     with np.errstate(over="ignore", invalid="ignore"):
         if path == "fast":
             flat = (_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), _flat(udot, batch, 12))
@@ -236,14 +204,39 @@ def g2_acceleration(chain, case, q, u, udot, *, backend="auto"):
             if bad:
                 check_finite_result((acc,), q, u, udot)
         else:
-            acc = _evaluate(chain, c, q, u, udot, frozenset(), [q.shape[:-1], u.shape[:-1], udot.shape[:-1]],
-                            "corrected").acceleration
+            acc = _evaluate(chain, c, q, u, udot, frozenset(), batch, "corrected").acceleration
     if isinstance(acc, np.ndarray):
         acc.setflags(write=False)
     return acc
 
 
-def _evaluate(chain, c, q, u, udot, printed, shapes, variant) -> G2Kinematics:
+def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False):
+    """The checks both entry points share: ``(case, q, u, udot, path, batch)``.
+
+    Types and shapes here; values (finite, unit quaternions) here on the
+    reference path or, on the fast path, in the kernel.
+    """
+    if not isinstance(chain, TwoBodyChain):
+        raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
+    c = as_case(case)
+    q = check_q(c, q, values=False)
+    u = check_u(f"u for case {int(c)}", u, values=False)
+    if udot is not None or need_udot:
+        udot = check_u(f"udot for case {int(c)}", udot, values=False)
+    path = _check_backend(backend, printed, q, u, udot)
+    if path == "reference":
+        _check_values(c, q, u, udot)
+    shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
+    try:
+        batch = np.broadcast_shapes(*shapes)
+    except ValueError:
+        raise InputError(
+            f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes"
+        ) from None
+    return c, q, u, udot, path, batch
+
+
+def _evaluate(chain, c, q, u, udot, printed, batch, variant) -> G2Kinematics:
     cfg = configuration(chain, c, q)
     if c is Case.FIXED_FRAME:
         velocity = case1.eq1_velocity(cfg, u)
@@ -261,7 +254,6 @@ def _evaluate(chain, c, q, u, udot, printed, shapes, variant) -> G2Kinematics:
         Vdot = case3.partials_dot(cfg, u, printed)
         acc = None if udot is None else case3.eq12_acceleration(V, Vdot, u, udot)
 
-    batch = np.broadcast_shapes(*shapes)
     check_finite_result((position(cfg), velocity, acc, assemble(V), assemble(Vdot)), q, u, udot)
     bvec = lambda a: np.ascontiguousarray(np.broadcast_to(a, batch + (3,)))  # noqa: E731
     bmat = lambda blocks: np.ascontiguousarray(np.broadcast_to(assemble(blocks), batch + (3, 12)))  # noqa: E731

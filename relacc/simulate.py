@@ -167,7 +167,7 @@ def _engine(name: str, engine, scene: Scene, progress=None) -> Trajectory:
     seconds = time.perf_counter() - start
     A = engine.forward_dynamics(Q, V, eff)
     applied = engine.configure(eff) if hasattr(engine, "configure") else None
-    pts = _points(engine, Q, V, A, eff)
+    pts = engine.points("quaternion", Q, V, A)
     q14, nu = engine.body_state(Q, V)
     p, H = dynamics.momenta(chain, 2, q14, nu)
     velocity = np.einsum("nij,nj->ni", pts.J, V)
@@ -180,14 +180,6 @@ def _engine(name: str, engine, scene: Scene, progress=None) -> Trajectory:
     return Trajectory(name, t, Q, V, ([f"q{i}" for i in range(Q.shape[1])], [f"v{i}" for i in range(V.shape[1])]),
                       pts.position, velocity, pts.acceleration, dynamics.energy(chain, 2, q14, nu, eff), p, H,
                       seconds, info)
-
-
-def _points(engine, Q, V, A, eff):
-    """G2 from the engine, with the engine's gravity set as in the scene (MuJoCo reports proper acceleration)."""
-    if engine.name == "pinocchio":
-        return engine.points("quaternion", Q, V, A)  # kinematic: gravity plays no part
-    engine.configure(eff)
-    return engine.points("quaternion", Q, V, A)
 
 
 def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
@@ -214,7 +206,7 @@ def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
     for name, engine in engines.items():
         x = engine.engine_input("quaternion", as_case(case), Q, U, None)
         A = engine.forward_dynamics(x.q, x.v, eff)
-        pts = _points(engine, x.q, x.v, A, eff)
+        pts = engine.points("quaternion", x.q, x.v, A)
         out[name] = {"error": float(np.max(normalized_error(pts.acceleration, note, scale))), "bound": bound}
     return out
 

@@ -133,6 +133,15 @@ def lever_sensitivity(quantity: str, case, q, u, udot=None):
     return alpha + w * w
 
 
+def per_metre_of_lever(quantity: str, chain, case, q, u, udot=None):
+    """Normalized change of a quantity per metre of lever-arm error, one value per state (1/m).
+
+    ``lever_sensitivity / scale``, the scale from :func:`term_scales`.
+    """
+    sc = term_scales(chain, case, q, u, udot).of(quantity)
+    return lever_sensitivity(quantity, case, q, u, udot) / np.maximum(sc, np.finfo(np.float64).tiny)
+
+
 def global_condition(quantity: str, chain, case, q, u, udot=None):
     """Condition of a quantity computed in global coordinates, one value per state.
 
@@ -148,14 +157,13 @@ def global_condition(quantity: str, chain, case, q, u, udot=None):
     Returns:
         ``(...)`` array >= 1.
     """
-    sc = term_scales(chain, case, q, u, udot).of(quantity)
+    ratio = per_metre_of_lever(quantity, chain, case, q, u, udot)
     if quantity == "position":
-        return np.ones_like(sc)
+        return np.ones_like(ratio)
     from relacc.cases import layout
 
     s1 = np.linalg.norm(np.real(np.asarray(q)[..., layout(case).s1]), axis=-1)
-    tiny = np.finfo(np.float64).tiny
-    return 1 + s1 * lever_sensitivity(quantity, case, q, u, udot) / np.maximum(sc, tiny)
+    return 1 + s1 * ratio
 
 
 def offset_error(lost: float, quantity: str, chain, case, q, u, udot=None):
@@ -163,11 +171,7 @@ def offset_error(lost: float, quantity: str, chain, case, q, u, udot=None):
 
     ``lost * lever_sensitivity / scale``, one value per state; 0 when nothing is lost.
     """
-    sc = term_scales(chain, case, q, u, udot).of(quantity)
-    if lost == 0:
-        return np.zeros_like(sc)
-    tiny = np.finfo(np.float64).tiny
-    return lost * lever_sensitivity(quantity, case, q, u, udot) / np.maximum(sc, tiny)
+    return lost * per_metre_of_lever(quantity, chain, case, q, u, udot)
 
 
 def term_scales(chain, case, q, u, udot=None) -> TermScales:

@@ -33,7 +33,7 @@ from relacc.kinematics import G2Kinematics, check_finite_result
 from relacc.note.common import mv
 from relacc.rotations import angles_123_from_matrix, matrix_from_quaternion
 from relacc.speeds import body_speed_map, check_invertible, quaternion_coordinates
-from relacc.tolerances import global_condition, offset_error, rounding_tolerance, term_scales
+from relacc.tolerances import global_condition, offset_error, rounding_tolerance
 
 ROUTES = ("quaternion", "euler")
 
@@ -97,9 +97,7 @@ class Engine(abc.ABC):
         ``global_coordinates`` (else 1), the offset
         :func:`relacc.tolerances.offset_error` of :meth:`lost_offset`.
         """
-        sc = term_scales(chain, case, q, u, udot).of(quantity)
-        cond = global_condition(quantity, chain, case, q, u, udot) if quantity in self.global_coordinates \
-            else np.ones_like(sc)
+        cond = global_condition(quantity, chain, case, q, u, udot) if quantity in self.global_coordinates else 1.0
         return rounding_tolerance() * cond + offset_error(self.lost_offset(route), quantity, chain, case, q, u, udot)
 
     @property

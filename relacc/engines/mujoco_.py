@@ -177,29 +177,28 @@ class MujocoEngine(Engine):
         return sorted(name[len("mjDSBL_"):].lower() for name, bit in D.__members__.items()
                       if name.startswith("mjDSBL_") and bit and int(flags) & int(bit) == int(bit))
 
-    def dynamics(self, q, v, effects):
+    def _forward(self, q, v, effects):
+        """``mj_forward`` at each state under exactly ``effects``; yields ``(i, model, data)``."""
         self.configure(effects)
         r = self.routes["quaternion"]
         m, d = r.model, r.data
-        n, nv = q.shape[0], m.nv
-        M, f = np.empty((n, nv, nv)), np.empty((n, nv))
-        for i in range(n):
+        for i in range(q.shape[0]):
             d.qpos[:] = q[i]
             d.qvel[:] = v[i]
             mujoco.mj_forward(m, d)
+            yield i, m, d
+
+    def dynamics(self, q, v, effects):
+        nv = self.routes["quaternion"].model.nv
+        M, f = np.empty((q.shape[0], nv, nv)), np.empty((q.shape[0], nv))
+        for i, m, d in self._forward(q, v, effects):
             _full_inertia(m, d, M[i])
             f[i] = d.qfrc_smooth  # passive - bias + applied (xfrc_applied included)
         return M, f
 
     def forward_dynamics(self, q, v, effects):
-        self.configure(effects)
-        r = self.routes["quaternion"]
-        m, d = r.model, r.data
-        out = np.empty((q.shape[0], m.nv))
-        for i in range(q.shape[0]):
-            d.qpos[:] = q[i]
-            d.qvel[:] = v[i]
-            mujoco.mj_forward(m, d)
+        out = np.empty((q.shape[0], self.routes["quaternion"].model.nv))
+        for i, _, d in self._forward(q, v, effects):
             out[i] = d.qacc
         return out
 
@@ -210,13 +209,12 @@ class MujocoEngine(Engine):
         """MuJoCo's own ``mj_step`` with ``opt.integrator`` and ``opt.timestep = dt``."""
         if integrator not in self.INTEGRATORS:
             raise EngineError(f"MuJoCo integrators: {', '.join(self.INTEGRATORS)}; got {integrator!r}")
-        self.configure(effects)
         r = self.routes["quaternion"]
         m, d = r.model, r.data
         m.opt.timestep = dt
         m.opt.integrator = getattr(mujoco.mjtIntegrator, self.INTEGRATORS[integrator])
         mujoco.mj_resetData(m, d)
-        self.configure(effects)  # resetData clears xfrc_applied
+        self.configure(effects)  # after resetData, which clears xfrc_applied
         d.qpos[:], d.qvel[:] = q, v
         n_rec = n_steps // record_every + 1
         t, Q, V = np.empty(n_rec), np.empty((n_rec, m.nq)), np.empty((n_rec, m.nv))

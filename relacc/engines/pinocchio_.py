@@ -209,7 +209,7 @@ class PinocchioEngine(Engine):
         )
         return note_from_quaternions(case, q14)
 
-    def generalized_forces(self, q, v, effects, data=None):
+    def generalized_forces(self, q, v, effects):
         """The effects' generalized forces ``tau`` ``(nv,)`` in Pinocchio's coordinates, one state.
 
         Gravity is not here (it is in ``model.gravity`` and the bias of
@@ -218,7 +218,7 @@ class PinocchioEngine(Engine):
         LOCAL_WORLD_ALIGNED frame Jacobians: ``J_G2^T F``, ``J_Bi,angular^T T_i``.
         """
         r = self.routes["quaternion"]
-        m, d = r.model, data if data is not None else r.data
+        m, d = r.model, r.data
         tau = np.zeros(m.nv)
         if effects.spring_stiffness is not None:
             tau[6:9] -= effects.spring_stiffness * (q[7:10] - effects.spring_rest)
