@@ -27,6 +27,7 @@ from __future__ import annotations
 import datetime as dt
 import os
 import platform
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -54,6 +55,19 @@ def cpu_model() -> str:
     return platform.processor() or platform.machine()
 
 
+def source_commit() -> str | None:
+    """The git commit relacc is imported from (``+dirty`` with local changes), or None outside a checkout."""
+    root = Path(relacc.__file__).resolve().parent.parent
+    try:
+        head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True, timeout=10, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=10, check=True).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return head + ("+dirty" if dirty else "") if head else None
+
+
 def machine() -> dict:
     return {
         "date": dt.date.today().isoformat(),
@@ -67,6 +81,7 @@ def machine() -> dict:
         "pinocchio": pin.__version__,
         "mujoco": mujoco.__version__,
         "relacc": relacc.__version__,
+        "relacc_commit": source_commit(),
     }
 
 

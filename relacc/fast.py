@@ -18,21 +18,32 @@ The kernel evaluates, per state, the same mathematics as :mod:`relacc.note`
   + omega_B1 x [R_B1]^T s2'_dot + w_hat_dot x r2 + w_hat x r2_dot``.
 
 One source serves two backends: numba compiles it per state inside a
-parallel loop (no temporaries: memory is the inputs plus the outputs), and
-numpy runs it on whole columns when numba is unavailable.
-``tests/test_fast.py`` holds it to the note's reference implementation.
+parallel loop over blocks of :data:`relacc.kernels.TRIG_BLOCK` states (no
+temporaries but a 13 x 128 scratch per block: memory is the inputs plus the
+outputs), and numpy runs it on whole columns when numba is unavailable; the
+two give the same bits. Case 3's sines and cosines come from
+:func:`relacc.trig.sincos`, vectorized over each block, rather than libm,
+whose calls were half of case 3's time; states with an angle beyond
+:data:`relacc.trig.LIMIT` (1.6e6 rad) use libm's.
+``tests/test_fast.py`` and ``tests/test_trig.py`` hold it to the note's
+reference implementation.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from relacc import trig
 from relacc.kernels import (  # noqa: F401  (re-exported for relacc.fastdyn and the tests)
+    _NO_TRIG,
     HAVE_NUMBA,
     QUAT_TOL,
+    TRIG_BLOCK,
     _acc_from,
     _acceleration,
     _bad_inputs,
+    _beyond_trig_limit,
+    _block_trig,
     _columns,
     _cross,
     _finite,
@@ -40,59 +51,104 @@ from relacc.kernels import (  # noqa: F401  (re-exported for relacc.fastdyn and 
     _mm,
     _mv,
     _state,
+    _trig,
+    _trig_in,
     numba,
 )
 
+
+@_jit(inline=True)
+def _acc_row(case, qi, ui, di, q2p, r2p, t, out, i):
+    """G2's acceleration of state ``i`` into ``out[i]``; returns its number of non-finite components."""
+    a = _acceleration(case, qi, ui, di, q2p, r2p, t)
+    out[i, 0], out[i, 1], out[i, 2] = a[0], a[1], a[2]
+    return _finite(a[0]) + _finite(a[1]) + _finite(a[2])
+
+
+@_jit
+def _full_row(case, qi, ui, di, q2p, r2p, t, i, pos, vel, acc, V, Vd, with_acc):
+    """Every output of state ``i`` into row ``i`` of the arrays; returns its number of non-finite entries."""
+    C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, qi, ui, di, q2p, r2p, t)
+    P, P_dot, G, G_dot = _columns(case, qi, ui, C1, M, w, wh, t)
+    vw = _cross(w[0], w[1], w[2], L[0], L[1], L[2])
+    vh = _cross(wh[0], wh[1], wh[2], r[0], r[1], r[2])
+    nb_bad = 0
+    for k in range(3):
+        pos[i, k] = qi[k] + L[k]
+        vel[i, k] = ui[k] + sd[k] + vw[k] + vh[k]
+        nb_bad += _finite(pos[i, k]) + _finite(vel[i, k])
+    for j in range(3):
+        pj = _cross(P[j], P[3 + j], P[6 + j], L[0], L[1], L[2])
+        pdj = _cross(P_dot[j], P_dot[3 + j], P_dot[6 + j], L[0], L[1], L[2])
+        pl = _cross(P[j], P[3 + j], P[6 + j], Ld[0], Ld[1], Ld[2])
+        gj = _cross(G[j], G[3 + j], G[6 + j], r[0], r[1], r[2])
+        gdj = _cross(G_dot[j], G_dot[3 + j], G_dot[6 + j], r[0], r[1], r[2])
+        gr = _cross(G[j], G[3 + j], G[6 + j], rd[0], rd[1], rd[2])
+        cw = _cross(w[0], w[1], w[2], C1[j], C1[3 + j], C1[6 + j])
+        for k in range(3):
+            V[i, k, j] = 1.0 if k == j else 0.0
+            V[i, k, 3 + j] = pj[k]
+            V[i, k, 6 + j] = C1[3 * k + j]
+            V[i, k, 9 + j] = gj[k]
+            Vd[i, k, j] = 0.0
+            Vd[i, k, 3 + j] = pdj[k] + pl[k]
+            Vd[i, k, 6 + j] = cw[k]
+            Vd[i, k, 9 + j] = gdj[k] + gr[k]
+            nb_bad += _finite(pj[k]) + _finite(gj[k]) + _finite(Vd[i, k, 3 + j]) + _finite(Vd[i, k, 9 + j])
+    if with_acc:
+        a = _acc_from(di, C1, r, L, Ld, w, al, wh, hd, sd, rd)
+        acc[i, 0], acc[i, 1], acc[i, 2] = a[0], a[1], a[2]
+        nb_bad += _finite(a[0]) + _finite(a[1]) + _finite(a[2])
+    return nb_bad
+
+
 if HAVE_NUMBA:
+    # Both loops run over blocks of TRIG_BLOCK states. In case 3 a block first gets the sines and
+    # cosines of its angles in one vectorized pass (relacc.trig); states with an angle beyond
+    # trig.LIMIT (never, in practice) are redone afterwards with libm's, in a separate serial loop
+    # that keeps libm calls out of the main one. Counts are summed per block, then over blocks;
+    # ``bad`` may count a redone state twice, which only makes the caller look at the outputs.
 
     @numba.njit(parallel=True, cache=True)
     def _acc_loop(case, q, u, d, q2p, r2p, out):  # pragma: no cover - compiled
-        bad, bad_in = 0, 0
-        for i in numba.prange(q.shape[0]):
-            bad_in += _bad_inputs(case, q[i], u[i], d[i])
-            a = _acceleration(case, q[i], u[i], d[i], q2p, r2p)
-            out[i, 0], out[i, 1], out[i, 2] = a[0], a[1], a[2]
-            bad += _finite(a[0]) + _finite(a[1]) + _finite(a[2])
+        n = q.shape[0]
+        bad, bad_in, n_far = 0, 0, 0
+        for b in numba.prange((n + TRIG_BLOCK - 1) // TRIG_BLOCK):
+            i0, i1 = b * TRIG_BLOCK, min(n, (b + 1) * TRIG_BLOCK)
+            tr = np.empty((13, TRIG_BLOCK if case == 3 else 1))
+            n_far += _block_trig(q, i0, i1, tr) if case == 3 else 0
+            nb, nb_in = 0, 0
+            for i in range(i0, i1):
+                nb_in += _bad_inputs(case, q[i], u[i], d[i])
+                nb += _acc_row(case, q[i], u[i], d[i], q2p, r2p, _trig_in(case, tr, i - i0), out, i)
+            bad += nb
+            bad_in += nb_in
+        if n_far:
+            for i in range(n):
+                if _beyond_trig_limit(q[i]):
+                    bad += _acc_row(case, q[i], u[i], d[i], q2p, r2p, _trig(q[i]), out, i)
         return bad, bad_in
 
     @numba.njit(parallel=True, cache=True)
     def _full_loop(case, q, u, d, q2p, r2p, pos, vel, acc, V, Vd, with_acc):  # pragma: no cover - compiled
-        bad, bad_in = 0, 0
-        for i in numba.prange(q.shape[0]):
-            qi, ui, di = q[i], u[i], d[i]
-            bad_in += _bad_inputs(case, qi, ui, di)
-            C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, qi, ui, di, q2p, r2p)
-            P, P_dot, G, G_dot = _columns(case, qi, ui, C1, M, w, wh, t)
-            vw = _cross(w[0], w[1], w[2], L[0], L[1], L[2])
-            vh = _cross(wh[0], wh[1], wh[2], r[0], r[1], r[2])
-            nb_bad = 0
-            for k in range(3):
-                pos[i, k] = qi[k] + L[k]
-                vel[i, k] = ui[k] + sd[k] + vw[k] + vh[k]
-                nb_bad += _finite(pos[i, k]) + _finite(vel[i, k])
-            for j in range(3):
-                pj = _cross(P[j], P[3 + j], P[6 + j], L[0], L[1], L[2])
-                pdj = _cross(P_dot[j], P_dot[3 + j], P_dot[6 + j], L[0], L[1], L[2])
-                pl = _cross(P[j], P[3 + j], P[6 + j], Ld[0], Ld[1], Ld[2])
-                gj = _cross(G[j], G[3 + j], G[6 + j], r[0], r[1], r[2])
-                gdj = _cross(G_dot[j], G_dot[3 + j], G_dot[6 + j], r[0], r[1], r[2])
-                gr = _cross(G[j], G[3 + j], G[6 + j], rd[0], rd[1], rd[2])
-                cw = _cross(w[0], w[1], w[2], C1[j], C1[3 + j], C1[6 + j])
-                for k in range(3):
-                    V[i, k, j] = 1.0 if k == j else 0.0
-                    V[i, k, 3 + j] = pj[k]
-                    V[i, k, 6 + j] = C1[3 * k + j]
-                    V[i, k, 9 + j] = gj[k]
-                    Vd[i, k, j] = 0.0
-                    Vd[i, k, 3 + j] = pdj[k] + pl[k]
-                    Vd[i, k, 6 + j] = cw[k]
-                    Vd[i, k, 9 + j] = gdj[k] + gr[k]
-                    nb_bad += _finite(pj[k]) + _finite(gj[k]) + _finite(Vd[i, k, 3 + j]) + _finite(Vd[i, k, 9 + j])
-            if with_acc:
-                a = _acc_from(di, C1, r, L, Ld, w, al, wh, hd, sd, rd)
-                acc[i, 0], acc[i, 1], acc[i, 2] = a[0], a[1], a[2]
-                nb_bad += _finite(a[0]) + _finite(a[1]) + _finite(a[2])
-            bad += nb_bad
+        n = q.shape[0]
+        bad, bad_in, n_far = 0, 0, 0
+        for b in numba.prange((n + TRIG_BLOCK - 1) // TRIG_BLOCK):
+            i0, i1 = b * TRIG_BLOCK, min(n, (b + 1) * TRIG_BLOCK)
+            tr = np.empty((13, TRIG_BLOCK if case == 3 else 1))
+            n_far += _block_trig(q, i0, i1, tr) if case == 3 else 0
+            nb, nb_in = 0, 0
+            for i in range(i0, i1):
+                qi, ui, di = q[i], u[i], d[i]
+                nb_in += _bad_inputs(case, qi, ui, di)
+                t = _trig_in(case, tr, i - i0)
+                nb += _full_row(case, qi, ui, di, q2p, r2p, t, i, pos, vel, acc, V, Vd, with_acc)
+            bad += nb
+            bad_in += nb_in
+        if n_far:
+            for i in range(n):
+                if _beyond_trig_limit(q[i]):
+                    bad += _full_row(case, q[i], u[i], d[i], q2p, r2p, _trig(q[i]), i, pos, vel, acc, V, Vd, with_acc)
         return bad, bad_in
 
 
@@ -101,16 +157,17 @@ def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None):
 
     Returns:
         ``(acceleration, n_nonfinite, n_bad_inputs)``: ``(n, 3)`` fixed
-        components, m/s^2; the number of non-finite results (overflow) and of
-        bad inputs (non-finite, or quaternions off unit norm), both counted
-        inside the kernel. Callers check the inputs' values only when the
-        latter is non-zero, to report them.
+        components, m/s^2; the number of non-finite results (overflow; an
+        upper bound, 0 when there is none) and of bad inputs (non-finite, or
+        quaternions off unit norm), both counted inside the kernel. Callers
+        look at the outputs, or check the inputs' values to report them, only
+        when a count is non-zero.
     """
     if (backend or BACKEND) == "numba":
         out = np.empty((q.shape[0], 3))
         bad, bad_in = _acc_loop(int(case), q, u, udot, q2p, r2p, out)
         return out, bad, bad_in
-    out = np.stack(_acceleration(int(case), q.T, u.T, udot.T, q2p, r2p), -1)
+    out = np.stack(_acceleration(int(case), q.T, u.T, udot.T, q2p, r2p, _numpy_trig(int(case), q.T)), -1)
     return out, int(np.count_nonzero(~np.isfinite(out))), _numpy_bad_inputs(int(case), q, u, udot)
 
 
@@ -136,6 +193,22 @@ def kinematics(case: int, q, u, udot, q2p, r2p, backend: str | None = None):
     return out, bad, _numpy_bad_inputs(int(case), q, u, d)
 
 
+def _numpy_trig(case, qT):
+    """The numpy backend's :func:`relacc.kernels._trig`: the numba loops' arithmetic on whole columns.
+
+    :func:`relacc.trig.sincos` for every angle, and libm's ``sin``/``cos`` for every angle of a
+    state with an angle beyond :data:`relacc.trig.LIMIT`, as the numba loops do, so that both
+    backends agree bit for bit.
+    """
+    if case != 3:
+        return _NO_TRIG
+    x = qT[[3, 4, 5, 9, 10, 11]]
+    s, c = trig.sincos(x)
+    far = np.any(np.abs(x) > trig.LIMIT, axis=0)
+    s, c = np.where(far, np.sin(x), s), np.where(far, np.cos(x), c)
+    return (*c[:3], *s[:3], *c[3:], *s[3:])
+
+
 def _numpy_bad_inputs(case, q, u, d):
     """The numpy backend's count of bad inputs (same rule as :func:`_bad_inputs`)."""
     bad = sum(int(np.count_nonzero(~np.isfinite(a))) for a in (q, u, d))
@@ -148,7 +221,7 @@ def _numpy_bad_inputs(case, q, u, d):
 def _numpy_kinematics(case, q, u, d, q2p, r2p, with_acc):
     """The same kernel on whole columns (the numpy backend)."""
     qT, uT, dT = q.T, u.T, d.T
-    C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, qT, uT, dT, q2p, r2p)
+    C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, qT, uT, dT, q2p, r2p, _numpy_trig(case, qT))
     P, P_dot, G, G_dot = _columns(case, qT, uT, C1, M, w, wh, t)
     n = q.shape[0]
     pos = np.stack([qT[k] + L[k] for k in range(3)], -1)

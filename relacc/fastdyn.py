@@ -18,7 +18,7 @@ import numpy as np
 
 from relacc import fast
 from relacc.effects import Effects
-from relacc.kernels import HAVE_NUMBA, _acc_from, _columns, _cross, _jit, _mm, _mv, _state
+from relacc.kernels import HAVE_NUMBA, _acc_from, _columns, _cross, _jit, _mm, _mv, _state, _trig_of
 
 if HAVE_NUMBA:
     import numba
@@ -65,7 +65,7 @@ def _eom(case, q, u, cp, ep, M, f, nu):
     z = np.zeros(12)
     q2p, r2p, r1p = cp[0:3], cp[3:6], cp[6:9]
     m1, m2 = cp[9], cp[10]
-    C1, Mr, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, q, u, z, q2p, r2p)
+    C1, Mr, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, q, u, z, q2p, r2p, _trig_of(case, q))
     P, P_dot, G, G_dot = _columns(case, q, u, C1, Mr, w, wh, t)
     C2 = _mm(C1, Mr)
     r1 = _mv(C1, r1p[0], r1p[1], r1p[2])

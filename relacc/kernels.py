@@ -10,21 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from relacc import trig
+from relacc.jit import HAVE_NUMBA, numba  # noqa: F401  (re-exported)
+from relacc.jit import jitable as _jit
 from relacc.tolerances import QUATERNION_NORM_TOLERANCE
-
-try:  # numba is a dependency; without it the functions stay plain Python
-    import numba
-    import numba.extending
-
-    HAVE_NUMBA = True
-except ImportError:  # pragma: no cover - exercised only without numba
-    numba = None
-    HAVE_NUMBA = False
-
-
-def _jit(fn):
-    """Plain Python when called from Python (the numpy backend); compiled when called from numba code."""
-    return numba.extending.register_jitable(fn) if HAVE_NUMBA else fn
 
 
 @_jit
@@ -103,9 +92,65 @@ def _cross_cols(w0, w1, w2, A):
 
 @_jit
 def _trig(q):
-    """Cosines and sines of the six case-3 angles, computed once per state."""
+    """Cosines and sines of the six case-3 angles (libm), computed once per state."""
     return (np.cos(q[3]), np.cos(q[4]), np.cos(q[5]), np.sin(q[3]), np.sin(q[4]), np.sin(q[5]),
             np.cos(q[9]), np.cos(q[10]), np.cos(q[11]), np.sin(q[9]), np.sin(q[10]), np.sin(q[11]))
+
+
+TRIG_BLOCK = 128
+"""States per block whose case-3 sines and cosines :func:`_block_trig` computes in one vectorized pass."""
+
+
+@_jit
+def _block_trig(q, i0, i1, tr):
+    """:func:`_trig` of states ``i0 .. i1-1`` into the columns of ``tr`` (13, TRIG_BLOCK), through
+    :func:`relacc.trig.sincos`.
+
+    Per angle, its values are first copied to the contiguous scratch row ``tr[12]``; the loop over
+    that row has a fixed trip count and contiguous loads and stores, so LLVM vectorizes it.
+
+    Returns:
+        The number of angles in the block beyond :data:`relacc.trig.LIMIT` in magnitude, whose
+        columns are inaccurate: their states must be redone with :func:`_trig`.
+    """
+    x = tr[12]
+    far = 0
+    for a in range(6):
+        col = 3 + a if a < 3 else 6 + a  # theta_B1 in q[3:6], theta_B2 in q[9:12]
+        row = a if a < 3 else a + 3  # cosines in rows 0-2 and 6-8, sines 3 rows below
+        for j in range(i1 - i0):
+            x[j] = q[i0 + j, col]
+        for j in range(i1 - i0, TRIG_BLOCK):
+            x[j] = 0.0
+        cos_row, sin_row = tr[row], tr[row + 3]
+        for j in range(TRIG_BLOCK):
+            s, c = trig.sincos(x[j])
+            cos_row[j] = c
+            sin_row[j] = s
+            far += 1 if abs(x[j]) > trig.LIMIT else 0
+    return far
+
+
+@_jit
+def _trig_in(case, tr, j):
+    """Column ``j`` of :func:`_block_trig`'s ``tr`` as :func:`_trig`'s tuple (case 3), :data:`_NO_TRIG` otherwise."""
+    if case != 3:
+        return _NO_TRIG
+    return (tr[0, j], tr[1, j], tr[2, j], tr[3, j], tr[4, j], tr[5, j],
+            tr[6, j], tr[7, j], tr[8, j], tr[9, j], tr[10, j], tr[11, j])
+
+
+@_jit
+def _trig_of(case, q):
+    """:func:`_trig` of ``q`` in case 3 (libm), :data:`_NO_TRIG` in cases 1-2."""
+    return _trig(q) if case == 3 else _NO_TRIG
+
+
+@_jit
+def _beyond_trig_limit(q):
+    """1 when a case-3 angle exceeds :data:`relacc.trig.LIMIT` in magnitude (the state needs libm), else 0."""
+    m = max(abs(q[3]), abs(q[4]), abs(q[5]), abs(q[9]), abs(q[10]), abs(q[11]))
+    return 1 if m > trig.LIMIT else 0
 
 
 @_jit
@@ -152,9 +197,11 @@ def _angular(case, q, u, d, C1, M, t):
 
 
 @_jit
-def _state(case, q, u, d, q2p, r2p):
-    """The per-state quantities every output needs (fixed-frame components)."""
-    t = _trig(q) if case == 3 else _NO_TRIG
+def _state(case, q, u, d, q2p, r2p, t):
+    """The per-state quantities every output needs (fixed-frame components).
+
+    ``t`` is :func:`_trig` of ``q`` (or its :func:`_block_trig` column) in case 3, :data:`_NO_TRIG` otherwise.
+    """
     C1, M = _rotations(case, q, t)
     w, al, wh, hd = _angular(case, q, u, d, C1, M, t)
     o = 7 if case != 3 else 6  # index of s2' in q
@@ -183,8 +230,8 @@ def _acc_from(d, C1, r, L, Ld, w, al, wh, hd, sd, rd):
 
 
 @_jit
-def _acceleration(case, q, u, d, q2p, r2p):
-    C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, q, u, d, q2p, r2p)
+def _acceleration(case, q, u, d, q2p, r2p, t):
+    C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = _state(case, q, u, d, q2p, r2p, t)
     return _acc_from(d, C1, r, L, Ld, w, al, wh, hd, sd, rd)
 
 

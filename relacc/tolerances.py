@@ -54,6 +54,17 @@ the condition number of ``W(theta)``, ``(1 + |sin theta2|) / |cos theta2|``; at
 (within about 2e-8 rad of gimbal lock) relacc raises instead of answering.
 """
 
+TRIG_ULPS = 2
+"""Largest difference, in ulps of the result, between :func:`relacc.trig.sincos` and libm's ``sin``/``cos``.
+
+Each is within 1 ulp of the exact value (fdlibm's bound for the former; the
+platform libm's documented bound, glibc's here, for the latter), so they
+differ by at most 2 ulps. The fused kernels' case-3 results therefore differ
+from the reference's by a few more roundings than the factor-8 agreement of
+``tests/test_fast.py`` already allows for: a sine or cosine enters each term
+through at most three factors.
+"""
+
 COMPLEX_STEP = 1e-20
 """Step ``h`` of the complex-step derivative ``Im f(x + i h) / h``.
 
