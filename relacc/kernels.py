@@ -147,10 +147,26 @@ def _trig_of(case, q):
 
 
 @_jit
-def _beyond_trig_limit(q):
-    """1 when a case-3 angle exceeds :data:`relacc.trig.LIMIT` in magnitude (the state needs libm), else 0."""
-    m = max(abs(q[3]), abs(q[4]), abs(q[5]), abs(q[9]), abs(q[10]), abs(q[11]))
-    return 1 if m > trig.LIMIT else 0
+def _libm_columns(q, i0, i1, tr):
+    """Redo with :func:`_trig` the columns of ``tr`` whose state has an angle beyond :data:`relacc.trig.LIMIT`."""
+    for i in range(i0, i1):
+        m = max(abs(q[i, 3]), abs(q[i, 4]), abs(q[i, 5]), abs(q[i, 9]), abs(q[i, 10]), abs(q[i, 11]))
+        if m > trig.LIMIT:
+            t = _trig(q[i])
+            for k in range(12):
+                tr[k, i - i0] = t[k]
+
+
+@_jit
+def _block_trig_table(case, q, i0, i1):
+    """The trigonometry of states ``i0 .. i1-1`` for :func:`_trig_in`: :func:`_block_trig`, then
+    :func:`_libm_columns` when an angle is beyond :data:`relacc.trig.LIMIT`; a dummy in cases 1-2."""
+    if case != 3:
+        return np.empty((13, 1))
+    tr = np.empty((13, TRIG_BLOCK))
+    if _block_trig(q, i0, i1, tr):
+        _libm_columns(q, i0, i1, tr)
+    return tr
 
 
 @_jit
