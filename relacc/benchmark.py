@@ -12,7 +12,9 @@ One run, the same states for everyone, per case and per output:
   ``getFrameJacobian``, ``getFrameJacobianTimeVariation`` (LOCAL_WORLD_ALIGNED);
   MuJoCo adds ``mj_jac`` and ``mj_jacDot``.
 
-Every loop stores its results into preallocated arrays. Engine coordinates
+Every loop stores its results into preallocated arrays. relacc is also timed
+on one thread (``relacc-1-thread``), like for like with the single-threaded
+engine loops; its default uses every core numba is given. Engine coordinates
 are prepared before timing (cases 1-2: the quaternion fixture; case 3: the
 Euler fixtures, whose coordinates are case 3's own), and the engines return
 Jacobians in their own velocity coordinates: the comparison favours the
@@ -24,7 +26,9 @@ throughput section (a smaller run on the machine the report is made on).
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
+import json
 import os
 import platform
 import subprocess
@@ -83,6 +87,20 @@ def machine() -> dict:
         "relacc": relacc.__version__,
         "relacc_commit": source_commit(),
     }
+
+
+@contextlib.contextmanager
+def one_thread():
+    """numba's parallel loops on one thread inside the block (no-op on the numpy backend)."""
+    if not fast.HAVE_NUMBA:
+        yield
+        return
+    before = fast.numba.get_num_threads()
+    fast.numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        fast.numba.set_num_threads(before)
 
 
 def median_time(fn, repeats: int, warmups: int = 2) -> float:
@@ -163,6 +181,11 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
             lambda: relacc.g2_acceleration(chain, case, s.q, s.u, s.udot), repeats)
         timings[(case, "relacc", "full")] = median_time(
             lambda: relacc.g2_kinematics(chain, case, s.q, s.u, s.udot), repeats)
+        with one_thread():  # like for like with the single-threaded engine loops
+            timings[(case, "relacc-1-thread", "acceleration")] = median_time(
+                lambda: relacc.g2_acceleration(chain, case, s.q, s.u, s.udot), repeats)
+            timings[(case, "relacc-1-thread", "full")] = median_time(
+                lambda: relacc.g2_kinematics(chain, case, s.q, s.u, s.udot), repeats)
         small = slice(0, max(n_states // 10, 1))  # the note's reference implementation, for information
         timings[(case, "relacc-reference", "full")] = median_time(
             lambda: relacc.g2_kinematics(chain, case, s.q[small], s.u[small], s.udot[small], backend="reference"),
@@ -192,6 +215,33 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
                     and r["who"] == "relacc")
         row["relacc_speedup_over_this"] = row["seconds"] / base["seconds"]
     return {"machine": machine(), "n_states": n_states, "repeats": repeats, "seed": seed, "rows": rows}
+
+
+RESULTS_DIR = Path(__file__).resolve().parent.parent / "benchmarks" / "results"
+"""Where ``benchmarks/throughput.py --json`` runs are recorded (in a source checkout)."""
+
+
+def recorded_runs(directory: Path | None = None) -> list[dict]:
+    """The recorded throughput runs, oldest first: plain data for the report.
+
+    Each is ``{"file", "machine", "n_states", "ratios"}`` with ``ratios[(case, output)]`` a dict of
+    relacc's speed-up over ``pinocchio`` and ``mujoco`` and, when recorded, relacc on one thread
+    over Pinocchio (``one_thread_over_pinocchio``). An empty list outside a source checkout.
+    """
+    directory = RESULTS_DIR if directory is None else Path(directory)
+    runs = []
+    for path in sorted(directory.glob("throughput-*.json")) if directory.is_dir() else []:
+        data = json.loads(path.read_text())
+        rows = {(r["case"], r["who"], r["output"]): r for r in data["rows"]}
+        ratios = {}
+        for (case, who, output), r in rows.items():
+            if who in ("pinocchio", "mujoco"):
+                ratios.setdefault((case, output), {})[who] = r["relacc_speedup_over_this"]
+                one = rows.get((case, "relacc-1-thread", output))
+                if who == "pinocchio" and one:
+                    ratios[(case, output)]["one_thread_over_pinocchio"] = r["seconds"] / one["seconds"]
+        runs.append({"file": path.name, "machine": data["machine"], "n_states": data["n_states"], "ratios": ratios})
+    return runs
 
 
 def print_table(result: dict) -> None:

@@ -5,13 +5,18 @@ from __future__ import annotations
 import numpy as np
 from matplotlib import pyplot as plt
 
+from relacc.benchmark import recorded_runs
 from relacc.report import svg
 
 ID = "throughput"
 TITLE = "Throughput"
 
-WHO = ("relacc", "relacc-reference", "pinocchio", "mujoco")
-COLORS = {"relacc": "black", "relacc-reference": "#999999", "pinocchio": "#1f77b4", "mujoco": "#d62728"}
+RECORDED_COLUMNS = tuple((case, output) for case in (1, 2, 3) for output in ("acceleration", "full"))
+"""(case, output) columns of the recorded-runs table."""
+
+WHO = ("relacc", "relacc-1-thread", "relacc-reference", "pinocchio", "mujoco")
+COLORS = {"relacc": "black", "relacc-1-thread": "#555555", "relacc-reference": "#999999", "pinocchio": "#1f77b4",
+          "mujoco": "#d62728"}
 
 
 def _plot(rows) -> str:
@@ -32,7 +37,7 @@ def _plot(rows) -> str:
         ax.set_title("acceleration only" if output == "acceleration" else "position, velocity, acceleration, V, Vdot",
                      fontsize=9)
     axes[0].set_ylabel("states per second")
-    svg.legend_below(fig, axes[0], ncol=4, offset=-0.1, fontsize=8)
+    svg.legend_below(fig, axes[0], ncol=5, offset=-0.1, fontsize=8)
     return svg.figure(fig)
 
 
@@ -51,6 +56,16 @@ def build(ctx) -> dict:
                 "vs_pinocchio": by["pinocchio"]["relacc_speedup_over_this"],
                 "vs_mujoco": by["mujoco"]["relacc_speedup_over_this"],
                 "reference": by.get("relacc-reference", {}).get("states_per_second"),
+                "one_thread": by.get("relacc-1-thread", {}).get("states_per_second"),
+                "one_thread_vs_pinocchio": (by["pinocchio"]["seconds"] / by["relacc-1-thread"]["seconds"]
+                                            if "relacc-1-thread" in by else None),
             })
+    recorded = [{
+        "file": run["file"], "date": run["machine"]["date"], "cpu": run["machine"]["cpu"],
+        "cpus": run["machine"]["logical_cpus"], "commit": run["machine"].get("relacc_commit") or "-",
+        "n_states": run["n_states"],
+        "cells": [run["ratios"].get(key, {}) for key in RECORDED_COLUMNS],
+    } for run in recorded_runs()]
     return {"machine": t["machine"], "n_states": t["n_states"], "repeats": t["repeats"], "table": table,
-            "figure": _plot(rows), "min_vs_pinocchio": float(np.min([r["vs_pinocchio"] for r in table]))}
+            "figure": _plot(rows), "min_vs_pinocchio": float(np.min([r["vs_pinocchio"] for r in table])),
+            "recorded": recorded, "recorded_columns": RECORDED_COLUMNS}
