@@ -170,6 +170,7 @@ def mujoco_loop(model, data, site, body, q, v, a, full: bool):
 
 def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
     """Time every row (see the module docstring); returns plain data with the machine's description."""
+    described = machine()  # before timing: the commit as it was when the run started
     fixture = fixture if fixture is not None else load()
     chain = fixture.chain
     engines = {name: load_engine(name, fixture) for name in ("pinocchio", "mujoco")}
@@ -214,7 +215,7 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
         base = next(r for r in rows if r["case"] == row["case"] and r["output"] == row["output"]
                     and r["who"] == "relacc")
         row["relacc_speedup_over_this"] = row["seconds"] / base["seconds"]
-    return {"machine": machine(), "n_states": n_states, "repeats": repeats, "seed": seed, "rows": rows}
+    return {"machine": described, "n_states": n_states, "repeats": repeats, "seed": seed, "rows": rows}
 
 
 RESULTS_DIR = Path(__file__).resolve().parent.parent / "benchmarks" / "results"
