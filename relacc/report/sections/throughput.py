@@ -54,6 +54,7 @@ def build(ctx) -> dict:
                 "pinocchio": by["pinocchio"]["states_per_second"],
                 "mujoco": by["mujoco"]["states_per_second"],
                 "vs_pinocchio": by["pinocchio"]["relacc_speedup_over_this"],
+                "vs_pinocchio_best": by["pinocchio"].get("relacc_speedup_over_this_best"),
                 "vs_mujoco": by["mujoco"]["relacc_speedup_over_this"],
                 "reference": by.get("relacc-reference", {}).get("states_per_second"),
                 "one_thread": by.get("relacc-1-thread", {}).get("states_per_second"),
