@@ -1,5 +1,6 @@
 """The HTML agreement report: content, self-containment, atomic writes, and a real browser."""
 
+import json
 import re
 import shutil
 from pathlib import Path
@@ -100,3 +101,33 @@ def test_report_in_headless_chromium(quick_report):
     outside = [u for u in requests if not u.startswith(("file://", "data:"))]
     assert outside == [], f"network requests: {outside}"
     assert n_images > 30 and broken == 0
+
+
+def test_report_shows_the_recorded_benchmark_runs(quick_report):
+    """Every recorded run in benchmarks/results has a row in the throughput section's table."""
+    html = quick_report.read_text()
+    runs = sorted((REPO / "benchmarks" / "results").glob("throughput-*.json"))
+    assert runs, "no recorded runs in benchmarks/results"
+    assert 'id="recorded-runs"' in html
+    for path in runs:
+        assert f"<td>{path.name}</td>" in html
+
+
+def test_recorded_runs_ratios_are_time_ratios(tmp_path):
+    """recorded_runs divides the engine's time by relacc's (median and minimum) and reads the one-thread row."""
+    from relacc.benchmark import recorded_runs
+
+    def row(who, median, best):
+        return {"case": 2, "who": who, "output": "acceleration", "seconds": median, "seconds_min": best,
+                "relacc_speedup_over_this": median / {"relacc": 0.004}.get(who, 0.004),
+                "relacc_speedup_over_this_best": best / 0.003}
+
+    data = {"machine": {"date": "2026-11-22", "cpu": "x", "logical_cpus": 2}, "n_states": 10,
+            "rows": [row("relacc", 0.004, 0.003), row("relacc-1-thread", 0.008, 0.007), row("pinocchio", 0.2, 0.15),
+                     row("mujoco", 0.3, 0.25)]}
+    (tmp_path / "throughput-x.json").write_text(json.dumps(data))
+    (run,) = recorded_runs(tmp_path)
+    r = run["ratios"][(2, "acceleration")]
+    assert r["pinocchio"] == 0.2 / 0.004 and r["pinocchio_best"] == 0.15 / 0.003 and r["mujoco"] == 0.3 / 0.004
+    assert r["one_thread_over_pinocchio"] == 0.2 / 0.008
+    assert recorded_runs(tmp_path / "missing") == []
