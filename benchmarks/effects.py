@@ -12,7 +12,7 @@ import sys
 
 import relacc
 from relacc import fastdyn
-from relacc.benchmark import median_time
+from relacc.benchmark import wall_times
 from relacc.effects import NONE, Effects
 from relacc.engines import load_engine
 from relacc.fixtures import load
@@ -24,7 +24,7 @@ ALL = Effects(gravity=[0, 0, -9.81], spring_stiffness=50.0, spring_damping=0.5, 
 
 def per_state(fn, n, repeats=7):
     """Microseconds per state: median of ``repeats`` calls over ``n`` states."""
-    return median_time(fn, repeats, warmups=1) / n * 1e6
+    return wall_times(fn, repeats, warmups=1)[0] / n * 1e6
 
 
 def main(argv=None):

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 import relacc
-from relacc.benchmark import median_time, mujoco_loop, pinocchio_loop
+from relacc.benchmark import mujoco_loop, pinocchio_loop, wall_times
 from relacc.derivatives import advance, along_motion
 from relacc.states import random_states
 from relacc.tolerances import EPS, normalized_error, term_scales
@@ -35,7 +35,7 @@ FORMULAS = {
 def _timed(fn, n, repeats):
     """The method's output and its median time per state (s)."""
     out = fn()  # also the warm-up
-    return out, median_time(fn, repeats, warmups=0) / n
+    return out, wall_times(fn, repeats, warmups=0)[0] / n
 
 
 def sweep(chain, n_states: int = 200, seed: int = 0, repeats: int = 3, engines=None, cases=(1, 2, 3)) -> list[dict]:
