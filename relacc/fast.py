@@ -36,6 +36,7 @@ import numpy as np
 from relacc import trig
 from relacc.kernels import (  # noqa: F401  (re-exported for relacc.fastdyn and the tests)
     _NO_TRIG,
+    ANGLES,
     HAVE_NUMBA,
     QUAT_TOL,
     TRIG_BLOCK,
@@ -187,7 +188,7 @@ def _numpy_trig(case, qT):
     """
     if case != 3:
         return _NO_TRIG
-    x = qT[[3, 4, 5, 9, 10, 11]]
+    x = qT[list(ANGLES)]
     s, c = trig.sincos(x)
     far = np.any(np.abs(x) > trig.LIMIT, axis=0)
     s, c = np.where(far, np.sin(x), s), np.where(far, np.cos(x), c)

@@ -97,6 +97,9 @@ def _trig(q):
             np.cos(q[9]), np.cos(q[10]), np.cos(q[11]), np.sin(q[9]), np.sin(q[10]), np.sin(q[11]))
 
 
+ANGLES = (3, 4, 5, 9, 10, 11)
+"""Columns of a case-3 ``q`` that hold the 1-2-3 angles, rad: theta_B1 in 3-5, theta_B2 (relative to B1) in 9-11."""
+
 TRIG_BLOCK = 128
 """States per block whose case-3 sines and cosines :func:`_block_trig` computes in one vectorized pass."""
 
@@ -116,7 +119,7 @@ def _block_trig(q, i0, i1, tr):
     x = tr[12]
     far = 0
     for a in range(6):
-        col = 3 + a if a < 3 else 6 + a  # theta_B1 in q[3:6], theta_B2 in q[9:12]
+        col = ANGLES[a]
         row = a if a < 3 else a + 3  # cosines in rows 0-2 and 6-8, sines 3 rows below
         for j in range(i1 - i0):
             x[j] = q[i0 + j, col]
@@ -150,7 +153,9 @@ def _trig_of(case, q):
 def _libm_columns(q, i0, i1, tr):
     """Redo with :func:`_trig` the columns of ``tr`` whose state has an angle beyond :data:`relacc.trig.LIMIT`."""
     for i in range(i0, i1):
-        m = max(abs(q[i, 3]), abs(q[i, 4]), abs(q[i, 5]), abs(q[i, 9]), abs(q[i, 10]), abs(q[i, 11]))
+        m = 0.0
+        for k in ANGLES:
+            m = max(m, abs(q[i, k]))
         if m > trig.LIMIT:
             t = _trig(q[i])
             for k in range(12):
