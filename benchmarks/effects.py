@@ -11,12 +11,12 @@ import argparse
 import sys
 
 import relacc
-from relacc import fastdyn
-from relacc.benchmark import wall_times
-from relacc.effects import NONE, Effects
+from relacc.core.states import random_states
+from relacc.dynamics.effects import NONE, Effects
 from relacc.engines import load_engine
 from relacc.fixtures import load
-from relacc.states import random_states
+from relacc.kernels import dynamics as fastdyn
+from relacc.tradeoff.throughput import wall_times
 
 ALL = Effects(gravity=[0, 0, -9.81], spring_stiffness=50.0, spring_damping=0.5, ball_damping=0.02,
               force_G2=[1.0, 0.0, 0.0], torque_B1=[0.0, 0.0, 0.1], torque_B2=[0.1, 0.0, 0.0])

@@ -1,6 +1,6 @@
 """Throughput benchmark: relacc's batched kernels against looping Pinocchio and MuJoCo.
 
-See :mod:`relacc.benchmark` for what is timed and how. Results of recorded
+See :mod:`relacc.tradeoff.throughput` for what is timed and how. Results of recorded
 runs are in ``docs/benchmarks.md``.
 
 Run:  python benchmarks/throughput.py [--states N] [--repeats R] [--json PATH]
@@ -11,7 +11,7 @@ import json
 import sys
 from pathlib import Path
 
-from relacc.benchmark import print_table, run
+from relacc.tradeoff.throughput import print_table, run
 
 
 def main(argv=None) -> int:

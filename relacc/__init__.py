@@ -1,10 +1,36 @@
 """relacc: the relative-coordinate formulas of a two-body chain, checked against engines.
 
-The core (this package minus :mod:`relacc.engines`) imports no engine.
+``import relacc`` loads the engine-free core only (numpy and the standard
+library): the compiled kernels load at the first batched call, an engine
+when one is asked for, the report and the plots when a report is made.
+
+Layers, one folder each (the rule of each is in its package docstring):
+
+* :mod:`relacc.core`: the note's mathematics, the error model;
+* :mod:`relacc.kernels`: fused numba kernels behind the core's batch calls;
+* :mod:`relacc.dynamics`: Kane's equations and effects; :mod:`relacc.simulate`: scenes and runs;
+* :mod:`relacc.engines`: one adapter per engine behind one interface;
+* :mod:`relacc.validation`: cross-validation, errata, hard cases;
+* :mod:`relacc.fixtures`: the TOML source of truth, engine files, shipped models;
+* :mod:`relacc.report`, :mod:`relacc.tradeoff`, :mod:`relacc.cli`.
 """
 
-from relacc.cases import Case
-from relacc.chain import TwoBodyChain
+import importlib
+
+from relacc.core.cases import Case
+from relacc.core.chain import TwoBodyChain
+from relacc.core.kinematics import G2Kinematics, g2_acceleration, g2_kinematics
+from relacc.core.note.equations import EQUATIONS
+from relacc.core.rotations import (
+    matrix_from_123,
+    matrix_from_quaternion,
+    omega_partials_123,
+    omega_partials_123_dot,
+    quaternion_exp,
+    quaternion_from_123,
+    quaternion_multiply,
+    tilde,
+)
 from relacc.errors import (
     CaseError,
     EngineError,
@@ -15,20 +41,19 @@ from relacc.errors import (
     SingularityError,
     VariantError,
 )
-from relacc.kinematics import G2Kinematics, g2_acceleration, g2_kinematics
-from relacc.note.equations import EQUATIONS
-from relacc.rotations import (
-    matrix_from_123,
-    matrix_from_quaternion,
-    omega_partials_123,
-    omega_partials_123_dot,
-    quaternion_exp,
-    quaternion_from_123,
-    quaternion_multiply,
-    tilde,
-)
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
+
+_SUBPACKAGES = ("core", "kernels", "dynamics", "simulate", "engines", "validation", "fixtures", "report",
+                "tradeoff", "cli")
+
+
+def __getattr__(name):
+    """Subpackages on first use: ``relacc.dynamics.accelerations(...)`` works after ``import relacc``."""
+    if name in _SUBPACKAGES:
+        return importlib.import_module(f"relacc.{name}")
+    raise AttributeError(f"module 'relacc' has no attribute {name!r}")
+
 
 __all__ = [
     "Case",

@@ -7,9 +7,9 @@ rates themselves (no mapping at all).
 
 import pytest
 
-from relacc.check import Harness, routes_for
-from relacc.conventions import QUANTITIES
-from relacc.tolerances import EPS
+from relacc.core.conventions import QUANTITIES
+from relacc.core.tolerances import EPS
+from relacc.validation.check import Harness, routes_for
 
 from .conftest import N_STATES, SEED
 

@@ -4,12 +4,14 @@ import numpy as np
 import pytest
 
 import relacc
-from relacc import dynamics, fastdyn
-from relacc.derivatives import along_motion
-from relacc.effects import NONE, Effects
+from relacc import dynamics
+from relacc.core.derivatives import along_motion
+from relacc.core.scales import dynamics_scales
+from relacc.core.states import random_states
+from relacc.core.tolerances import EPS, ROUNDING_FACTOR, assert_agree
+from relacc.dynamics.effects import NONE, Effects
 from relacc.engines import load_engine
-from relacc.states import random_states
-from relacc.tolerances import EPS, ROUNDING_FACTOR, assert_agree, dynamics_scales
+from relacc.kernels import dynamics as fastdyn
 
 from .conftest import seed_for
 
@@ -112,7 +114,7 @@ def test_fused_kernel_equals_reference(fixture, case):
     sM, sf = dynamics_scales(fixture.chain, case, s.q, s.u, ALL)
     assert_agree(Mf, M, sM, what="M", seed=s.seed, factor=8)
     assert_agree(ff, f, sf, what="f", seed=s.seed, factor=8)
-    _, nu_ref, _ = relacc.speeds.to_body_speeds(case, s.q, s.u)
+    _, nu_ref, _ = relacc.core.speeds.to_body_speeds(case, s.q, s.u)
     assert_agree(nu, nu_ref, np.linalg.norm(s.u, axis=1), what="nu", seed=s.seed, factor=8)
 
 

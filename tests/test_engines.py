@@ -4,13 +4,13 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from relacc.cases import as_case
-from relacc.check import routes_for
+from relacc.core.cases import as_case
+from relacc.core.states import random_states
+from relacc.core.tolerances import assert_agree
 from relacc.engines import load_engine
 from relacc.engines.pinocchio_ import LWA
 from relacc.errors import EngineError
-from relacc.states import random_states
-from relacc.tolerances import assert_agree
+from relacc.validation.check import routes_for
 
 from .conftest import seed_for
 

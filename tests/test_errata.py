@@ -4,9 +4,9 @@ import json
 
 import pytest
 
-from relacc.check import Harness
-from relacc.errata import STATUSES, errata
-from relacc.note.equations import BY_ID, IDS
+from relacc.core.note.equations import BY_ID, IDS
+from relacc.validation.check import Harness
+from relacc.validation.errata import STATUSES, errata
 
 from .conftest import SEED
 

@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 
 import relacc
-from relacc import fast
-from relacc.states import random_states
-from relacc.stream import iter_g2_kinematics
-from relacc.tolerances import assert_agree, term_scales
+from relacc.core.scales import term_scales
+from relacc.core.states import random_states
+from relacc.core.stream import iter_g2_kinematics
+from relacc.core.tolerances import assert_agree
+from relacc.kernels import kinematics as fast
 
 from .conftest import seed_for
 

@@ -8,8 +8,8 @@ import pinocchio as pin
 import pytest
 
 from relacc import fixtures
+from relacc.core.rotations import matrix_from_quaternion
 from relacc.errors import FixtureError
-from relacc.rotations import matrix_from_quaternion
 
 
 def test_checked_in_model_files_match_the_generator(fixture):

@@ -12,10 +12,11 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 import relacc
-from relacc import fixtures, speeds
-from relacc.check import Harness
+from relacc import fixtures
 from relacc.cli import main
-from relacc.derivatives import advance
+from relacc.core import speeds
+from relacc.core.derivatives import advance
+from relacc.validation.check import Harness
 
 FLOATS = st.floats(allow_nan=True, allow_infinity=True, width=64)
 SCALARS = st.one_of(st.none(), st.booleans(), st.integers(-10, 10), FLOATS, st.text(max_size=5),
@@ -148,9 +149,10 @@ def test_harness_and_engines_junk(fixture, n_states, seed, engine):
 @given(st.data())
 def test_malformed_scene_files(tmp_path_factory, data):
     """Random edits of a shipped scene (lines deleted, garbled, values replaced) give a FixtureError or a scene."""
-    from relacc import scenes
+    from relacc.fixtures import shipped
+    from relacc.simulate import scenes
 
-    source = scenes.shipped()[0]
+    source = shipped.scene_paths()[0]
     lines = source.read_text().splitlines()
     for _ in range(data.draw(st.integers(1, 3))):
         i = data.draw(st.integers(0, len(lines) - 1))

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 import relacc
-from relacc import speeds
-from relacc.hardcases import Runner, catalogue
-from relacc.hardsearch import hypothesis_search
-from relacc.tolerances import MAX_CONDITION
+from relacc.core import speeds
+from relacc.core.tolerances import MAX_CONDITION
+from relacc.validation.hardcases import Runner, catalogue
+from relacc.validation.hardsearch import hypothesis_search
 
 from .conftest import SEED
 

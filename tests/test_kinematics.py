@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 
 import relacc
-from relacc import speeds
-from relacc.derivatives import along_motion
-from relacc.note.equations import EQUATIONS
-from relacc.states import random_states
-from relacc.tolerances import assert_agree, normalized_error, richardson_bound, rounding_tolerance, term_scales
+from relacc.core import speeds
+from relacc.core.derivatives import along_motion
+from relacc.core.note.equations import EQUATIONS
+from relacc.core.scales import term_scales
+from relacc.core.states import random_states
+from relacc.core.tolerances import assert_agree, normalized_error, richardson_bound, rounding_tolerance
 
 from .conftest import N_STATES, seed_for
 

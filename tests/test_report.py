@@ -49,7 +49,7 @@ def test_report_is_self_contained(quick_report):
 def test_report_shows_every_erratum(quick_report):
     """Every equation id has a row with a status badge."""
     html = quick_report.read_text()
-    from relacc.note.equations import IDS
+    from relacc.core.note.equations import IDS
 
     for i in IDS:
         assert f'id="eq-{i}"' in html
@@ -115,7 +115,7 @@ def test_report_shows_the_recorded_benchmark_runs(quick_report):
 
 def test_recorded_runs_ratios_are_time_ratios(tmp_path):
     """recorded_runs divides the engine's time by relacc's (median and minimum) and reads the one-thread row."""
-    from relacc.benchmark import recorded_runs
+    from relacc.tradeoff.throughput import recorded_runs
 
     def row(who, median, best):
         return {"case": 2, "who": who, "output": "acceleration", "seconds": median, "seconds_min": best,

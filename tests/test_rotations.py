@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from relacc import rotations as rot
-from relacc.derivatives import complex_step
-from relacc.tolerances import assert_agree
+from relacc.core import rotations as rot
+from relacc.core.derivatives import complex_step
+from relacc.core.tolerances import assert_agree
 
 from .conftest import SEED
 

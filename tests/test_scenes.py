@@ -6,12 +6,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from relacc import scenes, simulate
+from relacc import simulate
 from relacc.cli import main
+from relacc.core.tolerances import rounding_tolerance
 from relacc.errors import FixtureError, InputError
-from relacc.tolerances import rounding_tolerance
+from relacc.fixtures import shipped
+from relacc.simulate import scenes
 
-SHIPPED = scenes.shipped()
+SHIPPED = shipped.scene_paths()
 ENGINES = ("relacc", "pinocchio", "mujoco")
 FLOOR = 1e-12
 """Differences below this (m, or relative energy) are rounding, where orders cannot be read."""
@@ -93,10 +95,10 @@ def test_conservative_scenes_conserve_energy_and_momentum(path):
 
 def test_mujoco_applies_only_the_listed_effects():
     """Torque-free tumbling disables gravity, springs and dampers in MuJoCo; the spring scene keeps them."""
-    free = simulate.run(scenes.load(scenes.scenes_dir() / "tumbling.toml").replace(duration=0.01),
+    free = simulate.run(scenes.load(shipped.scenes_dir() / "tumbling.toml").replace(duration=0.01),
                         engines=["mujoco"])
     assert {"gravity", "spring", "damper", "contact"} <= set(free.trajectories["mujoco"].applied["disabled"])
-    spring = simulate.run(scenes.load(scenes.scenes_dir() / "gravity_spring.toml").replace(duration=0.01),
+    spring = simulate.run(scenes.load(shipped.scenes_dir() / "gravity_spring.toml").replace(duration=0.01),
                           engines=["mujoco"])
     disabled = set(spring.trajectories["mujoco"].applied["disabled"])
     assert "contact" in disabled and not {"gravity", "spring", "damper"} & disabled
@@ -120,7 +122,7 @@ dt = 0.001
 def _scene_file(tmp_path, text):
     models = tmp_path / "models"
     (models / "scenes").mkdir(parents=True)
-    src = scenes.scenes_dir().parent
+    src = shipped.scenes_dir().parent
     for name in ("two_body.toml", "two_body.xml", "two_body_euler.xml", "two_body_euler.urdf"):
         (models / name).write_text((src / name).read_text())
     path = models / "scenes" / "s.toml"

@@ -7,7 +7,7 @@ import pytest
 
 from relacc import tradeoff
 from relacc.cli import main
-from relacc.tolerances import rounding_tolerance
+from relacc.core.tolerances import rounding_tolerance
 from relacc.tradeoff.derivatives import FORMULAS, best_step, theory_step
 
 ORDER_BAND = 0.5

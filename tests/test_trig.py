@@ -1,13 +1,15 @@
-"""relacc.trig.sincos against libm, and the case-3 kernels at block edges and beyond its range."""
+"""relacc.kernels.trig.sincos against libm, and the case-3 kernels at block edges and beyond its range."""
 
 import numpy as np
 import pytest
 
 import relacc
-from relacc import fast, trig
-from relacc.kernels import ANGLES, TRIG_BLOCK
-from relacc.states import random_states
-from relacc.tolerances import TRIG_ULPS, assert_agree, term_scales
+from relacc.core.scales import term_scales
+from relacc.core.states import random_states
+from relacc.core.tolerances import TRIG_ULPS, assert_agree
+from relacc.kernels import kinematics as fast
+from relacc.kernels import trig
+from relacc.kernels.perstate import ANGLES, TRIG_BLOCK
 
 from .conftest import seed_for
 

@@ -7,7 +7,7 @@ Vdot for a case's state with an established engine and returns the core's
 Two routes:
 
 * ``"quaternion"`` (cases 1, 2, 3): the MJCF fixture ``two_body.xml``. The
-  case's state goes to the body speeds of :mod:`relacc.speeds`
+  case's state goes to the body speeds of :mod:`relacc.core.speeds`
   (``nu = [W] u``), then to the engine's own velocity vector
   ``v_e = [P(q)] nu`` by the adapter's documented map ``P``. With
   ``[E] = [P][W]`` (``v_e = [E] u``) and ``[E_dot] = [P_dot][W] + [P][W_dot]``,
@@ -27,13 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from relacc.cases import Case, as_case, check_q, check_u
+from relacc.core.cases import Case, as_case, check_q, check_u
+from relacc.core.kinematics import G2Kinematics, check_finite_result
+from relacc.core.note.common import mv
+from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion
+from relacc.core.scales import global_condition, offset_error
+from relacc.core.speeds import body_speed_map, check_invertible, quaternion_coordinates
+from relacc.core.tolerances import rounding_tolerance
 from relacc.errors import EngineError
-from relacc.kinematics import G2Kinematics, check_finite_result
-from relacc.note.common import mv
-from relacc.rotations import angles_123_from_matrix, matrix_from_quaternion
-from relacc.speeds import body_speed_map, check_invertible, quaternion_coordinates
-from relacc.tolerances import global_condition, offset_error, rounding_tolerance
 
 ROUTES = ("quaternion", "euler")
 
@@ -83,7 +84,7 @@ class Engine(abc.ABC):
     name: str = ""
     global_coordinates: frozenset = frozenset()
     """Quantities the engine forms from differences of world positions; their
-    accuracy follows :func:`relacc.tolerances.global_condition`."""
+    accuracy follows :func:`relacc.core.scales.global_condition`."""
 
     def lost_offset(self, route: str) -> float:
         """Metres by which the compiled model misplaces G2 (0 unless an engine rounds the model)."""
@@ -93,9 +94,9 @@ class Engine(abc.ABC):
         """Per-state bound on the normalized error of ``quantity`` against the core.
 
         ``c eps condition + offset``: the condition is
-        :func:`relacc.tolerances.global_condition` for the quantities in
+        :func:`relacc.core.scales.global_condition` for the quantities in
         ``global_coordinates`` (else 1), the offset
-        :func:`relacc.tolerances.offset_error` of :meth:`lost_offset`.
+        :func:`relacc.core.scales.offset_error` of :meth:`lost_offset`.
         """
         cond = global_condition(quantity, chain, case, q, u, udot) if quantity in self.global_coordinates else 1.0
         return rounding_tolerance() * cond + offset_error(self.lost_offset(route), quantity, chain, case, q, u, udot)
@@ -117,7 +118,7 @@ class Engine(abc.ABC):
         """Inverse of :meth:`engine_input`: ``(q, u, udot)`` of the case from engine coordinates.
 
         ``u = [E]^-1 v_e`` and ``udot = [E]^-1 (a_e - [E_dot] u)``. For case 3 on
-        the quaternion route this goes through :func:`relacc.rotations.angles_123_from_matrix`,
+        the quaternion route this goes through :func:`relacc.core.rotations.angles_123_from_matrix`,
         ill-conditioned near gimbal lock; it serves round-trip tests, not comparisons.
 
         Raises:
@@ -136,7 +137,7 @@ class Engine(abc.ABC):
 
         Args:
             q, v: ``(n, nq_e)``, ``(n, nv_e)`` engine coordinates.
-            effects: :class:`relacc.effects.Effects`, the only effects applied.
+            effects: :class:`relacc.dynamics.effects.Effects`, the only effects applied.
 
         Returns:
             ``M_e`` ``(n, nv_e, nv_e)`` and ``f_e`` ``(n, nv_e)``: generalized

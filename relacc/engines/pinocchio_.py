@@ -49,6 +49,7 @@ from contextlib import contextmanager
 import numpy as np
 import pinocchio as pin
 
+from relacc.core.rotations import matrix_from_quaternion, quaternion_from_xyzw, quaternion_to_xyzw, tilde
 from relacc.engines.base import (
     Engine,
     PointKinematics,
@@ -58,7 +59,6 @@ from relacc.engines.base import (
 )
 from relacc.errors import EngineError, FixtureError, IntegrationError
 from relacc.fixtures import Fixture
-from relacc.rotations import matrix_from_quaternion, quaternion_from_xyzw, quaternion_to_xyzw, tilde
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -107,7 +107,7 @@ def split_composites(model: "pin.Model") -> "pin.Model":
 
 
 class PinocchioSpace:
-    """Pinocchio's configuration manifold for :mod:`relacc.integrate`.
+    """Pinocchio's configuration manifold for :mod:`relacc.simulate.integrate`.
 
     ``integrate`` is ``pin.integrate`` (SE(3) exponential for the free-flyer,
     SO(3) for the spherical joint); ``dexpinv`` inverts ``pin.dIntegrate``
@@ -260,7 +260,7 @@ class PinocchioEngine(Engine):
 
     @contextmanager
     def ode(self, effects):
-        """``(space, derivs)`` of the forward dynamics under ``effects``, for :mod:`relacc.integrate`.
+        """``(space, derivs)`` of the forward dynamics under ``effects``, for :mod:`relacc.simulate.integrate`.
 
         ``derivs(q, v) = (v, pin.aba(q, v, tau))``: tangent velocity (Pinocchio's
         ``v``) and acceleration (``vdot``, Pinocchio's coordinates); gravity is
@@ -281,7 +281,7 @@ class PinocchioEngine(Engine):
         Pinocchio has no integrator of its own; ``pin.integrate`` and
         ``pin.dIntegrate`` give the manifold structure.
         """
-        from relacc.integrate import STEPPERS
+        from relacc.simulate.integrate import STEPPERS
 
         if integrator not in STEPPERS:
             raise EngineError(f"Pinocchio integrators here: {', '.join(STEPPERS)}; got {integrator!r}")

@@ -18,12 +18,12 @@ from pathlib import Path
 from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
 from relacc import fixtures
-from relacc.check import CheckReport, Harness
-from relacc.errata import Erratum, errata
 from relacc.errors import InputError, RelaccError
-from relacc.hardcases import Result, run_catalogue
-from relacc.hardsearch import Worst, hypothesis_search
 from relacc.report.sections import SECTIONS
+from relacc.validation.check import CheckReport, Harness
+from relacc.validation.errata import Erratum, errata
+from relacc.validation.hardcases import Result, run_catalogue
+from relacc.validation.hardsearch import Worst, hypothesis_search
 
 DEFAULT_STATES = 2000
 QUICK_STATES = 200
@@ -51,7 +51,7 @@ class ReportContext:
 
 
 def _machine() -> str:
-    from relacc.benchmark import cpu_model
+    from relacc.tradeoff.throughput import cpu_model
 
     return f"{platform.system()} {platform.machine()}, {os.cpu_count()} logical CPUs ({cpu_model()})"
 
@@ -72,7 +72,7 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
     n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
     if progress:
         progress(f"throughput, {n_bench} states per case")
-    from relacc.benchmark import run as run_benchmark
+    from relacc.tradeoff.throughput import run as run_benchmark
 
     throughput = run_benchmark(n_bench, repeats, seed, fixture)
     simulations = run_scenes(quick, progress)
@@ -104,10 +104,12 @@ def run_scenes(quick: bool, progress=None) -> list:
 
     Quick runs cap every scene at 0.2 s and sweep two steps only.
     """
-    from relacc import scenes, simulate
+    from relacc import simulate
+    from relacc.fixtures import shipped
+    from relacc.simulate import scenes
 
     out = []
-    for path in scenes.shipped():
+    for path in shipped.scene_paths():
         scene = scenes.load(path)
         if quick:
             scene = scene.replace(duration=round(min(scene.duration, 0.2) / scene.dt) * scene.dt)

@@ -54,9 +54,9 @@ def pareto(rows, error="error", cost="seconds"):
 
 def run(quick: bool = False, seed: int = 0, progress=None, fixture=None, profile: dict | None = None) -> Tradeoff:
     """Run both sweeps (``quick``: a small one for tests and CI; ``profile``: QUICK, REPORT or FULL)."""
-    from relacc import scenes
     from relacc.engines import load_engine
-    from relacc.fixtures import load
+    from relacc.fixtures import load, shipped
+    from relacc.simulate import scenes
 
     cfg = profile if profile is not None else (QUICK if quick else FULL)
     fixture = fixture if fixture is not None else load()
@@ -65,7 +65,7 @@ def run(quick: bool = False, seed: int = 0, progress=None, fixture=None, profile
     engines = {n: load_engine(n, fixture) for n in ("pinocchio", "mujoco")}
     drows = derivatives.sweep(fixture.chain, cfg["states"], seed, cfg["repeats"], engines)
     irows, refs = [], []
-    for path in scenes.shipped():
+    for path in shipped.scene_paths():
         if cfg["scenes"] and path.stem not in cfg["scenes"]:
             continue
         scene = scenes.load(path)

@@ -14,10 +14,11 @@ from __future__ import annotations
 import numpy as np
 
 import relacc
-from relacc.benchmark import mujoco_loop, pinocchio_loop, wall_times
-from relacc.derivatives import advance, along_motion
-from relacc.states import random_states
-from relacc.tolerances import EPS, normalized_error, term_scales
+from relacc.core.derivatives import advance, along_motion
+from relacc.core.scales import term_scales
+from relacc.core.states import random_states
+from relacc.core.tolerances import EPS, normalized_error
+from relacc.tradeoff.throughput import mujoco_loop, pinocchio_loop, wall_times
 
 STEPS = tuple(10.0 ** -k for k in np.arange(1, 14.5, 0.5))
 """Finite-difference steps h (s), 1e-1 down to 3e-15, every half decade."""

@@ -18,12 +18,12 @@ import time
 import numpy as np
 
 from relacc import dynamics
+from relacc.core.kinematics import g2_kinematics
 from relacc.engines import load_engine
 from relacc.errors import IntegrationError
-from relacc.fastdyn import Rates
-from relacc.integrate import CaseSpace, solve_on_space
-from relacc.kinematics import g2_kinematics
-from relacc.scenes import Scene
+from relacc.kernels.dynamics import Rates
+from relacc.simulate.integrate import CaseSpace, solve_on_space
+from relacc.simulate.scenes import Scene
 
 THEORY = {"rk4": 4, "euler": 1, "implicit": 1, "implicitfast": 1}
 """Theoretical order of each fixed-step integrator (MuJoCo's implicit ones are first order)."""
@@ -63,9 +63,9 @@ def _fixed(name, engine, scene, integrator, dt):
     steps = max(int(round(scene.duration / dt)), 1)
     run = scene.replace(dt=scene.duration / steps, integrator=integrator, engines=(name,))
     if name == "relacc":
-        from relacc.simulate import _relacc
+        from relacc.simulate.runs import relacc_trajectory
 
-        tr = _relacc(run)
+        tr = relacc_trajectory(run)
         return tr.q[-1], tr.u[-1], tr.seconds
     q0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
     start = time.perf_counter()

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from matplotlib import pyplot as plt
 
-from relacc.conventions import QUANTITIES
+from relacc.core.conventions import QUANTITIES
+from relacc.core.tolerances import EPS
 from relacc.report import svg
-from relacc.tolerances import EPS
 
 ID = "agreement"
 TITLE = "Agreement with the engines"

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from relacc.conventions import CASE_NAMES, COORDINATES, ENGINE_MAPPINGS, MEANINGS, QUANTITIES, SPEEDS
-from relacc.tolerances import EPS, QUATERNION_NORM_TOLERANCE, ROUNDING_FACTOR
+from relacc.core.conventions import CASE_NAMES, COORDINATES, ENGINE_MAPPINGS, MEANINGS, QUANTITIES, SPEEDS
+from relacc.core.tolerances import EPS, QUATERNION_NORM_TOLERANCE, ROUNDING_FACTOR
 
 ID = "conventions"
 TITLE = "Conventions"

@@ -7,9 +7,9 @@ from collections import defaultdict
 import numpy as np
 from matplotlib import pyplot as plt
 
-from relacc.conventions import QUANTITIES
+from relacc.core.conventions import QUANTITIES
+from relacc.core.tolerances import EPS
 from relacc.report import svg
-from relacc.tolerances import EPS
 
 ID = "hardcases"
 TITLE = "Hard cases"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-from relacc.tolerances import EPS
+from relacc.core.tolerances import EPS
 
 ID = "summary"
 TITLE = "Verdict"

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from matplotlib import pyplot as plt
 
-from relacc.note.common import configuration
+from relacc.core.note.common import configuration
+from relacc.core.rotations import quaternion_exp
 from relacc.report import svg
-from relacc.rotations import quaternion_exp
 
 ID = "system"
 TITLE = "The system being checked"

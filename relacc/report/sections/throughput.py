@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib import pyplot as plt
 
-from relacc.benchmark import recorded_runs
 from relacc.report import svg
+from relacc.tradeoff.throughput import recorded_runs
 
 ID = "throughput"
 TITLE = "Throughput"

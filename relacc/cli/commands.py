@@ -1,0 +1,223 @@
+"""One function per ``relacc`` subcommand: ``cmd_<name>(args) -> exit code``.
+
+Each imports what it needs when it runs (engines, report, plots), so that
+``relacc --help`` and the other commands stay light.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+
+import relacc
+from relacc import fixtures
+from relacc.core.conventions import CASE_NAMES, CONVENTIONS, COORDINATES, QUANTITIES, SPEEDS
+from relacc.core.tolerances import EPS
+from relacc.errors import InputError
+
+
+def _numbers(text: str, name: str) -> list[float]:
+    try:
+        return [float(x) for x in text.replace(",", " ").split()]
+    except ValueError:
+        raise InputError(f"--{name}: expected numbers separated by commas or spaces, got {text!r}") from None
+
+
+def _state_from_args(args) -> dict:
+    state = {}
+    if args.state:
+        try:
+            text = sys.stdin.read() if args.state == "-" else open(args.state, encoding="utf-8").read()
+        except OSError as exc:
+            raise InputError(f"{args.state}: cannot read the state file ({exc.strerror or exc})") from None
+        try:
+            state = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise InputError(f"{args.state}: not valid JSON: {exc}") from None
+        if not isinstance(state, dict):
+            raise InputError(f"{args.state}: expected a JSON object with case, q, u (and udot)")
+    for key in ("case", "q", "u", "udot", "variant"):
+        value = getattr(args, key, None)
+        if value is not None:
+            state[key] = value if key in ("case", "variant") else _numbers(value, key)
+    for key in ("case", "q", "u"):
+        if key not in state:
+            raise InputError(f"missing {key}: give --{key} or a JSON state file with case, q, u (and udot)")
+    return state
+
+
+def _fmt(v) -> str:
+    return "[" + ", ".join(f"{x: .17g}" for x in np.ravel(v)) + "]"
+
+
+def cmd_eval(args) -> int:
+    state = _state_from_args(args)
+    fixture = fixtures.load(args.model)
+    k = relacc.g2_kinematics(
+        fixture.chain, state["case"], state["q"], state["u"], state.get("udot"),
+        variant=state.get("variant", "corrected"),
+    )
+    case = int(k.case)
+    if args.json:
+        out = {
+            "case": case,
+            "variant": k.variant,
+            "model": str(fixture.source),
+            "position": k.position.tolist(),
+            "velocity": k.velocity.tolist(),
+            "acceleration": None if k.acceleration is None else k.acceleration.tolist(),
+            "V": k.V.tolist(),
+            "Vdot": k.Vdot.tolist(),
+            "conventions": CONVENTIONS,
+        }
+        print(json.dumps(out, indent=2))
+        return 0
+    print(f"G2 kinematics, case {case} ({CASE_NAMES[case]}), variant {k.variant}")
+    print(f"model {fixture.source}: q2' = {fixture.chain.q2.tolist()} (B1 comps, m), "
+          f"r2' = {fixture.chain.r2.tolist()} (B2 comps, m)")
+    print(f"q = {COORDINATES[case]}\nu = {SPEEDS[case]}\n")
+    for name in ("position", "velocity", "acceleration"):
+        value = getattr(k, name)
+        if value is not None:
+            print(f"{name:13s}{_fmt(value)}\n{'':13s}{CONVENTIONS[name]}")
+    print(f"\nV  ({CONVENTIONS['V']}):")
+    print(np.array2string(k.V, precision=6, suppress_small=True, max_line_width=200))
+    print(f"Vdot  ({CONVENTIONS['Vdot']}):")
+    print(np.array2string(k.Vdot, precision=6, suppress_small=True, max_line_width=200))
+    return 0
+
+
+def _progress(args):
+    if args.quiet:
+        return None
+    return lambda line: print(f"  {line}", file=sys.stderr, flush=True)
+
+
+def _harness(args):
+    from relacc.validation.check import Harness
+
+    return Harness(fixtures.load(args.model), engines=args.engines, n_states=args.states, seed=args.seed,
+                   progress=_progress(args))
+
+
+def cmd_check(args) -> int:
+    harness = _harness(args)
+    report = harness.check(cases=args.cases)
+    if args.json:
+        print(json.dumps(report.as_dict(), indent=2))
+        return 0 if report.passed else 1
+    tol = report.comparisons[0].tolerance if report.comparisons else 0
+    print(f"relacc check: {report.n_states} states per case, seed {report.seed}; "
+          f"normalized error = max|x - x_engine| / magnitude of the terms; tolerance {tol:.3g} "
+          f"({tol / EPS:.0f} eps)")
+    print("versions: " + ", ".join(f"{k} {v}" for k, v in report.versions.items()))
+    header = (f"{'case':4s}  {'engine':9s}  {'route':10s}  {'quantity':12s}  {'max':>9s}  {'median':>9s}  "
+              f"{'max/eps':>7s}  result")
+    print(header)
+    print("-" * len(header))
+    for c in report.comparisons:
+        print(f"{c.case:<4d}  {c.engine:9s}  {c.route:10s}  {c.quantity:12s}  {c.max_error:9.2e}  "
+              f"{c.median_error:9.2e}  {c.max_error / EPS:7.1f}  {'pass' if c.passed else 'FAIL'}")
+    print("\nconventions (every number is about G2, in fixed-frame components):")
+    for q in QUANTITIES:
+        print(f"  {q:12s} {CONVENTIONS[q]}")
+    n, bad = len(report.comparisons), len(report.failures)
+    print(f"\n{'all ' + str(n) + ' comparisons agree' if not bad else f'{bad} of {n} comparisons DISAGREE'}")
+    return 0 if report.passed else 1
+
+
+def cmd_errata(args) -> int:
+    from relacc.validation.errata import errata
+
+    harness = _harness(args)
+    items = errata(harness)
+    ok = all(e.agrees for e in items)
+    if args.json:
+        print(json.dumps([e.as_dict() for e in items], indent=2))
+        return 0 if ok else 1
+    print(f"relacc errata: {harness.n_states} states per case, seed {harness.seed}, engines "
+          f"{', '.join(harness.engines)}; errors are max normalized errors (tolerance "
+          f"{items[0].tolerance:.3g})")
+    print(f"{'id':15s}  {'status':9s}  {'printed':>9s}  {'corrected':>9s}  explanation")
+    for e in items:
+        p = "-" if e.printed_error is None else f"{e.printed_error:9.2e}"
+        print(f"{e.id:15s}  {e.status:9s}  {p:>9s}  {e.corrected_error:9.2e}  {e.equation.explanation}")
+    return 0 if ok else 1
+
+
+def cmd_fixtures(args) -> int:
+    fixture = fixtures.load(args.model)
+    changed = fixtures.write(fixture, check=args.check)
+    if args.check:
+        if changed:
+            print(f"out of date: {', '.join(changed)} (run `relacc fixtures` to regenerate)", file=sys.stderr)
+            return 1
+        print(f"up to date: {', '.join(fixtures.MODEL_FILES)}")
+        return 0
+    print(f"wrote {', '.join(changed)}" if changed else "already up to date")
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    import time as _time
+
+    from relacc import simulate
+    from relacc.fixtures.shipped import scene_path
+    from relacc.simulate import scenes
+
+    scene = scenes.load(scene_path(args.scene))
+    changes = {k: v for k, v in (("dt", args.dt), ("integrator", args.integrator), ("duration", args.duration))
+               if v is not None}
+    if args.engines:
+        changes["engines"] = args.engines
+    if changes:
+        scene = scene.replace(**changes)
+    start = _time.perf_counter()
+    last = [0.0]
+
+    def progress(engine, fraction):  # a progress bar once the run has taken more than 2 s
+        now = _time.perf_counter()
+        if args.quiet or now - start < 2.0 or now - last[0] < 0.2:
+            return
+        last[0] = now
+        bar = "#" * int(30 * fraction)
+        print(f"\r  {engine:9s} [{bar:30s}] {100 * fraction:5.1f} %", end="", file=sys.stderr, flush=True)
+
+    result = simulate.run(scene, progress=progress)
+    if _time.perf_counter() - start >= 2.0 and not args.quiet:
+        print(file=sys.stderr)
+    if args.out:
+        for path in simulate.write_csv(result, args.out):
+            if not args.json:
+                print(f"wrote {path}")
+    summary = result.summary()
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    print(simulate.format_text(result))
+    return 0
+
+
+def cmd_tradeoff(args) -> int:
+    from relacc import tradeoff
+
+    progress = None if (args.quiet or args.json) else (lambda line: print(f"  {line}", file=sys.stderr, flush=True))
+    result = tradeoff.run(quick=args.quick, seed=args.seed, progress=progress)
+    if args.json:
+        print(json.dumps(result.as_json(), indent=2))
+        return 0
+    print(tradeoff.format_text(result))
+    return 0
+
+
+def cmd_report(args) -> int:
+    from relacc.report import build_report
+
+    path, ctx = build_report(out=args.out, n_states=args.states, seed=args.seed, quick=args.quick,
+                             model=args.model, progress=_progress(args))
+    agree = ctx.check.passed and all(e.agrees for e in ctx.errata)
+    verdict = "everything agrees" if agree else "DISAGREEMENTS found (see the verdict)"
+    print(f"wrote {path}: {verdict}")
+    return 0 if agree else 1

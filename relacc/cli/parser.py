@@ -1,0 +1,250 @@
+"""The ``relacc`` argument parser: every subcommand with a description, examples and its exit codes.
+
+Common flags mean the same everywhere they appear: ``--json`` (print JSON on
+stdout instead of text), ``--seed`` (the seed of every random state, an
+integer >= 0), ``--model`` (a chain TOML; default: the shipped
+``two_body.toml``), ``--quiet`` (no progress on stderr).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+EXIT_CODES = """exit codes:
+  0  success: everything compared agrees
+  1  a disagreement: a comparison is outside its tolerance
+  2  a usage or input error (one line on stderr)"""
+
+ENGINE_NAMES = ("pinocchio", "mujoco")
+SIM_ENGINE_NAMES = ("relacc",) + ENGINE_NAMES
+INTEGRATOR_NAMES = ("rk4", "euler", "implicit", "implicitfast")
+MAX_STATES = 10**9
+"""Largest --states any command accepts (larger requests are refused before any work)."""
+MAX_SEED = 2**63 - 1
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr (``relacc <cmd>: error: ...``) and exit 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _int_in(low: int, high: int):
+    def convert(text: str) -> int:
+        try:
+            value = int(text, 10)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"must be at least {low}, got {value}")
+        if value > high:
+            raise argparse.ArgumentTypeError(f"must be at most {high:g}, got {value}")
+        return value
+
+    return convert
+
+
+def _positive_float():
+    def convert(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+        if not (value > 0 and value < float("inf")):
+            raise argparse.ArgumentTypeError(f"expected a positive finite number, got {text!r}")
+        return value
+
+    return convert
+
+
+def _choices_list(name: str, allowed):
+    """A comma-separated subset of ``allowed``, as a tuple in the given order."""
+    def convert(text: str) -> tuple:
+        items = tuple(x.strip() for x in text.split(",") if x.strip())
+        bad = [x for x in items if x not in allowed]
+        if not items or bad:
+            raise argparse.ArgumentTypeError(f"unknown {name.lstrip('-')} {bad or [text]}: accepted are a "
+                                             f"comma-separated subset of {','.join(allowed)}")
+        return items
+
+    return convert
+
+
+def _variant(text: str):
+    """``corrected``, ``printed`` or comma-separated equation ids (as the API's ``variant=``)."""
+    if text in ("corrected", "printed"):
+        return text
+    from relacc.core.note.equations import IDS
+
+    ids = [x.strip() for x in text.split(",") if x.strip()]
+    bad = [x for x in ids if x not in IDS]
+    if not ids or bad:
+        raise argparse.ArgumentTypeError(f"expected corrected, printed or equation ids from "
+                                         f"{', '.join(IDS)}; got {text!r}")
+    return frozenset(ids)
+
+
+def _case(text: str) -> int:
+    """One case number; the message is the API's (:func:`relacc.core.cases.as_case`)."""
+    if text.strip() not in ("1", "2", "3"):
+        raise argparse.ArgumentTypeError(f"unknown case {text!r}: accepted cases are 1, 2 and 3")
+    return int(text)
+
+
+def _cases(text: str) -> tuple[int, ...]:
+    items = [x.strip() for x in text.split(",") if x.strip()]
+    if not items or any(x not in ("1", "2", "3") for x in items):
+        raise argparse.ArgumentTypeError(f"expected a comma-separated subset of 1,2,3, got {text!r}")
+    return tuple(int(x) for x in items)
+
+
+def _sub(sub, name, help_, description, examples):
+    epilog = "examples:\n" + "\n".join(f"  {e}" for e in examples) + "\n\n" + EXIT_CODES
+    return sub.add_parser(name, help=help_, description=description, epilog=epilog,
+                          formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def _model(p):
+    p.add_argument("--model", metavar="PATH", default=None,
+                   help="the chain's TOML source (default: the shipped two_body.toml; never read from the "
+                        "working directory)")
+
+
+def _seed(p):
+    p.add_argument("--seed", type=_int_in(0, MAX_SEED), default=0,
+                   help="seed of every random state, an integer >= 0 (default 0)")
+
+
+def _json(p, what="print the result as JSON on stdout"):
+    p.add_argument("--json", action="store_true", help=what)
+
+
+def _quiet(p):
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+
+
+def _states(p, default, what="states per case"):
+    p.add_argument("--states", type=_int_in(1, MAX_STATES), default=default, metavar="N",
+                   help=f"{what} (default {default})")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = OneLineParser(
+        prog="relacc",
+        description="Check the relative-coordinate formulas of a two-body chain (the velocity and classical "
+                    "acceleration of G2) against Pinocchio and MuJoCo.",
+        epilog="examples:\n  relacc check\n  relacc report --quick --out report.html\n  relacc simulate tumbling\n\n"
+               + EXIT_CODES + "\n\nrelacc COMMAND --help describes each command.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    from relacc import __version__
+
+    parser.add_argument("--version", action="version", version=f"relacc {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=OneLineParser)
+
+    p = _sub(sub, "eval", "evaluate G2's kinematics for one state",
+             "G2's position, velocity, classical acceleration, V and Vdot for one state, every number with its "
+             "point, frame of components and units. The state comes from flags or a JSON file "
+             '{"case": 1, "q": [...], "u": [...], "udot": [...], "variant": "corrected"}.',
+             ["relacc eval --case 3 --q 0,0,0,0.1,0.2,0.3,0,0,0,0,0,0 --u 0,0,0,0,0,1,0,0,0,0,0,0",
+              "relacc eval state.json --json", "echo '{\"case\": 2, ...}' | relacc eval -"])
+    p.add_argument("state", nargs="?", metavar="STATE.json",
+                   help="JSON file (or - for stdin) with case, q, u and optionally udot, variant")
+    p.add_argument("--case", type=_case, metavar="{1,2,3}",
+                   help="the choice of generalized speeds: 1 fixed-frame, 2 body-frame angular velocity, "
+                        "3 1-2-3 angle rates")
+    p.add_argument("--q", help="coordinates, comma or space separated (14 for cases 1-2, 12 for case 3)")
+    p.add_argument("--u", help="generalized speeds (12)")
+    p.add_argument("--udot", help="their time derivatives (12)")
+    p.add_argument("--variant", type=_variant, metavar="VARIANT",
+                   help="corrected (default), printed, or comma-separated equation ids taken as printed "
+                        "(e.g. eq9.2,case2-a.2)")
+    _json(p)
+    _model(p)
+
+    p = _sub(sub, "check", "cross-validate the core against the engines",
+             "Every case x engine x route x quantity: the core's corrected formulas against each engine on the "
+             "same seeded states; the error is normalized by the magnitude of the terms and held to the error "
+             "model. States are generated and evaluated in chunks, so memory stays bounded for any --states.",
+             ["relacc check", "relacc check --states 100000 --cases 3 --engines mujoco",
+              "relacc check --json --seed 7 > check.json"])
+    _states(p, 1000)
+    _seed(p)
+    p.add_argument("--cases", type=_cases, default=(1, 2, 3), metavar="1,2,3",
+                   help="comma-separated subset of 1,2,3 (default all)")
+    p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), default=ENGINE_NAMES,
+                   metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default all)")
+    _json(p)
+    _quiet(p)
+    _model(p)
+
+    p = _sub(sub, "errata", "evaluate every printed formula of the note against the engines",
+             "For each equation id of the note: ok, wrong, ambiguous or missing, with the normalized error of "
+             "its printed form and of the corrected form against every engine.",
+             ["relacc errata", "relacc errata --json"])
+    _states(p, 1000)
+    _seed(p)
+    p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), default=ENGINE_NAMES,
+                   metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default all)")
+    _json(p, "print a JSON list, one object per equation id")
+    _quiet(p)
+    _model(p)
+
+    p = _sub(sub, "fixtures", "write the engine model files from a chain's TOML",
+             "Render the MJCF and URDF files of a chain from its TOML source, beside it (all or nothing); "
+             "each file carries the SHA-256 of the TOML it came from.",
+             ["relacc fixtures --check", "relacc fixtures --model my_chain.toml"])
+    p.add_argument("--check", action="store_true", help="only check that the files are up to date (exit 1 if not)")
+    _model(p)
+
+    p = _sub(sub, "simulate", "run a scene on relacc, Pinocchio and MuJoCo and compare them",
+             "Integrate a scene (which chain, from which state, under which effects, for how long) on every "
+             "engine it lists and compare G2 along the runs. SCENE is a TOML file or the name of a shipped "
+             "scene.",
+             ["relacc simulate tumbling", "relacc simulate my_scene.toml --out runs/ --json",
+              "relacc simulate gimbal_spin --engines relacc,mujoco --dt 1e-4"])
+    p.add_argument("scene", metavar="SCENE", help="scene TOML file, or a shipped scene's name")
+    p.add_argument("--out", metavar="DIR", help="a new directory for one CSV per engine")
+    _json(p, "print the summary as JSON")
+    p.add_argument("--engines", type=_choices_list("--engines", SIM_ENGINE_NAMES), metavar="ENGINES",
+                   help=f"comma-separated subset of {','.join(SIM_ENGINE_NAMES)}")
+    p.add_argument("--dt", type=_positive_float(), help="override the scene's time step (s)")
+    p.add_argument("--duration", type=_positive_float(), help="override the scene's duration (s)")
+    p.add_argument("--integrator", choices=INTEGRATOR_NAMES, help="override the scene's integrator")
+    _quiet(p)
+
+    p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
+             "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "
+             "Richardson, complex step and the engines; whole trajectories by every engine's integrators.",
+             ["relacc tradeoff --quick", "relacc tradeoff --json > tradeoff.json"])
+    p.add_argument("--quick", action="store_true", help="a small sweep (seconds)")
+    _json(p, "print all points and orders as JSON")
+    _seed(p)
+    _quiet(p)
+    _model(p)
+
+    p = _sub(sub, "report", "write the self-contained HTML agreement report",
+             "Run the cross-validation, errata, hard cases, scenes, tradeoff and throughput, and write one "
+             "self-contained HTML page (no network needed to view it), atomically.",
+             ["relacc report", "relacc report --quick --out /tmp/report.html"])
+    p.add_argument("--out", metavar="FILE", default="reports/agreement.html",
+                   help="output file (default reports/agreement.html, relative to the working directory)")
+    p.add_argument("--states", type=_int_in(1, 10**6), default=None, metavar="N",
+                   help="states per case (default 2000, --quick 200)")
+    _seed(p)
+    p.add_argument("--quick", action="store_true", help="a small run for tests and CI")
+    _quiet(p)
+    _model(p)
+    return parser
+
+
+def subcommands(parser: argparse.ArgumentParser) -> dict:
+    """``{name: subparser}`` of a parser built by :func:`build_parser` (for tests and docs)."""
+    action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return dict(action.choices)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    build_parser().print_help(sys.stdout)

@@ -1,0 +1,57 @@
+"""Seeded random states of the chain, for tests, ``relacc check`` and the report."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from relacc.core.cases import Case, as_case
+
+
+@dataclass(frozen=True)
+class States:
+    """A batch of states of one case.
+
+    Attributes:
+        case: the choice of generalized speeds.
+        q: ``(n, 14)`` or ``(n, 12)`` coordinates (m, unit quaternions or rad).
+        u: ``(n, 12)`` speeds (m/s, rad/s). udot: ``(n, 12)`` their rates.
+        seed: the seed they were drawn with, an int or a list of ints given
+            to ``numpy.random.default_rng`` (print it when a check fails).
+    """
+
+    case: Case
+    q: np.ndarray
+    u: np.ndarray
+    udot: np.ndarray
+    seed: int | list
+
+    def __len__(self) -> int:
+        return self.q.shape[0]
+
+
+def random_unit_quaternions(rng: np.random.Generator, n: int) -> np.ndarray:
+    """``(n, 4)`` quaternions uniform on SO(3) (normalized Gaussians), both signs of ``w``."""
+    quat = rng.normal(size=(n, 4))
+    return quat / np.linalg.norm(quat, axis=-1, keepdims=True)
+
+
+def random_states(case, n: int, seed) -> States:
+    """``n`` states of ``case`` drawn from ``numpy.random.default_rng(seed)``.
+
+    Distributions: ``s1 ~ N(0, 1 m)``, ``s2' ~ N(0, 0.2 m)``, orientations
+    uniform on SO(3) (cases 1-2) or angles uniform in ``(-pi, pi)`` (case 3),
+    speeds ``N(0, 1)`` in m/s and rad/s, their rates ``N(0, 1)``.
+    """
+    c = as_case(case)
+    rng = np.random.default_rng(seed)
+    s1 = rng.normal(size=(n, 3))
+    s2 = 0.2 * rng.normal(size=(n, 3))
+    if c is Case.ANGLE_RATES:
+        q = np.concatenate([s1, rng.uniform(-np.pi, np.pi, (n, 3)), s2, rng.uniform(-np.pi, np.pi, (n, 3))], -1)
+    else:
+        q = np.concatenate([s1, random_unit_quaternions(rng, n), s2, random_unit_quaternions(rng, n)], -1)
+    u = rng.normal(size=(n, 12))
+    udot = rng.normal(size=(n, 12))
+    return States(c, q, u, udot, seed)

@@ -1,0 +1,124 @@
+"""The one error model of relacc: every tolerance in the project comes from here.
+
+A computed quantity ``x`` is compared with a reference ``x_ref`` through its
+*normalized error*
+
+    err = max_i |x_i - x_ref_i| / scale,
+
+where ``scale`` is the magnitude of the terms that are summed to form ``x``
+(:func:`term_scales`). Two float64 evaluations of the same sum of products
+differ by at most ``k * eps * scale`` where ``k`` is the number of dependent
+roundings along the longest chain of operations. The comparison passes when
+
+    err <= ROUNDING_FACTOR * eps + truncation,
+
+with ``truncation`` the derivative method's own error, zero for exact methods.
+
+``ROUNDING_FACTOR`` (c = 64) covers the longest chain in the formulas: a
+quaternion -> matrix (4 roundings), a product of three 3x3 matrices (2 x 3
+roundings each), a 3x3 times a vector (3), and a 12-term sum (12 in the worst
+order), about 30 in all, doubled for the reference's own rounding. The
+observed worst cases are written in ``docs/error-model.md``. ``c * eps`` is
+1.4e-14, well inside the project's 1e-12 target.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+EPS = float(np.finfo(np.float64).eps)
+"""Machine epsilon of float64, 2.22e-16."""
+
+ROUNDING_FACTOR = 64
+"""c: bound on the dependent roundings of one evaluation plus its reference."""
+
+TARGET = 1e-12
+"""Project target for normalized agreement; ``ROUNDING_FACTOR * EPS`` must stay below it."""
+
+QUATERNION_NORM_TOLERANCE = 1e-12
+"""Largest accepted ``|w^2 + x^2 + y^2 + z^2 - 1|``; relacc never normalizes.
+
+A deviation ``d`` perturbs every vector rotated by the quaternion by at most
+``d`` relative to its length, so accepted quaternions keep results within the
+1e-12 target.
+"""
+
+MAX_CONDITION = 1e8
+"""Largest condition number of the case-3 inverse speed map relacc accepts.
+
+Mapping angular velocities back to 1-2-3 rates amplifies relative errors by
+the condition number of ``W(theta)``, ``(1 + |sin theta2|) / |cos theta2|``; at
+1e8 the rates carry relative errors up to about 1e8 eps = 2e-8. Beyond it
+(within about 2e-8 rad of gimbal lock) relacc raises instead of answering.
+"""
+
+TRIG_ULPS = 2
+"""Largest difference, in ulps of the result, between :func:`relacc.kernels.trig.sincos` and libm's ``sin``/``cos``.
+
+Each is within 1 ulp of the exact value (fdlibm's bound for the former; the
+platform libm's documented bound, glibc's here, for the latter), so they
+differ by at most 2 ulps. The fused kernels' case-3 results therefore differ
+from the reference's by a few more roundings than the factor-8 agreement of
+``tests/test_fast.py`` already allows for: a sine or cosine enters each term
+through at most three factors.
+"""
+
+COMPLEX_STEP = 1e-20
+"""Step ``h`` of the complex-step derivative ``Im f(x + i h) / h``.
+
+Its truncation error is ``h^2 |f'''| / 6``, below 1e-40 relative here; it has no
+subtractive cancellation, so the derivative is exact to rounding.
+"""
+
+
+def rounding_tolerance(factor: float = ROUNDING_FACTOR) -> float:
+    """Tolerance on a normalized error that comes from rounding only: ``factor * eps``."""
+    return factor * EPS
+
+
+def richardson_bound(h: float, fifth_derivative_scale, value_scale):
+    """Error bound of Richardson extrapolation of central differences, ``(4 D(h/2) - D(h)) / 3``.
+
+    Truncation ``h^4 |f^(5)| / 480`` plus rounding ``1.5 eps |f| / h`` (the
+    differences amplify each value's rounding by ``1/h``); scales may be arrays.
+    """
+    return h**4 / 480 * fifth_derivative_scale + 1.5 * EPS / h * value_scale
+
+
+def normalized_error(x, ref, scale):
+    """``max |x - ref| / scale`` over the trailing (vector or matrix) axes.
+
+    Args:
+        x, ref: arrays of equal shape ``(..., 3)`` or ``(..., 3, 12)``.
+        scale: ``(...)`` magnitude of the terms (same units as ``x``).
+
+    Returns:
+        ``(...)`` dimensionless normalized error; ``0`` where ``x == ref``
+        exactly, even if ``scale`` is zero.
+    """
+    x, ref, scale = np.asarray(x), np.asarray(ref), np.asarray(scale, dtype=float)
+    diff = np.abs(x - ref)
+    extra = diff.ndim - scale.ndim
+    diff = diff.reshape(diff.shape[: diff.ndim - extra] + (-1,)).max(axis=-1)
+    tiny = np.finfo(np.float64).tiny
+    return np.where(diff == 0, 0.0, diff / np.maximum(scale, tiny))
+
+
+def assert_agree(x, ref, scale, *, what: str, seed=None, factor: float = ROUNDING_FACTOR, truncation: float = 0.0):
+    """Assert ``normalized_error(x, ref, scale) <= factor * eps + truncation`` everywhere.
+
+    On failure the message names the quantity, the worst state's batch index,
+    the error in units of eps, the tolerance and the seed.
+
+    Returns:
+        The ``(...)`` array of normalized errors, for reporting.
+    """
+    err = np.asarray(normalized_error(x, ref, scale))
+    tol = factor * EPS + truncation
+    if not np.all(err <= tol):
+        idx = np.unravel_index(np.argmax(np.where(np.isnan(err), np.inf, err)), err.shape) if err.ndim else ()
+        raise AssertionError(
+            f"{what}: normalized error {float(err[idx]):.3g} ({float(err[idx]) / EPS:.1f} eps) > "
+            f"tolerance {tol:.3g} at state {tuple(int(i) for i in idx)} (seed {seed})"
+        )
+    return err

@@ -1,0 +1,12 @@
+"""Kernels: the fused, compiled (numba) evaluations of the core's corrected formulas.
+
+Layer rule: imports the core and numba; never an engine. Nothing here is
+imported by ``import relacc``: :mod:`relacc.core.kinematics` and
+:mod:`relacc.dynamics` import these modules at the first batched call.
+
+* :mod:`~relacc.kernels.jit`: the numba switch (compiled or plain Python).
+* :mod:`~relacc.kernels.trig`: branch-free fdlibm ``sincos``.
+* :mod:`~relacc.kernels.perstate`: the per-state arithmetic shared by the loops.
+* :mod:`~relacc.kernels.kinematics`: batch loops behind :func:`relacc.g2_kinematics`.
+* :mod:`~relacc.kernels.dynamics`: Kane's ``M``, ``f`` per state, and the SO(3) steps.
+"""

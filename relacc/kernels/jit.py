@@ -1,0 +1,31 @@
+"""numba, when importable, and the decorator that makes a function both Python and compilable.
+
+The fused kernels (:mod:`relacc.kernels.perstate`, :mod:`relacc.kernels.trig`) are plain
+arithmetic on scalars or tuples: :func:`jitable` leaves them runnable as
+Python on whole numpy columns (the numpy backend) and lets numba compile them
+when called from jitted code (``numba.extending.register_jitable``).
+"""
+
+from __future__ import annotations
+
+try:  # numba is a dependency; without it the functions stay plain Python
+    import numba
+    import numba.extending
+
+    HAVE_NUMBA = True
+except ImportError:  # pragma: no cover - exercised only without numba
+    numba = None
+    HAVE_NUMBA = False
+
+
+def jitable(fn=None, *, inline=False):
+    """Plain Python when called from Python (the numpy backend); compiled when called from numba code.
+
+    ``inline=True`` inlines the function into its callers at numba's level (``inline='always'``),
+    for row helpers called in hot loops, where constants like the case then propagate into the body.
+    """
+    if fn is None:
+        return lambda f: jitable(f, inline=inline)
+    if not HAVE_NUMBA:
+        return fn
+    return numba.extending.register_jitable(inline="always")(fn) if inline else numba.extending.register_jitable(fn)

@@ -1,0 +1,272 @@
+"""Throughput: relacc's batched kernels against looping Pinocchio and MuJoCo from Python.
+
+One run, the same states for everyone, per case and per output:
+
+* ``acceleration``: G2's classical acceleration only. Pinocchio:
+  ``forwardKinematics(q, v, a)`` + ``updateFramePlacement`` +
+  ``getFrameClassicalAcceleration`` per state. MuJoCo: ``mj_kinematics``,
+  ``mj_comPos``, ``mj_comVel``, ``mj_rnePostConstraint``,
+  ``mj_objectAcceleration`` per state.
+* ``full``: position, velocity, acceleration, V and Vdot. Pinocchio adds
+  ``computeJointJacobians``, ``computeJointJacobiansTimeVariation``,
+  ``getFrameJacobian``, ``getFrameJacobianTimeVariation`` (LOCAL_WORLD_ALIGNED);
+  MuJoCo adds ``mj_jac`` and ``mj_jacDot``.
+
+Every loop stores its results into preallocated arrays. relacc is also timed
+on one thread (``relacc-1-thread``), like for like with the single-threaded
+engine loops; its default uses every core numba is given. Engine coordinates
+are prepared before timing (cases 1-2: the quaternion fixture; case 3: the
+Euler fixtures, whose coordinates are case 3's own), and the engines return
+Jacobians in their own velocity coordinates: the comparison favours the
+engines. Times are medians (headline) and minima of repeats after full-size warm-ups
+(:func:`wall_times`).
+
+Used by ``benchmarks/throughput.py`` (the recorded runs) and by the report's
+throughput section (a smaller run on the machine the report is made on).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as dt
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+import relacc
+from relacc.core.states import random_states
+from relacc.engines import load_engine
+from relacc.fixtures import load
+from relacc.kernels import kinematics as fast
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def source_commit() -> str | None:
+    """The git commit relacc is imported from (``+dirty`` with local changes), or None outside a checkout."""
+    root = Path(relacc.__file__).resolve().parent.parent
+    try:
+        head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True, timeout=10, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=10, check=True).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return head + ("+dirty" if dirty else "") if head else None
+
+
+def machine() -> dict:
+    return {
+        "date": dt.date.today().isoformat(),
+        "cpu": cpu_model(),
+        "logical_cpus": os.cpu_count(),
+        "system": f"{platform.system()} {platform.release()} {platform.machine()}",
+        "python": sys.version.split()[0],
+        "numpy": np.__version__,
+        "numba": fast.numba.__version__ if fast.HAVE_NUMBA else None,
+        "relacc_backend": fast.BACKEND,
+        "pinocchio": pin.__version__,
+        "mujoco": mujoco.__version__,
+        "relacc": relacc.__version__,
+        "relacc_commit": source_commit(),
+    }
+
+
+@contextlib.contextmanager
+def one_thread():
+    """numba's parallel loops on one thread inside the block (no-op on the numpy backend)."""
+    if not fast.HAVE_NUMBA:
+        yield
+        return
+    before = fast.numba.get_num_threads()
+    fast.numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        fast.numba.set_num_threads(before)
+
+
+def wall_times(fn, repeats: int, warmups: int = 2) -> tuple[float, float]:
+    """``(median, minimum)`` wall time (s) of ``repeats`` calls after ``warmups`` full-size warm-up calls.
+
+    The median is the headline; the minimum is the cost without interference (on a shared
+    2-vCPU VM interference only adds time, and it hits relacc's two threads harder than the
+    single-threaded engine loops), the estimator ``timeit`` recommends.
+    """
+    for _ in range(warmups):  # compilation, thread pool, first-touch memory
+        fn()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return float(np.median(times)), float(np.min(times))
+
+
+def pinocchio_loop(model, data, frame, q, v, a, full: bool):
+    """A closure looping Pinocchio over the states; its ``acc`` attribute holds G2's accelerations (world)."""
+    n = q.shape[0]
+    acc = np.empty((n, 3))
+    if full:
+        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, model.nv)), np.empty((n, 3, model.nv))
+
+    def run():
+        for i in range(n):
+            pin.forwardKinematics(model, data, q[i], v[i], a[i])
+            pin.updateFramePlacement(model, data, frame)
+            acc[i] = pin.getFrameClassicalAcceleration(model, data, frame, LWA).linear
+            if full:
+                pos[i] = data.oMf[frame].translation
+                pin.computeJointJacobiansTimeVariation(model, data, q[i], v[i])
+                J[i] = pin.getFrameJacobian(model, data, frame, LWA)[:3]
+                Jd[i] = pin.getFrameJacobianTimeVariation(model, data, frame, LWA)[:3]
+
+    run.acc = acc
+    return run
+
+
+def mujoco_loop(model, data, site, body, q, v, a, full: bool):
+    """A closure looping MuJoCo over the states; its ``acc`` attribute holds G2's accelerations (world).
+
+    Gravity must be off in ``model`` (the adapters keep it so): ``mj_objectAcceleration``
+    reports proper acceleration.
+    """
+    n = q.shape[0]
+    acc, res = np.empty((n, 3)), np.empty(6)
+    if full:
+        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, model.nv)), np.empty((n, 3, model.nv))
+
+    def run():
+        for i in range(n):
+            data.qpos[:] = q[i]
+            data.qvel[:] = v[i]
+            data.qacc[:] = a[i]
+            mujoco.mj_kinematics(model, data)
+            mujoco.mj_comPos(model, data)
+            mujoco.mj_comVel(model, data)
+            mujoco.mj_rnePostConstraint(model, data)
+            mujoco.mj_objectAcceleration(model, data, mujoco.mjtObj.mjOBJ_SITE, site, res, 0)
+            acc[i] = res[3:]
+            if full:
+                pos[i] = data.site_xpos[site]
+                mujoco.mj_jac(model, data, J[i], None, pos[i], body)
+                mujoco.mj_jacDot(model, data, Jd[i], None, pos[i], body)
+
+    run.acc = acc
+    return run
+
+
+def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
+    """Time every row (see the module docstring); returns plain data with the machine's description."""
+    described = machine()  # before timing: the commit as it was when the run started
+    fixture = fixture if fixture is not None else load()
+    chain = fixture.chain
+    engines = {name: load_engine(name, fixture) for name in ("pinocchio", "mujoco")}
+    states = {case: random_states(case, n_states, [seed, case]) for case in (1, 2, 3)}
+    timings = {}
+    # relacc first, every case, so its timings never follow seconds of single-threaded engine loops
+    many = max(repeats, 30)  # relacc's calls take milliseconds: more of them, after more warm-ups
+    for case, s in states.items():
+        timings[(case, "relacc", "acceleration")] = wall_times(
+            lambda: relacc.g2_acceleration(chain, case, s.q, s.u, s.udot), many, warmups=5)
+        timings[(case, "relacc", "full")] = wall_times(
+            lambda: relacc.g2_kinematics(chain, case, s.q, s.u, s.udot), many, warmups=5)
+        with one_thread():  # like for like with the single-threaded engine loops
+            timings[(case, "relacc-1-thread", "acceleration")] = wall_times(
+                lambda: relacc.g2_acceleration(chain, case, s.q, s.u, s.udot), many, warmups=5)
+            timings[(case, "relacc-1-thread", "full")] = wall_times(
+                lambda: relacc.g2_kinematics(chain, case, s.q, s.u, s.udot), many, warmups=5)
+        small = slice(0, max(n_states // 10, 1))  # the note's reference implementation, for information
+        timings[(case, "relacc-reference", "full")] = wall_times(
+            lambda: relacc.g2_kinematics(chain, case, s.q[small], s.u[small], s.udot[small], backend="reference"),
+            repeats)
+        timings[(case, "relacc-reference", "full")] = tuple(
+            x * n_states / len(s.q[small]) for x in timings[(case, "relacc-reference", "full")])
+    for case, s in states.items():
+        route = "euler" if case == 3 else "quaternion"
+        c = relacc.Case(case)
+        e = engines["pinocchio"]
+        x = e.engine_input(route, c, s.q, s.u, s.udot)
+        r = e.routes[route]
+        for output in ("acceleration", "full"):
+            timings[(case, "pinocchio", output)] = wall_times(
+                pinocchio_loop(r.model, r.data, r.frame, x.q, x.v, x.a, output == "full"), max(1, repeats // 3))
+        e = engines["mujoco"]
+        x = e.engine_input(route, c, s.q, s.u, s.udot)
+        r = e.routes[route]
+        for output in ("acceleration", "full"):
+            timings[(case, "mujoco", output)] = wall_times(
+                mujoco_loop(r.model, r.data, r.site, r.body, x.q, x.v, x.a, output == "full"), max(1, repeats // 3))
+    rows = [
+        {"case": case, "who": who, "output": output, "seconds": median, "seconds_min": best,
+         "states_per_second": n_states / median, "states_per_second_best": n_states / best,
+         "engine_route": ("euler" if case == 3 else "quaternion") if who in ("pinocchio", "mujoco") else None}
+        for (case, who, output), (median, best) in sorted(timings.items())
+    ]
+    for row in rows:
+        base = next(r for r in rows if r["case"] == row["case"] and r["output"] == row["output"]
+                    and r["who"] == "relacc")
+        row["relacc_speedup_over_this"] = row["seconds"] / base["seconds"]
+        row["relacc_speedup_over_this_best"] = row["seconds_min"] / base["seconds_min"]
+    return {"machine": described, "n_states": n_states, "repeats": repeats, "seed": seed, "rows": rows}
+
+
+
+
+def recorded_runs(directory: Path | None = None) -> list[dict]:
+    """The recorded throughput runs, oldest first: plain data for the report.
+
+    Each is ``{"file", "machine", "n_states", "ratios"}`` with ``ratios[(case, output)]`` a dict of
+    relacc's speed-up over ``pinocchio`` and ``mujoco`` and, when recorded, relacc on one thread
+    over Pinocchio (``one_thread_over_pinocchio``). An empty list when no run is recorded.
+    """
+    if directory is None:
+        from relacc.fixtures.shipped import recorded_dir
+
+        directory = recorded_dir()
+    directory = Path(directory)
+    runs = []
+    for path in sorted(directory.glob("throughput-*.json")) if directory.is_dir() else []:
+        data = json.loads(path.read_text())
+        rows = {(r["case"], r["who"], r["output"]): r for r in data["rows"]}
+        ratios = {}
+        for (case, who, output), r in rows.items():
+            if who in ("pinocchio", "mujoco"):
+                ratios.setdefault((case, output), {})[who] = r["relacc_speedup_over_this"]
+                if "relacc_speedup_over_this_best" in r:
+                    ratios[(case, output)][who + "_best"] = r["relacc_speedup_over_this_best"]
+                one = rows.get((case, "relacc-1-thread", output))
+                if who == "pinocchio" and one:
+                    ratios[(case, output)]["one_thread_over_pinocchio"] = r["seconds"] / one["seconds"]
+        runs.append({"file": path.name, "machine": data["machine"], "n_states": data["n_states"], "ratios": ratios})
+    return runs
+
+
+def print_table(result: dict) -> None:
+    m = result["machine"]
+    print(f"throughput, {result['n_states']} states per case, median of {result['repeats']} repeats; "
+          f"{m['date']}, {m['cpu']}, {m['logical_cpus']} CPUs, relacc backend {m['relacc_backend']}")
+    print(f"{'case':4s} {'output':13s} {'who':17s} {'states/s':>12s} {'relacc is x faster':>19s} "
+          f"{'best states/s':>14s} {'x (best)':>9s}")
+    for r in result["rows"]:
+        print(f"{r['case']:<4d} {r['output']:13s} {r['who']:17s} {r['states_per_second']:12,.0f} "
+              f"{r['relacc_speedup_over_this']:19.1f} {r['states_per_second_best']:14,.0f} "
+              f"{r['relacc_speedup_over_this_best']:9.1f}")

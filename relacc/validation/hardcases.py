@@ -1,0 +1,261 @@
+"""The hard-case catalogue: states where accuracy is hardest to keep, and what to expect there.
+
+Every entry is named, parametrized and states its accuracy model. Running an
+entry compares, for each case it applies to,
+
+* the core against complex-step derivatives of its own position and V
+  (velocity, V u, acceleration, Vdot): condition 1 everywhere, because the
+  note's forward formulas never divide and never subtract positions;
+* each engine against the core: condition 1, except for the quantities the
+  engine forms in global coordinates (``Engine.global_coordinates``), whose
+  condition is :func:`relacc.core.scales.global_condition`,
+  ``1 + |s1| m / scale``.
+
+An entry passes when every error is at most ``c eps condition`` and every
+value is finite.
+
+Families:
+
+* ``gimbal``: case 3 with the middle angle of B1 or B2 at
+  ``+-(pi/2 - delta)``, delta from 1e-1 to 1e-12 and 0.
+* ``quaternion``: identity, half turns (w = 0), the antipodal sign (w < 0),
+  near-identity relative rotations.
+* ``spin``: angular rates up to 1e6 rad/s (angular accelerations scaled alike).
+* ``far``: B1's origin up to 1e8 m from R's origin.
+* ``geometry``: ``|r2'|`` or ``|q2'|`` from 0 and 1e-12 m to 1e3 m; prismatic
+  offsets up to 1e3 m.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+import relacc
+from relacc.core.chain import TwoBodyChain
+from relacc.core.conventions import QUANTITIES
+from relacc.core.derivatives import along_motion
+from relacc.core.scales import term_scales
+from relacc.core.states import random_states, random_unit_quaternions
+from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
+from relacc.fixtures import Fixture, write
+from relacc.validation.check import routes_for
+
+N_STATES = 12
+"""States per entry and case."""
+
+
+@dataclass(frozen=True)
+class HardCase:
+    """One entry of the catalogue.
+
+    Attributes:
+        name: unique id, e.g. ``gimbal-B1+1e-06``.
+        family: ``gimbal``, ``quaternion``, ``spin``, ``far`` or ``geometry``.
+        parameter: the family's knob (delta in rad, rate in rad/s, distance
+            or length in m; 0 for the quaternion family).
+        cases: the cases it applies to.
+        description: one line.
+        model: the accuracy model, in words.
+        geometry: overrides of the chain (``q2``, ``r2``), or empty.
+        edit: the state edit, see :func:`states_for`.
+    """
+
+    name: str
+    family: str
+    parameter: float
+    cases: tuple[int, ...]
+    description: str
+    model: str
+    geometry: dict = field(default_factory=dict)
+    edit: tuple = ()
+
+
+_COND1 = "error <= c eps: the forward formulas and the engines' maps are well conditioned here"
+_GLOBAL = ("core: error <= c eps; engines: error <= c eps (1 + |s1| m / scale) for the quantities they form in "
+           "global coordinates (relacc.core.scales.global_condition), m the quantity's change per metre of lever")
+
+
+def catalogue() -> tuple[HardCase, ...]:
+    """Every entry, in family order."""
+    out = []
+    for body in ("B1", "B2"):
+        for sign in (+1, -1):
+            for delta in (1e-1, 1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 0.0):
+                out.append(HardCase(
+                    f"gimbal-{body}{'+' if sign > 0 else '-'}{delta:.0e}", "gimbal", delta, (3,),
+                    f"theta_{body} middle angle = {'+' if sign > 0 else '-'}(pi/2 - {delta:g})",
+                    _COND1 + " (only the inverse map, rates from angular velocity, is singular)",
+                    edit=("gimbal", body, sign, delta)))
+    for name, desc, edit in (
+        ("quat-identity", "both quaternions (1, 0, 0, 0)", ("identity",)),
+        ("quat-half-turn", "both quaternions with w = 0 (half turns about random axes)", ("half_turn",)),
+        ("quat-antipodal", "both quaternions with w < 0 (the antipodal sign)", ("antipodal",)),
+        ("quat-near-identity-1e-08", "relative rotation B2/B1 by 1e-8 rad", ("near_identity", 1e-8)),
+        ("quat-near-identity-1e-15", "relative rotation B2/B1 by 1e-15 rad", ("near_identity", 1e-15)),
+    ):
+        out.append(HardCase(name, "quaternion", 0.0, (1, 2), desc, _COND1, edit=edit))
+    for rate in (1e0, 1e2, 1e4, 1e6):
+        out.append(HardCase(f"spin-{rate:.0e}", "spin", rate, (1, 2, 3),
+                            f"angular speeds (and accelerations) of norm {rate:g} rad/s", _COND1,
+                            edit=("spin", rate)))
+    for dist in (1e0, 1e2, 1e4, 1e6, 1e8):
+        out.append(HardCase(f"far-{dist:.0e}", "far", dist, (1, 2, 3), f"|s1| = {dist:g} m", _GLOBAL,
+                            edit=("far", dist)))
+    for length in (0.0, 1e-12, 1e-6, 1e3):
+        out.append(HardCase(f"geometry-r2-{length:.0e}", "geometry", length, (1, 2, 3), f"|r2'| = {length:g} m",
+                            _COND1 + "; MuJoCo: plus the offset its compiler drops for sites within ~1e-6 m of "
+                            "their body (Engine.lost_offset)", geometry={"r2": length}))
+        out.append(HardCase(f"geometry-q2-{length:.0e}", "geometry", length, (1, 2, 3), f"|q2'| = {length:g} m",
+                            _COND1, geometry={"q2": length}))
+    out.append(HardCase("geometry-s2-1e+03", "geometry", 1e3, (1, 2, 3), "|s2'| = 1000 m (large prismatic offset)",
+                        _COND1, edit=("s2", 1e3)))
+    return tuple(out)
+
+
+def chain_for(hc: HardCase, base: TwoBodyChain) -> TwoBodyChain:
+    """The base chain with the entry's geometry: each override keeps the vector's direction."""
+    return replace(base, **{key: length * getattr(base, key) / np.linalg.norm(getattr(base, key))
+                            for key, length in hc.geometry.items()})
+
+
+def states_for(hc: HardCase, case: int, n: int = N_STATES, seed: int = 0):
+    """``(q, u, udot)`` of an entry for one case: seeded random states with the entry's edit.
+
+    States come from ``relacc.core.states.random_states(case, n, [seed, case, k])`` where
+    ``k`` is the entry's position in the catalogue.
+    """
+    k = [h.name for h in catalogue()].index(hc.name)
+    s = random_states(case, n, [seed, case, k])
+    q, u, udot = s.q.copy(), s.u.copy(), s.udot.copy()
+    rng = np.random.default_rng([seed, case, k, 1])
+    kind = hc.edit[0] if hc.edit else None
+    if kind == "gimbal":
+        _, body, sign, delta = hc.edit
+        q[:, 4 if body == "B1" else 10] = sign * (np.pi / 2 - delta)
+    elif kind == "identity":
+        q[:, 3:7] = q[:, 10:14] = (1.0, 0.0, 0.0, 0.0)
+    elif kind == "half_turn":
+        for sl in (slice(3, 7), slice(10, 14)):
+            axis = rng.normal(size=(n, 3))
+            q[:, sl] = np.c_[np.zeros(n), axis / np.linalg.norm(axis, axis=1, keepdims=True)]
+    elif kind == "antipodal":
+        for sl in (slice(3, 7), slice(10, 14)):
+            quat = random_unit_quaternions(rng, n)
+            q[:, sl] = -quat * np.sign(quat[:, :1])
+    elif kind == "near_identity":
+        angle = hc.edit[1]
+        axis = rng.normal(size=(n, 3))
+        q[:, 10:14] = relacc.quaternion_exp(angle * axis / np.linalg.norm(axis, axis=1, keepdims=True))
+    elif kind == "spin":
+        rate = hc.edit[1]
+        for sl in (slice(3, 6), slice(9, 12)):
+            u[:, sl] *= rate / np.linalg.norm(u[:, sl], axis=1, keepdims=True)
+            udot[:, sl] *= rate / np.linalg.norm(udot[:, sl], axis=1, keepdims=True)
+    elif kind == "far":
+        q[:, 0:3] *= hc.edit[1] / np.linalg.norm(q[:, 0:3], axis=1, keepdims=True)
+    elif kind == "s2":
+        sl = slice(7, 10) if case != 3 else slice(6, 9)
+        q[:, sl] *= hc.edit[1] / np.linalg.norm(q[:, sl], axis=1, keepdims=True)
+    return q, u, udot
+
+
+@dataclass(frozen=True)
+class Result:
+    """One entry x case x evaluator x quantity.
+
+    Attributes:
+        evaluator: ``relacc`` (core vs complex step) or ``<engine>/<route>`` (engine vs core).
+        max_error: largest normalized error. max_bound: largest bound of the
+            accuracy model (``c eps`` for the core; :meth:`Engine.bound` for engines).
+        max_ratio: largest error / bound; passes when <= 1.
+        finite: every value the evaluator returned is finite.
+    """
+
+    name: str
+    family: str
+    parameter: float
+    case: int
+    evaluator: str
+    quantity: str
+    max_error: float
+    max_bound: float
+    max_ratio: float
+    finite: bool
+
+    @property
+    def passed(self) -> bool:
+        return self.finite and self.max_ratio <= 1.0
+
+
+class Runner:
+    """Runs catalogue entries against the core and engines; caches engines per geometry."""
+
+    def __init__(self, fixture: Fixture, engines=("pinocchio", "mujoco"), n: int = N_STATES, seed: int = 0):
+        self.fixture, self.engine_names, self.n, self.seed = fixture, tuple(engines), n, seed
+        self._engines = {}
+        self._tmp = tempfile.TemporaryDirectory(prefix="relacc-hard-")
+
+    def engines_for(self, hc: HardCase):
+        """Engines loaded with the entry's geometry (fixture files written to a temporary directory)."""
+        key = tuple(sorted(hc.geometry.items()))
+        if key not in self._engines:
+            fixture = self.fixture
+            if hc.geometry:
+                source = Path(self._tmp.name) / f"{len(self._engines)}" / "two_body.toml"
+                source.parent.mkdir(parents=True, exist_ok=True)
+                fixture = Fixture(f"{self.fixture.name}_{len(self._engines)}", chain_for(hc, self.fixture.chain),
+                                  source)
+                write(fixture)
+            from relacc.engines import load_engine
+
+            self._engines[key] = {name: load_engine(name, fixture) for name in self.engine_names}
+        return self._engines[key]
+
+    def run(self, hc: HardCase) -> list[Result]:
+        chain = chain_for(hc, self.fixture.chain)
+        out = []
+        for case in hc.cases:
+            q, u, udot = states_for(hc, case, self.n, self.seed)
+            core = relacc.g2_kinematics(chain, case, q, u, udot)
+            sc = term_scales(chain, case, q, u, udot)
+            field_of = lambda name: (lambda qq, uu: getattr(relacc.g2_kinematics(chain, case, qq, uu), name))  # noqa: E731
+            r_dot = along_motion(case, q, u, None, field_of("position"))  # reference for v and V u alike
+            refs = {
+                "velocity": (core.velocity, r_dot),
+                "V": (np.einsum("nij,nj->ni", core.V, u), r_dot),
+                "acceleration": (core.acceleration, along_motion(case, q, u, udot, field_of("velocity"))),
+                "Vdot": (core.Vdot, along_motion(case, q, u, None, field_of("V"))),
+            }
+            tol = np.full(len(q), rounding_tolerance())
+            for qty, (value, ref) in refs.items():
+                scale = sc.velocity if qty == "V" else sc.of(qty)
+                out.append(self._result(hc, case, "relacc", qty, value, ref, scale, tol))
+            for name, engine in self.engines_for(hc).items():
+                for route in routes_for(case):
+                    ke = engine.g2_kinematics(case, q, u, udot, route=route)
+                    for qty in QUANTITIES:
+                        bound = engine.bound(route, qty, chain, case, q, u, udot)
+                        out.append(self._result(hc, case, f"{name}/{route}", qty, getattr(ke, qty),
+                                                getattr(core, qty), sc.of(qty), bound))
+        return out
+
+    @staticmethod
+    def _result(hc, case, evaluator, qty, value, ref, scale, bound) -> Result:
+        err = normalized_error(value, ref, scale)
+        finite = bool(np.all(np.isfinite(value)))
+        ratio = err / bound
+        return Result(hc.name, hc.family, hc.parameter, case, evaluator, qty, float(np.max(err)),
+                      float(np.max(bound)), float(np.max(ratio)) if finite else float("inf"), finite)
+
+
+def run_catalogue(fixture: Fixture, engines=("pinocchio", "mujoco"), n=N_STATES, seed=0) -> list[Result]:
+    """Every entry's results."""
+    runner = Runner(fixture, engines, n, seed)
+    return [r for hc in catalogue() for r in runner.run(hc)]
+
+
+__all__ = ["EPS", "HardCase", "Result", "Runner", "catalogue", "chain_for", "run_catalogue", "states_for"]

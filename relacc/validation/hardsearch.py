@@ -1,0 +1,134 @@
+"""A Hypothesis search for the state with the largest error relative to its accuracy model.
+
+States are drawn over decades of magnitude (B1 up to 1e8 m from the origin,
+angular speeds 1e-3 to 1e6 rad/s, angles near gimbal lock) and
+``hypothesis.target`` steers toward the largest ``error / bound`` of the core
+against complex-step derivatives and of each engine against the core.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+import relacc
+from relacc.core.conventions import QUANTITIES
+from relacc.core.derivatives import along_motion
+from relacc.core.scales import term_scales
+from relacc.core.tolerances import normalized_error, rounding_tolerance
+from relacc.fixtures import Fixture
+from relacc.validation.check import routes_for
+from relacc.validation.hardcases import _GLOBAL, HardCase, Runner
+
+
+@dataclass(frozen=True)
+class Worst:
+    """The worst state a Hypothesis search found (largest error / bound).
+
+    Attributes:
+        ratio: error / bound of the accuracy model (passes when <= 1).
+        evaluator, quantity, case: where it occurred.
+        error: normalized error; bound: the model's bound there.
+        description: the state's magnitudes in words. q, u, udot: the state.
+        examples: states tried.
+    """
+
+    ratio: float
+    evaluator: str
+    quantity: str
+    case: int
+    error: float
+    bound: float
+    description: str
+    q: list
+    u: list
+    udot: list
+    examples: int
+
+
+_FIXTURE_GEOMETRY = HardCase("fixture", "fixture", 0.0, (1, 2, 3), "the fixture's own geometry", _GLOBAL)
+
+
+def _draw_state(data, st):
+    """A state drawn over decades: |s1| 1e0..1e8 m, rates 1e-3..1e6 rad/s, angles near gimbal lock."""
+    case = data.draw(st.sampled_from([1, 2, 3]), label="case")
+    unit = st.lists(st.floats(-1, 1), min_size=3, max_size=3).filter(lambda v: sum(x * x for x in v) > 1e-2)
+
+    def vec(exp_lo, exp_hi, label):
+        e = data.draw(st.floats(exp_lo, exp_hi), label=f"log10 |{label}|")
+        d = np.array(data.draw(unit, label=f"{label} direction"))
+        return 10.0**e * d / np.linalg.norm(d), e
+
+    s1, e_s1 = vec(0, 8, "s1")
+    s2, e_s2 = vec(-3, 3, "s2'")
+    w1, e_w = vec(-3, 6, "angular speed B1")
+    w2, _ = vec(-3, 6, "angular speed B2")
+    lin = np.array(data.draw(st.lists(st.floats(-10, 10), min_size=6, max_size=6), label="s1_dot, s2'_dot"))
+    acc = np.array(data.draw(st.lists(st.floats(-1, 1), min_size=12, max_size=12), label="udot"))
+    udot = acc * np.r_[1, 1, 1, [10.0**e_w] * 3, 1, 1, 1, [10.0**e_w] * 3] ** 2
+    u = np.r_[lin[:3], w1, lin[3:], w2]
+    if case == 3:
+        angles = np.array(data.draw(st.lists(st.floats(-np.pi, np.pi), min_size=6, max_size=6), label="angles"))
+        for k in (1, 4):  # middle angles: sometimes within 10^-d of gimbal lock
+            if data.draw(st.booleans(), label="near gimbal lock"):
+                delta = 10.0 ** -data.draw(st.floats(1, 12), label="log10 1/delta")
+                angles[k] = np.sign(angles[k] or 1.0) * (np.pi / 2 - delta)
+        q = np.r_[s1, angles[:3], s2, angles[3:]]
+    else:
+        quats = np.array(data.draw(st.lists(st.floats(-1, 1), min_size=8, max_size=8)
+                                   .filter(lambda v: min(sum(x * x for x in v[:4]), sum(x * x for x in v[4:])) > 1e-2),
+                                   label="quaternions"))
+        q = np.r_[s1, quats[:4] / np.linalg.norm(quats[:4]), s2, quats[4:] / np.linalg.norm(quats[4:])]
+    desc = f"case {case}, |s1| = 1e{e_s1:.1f} m, |s2'| = 1e{e_s2:.1f} m, |omega| up to 1e{e_w:.1f} rad/s"
+    return case, q, u, udot, desc
+
+
+def hypothesis_search(fixture: Fixture, max_examples: int = 100, seed: int = 0,
+                      engines=("pinocchio", "mujoco")) -> Worst:
+    """Let Hypothesis push toward the largest error / bound over random states; return the worst.
+
+    Each example draws one state (:func:`_draw_state`) and compares the core
+    with every engine and route (with their accuracy models) and with
+    complex-step derivatives; ``hypothesis.target`` steers toward the largest
+    ratio. Deterministic for a given ``seed`` (no example database).
+    """
+    import hypothesis
+    from hypothesis import HealthCheck, Phase, given, settings, target
+    from hypothesis import strategies as st
+
+    runner = Runner(fixture, engines)
+    chain = fixture.chain
+    worst: dict = {"ratio": -1.0}
+    count = [0]
+
+    @hypothesis.seed(seed)
+    @settings(max_examples=max_examples, database=None, deadline=None, derandomize=False,
+              phases=[Phase.generate, Phase.target], suppress_health_check=list(HealthCheck))
+    @given(st.data())
+    def probe(data):
+        case, q, u, udot, desc = _draw_state(data, st)
+        count[0] += 1
+        best = None
+        core = relacc.g2_kinematics(chain, case, q, u, udot)
+        sc = term_scales(chain, case, q, u, udot)
+        acc_ref = along_motion(case, q, u, udot, lambda qq, uu: relacc.g2_kinematics(chain, case, qq, uu).velocity)
+        checks = [("relacc", "acceleration", core.acceleration, acc_ref, sc.acceleration, rounding_tolerance())]
+        for name, engine in runner.engines_for(_FIXTURE_GEOMETRY).items():
+            for route in routes_for(case):
+                ke = engine.g2_kinematics(case, q, u, udot, route=route)
+                for qty in QUANTITIES:
+                    checks.append((f"{name}/{route}", qty, getattr(ke, qty), getattr(core, qty), sc.of(qty),
+                                   float(engine.bound(route, qty, chain, case, q, u, udot))))
+        for evaluator, qty, value, ref, scale, bound in checks:
+            err = float(normalized_error(value, ref, scale))
+            ratio = err / bound if np.all(np.isfinite(value)) else float("inf")
+            if best is None or ratio > best[0]:
+                best = (ratio, evaluator, qty, err, bound)
+        target(best[0], label="error / bound")
+        if best[0] > worst["ratio"]:
+            worst.update(ratio=best[0], evaluator=best[1], quantity=best[2], case=case, error=best[3],
+                         bound=best[4], description=desc, q=q.tolist(), u=u.tolist(), udot=udot.tolist())
+
+    probe()
+    return Worst(examples=count[0], **worst)
