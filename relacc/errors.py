@@ -36,5 +36,9 @@ class EngineError(RelaccError):
     """An engine cannot be used as asked (unknown engine, unsupported case)."""
 
 
+class OutputError(RelaccError):
+    """An output file or directory cannot be written (the path and the reason named)."""
+
+
 class IntegrationError(RelaccError):
     """A simulation diverged: its state became non-finite (reduce the step or change the coordinates)."""

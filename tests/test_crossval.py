@@ -9,7 +9,8 @@ import pytest
 
 from relacc.core.conventions import QUANTITIES
 from relacc.core.tolerances import EPS
-from relacc.validation.check import Harness, routes_for
+from relacc.validation.check import Harness
+from relacc.validation.compare import routes_for
 
 from .conftest import N_STATES, SEED
 

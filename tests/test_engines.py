@@ -10,7 +10,7 @@ from relacc.core.tolerances import assert_agree
 from relacc.engines import load_engine
 from relacc.engines.pinocchio_ import LWA
 from relacc.errors import EngineError
-from relacc.validation.check import routes_for
+from relacc.validation.compare import routes_for
 
 from .conftest import seed_for
 

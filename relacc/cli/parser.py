@@ -117,8 +117,8 @@ def _seed(p):
                    help="seed of every random state, an integer >= 0 (default 0)")
 
 
-def _json(p, what="print the result as JSON on stdout"):
-    p.add_argument("--json", action="store_true", help=what)
+def _json(p, what="the result"):
+    p.add_argument("--json", action="store_true", help=f"print JSON on stdout instead of text ({what})")
 
 
 def _quiet(p):
@@ -188,7 +188,7 @@ def build_parser() -> argparse.ArgumentParser:
     _seed(p)
     p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), default=ENGINE_NAMES,
                    metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default all)")
-    _json(p, "print a JSON list, one object per equation id")
+    _json(p, "a list, one object per equation id")
     _quiet(p)
     _model(p)
 
@@ -207,7 +207,7 @@ def build_parser() -> argparse.ArgumentParser:
               "relacc simulate gimbal_spin --engines relacc,mujoco --dt 1e-4"])
     p.add_argument("scene", metavar="SCENE", help="scene TOML file, or a shipped scene's name")
     p.add_argument("--out", metavar="DIR", help="a new directory for one CSV per engine")
-    _json(p, "print the summary as JSON")
+    _json(p, "the summary")
     p.add_argument("--engines", type=_choices_list("--engines", SIM_ENGINE_NAMES), metavar="ENGINES",
                    help=f"comma-separated subset of {','.join(SIM_ENGINE_NAMES)}")
     p.add_argument("--dt", type=_positive_float(), help="override the scene's time step (s)")
@@ -220,7 +220,7 @@ def build_parser() -> argparse.ArgumentParser:
              "Richardson, complex step and the engines; whole trajectories by every engine's integrators.",
              ["relacc tradeoff --quick", "relacc tradeoff --json > tradeoff.json"])
     p.add_argument("--quick", action="store_true", help="a small sweep (seconds)")
-    _json(p, "print all points and orders as JSON")
+    _json(p, "all points and orders")
     _seed(p)
     _quiet(p)
     _model(p)

@@ -149,14 +149,35 @@ class Engine(abc.ABC):
         """Engine accelerations ``vdot_e`` ``(n, nv_e)`` at ``(q, v)`` under exactly ``effects`` (quaternion route)."""
 
     @abc.abstractmethod
+    def stepper(self, effects, dt: float, integrator: str):
+        """The engine's fixed-step integrator under exactly ``effects``: ``advance(x, v, k) -> (x, v)``.
+
+        ``advance`` takes ``k`` steps of ``dt`` seconds from engine coordinates
+        ``(x, v)`` (:mod:`relacc.dynamics.steps`).
+
+        Raises:
+            EngineError: an integrator the engine lacks.
+        """
+
     def simulate(self, q, v, effects, dt: float, n_steps: int, integrator: str, record_every: int = 1,
                  progress=None):
         """Integrate from engine coordinates ``(q, v)`` for ``n_steps`` steps of ``dt`` seconds.
 
+        Through the one step loop, :func:`relacc.dynamics.steps.collect`.
+
         Returns:
             ``(t, Q, V)``: times ``(m,)`` (s) and engine states ``(m, nq_e)``,
-            ``(m, nv_e)`` every ``record_every`` steps, the initial state first.
+            ``(m, nv_e)`` every ``record_every`` steps and at the last step,
+            the initial state first.
+
+        Raises:
+            IntegrationError: the run diverged. EngineError: unknown integrator.
         """
+        from relacc.dynamics.steps import collect
+
+        advance = self.stepper(effects, dt, integrator)
+        return collect(advance, q, v, dt, n_steps, record_every, who=self.name, integrator=integrator,
+                       progress=progress)
 
     @abc.abstractmethod
     def body_state(self, q, v):

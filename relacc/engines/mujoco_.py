@@ -50,7 +50,7 @@ from relacc.engines.base import (
     note_from_quaternions,
     quaternion_route_input,
 )
-from relacc.errors import EngineError, FixtureError, IntegrationError
+from relacc.errors import EngineError, FixtureError
 from relacc.fixtures import Fixture
 
 
@@ -94,10 +94,11 @@ class MujocoEngine(Engine):
     global_coordinates = frozenset({"velocity", "acceleration", "V", "Vdot"})
 
     def __init__(self, fixture: Fixture):
-        self.routes = {
-            "quaternion": _Route(fixture.path("two_body.xml")),
-            "euler": _Route(fixture.path("two_body_euler.xml")),
-        }
+        with fixture.engine_files() as paths:
+            self.routes = {
+                "quaternion": _Route(paths["two_body.xml"]),
+                "euler": _Route(paths["two_body_euler.xml"]),
+            }
 
     @property
     def version(self) -> str:
@@ -205,31 +206,24 @@ class MujocoEngine(Engine):
     INTEGRATORS = {"rk4": "mjINT_RK4", "euler": "mjINT_EULER", "implicit": "mjINT_IMPLICIT",
                    "implicitfast": "mjINT_IMPLICITFAST"}
 
-    def simulate(self, q, v, effects, dt, n_steps, integrator, record_every=1, progress=None):
+    def stepper(self, effects, dt, integrator):
         """MuJoCo's own ``mj_step`` with ``opt.integrator`` and ``opt.timestep = dt``."""
         if integrator not in self.INTEGRATORS:
             raise EngineError(f"MuJoCo integrators: {', '.join(self.INTEGRATORS)}; got {integrator!r}")
         r = self.routes["quaternion"]
         m, d = r.model, r.data
-        m.opt.timestep = dt
-        m.opt.integrator = getattr(mujoco.mjtIntegrator, self.INTEGRATORS[integrator])
         mujoco.mj_resetData(m, d)
         self.configure(effects)  # after resetData, which clears xfrc_applied
-        d.qpos[:], d.qvel[:] = q, v
-        n_rec = n_steps // record_every + 1
-        t, Q, V = np.empty(n_rec), np.empty((n_rec, m.nq)), np.empty((n_rec, m.nv))
-        t[0], Q[0], V[0] = 0.0, d.qpos, d.qvel
-        for k in range(1, n_steps + 1):
-            mujoco.mj_step(m, d)
-            if not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
-                raise IntegrationError(f"mujoco: the integration diverged at t = {k * dt:.6g} s "
-                                       f"(dt = {dt} s, {integrator}); reduce the step")
-            if k % record_every == 0:
-                j = k // record_every
-                t[j], Q[j], V[j] = k * dt, d.qpos, d.qvel
-            if progress and k % 1000 == 0:
-                progress(k / n_steps)
-        return t, Q, V
+        m.opt.timestep = dt
+        m.opt.integrator = getattr(mujoco.mjtIntegrator, self.INTEGRATORS[integrator])
+
+        def advance(x, v, k):
+            d.qpos[:], d.qvel[:] = x, v
+            for _ in range(k):
+                mujoco.mj_step(m, d)
+            return d.qpos.copy(), d.qvel.copy()
+
+        return advance
 
     def body_state(self, q, v):
         return np.array(q, dtype=float), np.array(v, dtype=float)  # qpos, qvel are Case 2's q and u

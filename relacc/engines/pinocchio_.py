@@ -57,7 +57,7 @@ from relacc.engines.base import (
     note_from_quaternions,
     quaternion_route_input,
 )
-from relacc.errors import EngineError, FixtureError, IntegrationError
+from relacc.errors import EngineError, FixtureError
 from relacc.fixtures import Fixture
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -107,7 +107,7 @@ def split_composites(model: "pin.Model") -> "pin.Model":
 
 
 class PinocchioSpace:
-    """Pinocchio's configuration manifold for :mod:`relacc.simulate.integrate`.
+    """Pinocchio's configuration manifold for :mod:`relacc.dynamics.integrate`.
 
     ``integrate`` is ``pin.integrate`` (SE(3) exponential for the free-flyer,
     SO(3) for the spherical joint); ``dexpinv`` inverts ``pin.dIntegrate``
@@ -166,13 +166,13 @@ class PinocchioEngine(Engine):
     global_coordinates = frozenset({"velocity", "V", "Vdot"})
 
     def __init__(self, fixture: Fixture):
-        mjcf = fixture.path("two_body.xml")
-        urdf = fixture.path("two_body_euler.urdf")
-        self.loaded = _load_mjcf(mjcf)
-        self.routes = {
-            "quaternion": _Route(split_composites(self.loaded), mjcf),
-            "euler": _Route(_load_urdf(urdf), urdf),
-        }
+        with fixture.engine_files() as paths:
+            mjcf, urdf = paths["two_body.xml"], paths["two_body_euler.urdf"]
+            self.loaded = _load_mjcf(mjcf)
+            self.routes = {
+                "quaternion": _Route(split_composites(self.loaded), mjcf),
+                "euler": _Route(_load_urdf(urdf), urdf),
+            }
 
     @property
     def version(self) -> str:
@@ -260,7 +260,7 @@ class PinocchioEngine(Engine):
 
     @contextmanager
     def ode(self, effects):
-        """``(space, derivs)`` of the forward dynamics under ``effects``, for :mod:`relacc.simulate.integrate`.
+        """``(space, derivs)`` of the forward dynamics under ``effects``, for :mod:`relacc.dynamics.integrate`.
 
         ``derivs(q, v) = (v, pin.aba(q, v, tau))``: tangent velocity (Pinocchio's
         ``v``) and acceleration (``vdot``, Pinocchio's coordinates); gravity is
@@ -275,34 +275,26 @@ class PinocchioEngine(Engine):
         with self.ode(effects) as (_, derivs):
             return np.array([derivs(q[i], v[i])[1] for i in range(q.shape[0])])
 
-    def simulate(self, q, v, effects, dt, n_steps, integrator, record_every=1, progress=None):
+    def stepper(self, effects, dt, integrator):
         """RKMK4 (or semi-implicit Euler) on Pinocchio's manifold with ``pin.aba`` accelerations.
 
         Pinocchio has no integrator of its own; ``pin.integrate`` and
-        ``pin.dIntegrate`` give the manifold structure.
+        ``pin.dIntegrate`` give the manifold structure. ``model.gravity`` is
+        the scene's for the duration of each advance.
         """
-        from relacc.simulate.integrate import STEPPERS
+        from relacc.dynamics.integrate import STEPPERS
 
         if integrator not in STEPPERS:
             raise EngineError(f"Pinocchio integrators here: {', '.join(STEPPERS)}; got {integrator!r}")
-        m = self.routes["quaternion"].model
         step = STEPPERS[integrator]
-        n_rec = n_steps // record_every + 1
-        t, Q, V = np.empty(n_rec), np.empty((n_rec, m.nq)), np.empty((n_rec, m.nv))
-        x, w = np.array(q, dtype=float), np.array(v, dtype=float)
-        t[0], Q[0], V[0] = 0.0, x, w
-        with self.ode(effects) as (space, derivs):
-            for k in range(1, n_steps + 1):
-                x, w = step(space.at(x), x, w, dt, derivs)
-                if not (np.all(np.isfinite(x)) and np.all(np.isfinite(w))):
-                    raise IntegrationError(f"pinocchio: the integration diverged at t = {k * dt:.6g} s "
-                                           f"(dt = {dt} s, {integrator}); reduce the step")
-                if k % record_every == 0:
-                    j = k // record_every
-                    t[j], Q[j], V[j] = k * dt, x, w
-                if progress and k % 1000 == 0:
-                    progress(k / n_steps)
-        return t, Q, V
+
+        def advance(x, w, k):
+            with self.ode(effects) as (space, derivs):
+                for _ in range(k):
+                    x, w = step(space.at(x), x, w, dt, derivs)
+            return x, w
+
+        return advance
 
     def body_state(self, q, v):
         q, v = np.atleast_2d(q), np.atleast_2d(v)

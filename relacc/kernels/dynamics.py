@@ -16,41 +16,54 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.dynamics.effects import Effects
 from relacc.kernels import kinematics as fast
 from relacc.kernels.perstate import HAVE_NUMBA, acc_from, columns, cross, jitable, mm, mv, state_quantities, trig_of
 
 if HAVE_NUMBA:
     import numba
 
+# Offsets into the chain parameters ``cp`` (:func:`chain_params`), all in the chain's own components.
+Q2, R2, R1 = 0, 3, 6          # q2' (B1), r2' (B2), r1' (B1): 3 each, m
+M1, M2 = 9, 10                # masses, kg
+INERTIA_B1, INERTIA_B2 = 11, 20  # inertias about G1 (B1 comps), G2 (B2 comps): 9 each, row-major, kg m^2
+N_CHAIN = 29
+
+# Offsets into the effect parameters ``ep`` (:func:`effect_params`): each effect has a flag (1.0 on, 0.0 off:
+# off means not computed) followed by its values.
+GRAVITY_ON, GRAVITY = 0, 1                    # g (3), m/s^2, fixed components
+SPRING_ON, STIFFNESS, REST = 4, 5, 8          # K (3) N/m, rest (3) m; on s2' (B1 components)
+DAMPING_ON, DAMPING = 11, 12                  # C (3) N s/m, on s2'_dot
+BALL_ON, BALL = 15, 16                        # c (1) N m s/rad, on the spherical joint
+FORCE_ON, FORCE = 17, 18                      # F (3) N at G2, fixed components
+TORQUE1_ON, TORQUE1 = 21, 22                  # T1 (3) N m on B1, fixed components
+TORQUE2_ON, TORQUE2 = 25, 26                  # T2 (3) N m on B2, fixed components
 N_EFFECTS = 29
 
 
 def chain_params(chain) -> np.ndarray:
-    """``[q2', r2', r1', m1, m2, I1 (9), I2 (9)]`` as one float array for the kernel."""
-    return np.concatenate([chain.q2, chain.r2, chain.r1, [chain.m1, chain.m2], chain.I1.ravel(), chain.I2.ravel()])
+    """The chain's constants as one float array laid out by ``Q2`` ... ``INERTIA_B2`` (``N_CHAIN`` values)."""
+    out = np.empty(N_CHAIN)
+    out[Q2:Q2 + 3], out[R2:R2 + 3], out[R1:R1 + 3] = chain.q2, chain.r2, chain.r1
+    out[M1], out[M2] = chain.m1, chain.m2
+    out[INERTIA_B1:INERTIA_B1 + 9], out[INERTIA_B2:INERTIA_B2 + 9] = chain.I1.ravel(), chain.I2.ravel()
+    return out
 
 
-def effect_params(effects: Effects) -> np.ndarray:
-    """Flags and values of every effect for the kernel.
-
-    ``[on, g(3), on, K(3), rest(3), on, C(3), on, c_ball, on, F(3), on, T1(3), on, T2(3)]``.
-    """
+def effect_params(effects) -> np.ndarray:
+    """Flags and values of :class:`relacc.dynamics.Effects`, laid out by ``GRAVITY_ON`` ... ``TORQUE2``."""
     out = np.zeros(N_EFFECTS)
-    z3 = np.zeros(3)
-
-    def put(i, on, *values):
-        out[i] = 1.0 if on else 0.0
-        flat = np.concatenate([np.atleast_1d(np.asarray(v if v is not None else z3, float)) for v in values])
-        out[i + 1:i + 1 + flat.size] = flat
-
-    put(0, effects.gravity is not None, effects.gravity)
-    put(4, effects.spring_stiffness is not None, effects.spring_stiffness, effects.spring_rest)
-    put(11, effects.spring_damping is not None, effects.spring_damping)
-    put(15, effects.ball_damping is not None, effects.ball_damping or 0.0)
-    put(17, effects.force_G2 is not None, effects.force_G2)
-    put(21, effects.torque_B1 is not None, effects.torque_B1)
-    put(25, effects.torque_B2 is not None, effects.torque_B2)
+    for flag, slots in ((GRAVITY_ON, ((GRAVITY, effects.gravity),)),
+                        (SPRING_ON, ((STIFFNESS, effects.spring_stiffness), (REST, effects.spring_rest))),
+                        (DAMPING_ON, ((DAMPING, effects.spring_damping),)),
+                        (BALL_ON, ((BALL, effects.ball_damping),)),
+                        (FORCE_ON, ((FORCE, effects.force_G2),)),
+                        (TORQUE1_ON, ((TORQUE1, effects.torque_B1),)),
+                        (TORQUE2_ON, ((TORQUE2, effects.torque_B2),))):
+        if slots[0][1] is not None:
+            out[flag] = 1.0
+            for at, value in slots:
+                value = np.atleast_1d(np.asarray(value, dtype=float))
+                out[at:at + value.size] = value
     return out
 
 
@@ -63,8 +76,8 @@ def _col(A, j):
 def _eom(case, q, u, cp, ep, M, f, nu):
     """Kane's ``M`` (12x12) and ``f`` (12) and the body speeds ``nu`` (12) of one state, into the arrays."""
     z = np.zeros(12)
-    q2p, r2p, r1p = cp[0:3], cp[3:6], cp[6:9]
-    m1, m2 = cp[9], cp[10]
+    q2p, r2p, r1p = cp[Q2:Q2 + 3], cp[R2:R2 + 3], cp[R1:R1 + 3]
+    m1, m2 = cp[M1], cp[M2]
     C1, Mr, r, L, Ld, w, al, wh, hd, sd, rd, t = state_quantities(case, q, u, z, q2p, r2p, trig_of(case, q))
     P, P_dot, G, G_dot = columns(case, q, u, C1, Mr, w, wh, t)
     C2 = mm(C1, Mr)
@@ -91,7 +104,7 @@ def _eom(case, q, u, cp, ep, M, f, nu):
     al2 = (al[0] + hd[0], al[1] + hd[1], al[2] + hd[2])
     I1 = np.empty((3, 3))
     I2 = np.empty((3, 3))
-    for R, Ib, out in ((C1, cp[11:20], I1), (C2, cp[20:29], I2)):
+    for R, Ib, out in ((C1, cp[INERTIA_B1:INERTIA_B1 + 9], I1), (C2, cp[INERTIA_B2:INERTIA_B2 + 9], I2)):
         RI = mm(R, (Ib[0], Ib[1], Ib[2], Ib[3], Ib[4], Ib[5], Ib[6], Ib[7], Ib[8]))
         RIRt = mm(RI, (R[0], R[3], R[6], R[1], R[4], R[7], R[2], R[5], R[8]))
         for k in range(9):
@@ -126,15 +139,15 @@ def _eom(case, q, u, cp, ep, M, f, nu):
         F2[k] = -m2 * a2[k]
         T1[k] = -h1[k] - g1[k]
         T2[k] = -h2[k] - g2[k]
-        if ep[0] != 0.0:
-            F1[k] += m1 * ep[1 + k]
-            F2[k] += m2 * ep[1 + k]
-        if ep[17] != 0.0:
-            F2[k] += ep[18 + k]
-        if ep[21] != 0.0:
-            T1[k] += ep[22 + k]
-        if ep[25] != 0.0:
-            T2[k] += ep[26 + k]
+        if ep[GRAVITY_ON] != 0.0:
+            F1[k] += m1 * ep[GRAVITY + k]
+            F2[k] += m2 * ep[GRAVITY + k]
+        if ep[FORCE_ON] != 0.0:
+            F2[k] += ep[FORCE + k]
+        if ep[TORQUE1_ON] != 0.0:
+            T1[k] += ep[TORQUE1 + k]
+        if ep[TORQUE2_ON] != 0.0:
+            T2[k] += ep[TORQUE2 + k]
     for i in range(12):
         s = 0.0
         for k in range(3):
@@ -142,14 +155,14 @@ def _eom(case, q, u, cp, ep, M, f, nu):
         f[i] = s
     o = 7 if case != 3 else 6
     for k in range(3):
-        if ep[4] != 0.0:
-            f[6 + k] -= ep[5 + k] * (q[o + k] - ep[8 + k])
-        if ep[11] != 0.0:
-            f[6 + k] -= ep[12 + k] * u[6 + k]
-    if ep[15] != 0.0:
+        if ep[SPRING_ON] != 0.0:
+            f[6 + k] -= ep[STIFFNESS + k] * (q[o + k] - ep[REST + k])
+        if ep[DAMPING_ON] != 0.0:
+            f[6 + k] -= ep[DAMPING + k] * u[6 + k]
+    if ep[BALL_ON] != 0.0:
         what = mv(G, u[9], u[10], u[11])
         for j in range(3):
-            f[9 + j] -= ep[16] * (G[j] * what[0] + G[3 + j] * what[1] + G[6 + j] * what[2])
+            f[9 + j] -= ep[BALL] * (G[j] * what[0] + G[3 + j] * what[1] + G[6 + j] * what[2])
     # body speeds nu = W u: [s1_dot, omega'_B1 = C1^T omega_B1, s2'_dot, omega_hat'_B2 = C2^T w_hat]
     wb = mv((C1[0], C1[3], C1[6], C1[1], C1[4], C1[7], C1[2], C1[5], C1[8]), w[0], w[1], w[2])
     hb = mv((C2[0], C2[3], C2[6], C2[1], C2[4], C2[7], C2[2], C2[5], C2[8]), wh[0], wh[1], wh[2])
@@ -176,7 +189,7 @@ if HAVE_NUMBA:
             _eom(case, q[i], u[i], cp, ep, M[i], f[i], nu[i])
 
 
-def equations_of_motion(chain, case, q, u, effects: Effects):
+def equations_of_motion(chain, case, q, u, effects):
     """Kane's equations for validated float64 ``q (n, nq)``, ``u (n, 12)`` (see :mod:`relacc.dynamics`).
 
     Returns:
@@ -202,7 +215,7 @@ class Rates:
     integrates the angles with ``u`` itself.
     """
 
-    def __init__(self, chain, case, effects: Effects):
+    def __init__(self, chain, case, effects):
         self.case, self.cp, self.ep = int(case), chain_params(chain), effect_params(effects)
 
     def __call__(self, q, u):
@@ -226,7 +239,7 @@ class Rates:
 
 
 @jitable
-def _exp_mul(q, phi):
+def exp_mul(q, phi):
     """``q (x) Exp(phi)`` for a unit quaternion ``q`` (w, x, y, z) and a rotation vector ``phi`` (body)."""
     th2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
     if th2 < 1e-8:
@@ -240,8 +253,8 @@ def _exp_mul(q, phi):
 
 
 @jitable
-def _dexpinv(phi, w):
-    """``J_r^-1(phi) w`` (see :func:`relacc.simulate.integrate.so3_dexpinv_body`)."""
+def so3_dexpinv(phi, w):
+    """``J_r^-1(phi) w`` (see :func:`relacc.dynamics.integrate.so3_dexpinv_body`)."""
     th2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
     if th2 < 1e-4:
         beta = 1 / 12 + th2 / 720 + th2 * th2 / 30240
@@ -256,18 +269,18 @@ def _dexpinv(phi, w):
 if HAVE_NUMBA:
 
     @numba.njit(cache=True)
-    def _integrate(q, delta):  # pragma: no cover - compiled
+    def integrate_q14(q, delta):  # pragma: no cover - compiled
         out = q.copy()
         for k in range(3):
             out[k] += delta[k]
             out[7 + k] += delta[6 + k]
-        out[3:7] = _exp_mul(q[3:7], delta[3:6])
-        out[10:14] = _exp_mul(q[10:14], delta[9:12])
+        out[3:7] = exp_mul(q[3:7], delta[3:6])
+        out[10:14] = exp_mul(q[10:14], delta[9:12])
         return out
 
     @numba.njit(cache=True)
-    def _dexpinv2(delta, w):  # pragma: no cover - compiled
+    def dexpinv_q14(delta, w):  # pragma: no cover - compiled
         out = w.copy()
-        out[3:6] = _dexpinv(delta[3:6], w[3:6])
-        out[9:12] = _dexpinv(delta[9:12], w[9:12])
+        out[3:6] = so3_dexpinv(delta[3:6], w[3:6])
+        out[9:12] = so3_dexpinv(delta[9:12], w[9:12])
         return out

@@ -26,10 +26,10 @@ from relacc.core.kinematics import g2_kinematics
 from relacc.core.scales import term_scales
 from relacc.core.speeds import to_body_speeds
 from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
+from relacc.dynamics.integrate import stepper
+from relacc.dynamics.steps import collect
 from relacc.engines import load_engine
-from relacc.errors import IntegrationError, RelaccError
-from relacc.kernels.dynamics import Rates
-from relacc.simulate.integrate import STEPPERS, CaseSpace
+from relacc.errors import RelaccError
 from relacc.simulate.scenes import Scene
 
 NOTE_CHECK_STATES = 40
@@ -132,30 +132,16 @@ class SimulationResult:
 def relacc_trajectory(scene: Scene, progress=None) -> Trajectory:
     """relacc's own run of a scene: Kane's equations integrated in the scene's coordinates."""
     chain, case, eff = scene.fixture.chain, scene.case, scene.effects
-    space = CaseSpace(case)
-    step = STEPPERS[scene.integrator]
-    derivs = Rates(chain, case, eff)
-    n, every = scene.n_steps, scene.record_every
-    m = n // every + 1
-    Q, U = np.empty((m, scene.q.size)), np.empty((m, 12))
-    q, u = scene.q.astype(float), scene.u.astype(float)
-    Q[0], U[0] = q, u
+    advance = stepper(chain, case, eff, scene.dt, scene.integrator)
     start = time.perf_counter()
-    for k in range(1, n + 1):
-        q, u = step(space, q, u, scene.dt, derivs)
-        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(u))):
-            raise IntegrationError(f"relacc: the integration diverged at t = {k * scene.dt:.6g} s "
-                                   f"(dt = {scene.dt} s, {scene.integrator}); reduce the step")
-        if k % every == 0:
-            Q[k // every], U[k // every] = q, u
-        if progress and k % 200 == 0:
-            progress(k / n)
+    t, Q, U = collect(advance, scene.q, scene.u, scene.dt, scene.n_steps, scene.record_every, who="relacc",
+                      integrator=scene.integrator, progress=progress)
     seconds = time.perf_counter() - start
     Udot = dynamics.accelerations(chain, case, Q, U, eff)
     k = g2_kinematics(chain, case, Q, U, Udot)
     p, H = dynamics.momenta(chain, case, Q, U)
     names_q = [f"q{i}" for i in range(Q.shape[1])]
-    return Trajectory("relacc", np.arange(m) * scene.dt * every, Q, U, (names_q, [f"u{i}" for i in range(12)]),
+    return Trajectory("relacc", t, Q, U, (names_q, [f"u{i}" for i in range(12)]),
                       k.position, k.velocity, k.acceleration, dynamics.energy(chain, case, Q, U, eff), p, H,
                       seconds, {"equations": "Kane, " + (", ".join(eff.active()) or "no effects")})
 

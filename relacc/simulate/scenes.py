@@ -1,41 +1,27 @@
 """Scenes: TOML files that say which chain, from which state, under which effects, for how long.
 
-Schema (``models/scenes/*.toml``; every table but ``[effects]`` required)::
+The schema is declared in :class:`relacc.fixtures.schema.SceneFile` (the
+README's table is generated from it). An example::
 
     title = "Torque-free tumbling"           # optional
-    description = "..."                      # optional
-
     [model]
-    fixture = "two_body"                     # models/<fixture>.toml, or inline fields instead:
-    # q2 = [...]  r2 = [...]  r1 = [...]  m1 = 2.0  m2 = 0.8  I1 = [[...]]  I2 = [[...]]
-
+    fixture = "two_body"                     # a shipped model; or file = "chain.toml"; or inline q2, r2, ...
     [initial]
     case = 2                                 # 1, 2 or 3: the coordinates q and speeds u below
     q = [...]                                # 14 (cases 1-2) or 12 (case 3) numbers
     u = [...]                                # 12 numbers
-
     [effects]                                # only what is listed acts; no table: nothing acts
     gravity = [0.0, 0.0, -9.81]              # m/s^2, fixed components
-    ball_damping = 0.02                      # N m s/rad on the spherical joint
-    force_G2 = [1.0, 0.0, 0.0]               # N at G2, fixed components
-    torque_B1 = [0.0, 0.0, 0.1]              # N m on B1, fixed components
-    torque_B2 = [0.0, 0.0, 0.1]              # N m on B2, fixed components
     [effects.spring]                         # on the prismatic offset s2' (B1 axes)
     stiffness = 50.0                         # N/m, one number or 3
-    damping = 0.5                            # N s/m, one number or 3 (optional)
-    rest = [0.0, 0.0, 0.0]                   # m, B1 components (optional)
-
     [simulate]
-    duration = 2.0                           # s
+    duration = 2.0                           # s, a whole number of steps
     dt = 0.001                               # s
     integrator = "rk4"                       # rk4 | euler (all engines); implicit | implicitfast (mujoco only)
-    engines = ["relacc", "pinocchio", "mujoco"]
-    record_every = 1                         # optional: record every n-th step
 """
 
 from __future__ import annotations
 
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -44,9 +30,10 @@ import numpy as np
 from relacc.core.cases import as_case, check_q, check_u
 from relacc.core.chain import TwoBodyChain
 from relacc.dynamics.effects import Effects
-from relacc.errors import FixtureError, InputError, RelaccError
-from relacc.fixtures import Fixture, tomlfile, write
+from relacc.errors import InputError, RelaccError
+from relacc.fixtures import Fixture, tomlfile
 from relacc.fixtures import load as load_fixture
+from relacc.fixtures.model import inline
 
 SIM_ENGINES = ("relacc", "pinocchio", "mujoco")
 INTEGRATORS = ("rk4", "euler", "implicit", "implicitfast")
@@ -87,6 +74,7 @@ class Scene:
 
     @property
     def n_steps(self) -> int:
+        """Number of steps: ``duration / dt``, a whole number (checked when the scene is made)."""
         return int(round(self.duration / self.dt))
 
     def replace(self, **changes) -> "Scene":
@@ -103,6 +91,10 @@ def check_simulate(duration, dt, integrator, engines, record_every):
             return key, f"expected a positive number of seconds, got {value!r}"
     if dt > duration:
         return "dt", f"dt = {dt} is longer than the duration {duration}"
+    steps = duration / dt
+    if abs(steps - round(steps)) > 1e-9 * max(1.0, steps):
+        return "duration", (f"{duration} s is not a whole number of steps of dt = {dt} s ({steps:.6g} steps); "
+                            "relacc does not round it: choose dt = duration / n")
     if duration / dt > 1e7:
         return "dt", f"{duration / dt:.3g} steps is more than 1e7; use a larger dt or a shorter duration"
     if integrator not in INTEGRATORS:
@@ -116,126 +108,84 @@ def check_simulate(duration, dt, integrator, engines, record_every):
     return None
 
 
-_EFFECT_KEYS = {"gravity", "ball_damping", "force_G2", "torque_B1", "torque_B2", "spring"}
-_SPRING_KEYS = {"stiffness", "damping", "rest"}
-
-
 def load(path) -> Scene:
     """Read and validate a scene file.
 
     Raises:
-        FixtureError: missing file, TOML error, missing or invalid field,
-            unknown key (path, line and field named).
+        FixtureError: missing file, TOML error, missing, unknown or invalid
+            field (path, line and field named).
     """
+    from relacc.fixtures.schema import SceneFile, validate
+
     path = Path(path)
     data, text = tomlfile.read(path)
+    doc = validate(SceneFile, data, path, text)
 
-    def err(table, key, message):
-        return tomlfile.field_error(path, text, table, key, message)
-
-    def table(name, required=True):
-        t = data.get(name)
-        if t is None and not required:
-            return {}
-        if not isinstance(t, dict):
-            raise FixtureError(f"{path}: missing table [{name}] (see relacc/scenes.py for the schema)")
-        return t
-
-    def get(tab, name, key, default=...):
-        if key not in tab:
-            if default is ...:
-                raise FixtureError(f"{path}: missing field [{name}].{key}")
-            return default
-        return tab[key]
-
-    unknown = set(data) - {"title", "description", "model", "initial", "effects", "simulate"}
-    if unknown:
-        raise FixtureError(f"{path}: unknown top-level keys {sorted(unknown)}; accepted: title, description, "
-                           "[model], [initial], [effects], [simulate]")
-    fixture = _model(path, text, table("model"), err)
-    ini = table("initial")
-    try:
-        case = int(as_case(get(ini, "initial", "case")))
-    except RelaccError as exc:
-        raise err("initial", "case", str(exc)) from None
-    try:
-        q = check_q(case, get(ini, "initial", "q"))
-    except RelaccError as exc:
-        raise err("initial", "q", str(exc)) from None
-    try:
-        u = check_u("u", get(ini, "initial", "u"))
-    except RelaccError as exc:
-        raise err("initial", "u", str(exc)) from None
-    effects = _effects(path, text, table("effects", required=False), err)
-    sim = table("simulate")
-    duration, dt = get(sim, "simulate", "duration"), get(sim, "simulate", "dt")
-    integrator = get(sim, "simulate", "integrator", "rk4")
-    engines = get(sim, "simulate", "engines", list(SIM_ENGINES))
-    record_every = get(sim, "simulate", "record_every", 1)
-    problem = check_simulate(duration, dt, integrator, engines, record_every)
-    if problem:
-        raise err("simulate", *problem)
-    extra = set(sim) - {"duration", "dt", "integrator", "engines", "record_every"}
-    if extra:
-        raise err("simulate", sorted(extra)[0], "unknown key; accepted: duration, dt, integrator, engines, "
-                                                "record_every")
-    return Scene(name=path.stem, title=str(data.get("title", path.stem)), description=str(data.get("description", "")),
-                 fixture=fixture, case=case, q=q, u=u, effects=effects, duration=float(duration), dt=float(dt),
-                 integrator=integrator, engines=tuple(engines), record_every=record_every, source=path)
-
-
-def _model(path, text, model, err) -> Fixture:
-    if "fixture" in model:
-        if set(model) != {"fixture"}:
-            raise err("model", "fixture", "give either a fixture name or inline fields, not both")
-        name = model["fixture"]
-        if not isinstance(name, str) or not name or "/" in name or "\\" in name:
-            raise err("model", "fixture", f"expected a fixture name such as \"two_body\", got {name!r}")
-        from relacc.fixtures import shipped
-
-        source = shipped.models_dir() / f"{name}.toml"
-        if not source.is_file():
-            raise err("model", "fixture", f"no model file {name}.toml among the shipped models "
-                      f"({', '.join(p.stem for p in sorted(shipped.models_dir().glob('*.toml')))})")
-        return load_fixture(source)
-    keys = {"q2", "r2", "r1", "m1", "m2", "I1", "I2"}
-    unknown = set(model) - keys
-    if unknown or not {"q2", "r2"} <= set(model):
-        raise FixtureError(f"{path}: [model] needs fixture = \"name\" or inline q2, r2 (and optionally r1, m1, "
-                           f"m2, I1, I2); got keys {sorted(model)}")
-    for key in model:
+    def checked(table, key, convert):
         try:
-            TwoBodyChain(**{"q2": (0, 0, 0), "r2": (0, 0, 0), key: model[key]})
+            return convert()
         except RelaccError as exc:
-            raise err("model", key, str(exc)) from None
-    chain = TwoBodyChain(**model)
-    # The engines read model files: write them, from the inline values, to a temporary directory.
-    source = Path(tempfile.mkdtemp(prefix=f"relacc-{path.stem}-")) / "two_body.toml"
-    fixture = Fixture(f"{path.stem}_inline", chain, source)
-    write(fixture)
-    return fixture
+            raise tomlfile.field_error(path, text, table, key, str(exc)) from None
+
+    fixture = _model(path, text, doc.model, checked)
+    case = checked("initial", "case", lambda: int(as_case(doc.initial.case)))
+    q = checked("initial", "q", lambda: check_q(case, doc.initial.q))
+    u = checked("initial", "u", lambda: check_u("u", doc.initial.u))
+    effects = _effects(doc.effects, checked)
+    sim = doc.simulate
+    problem = check_simulate(sim.duration, sim.dt, sim.integrator, sim.engines, sim.record_every)
+    if problem:
+        raise tomlfile.field_error(path, text, "simulate", *problem)
+    return Scene(name=path.stem, title=doc.title or path.stem, description=doc.description, fixture=fixture,
+                 case=case, q=q, u=u, effects=effects, duration=float(sim.duration), dt=float(sim.dt),
+                 integrator=sim.integrator, engines=tuple(sim.engines), record_every=sim.record_every, source=path)
 
 
-def _effects(path, text, eff, err) -> Effects:
-    unknown = set(eff) - _EFFECT_KEYS
-    if unknown:
-        raise err("effects", sorted(unknown)[0], f"unknown effect; accepted: {', '.join(sorted(_EFFECT_KEYS))}")
-    kw = {}
-    for key in ("gravity", "ball_damping", "force_G2", "torque_B1", "torque_B2"):
-        if key in eff:
-            kw[key] = eff[key]
-    spring = eff.get("spring")
-    if spring is not None:
-        if not isinstance(spring, dict) or set(spring) - _SPRING_KEYS or not spring:
-            raise FixtureError(f"{path}: [effects.spring] takes stiffness, damping, rest; got {spring!r}")
-        for key, target in (("stiffness", "spring_stiffness"), ("damping", "spring_damping"),
-                            ("rest", "spring_rest")):
-            if key in spring:
-                kw[target] = spring[key]
-    try:
-        return Effects(**kw)
-    except RelaccError as exc:
-        bad = next((k for k in kw if k.replace("spring_", "") in str(exc) or k in str(exc)), "effects")
-        table = "effects.spring" if bad.startswith("spring_") else "effects"
-        key = bad.replace("spring_", "") if bad.startswith("spring_") else bad
-        raise err(table, key, str(exc)) from None
+def _model(path, text, model, checked) -> Fixture:
+    """The scene's chain: a shipped model by name, a chain TOML beside the scene, or inline fields."""
+    given = {k: v for k, v in model.model_dump().items() if v is not None}
+    if not given:
+        raise tomlfile.field_error(path, text, None, "model", "give fixture = \"two_body\", file = \"chain.toml\" "
+                                   "or inline q2, r2 (and optionally r1, m1, m2, I1, I2)")
+    if "fixture" in given or "file" in given:
+        key = "fixture" if "fixture" in given else "file"
+        if len(given) > 1:
+            raise tomlfile.field_error(path, text, "model", key, "give one of fixture, file or inline fields, not "
+                                       f"several (got {', '.join(sorted(given))})")
+        if key == "fixture":
+            from relacc.fixtures import shipped
+
+            name = given["fixture"]
+            source = shipped.models_dir() / f"{name}.toml"
+            if "/" in name or "\\" in name or not source.is_file():
+                names = ", ".join(p.stem for p in sorted(shipped.models_dir().glob("*.toml")))
+                raise tomlfile.field_error(path, text, "model", "fixture",
+                                           f"no model file {name}.toml among the shipped models ({names}); for "
+                                           "your own chain give file = \"chain.toml\" (relative to the scene)")
+        else:
+            source = (path.parent / given["file"]).resolve()
+        return checked("model", key, lambda: load_fixture(source))
+    if not {"q2", "r2"} <= set(given):
+        raise tomlfile.field_error(path, text, "model", sorted(given)[0], "inline chains need q2 and r2 (and "
+                                   "optionally r1, m1, m2, I1, I2)")
+    for key, value in given.items():
+        checked("model", key, lambda: TwoBodyChain(**{"q2": (0, 0, 0), "r2": (0, 0, 0), key: value}))
+    return inline(f"{path.stem}_inline", TwoBodyChain(**given))
+
+
+def _effects(eff, checked) -> Effects:
+    """The scene's effects, each checked by :class:`relacc.dynamics.Effects` (the field named on error)."""
+    kw = {key: getattr(eff, key) for key in ("gravity", "ball_damping", "force_G2", "torque_B1", "torque_B2")
+          if getattr(eff, key) is not None}
+    for key in kw:
+        checked("effects", key, lambda: Effects(**{key: kw[key]}))
+    if eff.spring is not None:
+        spring = {f"spring_{k}": v for k, v in (("stiffness", eff.spring.stiffness), ("damping", eff.spring.damping),
+                                                  ("rest", eff.spring.rest)) if v is not None}
+        if not spring.keys() - {"spring_rest"}:
+            checked("effects", "spring", lambda: (_ for _ in ()).throw(
+                InputError("[effects.spring] needs stiffness or damping (or both)")))
+        for key, value in spring.items():
+            checked("effects.spring", key.replace("spring_", ""), lambda: Effects(**{key: value}))
+        kw.update(spring)
+    return Effects(**kw)

@@ -19,10 +19,10 @@ import numpy as np
 
 from relacc import dynamics
 from relacc.core.kinematics import g2_kinematics
+from relacc.dynamics.integrate import CaseSpace, solve_on_space
 from relacc.engines import load_engine
 from relacc.errors import IntegrationError
 from relacc.kernels.dynamics import Rates
-from relacc.simulate.integrate import CaseSpace, solve_on_space
 from relacc.simulate.scenes import Scene
 
 THEORY = {"rk4": 4, "euler": 1, "implicit": 1, "implicitfast": 1}

@@ -9,88 +9,21 @@ from __future__ import annotations
 
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 import relacc
 from relacc.core.cases import as_case, check_int
-from relacc.core.conventions import CONVENTIONS, QUANTITIES
+from relacc.core.conventions import QUANTITIES
 from relacc.core.kinematics import G2Kinematics, resolve_variant
 from relacc.core.scales import term_scales
 from relacc.core.states import States, random_states
-from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
+from relacc.core.tolerances import rounding_tolerance
 from relacc.engines import ENGINES, load_engine
 from relacc.errors import EngineError
 from relacc.fixtures import Fixture, load
-
-
-def routes_for(case) -> tuple[str, ...]:
-    """Engine routes that apply to a case: quaternion always, euler for case 3."""
-    return ("quaternion", "euler") if int(case) == 3 else ("quaternion",)
-
-
-@dataclass(frozen=True, eq=False)
-class Comparison:
-    """One case x engine x route x quantity comparison.
-
-    Attributes:
-        errors: ``(n,)`` normalized error per state (dimensionless).
-        tolerance: ``c eps``, the error model's bound for a condition of 1.
-        bounds: ``(n,)`` the engine's accuracy model per state
-            (:meth:`relacc.engines.base.Engine.bound`: ``c eps`` times the
-            condition, plus any offset the engine's model loses).
-    """
-
-    case: int
-    engine: str
-    route: str
-    quantity: str
-    errors: np.ndarray = field(repr=False)
-    tolerance: float
-    bounds: np.ndarray = field(repr=False)
-
-    @property
-    def max_error(self) -> float:
-        return float(np.max(self.errors))
-
-    @property
-    def median_error(self) -> float:
-        return float(np.median(self.errors))
-
-    @property
-    def worst_state(self) -> int:
-        return int(np.argmax(self.errors))
-
-    @property
-    def max_ratio(self) -> float:
-        """Largest error relative to its state's bound; pass when <= 1."""
-        return float(np.max(self.errors / self.bounds))
-
-    @property
-    def max_bound(self) -> float:
-        return float(np.max(self.bounds))
-
-    @property
-    def passed(self) -> bool:
-        return bool(np.all(self.errors <= self.bounds))
-
-    def as_dict(self) -> dict:
-        return {
-            "case": self.case,
-            "engine": self.engine,
-            "route": self.route,
-            "quantity": self.quantity,
-            "max_error": self.max_error,
-            "median_error": self.median_error,
-            "max_error_eps": self.max_error / EPS,
-            "tolerance": self.tolerance,
-            "max_bound": self.max_bound,
-            "max_ratio": self.max_ratio,
-            "passed": self.passed,
-            "worst_state": self.worst_state,
-            "convention": CONVENTIONS[self.quantity],
-        }
+from relacc.validation.compare import Comparison, against_engines, compare
 
 
 class Harness:
@@ -161,23 +94,24 @@ class Harness:
         return self._core[key]
 
     def compare(self, case, engine, route, quantity, variant="corrected") -> Comparison:
-        """Normalized error of the core (``variant``) against one engine route."""
-        core = getattr(self.core_result(case, variant), quantity)
-        ref = getattr(self.engine_result(case, engine, route), quantity)
-        errors = normalized_error(core, ref, self.scales(case).of(quantity))
+        """The core (``variant``) against one engine route, one quantity (:func:`relacc.validation.compare.compare`).
+
+        The engine's value is its own, the reference the core's: the error
+        is symmetric, and the bound is the engine's accuracy model.
+        """
         s = self.states(case)
-        bounds = self.engines[engine].bound(route, quantity, self.chain, case, s.q, s.u, s.udot)
-        return Comparison(int(case), engine, route, quantity, errors, rounding_tolerance(), bounds)
+        return compare(case, engine, route, quantity, getattr(self.engine_result(case, engine, route), quantity),
+                       getattr(self.core_result(case, variant), quantity), self.scales(case).of(quantity),
+                       self.engines[engine].bound(route, quantity, self.chain, case, s.q, s.u, s.udot))
 
     def check(self, cases=(1, 2, 3), quantities=QUANTITIES) -> "CheckReport":
         """Every case x engine x route x quantity comparison of the corrected core."""
-        comps = [
-            self.compare(c, e, r, qty)
-            for c in cases
-            for e in self.engines
-            for r in routes_for(c)
-            for qty in quantities
-        ]
+        comps = []
+        for c in cases:
+            s = self.states(c)
+            comps += against_engines(self.engines, self.chain, c, s.q, s.u, s.udot, self.core_result(c),
+                                     self.scales(c), quantities=quantities,
+                                     evaluate=lambda name, _, route, c=c: self.engine_result(c, name, route))
         return CheckReport(tuple(comps), self.n_states, self.seed, self.versions())
 
 

@@ -17,7 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from relacc.core.note.equations import EQUATIONS, Equation
-from relacc.validation.check import Harness, routes_for
+from relacc.validation.check import Harness
+from relacc.validation.compare import routes_for
 
 STATUSES = ("ok", "wrong", "missing", "ambiguous")
 

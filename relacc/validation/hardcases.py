@@ -28,21 +28,17 @@ Families:
 
 from __future__ import annotations
 
-import tempfile
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 import numpy as np
 
 import relacc
 from relacc.core.chain import TwoBodyChain
-from relacc.core.conventions import QUANTITIES
-from relacc.core.derivatives import along_motion
 from relacc.core.scales import term_scales
 from relacc.core.states import random_states, random_unit_quaternions
-from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
-from relacc.fixtures import Fixture, write
-from relacc.validation.check import routes_for
+from relacc.fixtures import Fixture
+from relacc.fixtures.model import inline
+from relacc.validation.compare import against_derivatives, against_engines
 
 N_STATES = 12
 """States per entry and case."""
@@ -75,7 +71,7 @@ class HardCase:
 
 
 _COND1 = "error <= c eps: the forward formulas and the engines' maps are well conditioned here"
-_GLOBAL = ("core: error <= c eps; engines: error <= c eps (1 + |s1| m / scale) for the quantities they form in "
+GLOBAL_MODEL = ("core: error <= c eps; engines: error <= c eps (1 + |s1| m / scale) for the quantities they form in "
            "global coordinates (relacc.core.scales.global_condition), m the quantity's change per metre of lever")
 
 
@@ -103,7 +99,7 @@ def catalogue() -> tuple[HardCase, ...]:
                             f"angular speeds (and accelerations) of norm {rate:g} rad/s", _COND1,
                             edit=("spin", rate)))
     for dist in (1e0, 1e2, 1e4, 1e6, 1e8):
-        out.append(HardCase(f"far-{dist:.0e}", "far", dist, (1, 2, 3), f"|s1| = {dist:g} m", _GLOBAL,
+        out.append(HardCase(f"far-{dist:.0e}", "far", dist, (1, 2, 3), f"|s1| = {dist:g} m", GLOBAL_MODEL,
                             edit=("far", dist)))
     for length in (0.0, 1e-12, 1e-6, 1e3):
         out.append(HardCase(f"geometry-r2-{length:.0e}", "geometry", length, (1, 2, 3), f"|r2'| = {length:g} m",
@@ -190,6 +186,12 @@ class Result:
     def passed(self) -> bool:
         return self.finite and self.max_ratio <= 1.0
 
+    @classmethod
+    def of(cls, hc: HardCase, comp) -> "Result":
+        """An entry's summary of one :class:`relacc.validation.compare.Comparison`."""
+        return cls(hc.name, hc.family, hc.parameter, comp.case, comp.evaluator, comp.quantity, comp.max_error,
+                   comp.max_bound, comp.max_ratio, comp.finite)
+
 
 class Runner:
     """Runs catalogue entries against the core and engines; caches engines per geometry."""
@@ -197,59 +199,31 @@ class Runner:
     def __init__(self, fixture: Fixture, engines=("pinocchio", "mujoco"), n: int = N_STATES, seed: int = 0):
         self.fixture, self.engine_names, self.n, self.seed = fixture, tuple(engines), n, seed
         self._engines = {}
-        self._tmp = tempfile.TemporaryDirectory(prefix="relacc-hard-")
 
     def engines_for(self, hc: HardCase):
-        """Engines loaded with the entry's geometry (fixture files written to a temporary directory)."""
+        """Engines loaded with the entry's geometry (an inline fixture: no file outlives the loading)."""
         key = tuple(sorted(hc.geometry.items()))
         if key not in self._engines:
             fixture = self.fixture
             if hc.geometry:
-                source = Path(self._tmp.name) / f"{len(self._engines)}" / "two_body.toml"
-                source.parent.mkdir(parents=True, exist_ok=True)
-                fixture = Fixture(f"{self.fixture.name}_{len(self._engines)}", chain_for(hc, self.fixture.chain),
-                                  source)
-                write(fixture)
+                fixture = inline(f"{self.fixture.name}_{len(self._engines)}", chain_for(hc, self.fixture.chain))
             from relacc.engines import load_engine
 
             self._engines[key] = {name: load_engine(name, fixture) for name in self.engine_names}
         return self._engines[key]
 
     def run(self, hc: HardCase) -> list[Result]:
+        """The entry's comparisons: the core against complex-step derivatives, each engine against the core."""
         chain = chain_for(hc, self.fixture.chain)
         out = []
         for case in hc.cases:
             q, u, udot = states_for(hc, case, self.n, self.seed)
             core = relacc.g2_kinematics(chain, case, q, u, udot)
             sc = term_scales(chain, case, q, u, udot)
-            field_of = lambda name: (lambda qq, uu: getattr(relacc.g2_kinematics(chain, case, qq, uu), name))  # noqa: E731
-            r_dot = along_motion(case, q, u, None, field_of("position"))  # reference for v and V u alike
-            refs = {
-                "velocity": (core.velocity, r_dot),
-                "V": (np.einsum("nij,nj->ni", core.V, u), r_dot),
-                "acceleration": (core.acceleration, along_motion(case, q, u, udot, field_of("velocity"))),
-                "Vdot": (core.Vdot, along_motion(case, q, u, None, field_of("V"))),
-            }
-            tol = np.full(len(q), rounding_tolerance())
-            for qty, (value, ref) in refs.items():
-                scale = sc.velocity if qty == "V" else sc.of(qty)
-                out.append(self._result(hc, case, "relacc", qty, value, ref, scale, tol))
-            for name, engine in self.engines_for(hc).items():
-                for route in routes_for(case):
-                    ke = engine.g2_kinematics(case, q, u, udot, route=route)
-                    for qty in QUANTITIES:
-                        bound = engine.bound(route, qty, chain, case, q, u, udot)
-                        out.append(self._result(hc, case, f"{name}/{route}", qty, getattr(ke, qty),
-                                                getattr(core, qty), sc.of(qty), bound))
+            comps = (against_derivatives(chain, case, q, u, udot, core, sc)
+                     + against_engines(self.engines_for(hc), chain, case, q, u, udot, core, sc))
+            out += [Result.of(hc, c) for c in comps]
         return out
-
-    @staticmethod
-    def _result(hc, case, evaluator, qty, value, ref, scale, bound) -> Result:
-        err = normalized_error(value, ref, scale)
-        finite = bool(np.all(np.isfinite(value)))
-        ratio = err / bound
-        return Result(hc.name, hc.family, hc.parameter, case, evaluator, qty, float(np.max(err)),
-                      float(np.max(bound)), float(np.max(ratio)) if finite else float("inf"), finite)
 
 
 def run_catalogue(fixture: Fixture, engines=("pinocchio", "mujoco"), n=N_STATES, seed=0) -> list[Result]:
@@ -258,4 +232,4 @@ def run_catalogue(fixture: Fixture, engines=("pinocchio", "mujoco"), n=N_STATES,
     return [r for hc in catalogue() for r in runner.run(hc)]
 
 
-__all__ = ["EPS", "HardCase", "Result", "Runner", "catalogue", "chain_for", "run_catalogue", "states_for"]
+__all__ = ["GLOBAL_MODEL", "HardCase", "Result", "Runner", "catalogue", "chain_for", "run_catalogue", "states_for"]

@@ -62,7 +62,7 @@ class CaseSpace:
         from relacc.kernels import dynamics as fastdyn
 
         if fastdyn.HAVE_NUMBA:
-            return fastdyn._integrate(q, delta)
+            return fastdyn.integrate_q14(q, delta)
         out = q.copy()
         out[0:3] += delta[0:3]
         out[3:7] = quaternion_multiply(q[3:7], quaternion_exp(delta[3:6]))
@@ -76,7 +76,7 @@ class CaseSpace:
         from relacc.kernels import dynamics as fastdyn
 
         if fastdyn.HAVE_NUMBA:
-            return fastdyn._dexpinv2(delta, w)
+            return fastdyn.dexpinv_q14(delta, w)
         out = w.copy()
         out[3:6] = so3_dexpinv_body(delta[3:6], w[3:6])
         out[9:12] = so3_dexpinv_body(delta[9:12], w[9:12])
@@ -112,6 +112,33 @@ def euler_step(space, x, v, h, derivs):
 
 STEPPERS = {"rk4": rkmk4_step, "euler": euler_step}
 """Integrators for relacc and Pinocchio, by scene name."""
+
+
+def stepper(chain, case, effects, dt: float, integrator: str):
+    """relacc's own fixed-step integrator: ``advance(q, u, k) -> (q, u)``, ``k`` steps of ``dt`` seconds.
+
+    Kane's equations (the fused kernel, :class:`relacc.kernels.dynamics.Rates`)
+    under exactly ``effects``, integrated in the case's own coordinates by
+    ``integrator`` (``rk4``: RKMK4 on SO(3) for cases 1-2; ``euler``:
+    semi-implicit Euler). See :mod:`relacc.dynamics.steps`.
+
+    Raises:
+        EngineError: an integrator relacc lacks.
+    """
+    from relacc.kernels.dynamics import Rates
+
+    if integrator not in STEPPERS:
+        from relacc.errors import EngineError
+
+        raise EngineError(f"relacc integrators: {', '.join(STEPPERS)}; got {integrator!r}")
+    space, step, derivs = CaseSpace(case), STEPPERS[integrator], Rates(chain, case, effects)
+
+    def advance(q, u, k):
+        for _ in range(k):
+            q, u = step(space, q, u, dt, derivs)
+        return q, u
+
+    return advance
 
 
 def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: float, atol: float,

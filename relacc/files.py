@@ -1,0 +1,184 @@
+"""Every file relacc writes goes through here: atomically, all or nothing, and checked before any work.
+
+* :func:`write_text` / :func:`write_bytes`: a temporary file in the
+  destination's directory, flushed and synced, then renamed over the
+  destination. On any error, and on SIGINT or SIGTERM (the command line turns
+  both into exceptions, :func:`terminate_as_interrupt`), the previous file is
+  left byte for byte and the temporary file is removed.
+* :func:`replace_all`: a set of files that belong together (the engine files
+  of one chain) is staged completely first; only then are the files renamed
+  into place, and a failed rename puts the earlier ones back.
+* :func:`check_output_file` / :func:`check_new_directory`: what ``--out``
+  names is checked before a command does its work.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import tempfile
+from pathlib import Path
+
+from relacc.errors import InputError, OutputError
+
+
+def _stage(path: Path, data: bytes) -> Path:
+    """``data`` in a new temporary file beside ``path``, synced, with the usual permissions."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return Path(tmp)
+
+
+def _os_error(path, exc: OSError) -> OutputError:
+    return OutputError(f"{path}: cannot write the file ({exc.strerror or exc})")
+
+
+def write_bytes(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically (see the module docstring).
+
+    Raises:
+        OutputError: the file cannot be written (the message names it and why);
+            the previous file, if any, is unchanged.
+    """
+    path = Path(path)
+    try:
+        tmp = _stage(path, data)
+    except OSError as exc:
+        raise _os_error(path, exc) from None
+    try:
+        os.replace(tmp, path)
+    except BaseException as exc:
+        tmp.unlink(missing_ok=True)
+        if isinstance(exc, OSError):
+            raise _os_error(path, exc) from None
+        raise
+    return path
+
+
+def write_text(path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically."""
+    return write_bytes(path, text.encode("utf-8"))
+
+
+def replace_all(files: dict) -> list[Path]:
+    """Write several files ``{path: text}`` all or nothing.
+
+    Every file is staged first; if any staging fails nothing is replaced. The
+    renames then follow; if one fails, the files already replaced are put
+    back from copies of their previous contents.
+
+    Raises:
+        OutputError: naming the file that could not be written.
+    """
+    staged, done, backups = {}, [], {}
+    try:
+        for path, text in files.items():
+            path = Path(path)
+            try:
+                staged[path] = _stage(path, text.encode("utf-8"))
+                backups[path] = path.read_bytes() if path.exists() else None
+            except OSError as exc:
+                raise _os_error(path, exc) from None
+        for path, tmp in staged.items():
+            try:
+                os.replace(tmp, path)
+            except OSError as exc:
+                raise _os_error(path, exc) from None
+            done.append(path)
+    except BaseException:
+        for path in done:  # put back what was replaced
+            with contextlib.suppress(OSError):
+                if backups[path] is None:
+                    path.unlink()
+                else:
+                    write_bytes(path, backups[path])
+        for tmp in staged.values():
+            tmp.unlink(missing_ok=True)
+        raise
+    return done
+
+
+def check_output_file(path, what: str = "--out") -> Path:
+    """Check, before any work, that a file can be written at ``path`` (it may exist: it is replaced).
+
+    Raises:
+        InputError: ``path`` is a directory, its parent is a file or is not
+            writable, or the parent cannot be created.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{what} {path}: is a directory; give a file name such as {path / 'agreement.html'}")
+    _check_parent(path, what)
+    return path
+
+
+def check_new_directory(path, what: str = "--out") -> Path:
+    """Check, before any work, that ``path`` can be made a directory for new files.
+
+    It may be an existing directory (files in it are replaced atomically) or
+    not exist yet (it is created then, with its parents).
+
+    Raises:
+        InputError: ``path`` is an existing file, its parent is a file, or it is not writable.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{what} {path}: is an existing file; give a directory (new or existing)")
+    if path.is_dir():
+        if not os.access(path, os.W_OK | os.X_OK):
+            raise InputError(f"{what} {path}: the directory is not writable")
+        return path
+    _check_parent(path, what)
+    return path
+
+
+def _check_parent(path: Path, what: str) -> None:
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"{what} {path}: {parent} is a file, not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{what} {path}: {parent} is not writable")
+
+
+def make_directory(path) -> Path:
+    """Create ``path`` (and its parents) as checked by :func:`check_new_directory`.
+
+    Raises:
+        OutputError: it cannot be created.
+    """
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot create the directory ({exc.strerror or exc})") from None
+    return path
+
+
+@contextlib.contextmanager
+def terminate_as_interrupt():
+    """Inside the block, SIGTERM raises :class:`KeyboardInterrupt` like SIGINT, so writes clean up."""
+    def handler(signum, frame):
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread: leave signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -1,0 +1,166 @@
+"""The package's architecture: layers import downward only, no cycles, nothing heavy on import, help that helps."""
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from relacc.cli.parser import build_parser, subcommands
+
+PACKAGE = Path(__file__).resolve().parents[1] / "relacc"
+HEAVY = ("numba", "pinocchio", "mujoco", "matplotlib", "scipy", "jinja2", "pydantic", "hypothesis", "pydrake",
+         "dask", "distributed")
+
+BASE = {"errors", "files"}
+LAYERS = {
+    "errors": set(),
+    "files": {"errors"},
+    "core": BASE,
+    "kernels": BASE | {"core"},
+    "dynamics": BASE | {"core", "kernels"},
+    "fixtures": BASE | {"core"},
+    "engines": BASE | {"core", "kernels", "dynamics", "fixtures"},
+    "simulate": BASE | {"core", "kernels", "dynamics", "fixtures", "engines"},
+    "validation": BASE | {"core", "kernels", "dynamics", "fixtures", "engines"},
+    "tradeoff": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation"},
+    "report": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation", "tradeoff"},
+}
+"""Which layers each layer may import (besides itself). ``cli`` and ``relacc/__init__`` may import any."""
+
+LAZY_ONLY = {("core", "kernels")}
+"""Imports allowed inside functions only: the core loads the kernels at the first batched call."""
+
+
+def _modules():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        rel = path.relative_to(PACKAGE.parent).with_suffix("")
+        parts = list(rel.parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        yield ".".join(parts), path
+
+
+def _imports(name, path):
+    """``(imported relacc module, at module level?)`` for every import statement of a module."""
+    tree = ast.parse(path.read_text())
+    top = set(id(n) for n in tree.body)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("relacc"):
+            for alias in node.names:
+                yield f"{node.module}.{alias.name}", id(node) in top
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.startswith("relacc"):
+                    yield alias.name, id(node) in top
+
+
+def _resolve(target, modules):
+    """The module an import refers to (``relacc.core.tolerances.EPS`` -> ``relacc.core.tolerances``)."""
+    while target not in modules and "." in target:
+        target = target.rsplit(".", 1)[0]
+    return target
+
+
+def _layer(module):
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "relacc"
+
+
+def test_layers_import_downward_only():
+    """Every import of one relacc layer from another is allowed by the layer table (lazy ones where marked)."""
+    modules = dict(_modules())
+    bad = []
+    for name, path in modules.items():
+        here = _layer(name)
+        if here in ("cli", "relacc", "models", "recorded") or here not in LAYERS:
+            continue
+        for target, at_top in _imports(name, path):
+            there = _layer(_resolve(target, modules))
+            if there in (here, "relacc"):
+                continue
+            allowed = there in LAYERS[here] or (not at_top and (here, there) in LAZY_ONLY)
+            if not allowed:
+                bad.append(f"{name} imports {target} ({'module level' if at_top else 'in a function'})")
+    assert bad == []
+
+
+def test_no_import_cycles():
+    """The graph of module-level imports between relacc's modules has no cycle."""
+    modules = dict(_modules())
+    graph = {name: {_resolve(t, modules) for t, top in _imports(name, path) if top} - {name}
+             for name, path in modules.items()}
+    for name in graph:  # a package imports its submodules' parents implicitly: not an edge worth counting
+        graph[name] = {t for t in graph[name] if t in modules and not name.startswith(t + ".")}
+    state, cycle = {}, []
+
+    def visit(node, stack):
+        state[node] = 1
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                cycle.append(stack[stack.index(nxt):] + [nxt] if nxt in stack else [node, nxt])
+            elif nxt not in state:
+                visit(nxt, stack + [nxt])
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [node])
+    assert cycle == []
+
+
+def _loaded_after(code, tmp_path):
+    out = subprocess.run([sys.executable, "-c", code + "\nimport sys\nprint('loaded:', *(m for m in "
+                          f"{HEAVY!r} if m in sys.modules))"],
+                         capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert out.returncode == 0, out.stderr
+    return out.stdout.splitlines()[-1].split()[1:]
+
+
+def test_import_relacc_loads_nothing_heavy(tmp_path):
+    """`import relacc` (from another directory) loads no compiler, engine, plotting or template library."""
+    assert _loaded_after("import relacc", tmp_path) == []
+
+
+def test_core_evaluation_on_the_reference_path_loads_no_compiler(tmp_path):
+    """The core's reference formulas run without numba: only a batched fast call loads the kernels."""
+    code = ("import numpy as np, relacc\nc = relacc.TwoBodyChain(q2=[0, 0, .1], r2=[.1, 0, 0])\n"
+            "relacc.g2_kinematics(c, 3, np.zeros(12), np.ones(12), backend='reference')")
+    assert _loaded_after(code, tmp_path) == []
+    code = code.replace("backend='reference'", "backend='fast'")
+    loaded = _loaded_after(code, tmp_path)
+    assert "numba" in loaded and set(loaded) <= {"numba", "scipy"}, loaded  # numba itself imports scipy
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["check", "--help"], ["--version"]])
+def test_help_loads_nothing_heavy(tmp_path, argv):
+    """`relacc --help` and a subcommand's help import no engine, compiler or plotting library."""
+    code = f"from relacc.cli import main\nassert main({argv!r}) == 0"
+    assert _loaded_after(code, tmp_path) == []
+
+
+def test_every_subcommand_documents_itself():
+    """Each subcommand's --help has a description, an example, the exit codes and choices for enumerations."""
+    for name, sub in subcommands(build_parser()).items():
+        text = sub.format_help()
+        assert sub.description, name
+        assert "examples:\n  relacc " + name in text, name
+        for code in ("0  success", "1  a disagreement", "2  a usage or input error"):
+            assert code in text, (name, code)
+        for action in sub._actions:
+            if action.dest in ("integrator",):
+                assert action.choices, (name, action.dest)
+
+
+def test_common_flags_mean_the_same_everywhere():
+    """--json, --seed, --model and --quiet have one help text each across every subcommand."""
+    seen = {}
+    for name, sub in subcommands(build_parser()).items():
+        for action in sub._actions:
+            for flag in ("--json", "--seed", "--model", "--quiet"):
+                if flag in action.option_strings:
+                    seen.setdefault(flag, {})[name] = action.help.split(" (")[0].split(";")[0]
+    for flag, texts in seen.items():
+        assert len(set(texts.values())) == 1, (flag, texts)
+    assert set(seen["--model"]) >= {"eval", "check", "errata", "fixtures", "report", "tradeoff"}
