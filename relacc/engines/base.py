@@ -77,8 +77,22 @@ class PointKinematics:
 class Engine(abc.ABC):
     """An engine loaded with the chain's fixtures.
 
-    Subclasses set ``name`` and implement :meth:`engine_input` (the
-    coordinate map) and :meth:`point` (one state through the engine).
+    Subclasses set ``name`` (and ``global_coordinates``, the quantities the
+    engine forms from differences of world positions) and implement the
+    abstract methods, each converting the engine's conventions locally:
+
+    * :attr:`version`;
+    * :meth:`engine_input`, :meth:`note_coordinates`: the coordinate map of a
+      route and its inverse;
+    * :meth:`points`: G2's position, Jacobian, its rate and classical
+      acceleration for a batch, in the engine's own velocity coordinates;
+    * :meth:`dynamics`, :meth:`forward_dynamics`: the engine's ``M``, ``f``
+      and accelerations under exactly the given effects;
+    * :meth:`stepper`: its fixed-step integrator for :mod:`relacc.dynamics.steps`;
+    * :meth:`body_state`: engine coordinates back to Case 2's ``(q14, nu)``.
+
+    Everything else (:meth:`g2_kinematics`, :meth:`equations_of_motion`,
+    :meth:`simulate`, :meth:`bound`, ...) is built on these here.
     """
 
     name: str = ""

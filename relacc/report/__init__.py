@@ -11,14 +11,11 @@ from __future__ import annotations
 import datetime as dt
 import os
 import platform
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 
 from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
-from relacc import fixtures
-from relacc.errors import InputError, RelaccError
+from relacc import files, fixtures
 from relacc.report.sections import SECTIONS
 from relacc.validation.check import CheckReport, Harness
 from relacc.validation.errata import Erratum, errata
@@ -140,22 +137,6 @@ def render(ctx: ReportContext) -> str:
     return env.get_template("report.html.j2").render(sections=sections)
 
 
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename: all or nothing."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 def build_report(out="reports/agreement.html", n_states=None, seed=0, quick=False, model=None, progress=None):
     """Run everything and write the report atomically.
 
@@ -163,16 +144,13 @@ def build_report(out="reports/agreement.html", n_states=None, seed=0, quick=Fals
         ``(path, ctx)``: the written file and the context it was made from.
 
     Raises:
-        InputError: an output path that is a directory. Any RelaccError of
-            the run; nothing is written then.
+        InputError: an output path that cannot be written (checked before
+            the run). OutputError: the write failed; the previous file is
+            unchanged. Any RelaccError of the run; nothing is written then.
     """
-    path = Path(out)
-    if path.is_dir():
-        raise InputError(f"--out {out}: is a directory; give a file name such as {path / 'agreement.html'}")
+    path = files.check_output_file(out)
     ctx = build_context(n_states=n_states, seed=seed, quick=quick, model=model, progress=progress)
     html = render(ctx)
-    try:
-        write_atomic(path, html)
-    except OSError as exc:
-        raise RelaccError(f"--out {out}: cannot write the report ({exc.strerror or exc})") from None
+    path.parent.mkdir(parents=True, exist_ok=True)
+    files.write_text(path, html)
     return path, ctx

@@ -8,6 +8,8 @@ against complex-step derivatives and of each engine against the core.
 
 from __future__ import annotations
 
+import contextlib
+import tempfile
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,6 +84,20 @@ def _draw_state(data, st):
     return case, q, u, udot, desc
 
 
+@contextlib.contextmanager
+def _private_storage():
+    """Hypothesis's storage (its cache of constants) in a temporary directory, not in the working directory."""
+    import hypothesis.configuration as config
+
+    previous = getattr(config, "__hypothesis_home_directory", None)
+    with tempfile.TemporaryDirectory(prefix="relacc-hypothesis-") as tmp:
+        config.set_hypothesis_home_dir(tmp)
+        try:
+            yield
+        finally:
+            config.set_hypothesis_home_dir(previous)
+
+
 def hypothesis_search(fixture: Fixture, max_examples: int = 100, seed: int = 0,
                       engines=("pinocchio", "mujoco")) -> Worst:
     """Let Hypothesis push toward the largest error / bound over random states; return the worst.
@@ -118,5 +134,6 @@ def hypothesis_search(fixture: Fixture, max_examples: int = 100, seed: int = 0,
             worst.update(ratio=best[0], evaluator=best[1], quantity=best[2], case=case, error=best[3],
                          bound=best[4], description=desc, q=q.tolist(), u=u.tolist(), udot=udot.tolist())
 
-    probe()
+    with _private_storage():
+        probe()
     return Worst(examples=count[0], **worst)
