@@ -19,9 +19,7 @@ import importlib
 
 from relacc.core.cases import Case
 from relacc.core.chain import TwoBodyChain
-from relacc.core.kinematics import G2Kinematics, g2_acceleration, g2_kinematics
-from relacc.core.note.equations import EQUATIONS
-from relacc.core.rotations import (
+from relacc.core.checked import (
     matrix_from_123,
     matrix_from_quaternion,
     omega_partials_123,
@@ -31,6 +29,8 @@ from relacc.core.rotations import (
     quaternion_multiply,
     tilde,
 )
+from relacc.core.kinematics import G2Kinematics, g2_acceleration, g2_kinematics
+from relacc.core.note.equations import EQUATIONS
 from relacc.errors import (
     CaseError,
     EngineError,

@@ -81,32 +81,84 @@ def replace_all(files: dict) -> list[Path]:
     Raises:
         OutputError: naming the file that could not be written.
     """
-    staged, done, backups = {}, [], {}
+    staged = {}
     try:
         for path, text in files.items():
             path = Path(path)
             try:
                 staged[path] = _stage(path, text.encode("utf-8"))
-                backups[path] = path.read_bytes() if path.exists() else None
             except OSError as exc:
                 raise _os_error(path, exc) from None
-        for path, tmp in staged.items():
+        _rename_all(staged)
+    finally:
+        for tmp in staged.values():
+            tmp.unlink(missing_ok=True)
+    return list(staged)
+
+
+@contextlib.contextmanager
+def streams(paths):
+    """Text handles ``{path: handle}`` for files written piece by piece, replaced all or nothing at the end.
+
+    Each handle writes to a temporary file beside its path. When the block
+    ends normally the files are renamed into place (a failed rename puts back
+    the ones already replaced); on any exception, SIGINT or SIGTERM included,
+    the temporary files are removed and the previous files are unchanged.
+
+    Raises:
+        OutputError: a file cannot be created or written.
+    """
+    paths = [Path(p) for p in paths]
+    handles, temps = {}, {}
+    try:
+        for path in paths:
             try:
+                fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            except OSError as exc:
+                raise _os_error(path, exc) from None
+            temps[path] = Path(tmp)
+            handles[path] = os.fdopen(fd, "w", encoding="utf-8", newline="")
+        try:
+            yield handles
+            for path, fh in handles.items():
+                fh.flush()
+                os.fsync(fh.fileno())
+        except OSError as exc:
+            raise _os_error(next(iter(handles)), exc) from None
+        for fh in handles.values():
+            fh.close()
+        umask = os.umask(0)
+        os.umask(umask)
+        for tmp in temps.values():
+            os.chmod(tmp, 0o666 & ~umask)
+        _rename_all(temps)
+    finally:
+        for fh in handles.values():
+            with contextlib.suppress(OSError):
+                fh.close()
+        for tmp in temps.values():
+            tmp.unlink(missing_ok=True)
+
+
+def _rename_all(temps: dict) -> None:
+    """Rename each staged temporary file over its path; on a failure put back the ones already replaced."""
+    done, backups = [], {}
+    try:
+        for path, tmp in temps.items():
+            try:
+                backups[path] = path.read_bytes() if path.exists() else None
                 os.replace(tmp, path)
             except OSError as exc:
                 raise _os_error(path, exc) from None
             done.append(path)
     except BaseException:
-        for path in done:  # put back what was replaced
-            with contextlib.suppress(OSError):
+        for path in done:
+            with contextlib.suppress(OSError, OutputError):
                 if backups[path] is None:
                     path.unlink()
                 else:
                     write_bytes(path, backups[path])
-        for tmp in staged.values():
-            tmp.unlink(missing_ok=True)
         raise
-    return done
 
 
 def check_output_file(path, what: str = "--out") -> Path:

@@ -12,7 +12,7 @@ import sys
 import numpy as np
 
 import relacc
-from relacc import fixtures
+from relacc import files, fixtures
 from relacc.core.conventions import CASE_NAMES, CONVENTIONS, COORDINATES, QUANTITIES, SPEEDS
 from relacc.core.tolerances import EPS
 from relacc.errors import InputError
@@ -167,6 +167,8 @@ def cmd_simulate(args) -> int:
     from relacc.fixtures.shipped import scene_path
     from relacc.simulate import scenes
 
+    if args.out:
+        files.check_new_directory(args.out)
     scene = scenes.load(scene_path(args.scene))
     changes = {k: v for k, v in (("dt", args.dt), ("integrator", args.integrator), ("duration", args.duration))
                if v is not None}
@@ -185,17 +187,14 @@ def cmd_simulate(args) -> int:
         bar = "#" * int(30 * fraction)
         print(f"\r  {engine:9s} [{bar:30s}] {100 * fraction:5.1f} %", end="", file=sys.stderr, flush=True)
 
-    result = simulate.run(scene, progress=progress)
+    result = simulate.run(scene, progress=progress, keep=False, out=args.out)
     if _time.perf_counter() - start >= 2.0 and not args.quiet:
         print(file=sys.stderr)
-    if args.out:
-        for path in simulate.write_csv(result, args.out):
-            if not args.json:
-                print(f"wrote {path}")
-    summary = result.summary()
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(json.dumps(result.summary(), indent=2))
         return 0
+    for path in result.csv:
+        print(f"wrote {path}")
     print(simulate.format_text(result))
     return 0
 

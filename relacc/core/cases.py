@@ -17,6 +17,8 @@ components; ``omega_hat'_B2`` the same vector in B2 components (rad/s).
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import enum
 from dataclasses import dataclass
 
@@ -80,7 +82,30 @@ def layout(case) -> Layout:
     return _ANGLES if as_case(case) is Case.ANGLE_RATES else _QUAT
 
 
-def _as_array(name: str, value, length: int, what: str, values: bool = True) -> np.ndarray:
+def _holds_bool(value) -> bool:
+    """Whether nested lists or tuples hold a Python or numpy boolean (numpy would turn it into 0 or 1)."""
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, (bool, np.bool_)):
+            return True
+        if isinstance(item, (list, tuple)):
+            stack.extend(item)
+    return False
+
+
+def as_numbers(name: str, value, length: int, what: str, values: bool = True, offset: int = 0) -> np.ndarray:
+    """``value`` as an array of numbers ``(..., length)``: lists and arrays alike, integers made float.
+
+    Booleans, strings and objects are rejected; with ``values`` so are NaN and inf.
+    ``offset`` is added to the leading batch index in messages (a chunk's
+    position in a longer batch).
+
+    Raises:
+        InputError: naming ``name``, what was wrong and ``what`` is accepted.
+    """
+    if isinstance(value, (list, tuple)) and _holds_bool(value):
+        raise InputError(f"{name}: expected numbers ({what}), got a boolean in {value!r:.80}")
     try:
         arr = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
@@ -93,20 +118,55 @@ def _as_array(name: str, value, length: int, what: str, values: bool = True) -> 
         arr = arr.astype(np.float64)
     if values and not np.all(np.isfinite(arr)):
         bad = np.argwhere(~np.isfinite(arr))[0]
+        at = tuple(int(i) + (offset if k == 0 and arr.ndim > 1 else 0) for k, i in enumerate(bad))
         raise InputError(
-            f"{name}: non-finite value {arr[tuple(bad)]} at index {tuple(int(i) for i in bad)}; "
+            f"{name}: non-finite value {arr[tuple(bad)]} at index {at}; "
             "every entry must be a finite number"
         )
     return arr
 
 
-def check_q(case, q, values: bool = True) -> np.ndarray:
+_COMPLEX_STEP_POINTS = contextvars.ContextVar("relacc_complex_step_points", default=False)
+
+
+@contextlib.contextmanager
+def complex_step_points():
+    """Inside the block, complex quaternions are judged as points of a complex step: by ``q . q = 1``.
+
+    A complex step evaluates a formula at ``q(i h)``, the analytic
+    continuation of a path of unit quaternions: there ``q . q = 1`` holds
+    exactly while ``|q|^2 = 1 + O(h^2)``. Only relacc's own complex-step
+    derivatives (:mod:`relacc.core.derivatives`) open this block; everywhere
+    else a complex quaternion is judged by its true size, ``|q|^2``.
+    """
+    token = _COMPLEX_STEP_POINTS.set(True)
+    try:
+        yield
+    finally:
+        _COMPLEX_STEP_POINTS.reset(token)
+
+
+def quaternion_norm_deviation(quat) -> np.ndarray:
+    """``| |q|^2 - 1 |`` per quaternion ``(..., 4)``, ``|q|^2 = sum |q_i|^2`` (also for complex ``q``).
+
+    Inside :func:`complex_step_points`, complex quaternions are judged by
+    ``|q . q - 1|`` instead. Overflow gives ``inf``, not a warning.
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        if np.iscomplexobj(quat) and _COMPLEX_STEP_POINTS.get():
+            return np.abs(np.einsum("...i,...i->...", quat, quat) - 1)
+        return np.abs(np.sum(np.real(quat) ** 2 + np.imag(quat) ** 2, axis=-1) - 1)
+
+
+def check_q(case, q, values: bool = True, offset: int = 0) -> np.ndarray:
     """Validate a case's coordinates; return them as a float (or complex) array.
 
     Quaternions must be unit to ``QUATERNION_NORM_TOLERANCE``; they are never
     normalized here. With ``values=False`` only the type and shape are
     checked (the fused kernels check the values themselves, see
     :mod:`relacc.kernels.kinematics`, and call back here to report what they find).
+
+    ``offset`` shifts the leading batch index in messages (see :func:`as_numbers`).
 
     Raises:
         InputError: wrong length, non-finite entries or non-unit quaternions.
@@ -118,17 +178,16 @@ def check_q(case, q, values: bool = True) -> np.ndarray:
         if lay.quaternions
         else "[s1 (3), theta_B1 (3), s2' (3), theta_B2 (3)]"
     )
-    arr = _as_array(f"q for case {int(c)}", q, lay.nq, what, values)
+    arr = as_numbers(f"q for case {int(c)}", q, lay.nq, what, values, offset)
     if values and lay.quaternions:
         for label, sl in (("quat_B1", lay.B1), ("quat_B2/B1", lay.B2)):
-            quat = arr[..., sl]
-            with np.errstate(over="ignore", invalid="ignore"):  # an overflowing norm is just not 1
-                dev = np.abs(np.einsum("...i,...i->...", quat, quat) - 1)
+            dev = quaternion_norm_deviation(arr[..., sl])
             if np.any(dev > QUATERNION_NORM_TOLERANCE):
                 idx = np.unravel_index(np.argmax(dev), dev.shape) if dev.ndim else ()
-                at = f" at batch index {tuple(int(i) for i in idx)}" if idx else ""
+                at = f" at batch index {tuple(int(i) + (offset if k == 0 else 0) for k, i in enumerate(idx))}" \
+                    if idx else ""
                 with np.errstate(over="ignore", invalid="ignore"):
-                    norm2 = np.real(np.sum(quat[idx] * quat[idx]))
+                    norm2 = float(np.sum(np.abs(arr[..., sl][idx]) ** 2))
                 raise InputError(
                     f"q for case {int(c)}: {label}{at} has squared norm "
                     f"{norm2:.17g}, off 1 by "
@@ -138,13 +197,13 @@ def check_q(case, q, values: bool = True) -> np.ndarray:
     return arr
 
 
-def check_u(name: str, u, values: bool = True) -> np.ndarray:
+def check_u(name: str, u, values: bool = True, offset: int = 0) -> np.ndarray:
     """Validate generalized speeds (or their derivatives), shape ``(..., 12)``.
 
     Raises:
         InputError: wrong length or (with ``values``) non-finite entries.
     """
-    return _as_array(name, u, NU, "[s1 (3), B1 angular (3), s2' (3), B2 angular (3)] rates", values)
+    return as_numbers(name, u, NU, "[s1 (3), B1 angular (3), s2' (3), B2 angular (3)] rates", values, offset)
 
 
 def check_int(name: str, value, minimum: int | None = None) -> int:

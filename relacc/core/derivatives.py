@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.cases import Case, as_case, check_q, check_u, layout
+from relacc.core.cases import Case, as_case, check_q, check_u, complex_step_points, layout
 from relacc.core.rotations import quaternion_exp, quaternion_multiply
 from relacc.core.tolerances import COMPLEX_STEP
 from relacc.errors import InputError
@@ -69,10 +69,14 @@ def advance(case, q, u, t):
 def complex_step(f, h: float = COMPLEX_STEP):
     """``Im f(i h) / h``: the derivative at 0 of an analytic, real-on-reals ``f``.
 
+    ``f`` is evaluated inside :func:`relacc.core.cases.complex_step_points`,
+    so the complexified quaternions of the path are accepted.
+
     Truncation error ``h^2 |f'''| / 6``; no cancellation, so exact to rounding
     for the default ``h = 1e-20``.
     """
-    return np.imag(f(1j * h)) / h
+    with complex_step_points():
+        return np.imag(f(1j * h)) / h
 
 
 def central_difference(f, h: float):

@@ -123,12 +123,19 @@ def _check_backend(backend, printed, *arrays) -> str:
     return backend
 
 
-def _check_values(c, q, u, udot) -> None:
-    """The value checks of :func:`check_q` and :func:`check_u` (finite, unit quaternions)."""
-    check_q(c, q)
-    check_u(f"u for case {int(c)}", u)
+def check_values(case, q, u, udot=None, offset: int = 0) -> None:
+    """The value checks of :func:`check_q` and :func:`check_u` (finite, unit quaternions).
+
+    ``offset``: the position of this batch in a longer one, added to the state index in messages.
+
+    Raises:
+        InputError: naming the first bad entry.
+    """
+    c = as_case(case)
+    check_q(c, q, offset=offset)
+    check_u(f"u for case {int(c)}", u, offset=offset)
     if udot is not None:
-        check_u(f"udot for case {int(c)}", udot)
+        check_u(f"udot for case {int(c)}", udot, offset=offset)
 
 
 def _kernels():
@@ -181,7 +188,7 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend=
             flat = [_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), None if udot is None else _flat(udot, batch, 12)]
             (pos, vel, acc, V, Vdot), bad, bad_in = _kernels().kinematics(int(c), *flat, chain.q2, chain.r2)
             if bad_in:
-                _check_values(c, q, u, udot)  # raises, naming the bad entry
+                check_values(c, q, u, udot)  # raises, naming the bad entry
             if bad:
                 check_finite_result((pos, vel, acc, V, Vdot), q, u, udot)
             shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
@@ -205,7 +212,7 @@ def g2_acceleration(chain, case, q, u, udot, *, backend="auto"):
             flat = (_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), _flat(udot, batch, 12))
             acc, bad, bad_in = _kernels().acceleration(int(c), *flat, chain.q2, chain.r2)
             if bad_in:
-                _check_values(c, q, u, udot)  # raises, naming the bad entry
+                check_values(c, q, u, udot)  # raises, naming the bad entry
             acc = acc.reshape(batch + (3,))
             if bad:
                 check_finite_result((acc,), q, u, udot)
@@ -231,7 +238,7 @@ def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False):
         udot = check_u(f"udot for case {int(c)}", udot, values=False)
     path = _check_backend(backend, printed, q, u, udot)
     if path == "reference":
-        _check_values(c, q, u, udot)
+        check_values(c, q, u, udot)
     shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
     try:
         batch = np.broadcast_shapes(*shapes)

@@ -18,7 +18,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from relacc.core.cases import as_case, check_int
-from relacc.core.kinematics import g2_acceleration, g2_kinematics
+from relacc.core.kinematics import check_values, g2_acceleration, g2_kinematics
 from relacc.errors import InputError, RelaccError
 
 CHUNK_SIZE = 65_536
@@ -67,6 +67,10 @@ def iter_g2_kinematics(chain, case, q, u, udot=None, *, chunk_size: int = CHUNK_
                 result = g2_acceleration(chain, case, qc, uc, dc, backend=backend)
             else:
                 result = g2_kinematics(chain, case, qc, uc, dc, variant=variant, backend=backend)
-        except RelaccError as exc:
+        except RelaccError:
+            try:  # name the bad state by its index in the whole batch, not in the chunk
+                check_values(case, qc, uc, dc, offset=states.start)
+            except RelaccError as named:
+                exc = named
             raise type(exc)(f"states {states.start}..{states.stop - 1}: {exc}") from None
         yield states, result

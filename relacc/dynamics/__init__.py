@@ -15,10 +15,11 @@ from relacc.dynamics.kane import (
     accelerations,
     body_partials,
     energy,
+    energy_terms,
     equations_of_motion,
     generalized_forces,
     momenta,
 )
 
-__all__ = ["NONE", "BodyPartials", "Effects", "accelerations", "body_partials", "energy", "equations_of_motion",
-           "generalized_forces", "momenta"]
+__all__ = ["NONE", "BodyPartials", "Effects", "accelerations", "body_partials", "energy", "energy_terms",
+           "equations_of_motion", "generalized_forces", "momenta"]

@@ -31,7 +31,7 @@ from relacc.core.chain import TwoBodyChain
 from relacc.core.kinematics import check_finite_result, g2_kinematics
 from relacc.core.note.common import T, configuration, mv
 from relacc.core.rotations import tilde
-from relacc.core.speeds import body_speed_map
+from relacc.core.speeds import body_speed_map, check_invertible
 from relacc.dynamics.effects import NONE, Effects
 from relacc.errors import InputError
 
@@ -169,29 +169,46 @@ def accelerations(chain, case, q, u, effects: Effects = NONE):
 
     Rates of the case's speeds: m/s^2 for the translational blocks, rad/s^2
     for the angular ones, in the components the case's speeds use.
+
+    Raises:
+        SingularityError: case 3 within ``MAX_CONDITION`` of gimbal lock, where
+            the angle rates' accelerations are not defined to useful accuracy
+            (:func:`relacc.core.speeds.check_invertible`).
     """
+    check_invertible(case, check_q(as_case(case), q))
     M, f = equations_of_motion(chain, case, q, u, effects)
     return np.linalg.solve(M, f[..., None])[..., 0]
 
 
-def energy(chain, case, q, u, effects: Effects = NONE):
-    """Kinetic plus potential energy of the active conservative effects, J, ``(...)``.
+def energy_terms(chain, case, q, u, effects: Effects = NONE):
+    """The terms of the energy, J, each ``(...)``: ``(kinetic, gravity, spring)``.
 
-    Potential: ``-sum m_i g . r_Gi`` for gravity, ``1/2 sum k (s2' - rest)^2`` for the spring.
+    Gravity's potential ``-sum m_i g . r_Gi`` (0 when gravity is off), the
+    spring's ``1/2 sum k (s2' - rest)^2`` (0 when off). Their sum is
+    :func:`energy`; ``kinetic + |gravity| + spring`` is the magnitude of the
+    terms, the scale energy drift is normalized by.
     """
     c = as_case(case)
     q, u = check_q(c, q), check_u("u", u)
     bp = body_partials(chain, c, q, u)
-    E = 0.0
+    T = 0.0
     for m, V, Om, R, I in ((chain.m1, bp.V1, bp.Om1, bp.R1, chain.I1), (chain.m2, bp.V2, bp.Om2, bp.R2, chain.I2)):
         v, w = mv(V, u), mv(Om, u)
-        E = E + 0.5 * m * np.sum(v * v, -1) + 0.5 * np.sum(w * mv(_inertia_fixed(R, I), w), -1)
+        T = T + 0.5 * m * np.sum(v * v, -1) + 0.5 * np.sum(w * mv(_inertia_fixed(R, I), w), -1)
+    zero = np.zeros_like(np.real(T))
+    gravity, spring = zero, zero
     if effects.gravity is not None:
-        E = E - chain.m1 * bp.rG1 @ effects.gravity - chain.m2 * bp.rG2 @ effects.gravity
+        gravity = -chain.m1 * bp.rG1 @ effects.gravity - chain.m2 * bp.rG2 @ effects.gravity
     if effects.spring_stiffness is not None:
         d = q[..., layout(c).s2_p] - effects.spring_rest
-        E = E + 0.5 * np.sum(effects.spring_stiffness * d * d, -1)
-    return E
+        spring = 0.5 * np.sum(effects.spring_stiffness * d * d, -1)
+    return T, gravity, spring
+
+
+def energy(chain, case, q, u, effects: Effects = NONE):
+    """Kinetic plus potential energy of the active conservative effects, J, ``(...)`` (:func:`energy_terms`)."""
+    T, gravity, spring = energy_terms(chain, case, q, u, effects)
+    return T + gravity + spring
 
 
 def momenta(chain, case, q, u):

@@ -197,6 +197,16 @@ class Engine(abc.ABC):
     def body_state(self, q, v):
         """Engine coordinates ``(n, nq_e)``, ``(n, nv_e)`` to Case 2's ``(q14, nu)`` (quaternion route)."""
 
+    def applied(self, effects) -> dict:
+        """What the engine is told to apply for ``effects``, as plain data for reports.
+
+        Default: gravity through the model and every other effect as a
+        generalized force; adapters that switch features off say which.
+        """
+        g = "0 (off)" if effects.gravity is None else str(effects.gravity.tolist())
+        forces = [n for n in effects.active() if n != "gravity"]
+        return {"model.gravity": g, "generalized forces": forces or "none"}
+
     def initial_state(self, case, q, u):
         """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates on the quaternion route.
 

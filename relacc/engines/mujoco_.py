@@ -178,6 +178,10 @@ class MujocoEngine(Engine):
         return sorted(name[len("mjDSBL_"):].lower() for name, bit in D.__members__.items()
                       if name.startswith("mjDSBL_") and bit and int(flags) & int(bit) == int(bit))
 
+    def applied(self, effects) -> dict:
+        """The disable flags :meth:`configure` sets for ``effects``."""
+        return {"disabled": self.configure(effects)}
+
     def _forward(self, q, v, effects):
         """``mj_forward`` at each state under exactly ``effects``; yields ``(i, model, data)``."""
         self.configure(effects)

@@ -4,10 +4,11 @@ Layer rule: imports the core, dynamics, kernels and (when a run asks for
 one) the engines; nothing here is imported by ``import relacc``.
 
 * :mod:`~relacc.simulate.scenes`: scene files (which chain, from which state, under which effects).
-* :mod:`~relacc.dynamics.integrate`: RKMK4, semi-implicit Euler, ``solve_ivp`` on SO(3) charts.
-* :mod:`~relacc.simulate.runs`: a scene on relacc and the engines, compared.
+* :mod:`~relacc.simulate.runs`: a scene on relacc and the engines in lockstep, compared, streamed to CSV.
+* :mod:`~relacc.simulate.trajectory`: what a run records and keeps.
 """
 
-from relacc.simulate.runs import SimulationResult, Trajectory, format_text, run, write_csv
+from relacc.simulate.runs import SimulationResult, format_text, run
+from relacc.simulate.trajectory import Trajectory
 
-__all__ = ["SimulationResult", "Trajectory", "format_text", "run", "write_csv"]
+__all__ = ["SimulationResult", "Trajectory", "format_text", "run"]

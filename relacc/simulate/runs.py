@@ -1,11 +1,17 @@
-"""Run a scene on relacc, Pinocchio and MuJoCo and compare what they do.
+"""Run a scene on relacc and the engines, in lockstep, and compare what they do.
 
 * relacc integrates Kane's equations (:mod:`relacc.dynamics`) in the scene's
   own coordinates (quaternions on SO(3) by RKMK4 for cases 1-2, angles for
-  case 3); Pinocchio is integrated by the same RKMK4 on its own manifold
-  (``pin.aba``, ``pin.integrate``); MuJoCo steps itself (``mj_step``).
-* Along every trajectory: G2's position, velocity and classical acceleration
-  (fixed components), the energy of the conservative effects and both momenta.
+  case 3); each engine integrates with its own stepper
+  (:meth:`relacc.engines.base.Engine.stepper`); all through the one step loop
+  (:mod:`relacc.dynamics.steps`), so every run records ``t = 0``, every
+  ``record_every``-th step and ``t = duration``.
+* At every record: G2's position, velocity and classical acceleration (fixed
+  components), the energy of the conservative effects and both momenta.
+* The engines advance together, :data:`RECORD_BLOCK` records at a time; each
+  block is compared between engines, summarized (:class:`relacc.simulate.trajectory.Track`)
+  and, with ``out``, appended to one CSV per engine. With ``keep=False``
+  nothing else is kept: memory is set by the block, whatever the steps.
 * Along relacc's trajectory the note's acceleration formulas
   (:func:`relacc.g2_kinematics` with Kane's ``udot``) are compared with each
   engine's own acceleration at the same states.
@@ -13,101 +19,71 @@
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import itertools
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from relacc import dynamics
+from relacc import dynamics, files
 from relacc.core.cases import as_case
 from relacc.core.kinematics import g2_kinematics
 from relacc.core.scales import term_scales
 from relacc.core.speeds import to_body_speeds
 from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
 from relacc.dynamics.integrate import stepper
-from relacc.dynamics.steps import collect
+from relacc.dynamics.steps import march, recorded_steps
 from relacc.engines import load_engine
-from relacc.errors import RelaccError
-from relacc.simulate.scenes import Scene
+from relacc.errors import EngineError
+from relacc.simulate.scenes import SIM_ENGINES, Scene
+from relacc.simulate.trajectory import Track, Trajectory
+
+RECORD_BLOCK = 512
+"""Records per block: the engines advance, are compared and are written this many records at a time."""
 
 NOTE_CHECK_STATES = 40
 """States of relacc's trajectory at which the note's accelerations meet the engines'."""
 
 
 @dataclass(frozen=True, eq=False)
-class Trajectory:
-    """One engine's run. Arrays share the leading time axis.
+class SimulationResult:
+    """All engines' runs of one scene, and their comparison.
 
     Attributes:
-        engine: ``relacc``, ``pinocchio`` or ``mujoco``.
-        t: ``(m,)`` s. q, u: ``(m, .)`` the engine's own coordinates (relacc:
-            the scene's case coordinates and speeds).
-        columns: names of the ``q`` and ``u`` columns.
-        position, velocity, acceleration: ``(m, 3)`` G2 in R, fixed components
-            (m, m/s, m/s^2; classical acceleration).
-        energy: ``(m,)`` J (kinetic + potential of the conservative effects).
-        momentum, angular_momentum: ``(m, 3)`` about R's origin, fixed components.
-        seconds: wall time of the integration. applied: what the engine was told to apply.
+        scene: what was run.
+        tracks: ``{engine: Track}``, the running summaries of each run.
+        trajectories: ``{engine: Trajectory}`` with every record, or ``{}`` when run with ``keep=False``.
+        pairs: ``{"a-b": {"position": m, "velocity": m/s}}``, the largest G2 differences over the run.
+        note_check: ``{engine: {"error", "bound"}}``, the note's acceleration against each engine's.
+        csv: the CSV files written (``out``), else ``[]``.
     """
 
-    engine: str
-    t: np.ndarray
-    q: np.ndarray
-    u: np.ndarray
-    columns: tuple[list, list]
-    position: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray
-    energy: np.ndarray
-    momentum: np.ndarray
-    angular_momentum: np.ndarray
-    seconds: float
-    applied: dict = field(default_factory=dict)
-
-    def energy_drift(self) -> float:
-        """``max |E(t) - E(0)| / max(|E(0)|, T(0))``: relative drift of the energy."""
-        ref = max(abs(self.energy[0]), 1e-300)
-        return float(np.max(np.abs(self.energy - self.energy[0])) / ref)
-
-    def momentum_drift(self) -> tuple[float, float]:
-        """Largest change of the linear (kg m/s) and angular (kg m^2/s) momenta over the run."""
-        return (float(np.max(np.linalg.norm(self.momentum - self.momentum[0], axis=1))),
-                float(np.max(np.linalg.norm(self.angular_momentum - self.angular_momentum[0], axis=1))))
-
-
-@dataclass(frozen=True, eq=False)
-class SimulationResult:
-    """All engines' trajectories of one scene, and their comparison."""
-
     scene: Scene
+    tracks: dict
     trajectories: dict
+    pairs: dict
     note_check: dict
+    csv: list
 
     def differences(self):
-        """Largest G2 position and velocity difference over the run, over every pair of engines."""
-        names = list(self.trajectories)
-        pos = vel = 0.0
-        pairs = {}
-        for i, a in enumerate(names):
-            for b in names[i + 1:]:
-                ta, tb = self.trajectories[a], self.trajectories[b]
-                dp = float(np.max(np.linalg.norm(ta.position - tb.position, axis=1)))
-                dv = float(np.max(np.linalg.norm(ta.velocity - tb.velocity, axis=1)))
-                pairs[f"{a}-{b}"] = {"position": dp, "velocity": dv}
-                pos, vel = max(pos, dp), max(vel, dv)
-        return pos, vel, pairs
+        """Largest G2 position (m) and velocity (m/s) difference over the run, over every pair; and the pairs."""
+        pos = max((p["position"] for p in self.pairs.values()), default=0.0)
+        vel = max((p["velocity"] for p in self.pairs.values()), default=0.0)
+        return pos, vel, self.pairs
 
     def summary(self) -> dict:
         """The ``relacc simulate --json`` object."""
         pos, vel, pairs = self.differences()
         eff = self.scene.effects
         engines = {}
-        for name, tr in self.trajectories.items():
+        for name, tr in self.tracks.items():
             p_drift, h_drift = tr.momentum_drift()
             engines[name] = {
-                "g2_position_final": tr.position[-1].tolist(),
+                "g2_position_final": tr.last["position"].tolist(),
+                "t_final": float(tr.last["t"]),
                 "energy_drift": tr.energy_drift() if eff.conserves_energy else None,
                 "momentum_drift": p_drift if eff.conserves_momentum else None,
                 "angular_momentum_drift": h_drift if eff.conserves_momentum else None,
@@ -115,62 +91,153 @@ class SimulationResult:
                 "applied": tr.applied,
             }
         return {
-            "scene": self.scene.name,
-            "case": self.scene.case,
-            "integrator": self.scene.integrator,
-            "dt": self.scene.dt,
-            "duration": self.scene.duration,
-            "effects": eff.describe(),
-            "engines": engines,
-            "max_g2_position_difference": pos,
-            "max_g2_velocity_difference": vel,
-            "pairs": pairs,
-            "note_acceleration_vs_engines": self.note_check,
+            "scene": self.scene.name, "case": self.scene.case, "integrator": self.scene.integrator,
+            "dt": self.scene.dt, "duration": self.scene.duration, "steps": self.scene.n_steps,
+            "record_every": self.scene.record_every, "effects": eff.describe(), "engines": engines,
+            "max_g2_position_difference": pos, "max_g2_velocity_difference": vel, "pairs": pairs,
+            "note_acceleration_vs_engines": self.note_check, "csv": [str(p) for p in self.csv],
         }
 
 
-def relacc_trajectory(scene: Scene, progress=None) -> Trajectory:
-    """relacc's own run of a scene: Kane's equations integrated in the scene's coordinates."""
+def _observe_relacc(scene: Scene):
+    """relacc's observation of a block of its own states (the scene's case coordinates)."""
     chain, case, eff = scene.fixture.chain, scene.case, scene.effects
-    advance = stepper(chain, case, eff, scene.dt, scene.integrator)
-    start = time.perf_counter()
-    t, Q, U = collect(advance, scene.q, scene.u, scene.dt, scene.n_steps, scene.record_every, who="relacc",
-                      integrator=scene.integrator, progress=progress)
-    seconds = time.perf_counter() - start
-    Udot = dynamics.accelerations(chain, case, Q, U, eff)
-    k = g2_kinematics(chain, case, Q, U, Udot)
-    p, H = dynamics.momenta(chain, case, Q, U)
-    names_q = [f"q{i}" for i in range(Q.shape[1])]
-    return Trajectory("relacc", t, Q, U, (names_q, [f"u{i}" for i in range(12)]),
-                      k.position, k.velocity, k.acceleration, dynamics.energy(chain, case, Q, U, eff), p, H,
-                      seconds, {"equations": "Kane, " + (", ".join(eff.active()) or "no effects")})
+
+    def observe(Q, U):
+        k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, eff))
+        T, g, s = dynamics.energy_terms(chain, case, Q, U, eff)
+        p, H = dynamics.momenta(chain, case, Q, U)
+        return {"position": k.position, "velocity": k.velocity, "acceleration": k.acceleration, "energy": T + g + s,
+                "energy_scale": T + np.abs(g) + s, "momentum": p, "angular_momentum": H}
+
+    return observe
 
 
-def _engine(name: str, engine, scene: Scene, progress=None) -> Trajectory:
+def _observe_engine(engine, scene: Scene):
+    """An engine's observation of a block of its states: G2 by the engine, energy and momenta by relacc's formulas."""
     chain, eff = scene.fixture.chain, scene.effects
-    q0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
-    start = time.perf_counter()
-    t, Q, V = engine.simulate(q0, v0, eff, scene.dt, scene.n_steps, scene.integrator,
-                              scene.record_every, progress)
-    seconds = time.perf_counter() - start
-    A = engine.forward_dynamics(Q, V, eff)
-    applied = engine.configure(eff) if hasattr(engine, "configure") else None
-    pts = engine.points("quaternion", Q, V, A)
-    q14, nu = engine.body_state(Q, V)
-    p, H = dynamics.momenta(chain, 2, q14, nu)
-    velocity = np.einsum("nij,nj->ni", pts.J, V)
-    if applied is not None:
-        info = {"disabled": applied}
-    else:
-        g = "0 (off)" if eff.gravity is None else str(eff.gravity.tolist())
-        forces = [n for n in eff.active() if n != "gravity"]
-        info = {"model.gravity": g, "generalized forces": forces or "none"}
-    return Trajectory(name, t, Q, V, ([f"q{i}" for i in range(Q.shape[1])], [f"v{i}" for i in range(V.shape[1])]),
-                      pts.position, velocity, pts.acceleration, dynamics.energy(chain, 2, q14, nu, eff), p, H,
-                      seconds, info)
+
+    def observe(Q, V):
+        pts = engine.points("quaternion", Q, V, engine.forward_dynamics(Q, V, eff))
+        q14, nu = engine.body_state(Q, V)
+        T, g, s = dynamics.energy_terms(chain, 2, q14, nu, eff)
+        p, H = dynamics.momenta(chain, 2, q14, nu)
+        return {"position": pts.position, "velocity": np.einsum("nij,nj->ni", pts.J, V),
+                "acceleration": pts.acceleration, "energy": T + g + s, "energy_scale": T + np.abs(g) + s,
+                "momentum": p, "angular_momentum": H}
+
+    return observe
 
 
-def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
+class _Run:
+    """One engine's run in progress: its march over the recorded steps, its observation, its track."""
+
+    def __init__(self, name, engine, scene: Scene, steps, keep, progress):
+        if name == "relacc":
+            advance, x0, v0 = stepper(scene.fixture.chain, scene.case, scene.effects, scene.dt,
+                                      scene.integrator), scene.q, scene.u
+            observe, applied = _observe_relacc(scene), {"equations": "Kane, " + (", ".join(
+                scene.effects.active()) or "no effects")}
+        else:
+            x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
+            advance, observe = engine.stepper(scene.effects, scene.dt, scene.integrator), _observe_engine(engine, scene)
+            applied = engine.applied(scene.effects)
+        x0, v0 = np.asarray(x0, dtype=float), np.asarray(v0, dtype=float)
+        columns = ([f"q{i}" for i in range(x0.size)], [("u" if name == "relacc" else "v") + str(i)
+                                                        for i in range(v0.size)])
+        self.track = Track(name, columns, applied, keep)
+        self.observe = observe
+
+        def timed(x, v, k):
+            start = time.perf_counter()
+            try:
+                return advance(x, v, k)
+            finally:
+                self.track.seconds += time.perf_counter() - start
+
+        cb = (lambda f: progress(name, f)) if progress else None
+        self.states = march(timed, x0, v0, steps, who=name, dt=scene.dt, integrator=scene.integrator, progress=cb)
+
+    def block(self, steps, dt) -> dict:
+        """The next ``len(steps)`` records, observed and added to the track."""
+        records = list(itertools.islice(self.states, len(steps)))
+        X, V = np.array([r[1] for r in records]), np.array([r[2] for r in records])
+        block = {"t": steps * dt, "q": X, "u": V, **self.observe(X, V)}
+        self.track.add(block)
+        return block
+
+
+def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=None) -> SimulationResult:
+    """Simulate a scene on its engines (or ``engines``), in lockstep, and compare them.
+
+    Args:
+        progress: callable ``(engine, fraction)`` or None.
+        keep: keep every record (``SimulationResult.trajectories``); False keeps summaries only.
+        out: a directory for one CSV per engine (created if needed; the files
+            are replaced all or nothing when the run ends); None writes nothing.
+
+    Raises:
+        EngineError: unknown engine or an integrator an engine lacks.
+        IntegrationError: a run diverged. InputError: ``out`` cannot be written (checked first).
+    """
+    names = tuple(engines) if engines is not None else scene.engines
+    bad = [n for n in names if n not in SIM_ENGINES]
+    if bad:
+        raise EngineError(f"unknown engines {bad}: accepted are {', '.join(SIM_ENGINES)}")
+    if out is not None:
+        files.check_new_directory(out)
+    loaded = {n: load_engine(n, scene.fixture) for n in names if n != "relacc"}
+    steps = recorded_steps(scene.n_steps, scene.record_every)
+    runs = {n: _Run(n, loaded.get(n), scene, steps, keep, progress) for n in names}
+    note_at = set(np.unique(np.linspace(0, len(steps) - 1, NOTE_CHECK_STATES).astype(int)).tolist())
+    note_states, pairs = [], {}
+    paths = [Path(out) / f"{scene.name}-{n}.csv" for n in names] if out is not None else []
+    if out is not None:
+        files.make_directory(out)
+    with files.streams(paths) if paths else contextlib.nullcontext({}) as handles:
+        writers = {n: _csv_writer(handles[p], scene, runs[n].track) for n, p in zip(names, paths)}
+        for start in range(0, len(steps), RECORD_BLOCK):
+            chunk = steps[start:start + RECORD_BLOCK]
+            blocks = {n: r.block(chunk, scene.dt) for n, r in runs.items()}
+            _compare_pairs(blocks, pairs)
+            if "relacc" in blocks:
+                note_states += [(blocks["relacc"]["q"][j - start], blocks["relacc"]["u"][j - start])
+                                for j in range(start, start + len(chunk)) if j in note_at]
+            for n, w in writers.items():
+                b = blocks[n]
+                w.writerows(np.column_stack([b["t"], b["q"], b["u"], b["position"], b["velocity"],
+                                             b["acceleration"], b["energy"]]).tolist())
+    note = _note_check(scene, note_states, loaded) if note_states and loaded else {}
+    tracks = {n: r.track for n, r in runs.items()}
+    trajectories = {n: t.trajectory() for n, t in tracks.items()} if keep else {}
+    return SimulationResult(scene, tracks, trajectories, pairs, note, paths)
+
+
+def relacc_trajectory(scene: Scene, progress=None) -> Trajectory:
+    """relacc's own run of a scene alone, every record kept."""
+    return run(scene, engines=("relacc",), progress=progress).trajectories["relacc"]
+
+
+def _compare_pairs(blocks: dict, pairs: dict) -> None:
+    """Fold one block's largest G2 differences between every pair of engines into ``pairs``."""
+    names = list(blocks)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            p = pairs.setdefault(f"{a}-{b}", {"position": 0.0, "velocity": 0.0})
+            for key in ("position", "velocity"):
+                p[key] = max(p[key], float(np.max(np.linalg.norm(blocks[a][key] - blocks[b][key], axis=1))))
+
+
+def _csv_writer(handle, scene: Scene, track: Track):
+    handle.write(f"# relacc simulate {scene.name} ({track.engine}); q, u in {track.engine}'s coordinates; "
+                 "G2 position, velocity, classical acceleration in fixed-frame components\n")
+    writer = csv.writer(handle)
+    writer.writerow(["t_s"] + track.columns[0] + track.columns[1] + [f"G2_r{a}_m" for a in "xyz"]
+                    + [f"G2_v{a}_m_s" for a in "xyz"] + [f"G2_a{a}_m_s2" for a in "xyz"] + ["energy_J"])
+    return writer
+
+
+def _note_check(scene: Scene, states, engines: dict) -> dict:
     """The note's a_G2 against each engine's, at relacc's states: error and bound.
 
     Both sides solve their own equations of motion for ``udot``, so rounding
@@ -182,8 +249,7 @@ def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
     acceleration's term scale.
     """
     chain, case, eff = scene.fixture.chain, scene.case, scene.effects
-    idx = np.unique(np.linspace(0, len(rel.t) - 1, NOTE_CHECK_STATES).astype(int))
-    Q, U = rel.q[idx], rel.u[idx]
+    Q, U = np.array([s[0] for s in states]), np.array([s[1] for s in states])
     Udot = dynamics.accelerations(chain, case, Q, U, eff)
     note = g2_kinematics(chain, case, Q, U, Udot).acceleration
     scale = term_scales(chain, case, Q, U, Udot).acceleration
@@ -199,58 +265,13 @@ def _note_check(scene: Scene, rel: Trajectory, engines: dict) -> dict:
     return out
 
 
-def run(scene: Scene, engines=None, progress=None) -> SimulationResult:
-    """Simulate a scene on its engines (or ``engines``) and compare them.
-
-    Args:
-        progress: callable ``(engine, fraction)`` or None.
-
-    Raises:
-        RelaccError: unknown engine or an integrator an engine lacks.
-    """
-    names = tuple(engines) if engines is not None else scene.engines
-    bad = [n for n in names if n not in ("relacc", "pinocchio", "mujoco")]
-    if bad:
-        raise RelaccError(f"unknown engines {bad}: accepted are relacc, pinocchio, mujoco")
-    loaded = {n: load_engine(n, scene.fixture) for n in names if n != "relacc"}
-    trajectories = {}
-    for name in names:
-        cb = (lambda f, n=name: progress(n, f)) if progress else None
-        trajectories[name] = (relacc_trajectory(scene, cb) if name == "relacc"
-                              else _engine(name, loaded[name], scene, cb))
-    note = _note_check(scene, trajectories["relacc"], loaded) if "relacc" in trajectories and loaded else {}
-    return SimulationResult(scene, trajectories, note)
-
-
-def write_csv(result: SimulationResult, directory) -> list[Path]:
-    """One CSV per engine in ``directory``: time, q, u (engine coordinates), G2 r, v, a (fixed comps), energy."""
-    directory = Path(directory)
-    directory.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for name, tr in result.trajectories.items():
-        path = directory / f"{result.scene.name}-{name}.csv"
-        header = (["t_s"] + tr.columns[0] + tr.columns[1]
-                  + [f"G2_r{a}_m" for a in "xyz"] + [f"G2_v{a}_m_s" for a in "xyz"]
-                  + [f"G2_a{a}_m_s2" for a in "xyz"] + ["energy_J"])
-        rows = np.column_stack([tr.t, tr.q, tr.u, tr.position, tr.velocity, tr.acceleration, tr.energy])
-        with path.open("w", newline="") as fh:
-            fh.write(f"# relacc simulate {result.scene.name} ({name}); q, u in {name}'s coordinates; "
-                     "G2 position, velocity, classical acceleration in fixed-frame components\n")
-            writer = csv.writer(fh)
-            writer.writerow(header)
-            writer.writerows(rows.tolist())
-        paths.append(path)
-    return paths
-
-
 def format_text(result: SimulationResult) -> str:
     """The human-readable summary printed by ``relacc simulate``."""
     scene, summary, eff = result.scene, result.summary(), result.scene.effects
-    out = []
-    out.append(f"{scene.title} ({scene.name}): case {scene.case}, {scene.integrator}, dt = {scene.dt} s, "
-               f"{scene.duration} s, effects: {', '.join(eff.active()) or 'none'}")
-    out.append(f"{'engine':10s} {'G2 position at the end (fixed comps, m)':44s} {'energy drift':>12s} "
-               f"{'momentum drift':>15s} {'seconds':>8s}")
+    out = [f"{scene.title} ({scene.name}): case {scene.case}, {scene.integrator}, dt = {scene.dt} s, "
+           f"{scene.duration} s ({scene.n_steps} steps), effects: {', '.join(eff.active()) or 'none'}",
+           f"{'engine':10s} {'G2 position at t = ' + format(scene.duration, 'g') + ' s (fixed comps, m)':44s} "
+           f"{'energy drift':>12s} {'momentum drift':>15s} {'seconds':>8s}"]
     for name, e in summary["engines"].items():
         pos = ", ".join(f"{x:.9f}" for x in e["g2_position_final"])
         ed = "-" if e["energy_drift"] is None else f"{e['energy_drift']:.2e}"
@@ -261,7 +282,7 @@ def format_text(result: SimulationResult) -> str:
                f"velocity {summary['max_g2_velocity_difference']:.3e} m/s")
     for name, c in summary["note_acceleration_vs_engines"].items():
         out.append(f"note's acceleration along relacc's trajectory vs {name}: {c['error']:.2e} (normalized, "
-              f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
-    out.append("energy drift: max |E - E0| / |E0| where only conservative effects act; momentum drift: max |p - p0| "
-               "(kg m/s) where no external force acts")
+                   f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
+    out.append("energy drift: max |E - E0| / max (T + |V_g| + V_s) over the run, where only conservative effects "
+               "act; momentum drift: max |p - p0| (kg m/s) where no external force acts")
     return "\n".join(out)

@@ -1,0 +1,87 @@
+"""The building blocks that ``relacc`` exports, with the input checks of :func:`relacc.g2_kinematics`.
+
+:mod:`relacc.core.rotations` holds the bare functions, which relacc itself
+calls on inputs it has already checked (complex-step perturbations
+included). The versions here check first: numbers only (lists welcome,
+booleans and strings not), the right trailing shape, finite values, and unit
+quaternions to :data:`relacc.core.tolerances.QUATERNION_NORM_TOLERANCE`
+(never normalized). Complex inputs are accepted, as by the core.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from relacc.core import rotations
+from relacc.core.cases import as_numbers, quaternion_norm_deviation
+from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
+from relacc.errors import InputError
+
+
+def _unit_quaternion(name, value):
+    quat = as_numbers(name, value, 4, "unit quaternions (w, x, y, z)")
+    dev = quaternion_norm_deviation(quat)
+    if np.any(dev > QUATERNION_NORM_TOLERANCE):
+        idx = np.unravel_index(np.argmax(dev), dev.shape) if dev.ndim else ()
+        at = f" at batch index {tuple(int(i) for i in idx)}" if idx else ""
+        raise InputError(f"{name}{at}: squared norm off 1 by {float(dev[idx]):.3g} > {QUATERNION_NORM_TOLERANCE:g}; "
+                         "pass unit quaternions (w, x, y, z): relacc does not normalize them")
+    return quat
+
+
+def _broadcast(name, *arrays):
+    try:
+        np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+    except ValueError:
+        raise InputError(f"{name}: batch shapes {[a.shape[:-1] for a in arrays]} do not broadcast") from None
+
+
+def tilde(v):
+    """Skew-symmetric ``[v~]`` ``(..., 3, 3)`` of ``v`` ``(..., 3)`` (:func:`relacc.core.rotations.tilde`), checked."""
+    return rotations.tilde(as_numbers("v", v, 3, "3-vectors"))
+
+
+def matrix_from_quaternion(quat):
+    """Rotation matrix ``(..., 3, 3)`` of a unit quaternion ``(..., 4)``, w first, checked.
+
+    For ``quat_B1`` this is ``[R_B1]^T`` (B1 -> fixed components), dimensionless.
+    """
+    return rotations.matrix_from_quaternion(_unit_quaternion("quat", quat))
+
+
+def matrix_from_123(theta):
+    """``Rx(theta1) Ry(theta2) Rz(theta3)`` ``(..., 3, 3)`` of 1-2-3 angles ``(..., 3)`` in rad, checked."""
+    return rotations.matrix_from_123(as_numbers("theta", theta, 3, "1-2-3 angles in rad"))
+
+
+def omega_partials_123(theta):
+    """``[omega_{B,theta_dot}]`` ``(..., 3, 3)`` of 1-2-3 angles ``(..., 3)`` (rad), checked.
+
+    Maps angle rates to the angular velocity in the reference frame's components.
+    """
+    return rotations.omega_partials_123(as_numbers("theta", theta, 3, "1-2-3 angles in rad"))
+
+
+def omega_partials_123_dot(theta, theta_dot):
+    """Time derivative ``(..., 3, 3)`` (1/s) of :func:`omega_partials_123`, checked."""
+    theta = as_numbers("theta", theta, 3, "1-2-3 angles in rad")
+    theta_dot = as_numbers("theta_dot", theta_dot, 3, "1-2-3 angle rates in rad/s")
+    _broadcast("theta, theta_dot", theta, theta_dot)
+    return rotations.omega_partials_123_dot(theta, theta_dot)
+
+
+def quaternion_exp(phi):
+    """Unit quaternion ``(..., 4)`` (w first) of the rotation vector ``phi`` ``(..., 3)`` in rad, checked."""
+    return rotations.quaternion_exp(as_numbers("phi", phi, 3, "rotation vectors in rad"))
+
+
+def quaternion_from_123(theta):
+    """Unit quaternion ``(..., 4)`` (w first) of ``Rx Ry Rz`` for 1-2-3 angles ``(..., 3)`` in rad, checked."""
+    return rotations.quaternion_from_123(as_numbers("theta", theta, 3, "1-2-3 angles in rad"))
+
+
+def quaternion_multiply(p, q):
+    """Hamilton product ``p (x) q`` ``(..., 4)`` of unit quaternions (w first), checked."""
+    p, q = _unit_quaternion("p", p), _unit_quaternion("q", q)
+    _broadcast("p, q", p, q)
+    return rotations.quaternion_multiply(p, q)
