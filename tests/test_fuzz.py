@@ -183,3 +183,65 @@ def test_equations_of_motion_junk(chain, case, q, u):
     out = _only_relacc_errors(lambda: dynamics.equations_of_motion(chain, case, q, u))
     if out is not None:
         assert all(np.all(np.isfinite(a)) for a in out)
+
+
+JUNK_VALUES = {
+    "--states": ["0", "-1", "1e3", "abc", "", "99999999999", "1.5"],
+    "--seed": ["-1", "x", "1.5", "", "9" * 30],
+    "--engines": ["bullet", "", ",", "pinocchio,bullet"],
+    "--cases": ["0", "4", "1,,x", "a", ""],
+    "--variant": ["eq99", "", "printed,corrected"],
+    "--dt": ["0", "-1", "nan", "inf", "x"],
+    "--duration": ["0", "-1e-3", "nan", "x"],
+    "--integrator": ["rk5", ""],
+    "--case": ["0", "4", "x", "1.0"],
+}
+"""Values each flag never accepts."""
+
+COMMANDS = {
+    "eval": (["--case", "1", "--q", "0,0,0,1,0,0,0,0,0,0,1,0,0,0", "--u", ",".join(["0"] * 12)],
+             ["--case", "--variant", "--model", "STATE"]),
+    "check": (["--states", "3", "--cases", "2", "--engines", "mujoco", "--quiet"],
+              ["--states", "--seed", "--engines", "--cases", "--model"]),
+    "errata": (["--states", "3", "--engines", "mujoco", "--quiet"], ["--states", "--seed", "--engines", "--model"]),
+    "fixtures": (["--check"], ["--model"]),
+    "simulate": (["tumbling", "--duration", "0.002", "--quiet"],
+                 ["--dt", "--duration", "--integrator", "--engines", "--out", "SCENE"]),
+    "tradeoff": (["--quick", "--quiet"], ["--seed", "--model"]),
+    "report": (["--quick", "--quiet", "--out", "r.html"], ["--states", "--seed", "--out", "--model"]),
+}
+"""Each command: valid, cheap arguments, and the arguments fuzzed one at a time."""
+
+
+@given(st.sampled_from(sorted(COMMANDS)), st.data())
+def test_every_command_turns_malformed_input_into_one_line_and_exit_2(tmp_path_factory, command, data):
+    """Every command with one argument malformed (bad values, junk files, bad paths): exit 2, one line."""
+    base, fuzzed = COMMANDS[command]
+    flag = data.draw(st.sampled_from(fuzzed), label="flag")
+    tmp = tmp_path_factory.mktemp("cli")
+    junk = data.draw(st.binary(max_size=200) | st.text(max_size=200).map(str.encode), label="file")
+    for name in ("junk", "junk.toml", "junk.json"):
+        (tmp / name).write_bytes(junk)
+    (tmp / "a_file").write_text("x")
+    if flag in JUNK_VALUES:
+        value = data.draw(st.sampled_from(JUNK_VALUES[flag]), label="value")
+    elif flag in ("--model", "STATE", "SCENE"):
+        value = data.draw(st.sampled_from([str(tmp / name) for name in ("junk", "junk.toml", "junk.json",
+                                                                          "missing.toml", "missing")] + [str(tmp)]),
+                          label="path")
+    else:  # --out: a path that cannot be written
+        value = data.draw(st.sampled_from([str(tmp / "a_file" / "sub"), str(tmp) if command == "report"
+                                           else str(tmp / "a_file")]), label="out")
+    argv = [command] + base
+    if flag in ("STATE", "SCENE"):
+        argv = [command, value] + (["--json"] if command == "eval" else base[1:])
+    elif flag in argv:
+        argv[argv.index(flag) + 1] = value
+    else:
+        argv += [flag, value]
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    text = err.getvalue()
+    assert code == 2, (argv, code, text)
+    assert text.count("\n") == 1 and "Traceback" not in text, (argv, text)

@@ -13,10 +13,11 @@ PACKAGE = Path(__file__).resolve().parents[1] / "relacc"
 HEAVY = ("numba", "pinocchio", "mujoco", "matplotlib", "scipy", "jinja2", "pydantic", "hypothesis", "pydrake",
          "dask", "distributed")
 
-BASE = {"errors", "files"}
+BASE = {"errors", "files", "limits"}
 LAYERS = {
     "errors": set(),
     "files": {"errors"},
+    "limits": {"errors"},
     "core": BASE,
     "kernels": BASE | {"core"},
     "dynamics": BASE | {"core", "kernels"},

@@ -1,8 +1,22 @@
-"""``relacc``'s entry point: parse, dispatch, and turn every relacc error into one line and exit 2."""
+"""``relacc``'s entry point: parse, dispatch, and turn every relacc error into one line and exit 2.
+
+* A :class:`relacc.RelaccError` (bad input, unreadable or unwritable files,
+  a request too large for memory) prints one line on stderr and exits 2.
+* SIGINT and SIGTERM interrupt the command as :class:`KeyboardInterrupt`, so
+  that files being written are cleaned up (:mod:`relacc.files`); one line,
+  exit 130.
+* numpy's floating-point warnings do not reach the user as warnings: inside
+  a command they are errors, and relacc's own checks (non-finite results,
+  conditioning) are what reports them; one that escapes those checks is
+  reported as one line, exit 2, like an input error.
+* Output cut short by the reader (``relacc check | head``) ends quietly, exit 141.
+"""
 
 from __future__ import annotations
 
+import os
 import sys
+import warnings
 
 
 def main(argv=None) -> int:
@@ -13,17 +27,32 @@ def main(argv=None) -> int:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:  # --help, --version (0) and usage errors (2, one line already printed)
         return exc.code if isinstance(exc.code, int) else 2
+    from relacc import files
     from relacc.cli import commands
     from relacc.errors import RelaccError
 
+    name = f"relacc {args.command}"
     try:
-        return getattr(commands, f"cmd_{args.command}")(args)
+        with files.terminate_as_interrupt(), warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            return getattr(commands, f"cmd_{args.command}")(args)
     except RelaccError as exc:
-        print(f"relacc {args.command}: error: {exc}", file=sys.stderr)
+        print(f"{name}: error: {exc}", file=sys.stderr)
+        return 2
+    except RuntimeWarning as exc:
+        print(f"{name}: error: a floating-point failure escaped relacc's checks ({exc}); the inputs are "
+              "probably beyond float64's range", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"{name}: error: not enough memory for this request; ask for fewer states", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print(f"relacc {args.command}: interrupted", file=sys.stderr)
+        print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # the reader has gone: drop what is still buffered
+        return 141
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -217,7 +217,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
              "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "
-             "Richardson, complex step and the engines; whole trajectories by every engine's integrators.",
+             "Richardson, complex step and the engines (on --model's chain); whole trajectories by every "
+             "engine's integrators (on each shipped scene's own chain).",
              ["relacc tradeoff --quick", "relacc tradeoff --json > tradeoff.json"])
     p.add_argument("--quick", action="store_true", help="a small sweep (seconds)")
     _json(p, "all points and orders")

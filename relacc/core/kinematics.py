@@ -15,6 +15,7 @@ from relacc.core.note import case1, case2, case3
 from relacc.core.note.common import assemble, configuration, position
 from relacc.core.note.equations import BY_ID, IDS
 from relacc.errors import InputError, VariantError
+from relacc.limits import require_memory
 
 
 @dataclass(frozen=True, eq=False)
@@ -246,6 +247,9 @@ def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False):
         raise InputError(
             f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes"
         ) from None
+    per_state = (41 if need_udot else 120) * (1 if path == "fast" else 20)  # doubles: outputs, copies, temporaries
+    require_memory(8 * per_state * float(np.prod(batch)), f"evaluating {int(np.prod(batch))} states at once",
+                   "stream them with relacc.core.stream.iter_g2_kinematics")
     return c, q, u, udot, path, batch
 
 

@@ -38,6 +38,7 @@ from relacc.dynamics.integrate import stepper
 from relacc.dynamics.steps import march, recorded_steps
 from relacc.engines import load_engine
 from relacc.errors import EngineError
+from relacc.limits import require_memory
 from relacc.simulate.scenes import SIM_ENGINES, Scene
 from relacc.simulate.trajectory import Track, Trajectory
 
@@ -186,8 +187,11 @@ def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=Non
         raise EngineError(f"unknown engines {bad}: accepted are {', '.join(SIM_ENGINES)}")
     if out is not None:
         files.check_new_directory(out)
-    loaded = {n: load_engine(n, scene.fixture) for n in names if n != "relacc"}
     steps = recorded_steps(scene.n_steps, scene.record_every)
+    if keep:
+        require_memory(8.0 * len(steps) * len(names) * (scene.q.size + 26 + 17), f"keeping {len(steps)} records "
+                       f"of {len(names)} runs", "run with keep=False (relacc simulate does), or record_every > 1")
+    loaded = {n: load_engine(n, scene.fixture) for n in names if n != "relacc"}
     runs = {n: _Run(n, loaded.get(n), scene, steps, keep, progress) for n in names}
     note_at = set(np.unique(np.linspace(0, len(steps) - 1, NOTE_CHECK_STATES).astype(int)).tolist())
     note_states, pairs = [], {}

@@ -38,6 +38,8 @@ from relacc.fixtures.model import inline
 SIM_ENGINES = ("relacc", "pinocchio", "mujoco")
 INTEGRATORS = ("rk4", "euler", "implicit", "implicitfast")
 MUJOCO_ONLY = ("implicit", "implicitfast")
+MAX_STEPS = 1e9
+"""Longest run accepted, in steps: memory does not limit it (runs stream), this guards against typos."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,8 +97,9 @@ def check_simulate(duration, dt, integrator, engines, record_every):
     if abs(steps - round(steps)) > 1e-9 * max(1.0, steps):
         return "duration", (f"{duration} s is not a whole number of steps of dt = {dt} s ({steps:.6g} steps); "
                             "relacc does not round it: choose dt = duration / n")
-    if duration / dt > 1e7:
-        return "dt", f"{duration / dt:.3g} steps is more than 1e7; use a larger dt or a shorter duration"
+    if duration / dt > MAX_STEPS:
+        return "dt", (f"{duration / dt:.3g} steps is more than {MAX_STEPS:.0e} (a dt in the wrong unit?); use a "
+                      "larger dt or a shorter duration")
     if integrator not in INTEGRATORS:
         return "integrator", f"unknown integrator {integrator!r}; accepted: {', '.join(INTEGRATORS)}"
     if not isinstance(engines, (list, tuple)) or not engines or any(e not in SIM_ENGINES for e in engines):

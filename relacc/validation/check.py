@@ -24,18 +24,25 @@ from relacc.engines import ENGINES, load_engine
 from relacc.errors import EngineError
 from relacc.fixtures import Fixture, load
 from relacc.validation.compare import Comparison, against_engines, compare
+from relacc.validation.summary import Summary
+
+CHUNK = 20_000
+"""States per chunk: a sweep is generated, evaluated and reduced this many states at a time."""
 
 
 class Harness:
-    """Engines, fixture and seeded states, with cached evaluations.
+    """Engines, fixture and seeded states, evaluated chunk by chunk.
 
-    States of case ``c`` come from ``numpy.random.default_rng([seed, c])``.
+    The states of case ``c`` are chunks of at most :data:`CHUNK`: chunk ``k``
+    comes from ``numpy.random.default_rng([seed, c, k])`` (never from one
+    shared stream), so any chunk can be made, and checked, alone. The
+    evaluations of one chunk per case are cached.
 
     Args:
-        fixture: the chain's fixture (default ``models/two_body.toml``).
+        fixture: the chain's fixture (default: the shipped ``two_body.toml``).
         engines: engine names to load.
         n_states: states per case.
-        seed: base seed.
+        seed: base seed (an integer >= 0).
         progress: callable taking one line of progress text, or None.
     """
 
@@ -52,7 +59,8 @@ class Harness:
         self.n_states = int(n_states)
         self.seed = int(seed)
         self.progress = progress
-        self._states, self._engine, self._core, self._scales = {}, {}, {}, {}
+        self._chunk = {}  # case -> (k, {key: value}): the evaluations of the cached chunk
+        self._last_progress = 0.0
 
     def versions(self) -> dict:
         """Versions of relacc, Python, numpy and every loaded engine."""
@@ -60,66 +68,92 @@ class Harness:
         out.update({name: e.version for name, e in self.engines.items()})
         return out
 
-    def states(self, case) -> States:
+    def chunks(self) -> list[tuple[int, int, int]]:
+        """``(k, start, size)`` of every chunk of a case's states."""
+        return [(k, start, min(CHUNK, self.n_states - start)) for k, start in
+                enumerate(range(0, self.n_states, CHUNK))]
+
+    def chunk_seed(self, case, k: int = 0) -> list:
+        """The seed of chunk ``k`` of a case: ``[seed, case, k]``."""
+        return [self.seed, int(case), int(k)]
+
+    def _cached(self, case, k, key, make):
         c = int(as_case(case))
-        if c not in self._states:
-            self._states[c] = random_states(c, self.n_states, [self.seed, c])
-        return self._states[c]
+        if c not in self._chunk or self._chunk[c][0] != k:
+            self._chunk[c] = (k, {})
+        store = self._chunk[c][1]
+        if key not in store:
+            store[key] = make()
+        return store[key]
 
-    def scales(self, case):
-        c = int(case)
-        if c not in self._scales:
-            s = self.states(c)
-            self._scales[c] = term_scales(self.chain, c, s.q, s.u, s.udot)
-        return self._scales[c]
+    def states(self, case, k: int = 0) -> States:
+        """Chunk ``k`` of a case's states."""
+        size = self.chunks()[k][2]
+        return self._cached(case, k, "states", lambda: random_states(int(case), size, self.chunk_seed(case, k)))
 
-    def engine_result(self, case, engine, route) -> G2Kinematics:
-        key = (int(case), engine, route)
-        if key not in self._engine:
-            s = self.states(case)
+    def scales(self, case, k: int = 0):
+        s = self.states(case, k)
+        return self._cached(case, k, "scales", lambda: term_scales(self.chain, int(case), s.q, s.u, s.udot))
+
+    def engine_result(self, case, engine, route, k: int = 0) -> G2Kinematics:
+        s = self.states(case, k)
+
+        def run():
             start = time.perf_counter()
-            self._engine[key] = self.engines[engine].g2_kinematics(case, s.q, s.u, s.udot, route=route)
-            if self.progress:
-                self.progress(
-                    f"case {int(case)} {engine:9s} {route:10s} {len(s)} states "
-                    f"in {time.perf_counter() - start:.2f} s"
-                )
-        return self._engine[key]
+            out = self.engines[engine].g2_kinematics(case, s.q, s.u, s.udot, route=route)
+            now = time.perf_counter()
+            if self.progress and (len(self.chunks()) == 1 or now - self._last_progress > 1.0):
+                self._last_progress = now
+                self.progress(f"case {int(case)} {engine:9s} {route:10s} chunk {k + 1}/{len(self.chunks())}, "
+                              f"{len(s)} states in {now - start:.2f} s")
+            return out
 
-    def core_result(self, case, variant="corrected") -> G2Kinematics:
-        key = (int(case), tuple(sorted(resolve_variant(variant))))
-        if key not in self._core:
-            s = self.states(case)
-            self._core[key] = relacc.g2_kinematics(self.chain, case, s.q, s.u, s.udot, variant=variant)
-        return self._core[key]
+        return self._cached(case, k, ("engine", engine, route), run)
 
-    def compare(self, case, engine, route, quantity, variant="corrected") -> Comparison:
-        """The core (``variant``) against one engine route, one quantity (:func:`relacc.validation.compare.compare`).
+    def core_result(self, case, variant="corrected", k: int = 0) -> G2Kinematics:
+        s = self.states(case, k)
+        return self._cached(case, k, ("core", tuple(sorted(resolve_variant(variant)))),
+                            lambda: relacc.g2_kinematics(self.chain, case, s.q, s.u, s.udot, variant=variant))
+
+    def compare(self, case, engine, route, quantity, variant="corrected", k: int = 0) -> Comparison:
+        """The core (``variant``) against one engine route, one quantity, on chunk ``k``, state by state.
 
         The engine's value is its own, the reference the core's: the error
         is symmetric, and the bound is the engine's accuracy model.
         """
-        s = self.states(case)
-        return compare(case, engine, route, quantity, getattr(self.engine_result(case, engine, route), quantity),
-                       getattr(self.core_result(case, variant), quantity), self.scales(case).of(quantity),
+        s = self.states(case, k)
+        return compare(case, engine, route, quantity, getattr(self.engine_result(case, engine, route, k), quantity),
+                       getattr(self.core_result(case, variant, k), quantity), self.scales(case, k).of(quantity),
                        self.engines[engine].bound(route, quantity, self.chain, case, s.q, s.u, s.udot))
 
+    def check_chunk(self, case, k: int, quantities=QUANTITIES) -> list[Summary]:
+        """Every engine x route x quantity of the corrected core on chunk ``k`` of a case, summarized."""
+        s = self.states(case, k)
+        comps = against_engines(self.engines, self.chain, case, s.q, s.u, s.udot, self.core_result(case, k=k),
+                                self.scales(case, k), quantities=quantities,
+                                evaluate=lambda name, _, route: self.engine_result(case, name, route, k))
+        return [Summary.of(c, self.chunks()[k][1], self.chunk_seed(case, k)) for c in comps]
+
     def check(self, cases=(1, 2, 3), quantities=QUANTITIES) -> "CheckReport":
-        """Every case x engine x route x quantity comparison of the corrected core."""
-        comps = []
+        """Every case x engine x route x quantity comparison of the corrected core, chunk by chunk.
+
+        Memory is set by :data:`CHUNK`, whatever ``n_states``.
+        """
+        summaries = []
         for c in cases:
-            s = self.states(c)
-            comps += against_engines(self.engines, self.chain, c, s.q, s.u, s.udot, self.core_result(c),
-                                     self.scales(c), quantities=quantities,
-                                     evaluate=lambda name, _, route, c=c: self.engine_result(c, name, route))
-        return CheckReport(tuple(comps), self.n_states, self.seed, self.versions())
+            merged = None
+            for k, _, _ in self.chunks():
+                part = self.check_chunk(c, k, quantities)
+                merged = part if merged is None else [a.merge(b) for a, b in zip(merged, part)]
+            summaries += merged
+        return CheckReport(tuple(summaries), self.n_states, self.seed, self.versions())
 
 
 @dataclass(frozen=True)
 class CheckReport:
     """All comparisons of one ``relacc check`` run."""
 
-    comparisons: tuple[Comparison, ...]
+    comparisons: tuple[Summary, ...]
     n_states: int
     seed: int
     versions: dict
@@ -129,7 +163,7 @@ class CheckReport:
         return all(c.passed for c in self.comparisons)
 
     @property
-    def failures(self) -> list[Comparison]:
+    def failures(self) -> list[Summary]:
         return [c for c in self.comparisons if not c.passed]
 
     def as_dict(self) -> dict:
@@ -140,6 +174,7 @@ class CheckReport:
             "tolerance": rounding_tolerance(),
             "error": "max |x - x_engine| / magnitude of the terms (relacc.core.scales.term_scales)",
             "bound": "per state: tolerance * condition + lost offset (relacc.engines.base.Engine.bound)",
+            "states": f"chunk k of case c: {CHUNK} states from numpy.random.default_rng([seed, c, k])",
             "versions": self.versions,
             "comparisons": [c.as_dict() for c in self.comparisons],
         }

@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from relacc.core.note.equations import EQUATIONS, Equation
+from relacc.core.tolerances import rounding_tolerance
 from relacc.validation.check import Harness
 from relacc.validation.compare import routes_for
 
@@ -58,28 +59,32 @@ class Erratum:
         }
 
 
-def _max_error(harness: Harness, eq: Equation, variant) -> tuple[float, float]:
-    worst, tol = 0.0, 0.0
-    for engine in harness.engines:
-        for route in routes_for(eq.case):
-            comp = harness.compare(eq.case, engine, route, eq.quantity, variant)
-            worst, tol = max(worst, comp.max_error), comp.tolerance
-    return worst, tol
+def _max_errors(harness: Harness, equations) -> dict:
+    """``{id: [printed, corrected]}``: each id's largest error over every chunk, engine and route."""
+    worst = {eq.id: [0.0, 0.0] for eq in equations}
+    for case in sorted({eq.case for eq in equations}):
+        for k, _, _ in harness.chunks():
+            for eq in (e for e in equations if e.case == case):
+                for engine in harness.engines:
+                    for route in routes_for(case):
+                        for slot, variant in ((1, "corrected"), (0, {eq.id})):
+                            if slot == 0 and eq.kind == "missing":
+                                continue
+                            comp = harness.compare(case, engine, route, eq.quantity, variant, k=k)
+                            worst[eq.id][slot] = max(worst[eq.id][slot], comp.max_error)
+    return worst
 
 
-def erratum(harness: Harness, eq: Equation) -> Erratum:
-    """Evaluate one equation id against the harness's engines."""
-    corrected, tol = _max_error(harness, eq, "corrected")
+def erratum(eq: Equation, printed: float, corrected: float) -> Erratum:
+    """The verdict on one equation id from its largest printed and corrected errors."""
+    tol = rounding_tolerance()
     if eq.kind == "missing":
         return Erratum(eq, "missing", None, corrected, tol)
-    printed, _ = _max_error(harness, eq, {eq.id})
-    if printed <= tol:
-        status = "ok"
-    else:
-        status = "ambiguous" if eq.kind == "ambiguous" else "wrong"
+    status = "ok" if printed <= tol else ("ambiguous" if eq.kind == "ambiguous" else "wrong")
     return Erratum(eq, status, printed, corrected, tol)
 
 
 def errata(harness: Harness, equations=EQUATIONS) -> list[Erratum]:
-    """Every equation id's verdict, in the note's order."""
-    return [erratum(harness, eq) for eq in equations]
+    """Every equation id's verdict, in the note's order, over all of the harness's states."""
+    worst = _max_errors(harness, equations)
+    return [erratum(eq, *worst[eq.id]) for eq in equations]

@@ -8,6 +8,7 @@ from matplotlib import pyplot as plt
 from relacc.core.conventions import QUANTITIES
 from relacc.core.tolerances import EPS
 from relacc.report import svg
+from relacc.validation.summary import EDGES
 
 ID = "agreement"
 TITLE = "Agreement with the engines"
@@ -32,8 +33,11 @@ def _plot_case(case, comps, tol_eps) -> str:
     fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(11, 2.4), sharey=True)
     for ax, qty in zip(axes, QUANTITIES):
         for comp in (c for c in comps if c.quantity == qty):
-            e = np.sort(np.maximum(comp.errors / EPS, FLOOR_EPS))
-            frac = np.arange(1, e.size + 1) / e.size
+            if comp.errors is not None:  # every state's error
+                e = np.sort(np.maximum(comp.errors / EPS, FLOOR_EPS))
+                frac = np.arange(1, e.size + 1) / e.size
+            else:  # a sweep too long to keep: its histogram (8 bins per decade)
+                e, frac = EDGES / EPS, np.cumsum(comp.counts)[:-1] / comp.n
             ax.step(e, frac, where="post", label=f"{comp.engine}/{comp.route}", lw=1.2)
         ax.axvline(tol_eps, color="crimson", ls="--", lw=1)
         ax.set_xscale("log")

@@ -1,0 +1,193 @@
+"""Faults injected while relacc writes: signals, a full disk, read-only places, concurrent writers.
+
+Each test checks relacc's promise (docs/guarantees.md): a file is either
+replaced whole or left byte for byte as it was, and no temporary file is left.
+"""
+
+import contextlib
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from relacc import files
+from relacc.errors import InputError, OutputError
+
+REPO = Path(__file__).resolve().parents[1]
+OLD = b"the previous contents \x00\xff\n" * 3
+
+
+def _leftovers(directory: Path) -> list[str]:
+    """Temporary files relacc would leave in ``directory`` (``.NAME.*.tmp``)."""
+    return sorted(p.name for p in directory.iterdir() if p.name.endswith(".tmp"))
+
+
+SIGNAL_SCRIPT = """
+import os, signal, sys
+from relacc import files
+target, sig, where = sys.argv[1], getattr(signal, sys.argv[2]), sys.argv[3]
+calls, real_fsync = [], os.fsync
+def fsync(fd):  # the signal arrives while the last file of the write is being synced
+    calls.append(fd)
+    if len(calls) == (2 if where == "set" else 1):
+        os.kill(os.getpid(), sig)
+    real_fsync(fd)
+os.fsync = fsync
+with files.terminate_as_interrupt():
+    if where == "stream":
+        with files.streams([target, target + ".2"]) as handles:
+            for fh in handles.values():
+                fh.write("partial")
+    elif where == "set":
+        files.replace_all({target: "new", target + ".2": "new"})
+    else:
+        files.write_text(target, "new contents")
+"""
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
+@pytest.mark.parametrize("where", ["file", "stream", "set"])
+def test_a_signal_during_a_write_leaves_the_previous_files(tmp_path, sig, where):
+    """SIGINT or SIGTERM while a file (or a set of files) is written: old bytes kept, no temporary file left."""
+    target = tmp_path / "out.txt"
+    target.write_bytes(OLD)
+    (tmp_path / "out.txt.2").write_bytes(OLD)
+    out = subprocess.run([sys.executable, "-c", SIGNAL_SCRIPT, str(target), sig, where],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode != 0 and "KeyboardInterrupt" in out.stderr, out.stderr
+    assert target.read_bytes() == OLD and (tmp_path / "out.txt.2").read_bytes() == OLD
+    assert _leftovers(tmp_path) == []
+
+
+def _run_and_signal(argv, cwd, sig, after):
+    proc = subprocess.Popen([sys.executable, "-m", "relacc", *argv], cwd=cwd, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    time.sleep(after)
+    proc.send_signal(sig)
+    out, err = proc.communicate(timeout=120)
+    return proc.returncode, out, err
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_interrupting_the_report_keeps_the_previous_report(tmp_path, sig):
+    """`relacc report` interrupted by SIGINT or SIGTERM: exit 130, one line, the old report untouched."""
+    target = tmp_path / "r.html"
+    target.write_bytes(OLD)
+    code, _, err = _run_and_signal(["report", "--quick", "--quiet", "--out", str(target)], tmp_path, sig, 4.0)
+    assert code == 130, err
+    assert err.count("\n") == 1 and "interrupted" in err and "Traceback" not in err
+    assert target.read_bytes() == OLD and _leftovers(tmp_path) == []
+
+
+def test_interrupting_a_simulation_keeps_the_previous_csvs(tmp_path):
+    """`relacc simulate --out DIR` interrupted while streaming its CSVs: the earlier CSVs survive whole."""
+    out = tmp_path / "runs"
+    out.mkdir()
+    olds = {name: out / f"gimbal_spin-{name}.csv" for name in ("relacc", "pinocchio", "mujoco")}
+    for p in olds.values():
+        p.write_bytes(OLD)
+    code, _, err = _run_and_signal(["simulate", "gimbal_spin", "--duration", "5", "--quiet", "--out", str(out)],
+                                   tmp_path, signal.SIGTERM, 5.0)
+    assert code == 130, err
+    assert all(p.read_bytes() == OLD for p in olds.values()) and _leftovers(out) == []
+
+
+@contextlib.contextmanager
+def _small_disk(path: Path, size: str):
+    """A tmpfs of ``size`` at ``path`` (root only); yields False when it cannot be mounted."""
+    path.mkdir()
+    mounted = os.geteuid() == 0 and subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)],
+                                                   capture_output=True).returncode == 0
+    try:
+        yield mounted
+    finally:
+        if mounted:
+            subprocess.run(["umount", str(path)], check=True)
+
+
+def test_a_full_disk_is_one_line_and_keeps_the_previous_file(tmp_path, monkeypatch):
+    """Writing more than the disk holds: OutputError naming the file, the old file intact, nothing left over."""
+    disk = tmp_path / "disk"
+    with _small_disk(disk, "64k") as mounted:
+        target = disk / "big.txt"
+        target.write_bytes(OLD)
+        if not mounted:  # not root: inject the error the kernel would give
+            real = os.fdopen
+
+            def full(fd, *a, **kw):
+                fh = real(fd, *a, **kw)
+                fh.write = lambda data: (_ for _ in ()).throw(OSError(28, "No space left on device"))
+                return fh
+
+            monkeypatch.setattr(os, "fdopen", full)
+        with pytest.raises(OutputError, match=r"big\.txt: cannot write the file \(No space left on device\)"):
+            files.write_text(target, "x" * 200_000)
+        assert target.read_bytes() == OLD and _leftovers(disk) == []
+        with pytest.raises(OutputError, match="No space left"):
+            files.replace_all({disk / "a.txt": "x" * 40_000, disk / "b.txt": "y" * 40_000})
+        assert sorted(p.name for p in disk.iterdir()) == ["big.txt"]
+
+
+def test_cli_report_on_a_full_disk_is_one_line_exit_2(tmp_path):
+    """`relacc report --out` on a disk too small for the page: exit 2, one line, no traceback (root: real tmpfs)."""
+    disk = tmp_path / "disk"
+    with _small_disk(disk, "64k") as mounted:
+        if not mounted:
+            pytest.fail("this test needs root to mount a tmpfs; the injected-error variant above covers the rest")
+        out = subprocess.run([sys.executable, "-m", "relacc", "report", "--quick", "--quiet", "--out",
+                              str(disk / "r.html")], capture_output=True, text=True, cwd=tmp_path, timeout=600)
+        assert out.returncode == 2, out.stderr
+        assert out.stderr.count("\n") == 1 and "No space left" in out.stderr and "Traceback" not in out.stderr
+        assert list(disk.iterdir()) == []
+
+
+def test_read_only_destinations_are_refused_before_any_work(tmp_path):
+    """An --out in a read-only place is refused up front (a read-only mount as root, else a 0555 directory)."""
+    place = tmp_path / "ro"
+    with _small_disk(place, "1m") as mounted:
+        if mounted:
+            subprocess.run(["mount", "-o", "remount,ro", str(place)], check=True)
+        else:
+            place.chmod(0o555)
+        start = time.perf_counter()
+        out = subprocess.run([sys.executable, "-m", "relacc", "report", "--quiet", "--out", str(place / "r.html")],
+                             capture_output=True, text=True, cwd=tmp_path, timeout=120)
+        assert out.returncode == 2 and "not writable" in out.stderr and out.stderr.count("\n") == 1
+        assert time.perf_counter() - start < 30  # refused before the report's minute of work
+        with pytest.raises((InputError, OutputError)):
+            files.check_output_file(place / "x.txt")
+            files.write_text(place / "x.txt", "x")
+
+
+WRITER = """
+import sys
+from relacc import files
+path, tag = sys.argv[1], sys.argv[2]
+for i in range(200):
+    files.write_text(path, (tag * 1000 + str(i)) * 50)
+"""
+
+
+def test_concurrent_writers_never_interleave(tmp_path):
+    """Two processes replacing one file 200 times each: every read sees one whole version, none is left half."""
+    target = tmp_path / "shared.txt"
+    target.write_text("start")
+    procs = [subprocess.Popen([sys.executable, "-c", WRITER, str(target), tag]) for tag in ("a", "b")]
+    while any(p.poll() is None for p in procs):
+        text = target.read_text()
+        assert _whole(text), text[:80]
+    assert all(p.wait(timeout=60) == 0 for p in procs)
+    final = target.read_text()
+    assert _whole(final) and _leftovers(tmp_path) == []
+
+
+def _whole(text: str) -> bool:
+    """Whether ``text`` is one complete version written by WRITER (50 copies of one tag-block and counter)."""
+    if text == "start":
+        return True
+    unit = text[: len(text) // 50]
+    return text == unit * 50 and len(set(unit[:1000])) == 1 and unit[1000:].isdigit()
