@@ -44,3 +44,37 @@ def test_printed_variant_disagrees_with_engines(harness):
         for engine in ("pinocchio", "mujoco"):
             comp = harness.compare(case, engine, "quaternion", "acceleration", variant="printed")
             assert comp.median_error > 1e-3, f"case {case} {engine}: printed variant agrees"
+
+
+def test_check_streams_in_chunks(fixture, monkeypatch):
+    """A sweep of several chunks: the merged summary equals the chunks' own, the median within its bin, memory flat."""
+    import tracemalloc
+
+    import numpy as np
+
+    from relacc.validation import check
+    from relacc.validation.summary import EDGES
+
+    monkeypatch.setattr(check, "CHUNK", 400)
+    h = Harness(fixture, engines=("mujoco",), n_states=1000, seed=SEED)
+    assert [c[2] for c in h.chunks()] == [400, 400, 200]
+    report = h.check(cases=(2,))
+    parts = [h.compare(2, "mujoco", "quaternion", "acceleration", k=k) for k in range(3)]
+    merged = next(c for c in report.comparisons if c.quantity == "acceleration")
+    errors = np.concatenate([p.errors for p in parts])
+    assert merged.n == 1000 and merged.errors is None
+    assert merged.max_error == errors.max() and merged.over == 0
+    assert merged.worst_state == int(np.argmax(errors / np.concatenate([p.bounds for p in parts])))
+    assert merged.worst_seed == (SEED, 2, merged.worst_state // 400)
+    exact = float(np.median(errors))
+    k = np.searchsorted(EDGES, exact, side="right")
+    assert EDGES[k - 1] <= merged.median_error <= EDGES[k], (exact, merged.median_error)
+
+    def peak(n):
+        tracemalloc.start()
+        Harness(fixture, engines=("mujoco",), n_states=n, seed=SEED).check(cases=(1,))
+        top = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        return top
+
+    assert peak(4000) < 1.3 * peak(800) + 1e6

@@ -113,3 +113,64 @@ def test_missing_model_file_is_a_fixture_error(tmp_path):
     """A path that does not exist raises FixtureError with the path."""
     with pytest.raises(FixtureError, match="cannot read"):
         fixtures.load(tmp_path / "nope.toml")
+
+
+def test_stale_engine_files_are_refused(fixture, tmp_path):
+    """Engine files made from another version of a chain are refused (one line: run relacc fixtures)."""
+    from relacc.engines import load_engine
+
+    src = tmp_path / "two_body.toml"
+    shutil.copy(fixture.source, src)
+    fixtures.write(fixtures.load(src))
+    src.write_text(src.read_text().replace("mass = 0.8", "mass = 0.9"))
+    changed = fixtures.load(src)
+    assert sorted(changed.stale()) == sorted(fixtures.MODEL_FILES)
+    for engine in ("pinocchio", "mujoco"):
+        with pytest.raises(FixtureError, match=r"made from another version of this chain; run `relacc fixtures"):
+            load_engine(engine, changed)
+    fixtures.write(changed)
+    assert changed.stale() == [] and load_engine("mujoco", changed).routes["quaternion"].model.body_mass[2] == 0.9
+
+
+def test_a_set_of_engine_files_is_written_all_or_nothing(fixture, tmp_path, monkeypatch):
+    """When one engine file cannot be written, none of the set is replaced."""
+    import os
+
+    from relacc.errors import OutputError
+
+    src = tmp_path / "two_body.toml"
+    shutil.copy(fixture.source, src)
+    fixtures.write(fixtures.load(src))
+    before = {n: (tmp_path / n).read_bytes() for n in fixtures.MODEL_FILES}
+    src.write_text(src.read_text().replace("mass = 0.8", "mass = 0.9"))
+    real = os.replace
+
+    def fail_on_urdf(a, b):
+        if str(b).endswith(".urdf"):
+            raise OSError(13, "Permission denied")
+        return real(a, b)
+
+    monkeypatch.setattr(os, "replace", fail_on_urdf)
+    with pytest.raises(OutputError, match="urdf: cannot write the file"):
+        fixtures.write(fixtures.load(src))
+    assert {n: (tmp_path / n).read_bytes() for n in fixtures.MODEL_FILES} == before
+    assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
+
+
+def test_table_headers_with_comments_still_name_the_line(tmp_path):
+    """An error's line is found when table headers carry trailing comments."""
+    path = _write(tmp_path, GOOD.replace("[B2]", "[B2]   # the second body").replace("mass = 1.0", "mass = -1.0"))
+    with pytest.raises(FixtureError, match=r"line 7, field \[B2\]\.mass"):
+        fixtures.load(path)
+
+
+@pytest.mark.parametrize("edit,match", [
+    (("mass = 2.0", "mas = 2.0"), r"line 3, field \[B1\]\.mas: unknown key; accepted: mass, r1, inertia"),
+    (("mass = 2.0", "mass = true"), r"field \[B1\]\.mass: mass must be a number"),
+    (("q2 = [0.1, 0.2, 0.3]", "q2 = [0.1, true, 0.3]"), r"field \[B2\]\.q2: .*entry 1"),
+    (('name = "x"', 'name = "x"\nextra = 1'), r"unknown top-level keys \['extra'\]"),
+])
+def test_unknown_keys_and_booleans_are_refused(tmp_path, edit, match):
+    """Typos like `mas = 3.0` and booleans where numbers belong are errors naming the line and the field."""
+    with pytest.raises(FixtureError, match=match):
+        fixtures.load(_write(tmp_path, GOOD.replace(*edit)))

@@ -81,3 +81,75 @@ def test_every_error_is_a_relacc_error():
     """All error classes derive from RelaccError."""
     for cls in (InputError, CaseError, VariantError, relacc.FixtureError, relacc.EngineError):
         assert issubclass(cls, relacc.RelaccError)
+
+
+@pytest.mark.parametrize("call,match", [
+    (lambda: relacc.matrix_from_quaternion([np.nan, 0, 0, 0]), "non-finite"),
+    (lambda: relacc.matrix_from_quaternion([2.0, 0, 0, 0]), "does not normalize"),
+    (lambda: relacc.matrix_from_quaternion([True, 0, 0, 0]), "boolean"),
+    (lambda: relacc.matrix_from_quaternion([np.sqrt(2), 1j, 0, 0]), "does not normalize"),
+    (lambda: relacc.quaternion_multiply([1, 0, 0, 0], [0, 0, 0, 0]), "does not normalize"),
+    (lambda: relacc.tilde([1, 2]), r"shape \(\.\.\., 3\)"),
+    (lambda: relacc.matrix_from_123(["a", "b", "c"]), "expected numbers"),
+    (lambda: relacc.quaternion_exp([np.inf, 0, 0]), "non-finite"),
+    (lambda: relacc.omega_partials_123_dot(np.zeros((2, 3)), np.zeros((3, 3))), "do not broadcast"),
+    (lambda: relacc.quaternion_from_123([0, 0, None]), "expected numbers"),
+])
+def test_exported_building_blocks_check_their_inputs(call, match):
+    """Whatever relacc exports validates as g2_kinematics does: NaN, non-unit, booleans and strings refused."""
+    with pytest.raises(InputError, match=match):
+        call()
+
+
+def test_exported_building_blocks_take_lists_and_agree_with_the_bare_ones():
+    """Lists are accepted, and the checked functions return exactly what the bare ones do."""
+    from relacc.core import rotations
+
+    q = [0.5, 0.5, 0.5, 0.5]
+    assert np.array_equal(relacc.matrix_from_quaternion(q), rotations.matrix_from_quaternion(np.array(q)))
+    assert np.array_equal(relacc.tilde([1, 2, 3]), rotations.tilde(np.array([1.0, 2.0, 3.0])))
+    R = relacc.matrix_from_quaternion(q)
+    assert np.allclose(R @ R.T, np.eye(3), rtol=0, atol=4 * np.finfo(float).eps)
+
+
+def test_a_complex_quaternion_is_judged_by_its_true_size(chain):
+    """(sqrt 2, i, 0, 0) has q.q = 1 but |q|^2 = 3: refused; a complex step's small imaginary part passes."""
+    q = Q14.astype(complex)
+    q[3:7] = [np.sqrt(2), 1j, 0, 0]
+    with pytest.raises(InputError, match="squared norm 3"):
+        relacc.g2_kinematics(chain, 1, q, U)
+    q[3:7] = [1, 1e-20j, 0, 0]
+    assert relacc.g2_kinematics(chain, 1, q, U).position.dtype == complex
+
+
+@pytest.mark.parametrize("kwargs,error,match", [
+    ({"variant": "nope"}, VariantError, "unknown variant"),
+    ({"backend": "gpu"}, InputError, "unknown backend"),
+])
+def test_empty_batches_still_check_everything(chain, kwargs, error, match):
+    """A batch of zero states still has its variant, backend and chain checked."""
+    with pytest.raises(error, match=match):
+        relacc.g2_kinematics(chain, 1, np.zeros((0, 14)), np.zeros((0, 12)), **kwargs)
+    with pytest.raises(InputError, match="TwoBodyChain"):
+        relacc.g2_kinematics("chain", 1, np.zeros((0, 14)), np.zeros((0, 12)))
+    assert relacc.g2_kinematics(chain, 1, np.zeros((0, 14)), np.zeros((0, 12))).V.shape == (0, 3, 12)
+
+
+def test_accelerations_raise_at_gimbal_lock(fixture):
+    """Kane's accelerations in case 3 at gimbal lock raise SingularityError, as the inverse speed map does."""
+    q = np.zeros(12)
+    q[4] = np.pi / 2
+    with pytest.raises(relacc.SingularityError, match="gimbal lock"):
+        relacc.dynamics.accelerations(fixture.chain, 3, q, np.zeros(12))
+    q[4] = np.pi / 2 - 0.1  # far enough: an answer
+    assert np.all(np.isfinite(relacc.dynamics.accelerations(fixture.chain, 3, q, np.ones(12))))
+
+
+def test_requests_that_cannot_fit_are_refused_up_front(chain):
+    """A batch whose outputs exceed the memory available is refused with the estimate, before any work."""
+    from relacc.limits import available_memory
+
+    n = int(2 * (available_memory() or 2**40) // 8 // 120) + 1
+    q = np.broadcast_to(Q14, (n, 14))  # a view: no memory of its own
+    with pytest.raises(InputError, match=r"evaluating \d+ states at once needs about .* GiB.*iter_g2_kinematics"):
+        relacc.g2_kinematics(chain, 1, q, U)

@@ -174,3 +174,74 @@ def test_cli_simulate_json_and_csv(tmp_path, capsys):
         assert set(summary["engines"][name]) >= {"g2_position_final", "energy_drift", "seconds"}
         csv = Path(tmp_path / "out" / f"s-{name}.csv").read_text().splitlines()
         assert csv[0].startswith("# relacc simulate") and csv[1].startswith("t_s,") and len(csv) == 2 + 11
+
+
+def test_the_last_step_is_always_recorded(tmp_path):
+    """record_every = 1000 on a 50-step run records t = 0 and t = duration, and the end is the state there."""
+    scene = scenes.load(_scene_file(tmp_path, SCENE.replace("dt = 0.001", "dt = 0.0002\nrecord_every = 1000")))
+    result = simulate.run(scene)
+    every = simulate.run(scene.replace(record_every=1))
+    for name, tr in result.trajectories.items():
+        assert tr.t.tolist() == [0.0, 0.01]
+        assert np.array_equal(tr.position[-1], every.trajectories[name].position[-1])
+        assert result.summary()["engines"][name]["t_final"] == 0.01
+
+
+@pytest.mark.parametrize("duration,dt", [(0.05, 0.03), (1.0, 0.3)])
+def test_durations_must_be_whole_steps(tmp_path, duration, dt):
+    """A duration that is not a whole number of steps is an error naming both numbers, never rounded."""
+    text = SCENE.replace("duration = 0.01", f"duration = {duration}").replace("dt = 0.001", f"dt = {dt}")
+    with pytest.raises(FixtureError, match=rf"{duration} s is not a whole number of steps of dt = {dt} s"):
+        scenes.load(_scene_file(tmp_path, text))
+    with pytest.raises(InputError, match="not a whole number of steps"):
+        scenes.load(SHIPPED[0]).replace(duration=duration, dt=dt)
+
+
+def test_energy_drift_of_a_chain_falling_from_rest(tmp_path):
+    """At rest with its mass center at zero height, E(0) = 0: the drift is RK4's tiny one, not |dE| / |E(0)|."""
+    chain = scenes.load(SHIPPED[0]).fixture.chain
+    z = (chain.m1 * chain.r1[2] + chain.m2 * (chain.q2[2] + chain.r2[2])) / (chain.m1 + chain.m2)
+    text = SCENE.replace("q = [0.0, 0.0, 0.0, 1.0", f"q = [0.0, 0.0, {float(-z)!r}, 1.0").replace(
+        "u = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]", "u = [" + ", ".join(["0.0"] * 12) + "]")
+    result = simulate.run(scenes.load(_scene_file(tmp_path, text)).replace(duration=0.2))
+    for name, tr in result.trajectories.items():
+        assert abs(tr.energy[0]) < 1e-14 and np.max(tr.energy_scale) > 0.1  # E(0) = 0; T and V_g grow
+        change = np.max(np.abs(tr.energy - tr.energy[0]))
+        assert change / max(abs(tr.energy[0]), 1e-300) > 1  # normalizing by |E(0)| would report nonsense
+        assert tr.energy_drift() < 1e-9, (name, tr.energy_drift())
+        assert result.tracks[name].energy_drift() == pytest.approx(tr.energy_drift(), rel=1e-12)
+
+
+def test_long_runs_keep_only_a_block(tmp_path):
+    """With keep=False and CSVs streamed, memory is set by the block: 20x the steps, about the same peak."""
+    import tracemalloc
+
+    from relacc.simulate.runs import RECORD_BLOCK
+
+    def peak(duration):
+        scene = scenes.load(shipped.scene_path("tumbling")).replace(duration=duration, dt=1e-3, engines=("mujoco",))
+        tracemalloc.start()
+        result = simulate.run(scene, keep=False, out=tmp_path / f"d{duration}")
+        _, top = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        assert result.trajectories == {}
+        rows = (tmp_path / f"d{duration}" / f"{scene.name}-mujoco.csv").read_text().count("\n") - 2
+        assert rows == scene.n_steps + 1
+        return top
+
+    short, long_ = peak(2 * RECORD_BLOCK * 1e-3), peak(40 * RECORD_BLOCK * 1e-3)
+    assert long_ < 1.5 * short + 2e6, (short, long_)
+
+
+def test_inline_models_leave_no_temporary_directory(tmp_path, monkeypatch):
+    """A scene with an inline chain loads and runs without leaving a relacc-* directory in the temp dir."""
+    import tempfile
+
+    monkeypatch.setenv("TMPDIR", str(tmp_path / "tmp"))
+    (tmp_path / "tmp").mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", None)
+    text = SCENE.replace('fixture = "two_body"', "q2 = [0.2, 0.0, 0.1]\nr2 = [0.1, 0.1, 0.0]")
+    simulate.run(scenes.load(_scene_file(tmp_path, text)))
+    with pytest.raises(FixtureError):
+        scenes.load(_scene_file(tmp_path / "bad", text.replace("r2 = [0.1, 0.1, 0.0]", "r2 = [0.1, 0.1]")))
+    assert list((tmp_path / "tmp").iterdir()) == []
