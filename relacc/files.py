@@ -161,6 +161,33 @@ def _rename_all(temps: dict) -> None:
         raise
 
 
+def read_document(source, parse, kind: str, error=InputError, what: str = "file"):
+    """``(value, text)`` of a text document (TOML, JSON) read from ``source`` (a path, or ``-``: stdin).
+
+    Every way the input can be bad is one ``error`` naming the source:
+    unreadable, not UTF-8, not valid ``kind``, nested too deeply, or holding a
+    number too long to convert.
+    """
+    try:
+        if str(source) == "-":
+            import sys
+
+            text = sys.stdin.buffer.read().decode("utf-8")
+        else:
+            with open(source, encoding="utf-8") as fh:
+                text = fh.read()
+    except OSError as exc:
+        raise error(f"{source}: cannot read the {what} ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{source}: the {what} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    try:
+        return parse(text), text
+    except RecursionError:
+        raise error(f"{source}: not readable {kind}: arrays, objects or tables nested too deeply") from None
+    except ValueError as exc:  # the parser's syntax errors, and numbers too long to convert
+        raise error(f"{source}: not valid {kind}: {exc}") from None
+
+
 def check_output_file(path, what: str = "--out") -> Path:
     """Check, before any work, that a file can be written at ``path`` (it may exist: it is replaced).
 

@@ -25,37 +25,10 @@ def _numbers(text: str, name: str) -> list[float]:
         raise InputError(f"--{name}: expected numbers separated by commas or spaces, got {text!r}") from None
 
 
-def read_json(source: str, what: str):
-    """The JSON value in a file (or ``-``: stdin), for command-line inputs.
-
-    Raises:
-        InputError: unreadable, not UTF-8, not JSON, nested too deeply, or
-            with a number too long to convert (one line each).
-    """
-    try:
-        if source == "-":
-            text = sys.stdin.buffer.read().decode("utf-8")
-        else:
-            with open(source, encoding="utf-8") as fh:
-                text = fh.read()
-    except OSError as exc:
-        raise InputError(f"{source}: cannot read the {what} ({exc.strerror or exc})") from None
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{source}: the {what} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{source}: not valid JSON: {exc}") from None
-    except ValueError as exc:  # a number too long to convert
-        raise InputError(f"{source}: not readable JSON: {exc}") from None
-    except RecursionError:
-        raise InputError(f"{source}: not readable JSON: arrays or objects nested too deeply") from None
-
-
 def _state_from_args(args) -> dict:
     state = {}
     if args.state:
-        state = read_json(args.state, "state file")
+        state, _ = files.read_document(args.state, json.loads, "JSON", what="state file")
         if not isinstance(state, dict):
             raise InputError(f"{args.state}: expected a JSON object with case, q, u (and udot)")
     for key in ("case", "q", "u", "udot", "variant"):
