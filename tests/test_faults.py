@@ -132,14 +132,14 @@ def test_a_full_disk_is_one_line_and_keeps_the_previous_file(tmp_path, monkeypat
         assert sorted(p.name for p in disk.iterdir()) == ["big.txt"]
 
 
-def test_cli_report_on_a_full_disk_is_one_line_exit_2(tmp_path):
-    """`relacc report --out` on a disk too small for the page: exit 2, one line, no traceback (root: real tmpfs)."""
+def test_cli_on_a_full_disk_is_one_line_exit_2(tmp_path):
+    """`relacc simulate --out` on a disk too small for its CSVs: exit 2, one line, nothing left (root: real tmpfs)."""
     disk = tmp_path / "disk"
     with _small_disk(disk, "64k") as mounted:
         if not mounted:
             pytest.fail("this test needs root to mount a tmpfs; the injected-error variant above covers the rest")
-        out = subprocess.run([sys.executable, "-m", "relacc", "report", "--quick", "--quiet", "--out",
-                              str(disk / "r.html")], capture_output=True, text=True, cwd=tmp_path, timeout=600)
+        out = subprocess.run([sys.executable, "-m", "relacc", "simulate", "tumbling", "--quiet", "--out", str(disk)],
+                             capture_output=True, text=True, cwd=tmp_path, timeout=600)
         assert out.returncode == 2, out.stderr
         assert out.stderr.count("\n") == 1 and "No space left" in out.stderr and "Traceback" not in out.stderr
         assert list(disk.iterdir()) == []
