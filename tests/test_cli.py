@@ -10,6 +10,7 @@ import pytest
 
 import relacc
 from relacc.cli import main
+from relacc.engines import ENGINES
 
 SPIN = ["--case", "1", "--q", "0,0,0, 1,0,0,0, 0,0,0, 1,0,0,0", "--u", "0,0,0, 0,0,2.5, 0,0,0, 0,0,0",
         "--udot", "0,0,0,0,0,0,0,0,0,0,0,0"]
@@ -75,7 +76,7 @@ def test_check_json_passes_and_names_conventions(capsys, fixture):
     """check --json exits 0 and every comparison carries its convention."""
     assert main(["check", "--states", "50", "--quiet", "--json", "--model", str(fixture.source)]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["passed"] and len(out["comparisons"]) == 40
+    assert out["passed"] and len(out["comparisons"]) == 20 * len(ENGINES)  # per engine: 4 routes x 5 quantities
     assert all("fixed-frame" in c["convention"] for c in out["comparisons"])
 
 

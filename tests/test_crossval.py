@@ -9,6 +9,7 @@ import pytest
 
 from relacc.core.conventions import QUANTITIES
 from relacc.core.tolerances import EPS
+from relacc.engines import ENGINES
 from relacc.validation.check import Harness
 from relacc.validation.compare import routes_for
 
@@ -17,7 +18,7 @@ from .conftest import N_STATES, SEED
 COMBOS = [
     (case, engine, route, qty)
     for case in (1, 2, 3)
-    for engine in ("pinocchio", "mujoco")
+    for engine in ENGINES
     for route in routes_for(case)
     for qty in QUANTITIES
 ]
@@ -41,7 +42,7 @@ def test_core_agrees_with_engine(harness, case, engine, route, quantity):
 def test_printed_variant_disagrees_with_engines(harness):
     """The note's printed formulas, taken together, disagree with both engines in every case."""
     for case in (1, 2, 3):
-        for engine in ("pinocchio", "mujoco"):
+        for engine in ENGINES:
             comp = harness.compare(case, engine, "quaternion", "acceleration", variant="printed")
             assert comp.median_error > 1e-3, f"case {case} {engine}: printed variant agrees"
 

@@ -10,7 +10,7 @@ from relacc.core.scales import dynamics_scales
 from relacc.core.states import random_states
 from relacc.core.tolerances import EPS, ROUNDING_FACTOR, assert_agree
 from relacc.dynamics.effects import NONE, Effects
-from relacc.engines import load_engine
+from relacc.engines import ENGINES, load_engine
 from relacc.kernels import dynamics as fastdyn
 
 from .conftest import seed_for
@@ -30,10 +30,10 @@ def _states(case, offset, n=200):
 
 @pytest.fixture(scope="module")
 def engines(fixture):
-    return {name: load_engine(name, fixture) for name in ("pinocchio", "mujoco")}
+    return {name: load_engine(name, fixture) for name in ENGINES}
 
 
-@pytest.mark.parametrize("engine", ["pinocchio", "mujoco"])
+@pytest.mark.parametrize("engine", ENGINES)
 def test_kane_equals_engine_through_speed_maps(fixture, engines, engine, case):
     """M = E^T M_e E and f = E^T (f_e - M_e Edot u) with every effect on, 200 states."""
     s = _states(case, 40)

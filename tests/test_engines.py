@@ -7,7 +7,7 @@ import pytest
 from relacc.core.cases import as_case
 from relacc.core.states import random_states
 from relacc.core.tolerances import assert_agree
-from relacc.engines import load_engine
+from relacc.engines import ENGINES, load_engine
 from relacc.engines.pinocchio_ import LWA
 from relacc.errors import EngineError
 from relacc.validation.compare import routes_for
@@ -17,10 +17,10 @@ from .conftest import seed_for
 
 @pytest.fixture(scope="module")
 def engines(fixture):
-    return {name: load_engine(name, fixture) for name in ("pinocchio", "mujoco")}
+    return {name: load_engine(name, fixture) for name in ENGINES}
 
 
-@pytest.mark.parametrize("engine", ["pinocchio", "mujoco"])
+@pytest.mark.parametrize("engine", ENGINES)
 def test_round_trip_note_engine_note(engines, engine, case):
     """note -> engine -> note returns the same q, u and udot (angles away from gimbal lock)."""
     s = random_states(case, 200, seed_for(case, 20))

@@ -87,7 +87,7 @@ def test_interrupting_a_simulation_keeps_the_previous_csvs(tmp_path):
     """`relacc simulate --out DIR` interrupted while streaming its CSVs: the earlier CSVs survive whole."""
     out = tmp_path / "runs"
     out.mkdir()
-    olds = {name: out / f"gimbal_spin-{name}.csv" for name in ("relacc", "pinocchio", "mujoco")}
+    olds = {name: out / f"gimbal_spin-{name}.csv" for name in ("relacc", "pinocchio", "mujoco", "drake")}
     for p in olds.values():
         p.write_bytes(OLD)
     code, _, err = _run_and_signal(["simulate", "gimbal_spin", "--duration", "5", "--quiet", "--out", str(out)],

@@ -125,7 +125,7 @@ def test_stale_engine_files_are_refused(fixture, tmp_path):
     src.write_text(src.read_text().replace("mass = 0.8", "mass = 0.9"))
     changed = fixtures.load(src)
     assert sorted(changed.stale()) == sorted(fixtures.MODEL_FILES)
-    for engine in ("pinocchio", "mujoco"):
+    for engine in ("pinocchio", "mujoco", "drake"):
         with pytest.raises(FixtureError, match=r"made from another version of this chain; run `relacc fixtures"):
             load_engine(engine, changed)
     fixtures.write(changed)

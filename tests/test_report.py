@@ -30,7 +30,7 @@ def test_report_has_verdict_and_every_section(quick_report):
     """The page carries the verdict, the versions, the seed and one <section> per section module."""
     html = quick_report.read_text()
     assert 'id="verdict"' in html and "agree with Pinocchio and MuJoCo" in html
-    for name in ("pinocchio", "mujoco", "numpy", "python", "relacc"):
+    for name in ("pinocchio", "mujoco", "drake", "numpy", "python", "relacc"):
         assert name in html
     for module in SECTIONS:
         assert f'<section id="{module.ID}"' in html

@@ -16,7 +16,7 @@ EXIT_CODES = """exit codes:
   1  a disagreement: a comparison is outside its tolerance
   2  a usage or input error (one line on stderr)"""
 
-ENGINE_NAMES = ("pinocchio", "mujoco")
+ENGINE_NAMES = ("pinocchio", "mujoco", "drake")
 SIM_ENGINE_NAMES = ("relacc",) + ENGINE_NAMES
 INTEGRATOR_NAMES = ("rk4", "euler", "implicit", "implicitfast")
 MAX_STATES = 10**9
@@ -174,8 +174,8 @@ def build_parser() -> argparse.ArgumentParser:
     _seed(p)
     p.add_argument("--cases", type=_cases, default=(1, 2, 3), metavar="1,2,3",
                    help="comma-separated subset of 1,2,3 (default all)")
-    p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), default=ENGINE_NAMES,
-                   metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default all)")
+    p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), default=None,
+                   metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default: every one installed)")
     _json(p)
     _quiet(p)
     _model(p)
@@ -186,8 +186,8 @@ def build_parser() -> argparse.ArgumentParser:
              ["relacc errata", "relacc errata --json"])
     _states(p, 1000)
     _seed(p)
-    p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), default=ENGINE_NAMES,
-                   metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default all)")
+    p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), default=None,
+                   metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default: every one installed)")
     _json(p, "a list, one object per equation id")
     _quiet(p)
     _model(p)

@@ -72,4 +72,29 @@ ENGINE_MAPPINGS = {
     ("pinocchio", "euler"): (
         "two_body_euler.urdf; q = case-3 q, v = case-3 u (prismatic, revolute x, y, z); no map"
     ),
+    ("drake", "quaternion"): (
+        "plant built from the TOML: two QuaternionFloatingJoints (world->B1, B1 at q2'->B2); "
+        "q = [quat_B1 (w first), s1, quat_B2/B1 (w first), s2']; v = [omega_B1 (fixed), s1_dot (fixed), "
+        "omega_hat_B2 (B1), s2'_dot (B1)] = Case 1 speeds reordered; G2: CalcJacobianTranslationalVelocity, "
+        "J_dot by AutoDiffXd along q_dot = N(q) v, acceleration from CalcSpatialAccelerationsFromVdot shifted to G2"
+    ),
+    ("drake", "euler"): (
+        "two_body_euler.urdf through Drake's URDF parser; q = case-3 q, v = case-3 u; no map"
+    ),
 }
+
+ENGINE_LABELS = {"relacc": "relacc", "pinocchio": "Pinocchio", "mujoco": "MuJoCo", "drake": "Drake"}
+"""How each engine's name is written in sentences."""
+
+DRAKE_SCHEMES = ("semi_explicit_euler", "explicit_euler", "runge_kutta2", "runge_kutta3", "runge_kutta5",
+                 "bogacki_shampine3", "implicit_euler", "radau1", "radau3", "velocity_implicit_euler")
+"""Drake's integration schemes (``ResetIntegratorFromFlags``) that relacc offers; Drake has no RK4."""
+
+ENGINE_INTEGRATORS = {
+    "relacc": ("rk4", "euler"),
+    "pinocchio": ("rk4", "euler"),
+    "mujoco": ("rk4", "euler", "implicit", "implicitfast"),
+    "drake": ("euler",) + DRAKE_SCHEMES,
+}
+"""The integrators each engine has, by the names scenes use. ``euler`` is semi-implicit Euler everywhere
+(MuJoCo's ``mjINT_EULER``, Drake's ``semi_explicit_euler``: ``v`` first, then ``q`` with the new ``v``)."""

@@ -113,7 +113,6 @@ def euler_step(space, x, v, h, derivs):
 STEPPERS = {"rk4": rkmk4_step, "euler": euler_step}
 """Integrators for relacc and Pinocchio, by scene name."""
 
-
 def stepper(chain, case, effects, dt: float, integrator: str):
     """relacc's own fixed-step integrator: ``advance(q, u, k) -> (q, u)``, ``k`` steps of ``dt`` seconds.
 

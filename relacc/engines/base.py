@@ -163,18 +163,20 @@ class Engine(abc.ABC):
         """Engine accelerations ``vdot_e`` ``(n, nv_e)`` at ``(q, v)`` under exactly ``effects`` (quaternion route)."""
 
     @abc.abstractmethod
-    def stepper(self, effects, dt: float, integrator: str):
-        """The engine's fixed-step integrator under exactly ``effects``: ``advance(x, v, k) -> (x, v)``.
+    def stepper(self, effects, dt: float, integrator: str, accuracy: float | None = None):
+        """The engine's integrator under exactly ``effects``: ``advance(x, v, k) -> (x, v)``.
 
         ``advance`` takes ``k`` steps of ``dt`` seconds from engine coordinates
-        ``(x, v)`` (:mod:`relacc.dynamics.steps`).
+        ``(x, v)`` (:mod:`relacc.dynamics.steps`). ``accuracy``: the target of
+        an error-controlled integrator (its largest step ``dt``); None for
+        fixed steps, the only kind most engines have.
 
         Raises:
-            EngineError: an integrator the engine lacks.
+            EngineError: an integrator the engine lacks, or an accuracy it cannot honour.
         """
 
     def simulate(self, q, v, effects, dt: float, n_steps: int, integrator: str, record_every: int = 1,
-                 progress=None):
+                 progress=None, accuracy: float | None = None):
         """Integrate from engine coordinates ``(q, v)`` for ``n_steps`` steps of ``dt`` seconds.
 
         Through the one step loop, :func:`relacc.dynamics.steps.collect`.
@@ -189,13 +191,19 @@ class Engine(abc.ABC):
         """
         from relacc.dynamics.steps import collect
 
-        advance = self.stepper(effects, dt, integrator)
+        advance = self.stepper(effects, dt, integrator, accuracy)
         return collect(advance, q, v, dt, n_steps, record_every, who=self.name, integrator=integrator,
                        progress=progress)
 
     @abc.abstractmethod
     def body_state(self, q, v):
         """Engine coordinates ``(n, nq_e)``, ``(n, nv_e)`` to Case 2's ``(q14, nu)`` (quaternion route)."""
+
+    @staticmethod
+    def fixed_step_only(name: str, accuracy) -> None:
+        """Refuse an error-controlled run for an engine that has fixed-step integrators only."""
+        if accuracy is not None:
+            raise EngineError(f"{name} has fixed-step integrators only; drop the accuracy (got {accuracy})")
 
     def applied(self, effects) -> dict:
         """What the engine is told to apply for ``effects``, as plain data for reports.
@@ -206,6 +214,24 @@ class Engine(abc.ABC):
         g = "0 (off)" if effects.gravity is None else str(effects.gravity.tolist())
         forces = [n for n in effects.active() if n != "gravity"]
         return {"model.gravity": g, "generalized forces": forces or "none"}
+
+    def energy_terms(self, chain, q, v, effects):
+        """``(kinetic, gravity, spring)`` energies, J, ``(n,)`` each, of a batch of engine states.
+
+        Default: relacc's formulas (:func:`relacc.dynamics.energy_terms`) at the
+        engine's state mapped to Case 2 (:meth:`body_state`).
+        """
+        from relacc.dynamics import energy_terms
+
+        q14, nu = self.body_state(q, v)
+        return energy_terms(chain, 2, q14, nu, effects)
+
+    def momenta(self, chain, q, v):
+        """Linear (kg m/s) and angular (kg m^2/s, about R's origin) momenta ``(n, 3)``, fixed components."""
+        from relacc.dynamics import momenta
+
+        q14, nu = self.body_state(q, v)
+        return momenta(chain, 2, q14, nu)
 
     def initial_state(self, case, q, u):
         """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates on the quaternion route.

@@ -210,10 +210,11 @@ class MujocoEngine(Engine):
     INTEGRATORS = {"rk4": "mjINT_RK4", "euler": "mjINT_EULER", "implicit": "mjINT_IMPLICIT",
                    "implicitfast": "mjINT_IMPLICITFAST"}
 
-    def stepper(self, effects, dt, integrator):
+    def stepper(self, effects, dt, integrator, accuracy=None):
         """MuJoCo's own ``mj_step`` with ``opt.integrator`` and ``opt.timestep = dt``."""
         if integrator not in self.INTEGRATORS:
             raise EngineError(f"MuJoCo integrators: {', '.join(self.INTEGRATORS)}; got {integrator!r}")
+        self.fixed_step_only("MuJoCo", accuracy)
         r = self.routes["quaternion"]
         m, d = r.model, r.data
         mujoco.mj_resetData(m, d)

@@ -275,7 +275,7 @@ class PinocchioEngine(Engine):
         with self.ode(effects) as (_, derivs):
             return np.array([derivs(q[i], v[i])[1] for i in range(q.shape[0])])
 
-    def stepper(self, effects, dt, integrator):
+    def stepper(self, effects, dt, integrator, accuracy=None):
         """RKMK4 (or semi-implicit Euler) on Pinocchio's manifold with ``pin.aba`` accelerations.
 
         Pinocchio has no integrator of its own; ``pin.integrate`` and
@@ -286,6 +286,7 @@ class PinocchioEngine(Engine):
 
         if integrator not in STEPPERS:
             raise EngineError(f"Pinocchio integrators here: {', '.join(STEPPERS)}; got {integrator!r}")
+        self.fixed_step_only("Pinocchio (with relacc's integrators)", accuracy)
         step = STEPPERS[integrator]
 
         def advance(x, w, k):

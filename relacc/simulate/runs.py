@@ -115,14 +115,13 @@ def _observe_relacc(scene: Scene):
 
 
 def _observe_engine(engine, scene: Scene):
-    """An engine's observation of a block of its states: G2 by the engine, energy and momenta by relacc's formulas."""
+    """An engine's observation of a block of its states: G2, energy and momenta (:meth:`Engine.energy_terms`)."""
     chain, eff = scene.fixture.chain, scene.effects
 
     def observe(Q, V):
         pts = engine.points("quaternion", Q, V, engine.forward_dynamics(Q, V, eff))
-        q14, nu = engine.body_state(Q, V)
-        T, g, s = dynamics.energy_terms(chain, 2, q14, nu, eff)
-        p, H = dynamics.momenta(chain, 2, q14, nu)
+        T, g, s = engine.energy_terms(chain, Q, V, eff)
+        p, H = engine.momenta(chain, Q, V)
         return {"position": pts.position, "velocity": np.einsum("nij,nj->ni", pts.J, V),
                 "acceleration": pts.acceleration, "energy": T + g + s, "energy_scale": T + np.abs(g) + s,
                 "momentum": p, "angular_momentum": H}
@@ -134,15 +133,19 @@ class _Run:
     """One engine's run in progress: its march over the recorded steps, its observation, its track."""
 
     def __init__(self, name, engine, scene: Scene, steps, keep, progress):
+        integrator, accuracy = scene.integrator_for(name)
         if name == "relacc":
             advance, x0, v0 = stepper(scene.fixture.chain, scene.case, scene.effects, scene.dt,
-                                      scene.integrator), scene.q, scene.u
+                                      integrator), scene.q, scene.u
             observe, applied = _observe_relacc(scene), {"equations": "Kane, " + (", ".join(
                 scene.effects.active()) or "no effects")}
         else:
             x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
-            advance, observe = engine.stepper(scene.effects, scene.dt, scene.integrator), _observe_engine(engine, scene)
-            applied = engine.applied(scene.effects)
+            advance = engine.stepper(scene.effects, scene.dt, integrator, accuracy)
+            observe, applied = _observe_engine(engine, scene), engine.applied(scene.effects)
+            if (integrator, accuracy) != (scene.integrator, None):
+                applied = {"integrator": integrator + ("" if accuracy is None else f", error-controlled to "
+                                                       f"{accuracy:g}"), **applied}
         x0, v0 = np.asarray(x0, dtype=float), np.asarray(v0, dtype=float)
         columns = ([f"q{i}" for i in range(x0.size)], [("u" if name == "relacc" else "v") + str(i)
                                                         for i in range(v0.size)])
@@ -157,7 +160,7 @@ class _Run:
                 self.track.seconds += time.perf_counter() - start
 
         cb = (lambda f: progress(name, f)) if progress else None
-        self.states = march(timed, x0, v0, steps, who=name, dt=scene.dt, integrator=scene.integrator, progress=cb)
+        self.states = march(timed, x0, v0, steps, who=name, dt=scene.dt, integrator=integrator, progress=cb)
 
     def block(self, steps, dt) -> dict:
         """The next ``len(steps)`` records, observed and added to the track."""

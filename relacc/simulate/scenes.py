@@ -17,7 +17,10 @@ README's table is generated from it). An example::
     [simulate]
     duration = 2.0                           # s, a whole number of steps
     dt = 0.001                               # s
-    integrator = "rk4"                       # rk4 | euler (all engines); implicit | implicitfast (mujoco only)
+    integrator = "rk4"                       # rk4 | euler; implicit | implicitfast (mujoco only)
+    engines = ["relacc", "pinocchio", "mujoco", "drake"]
+    [simulate.drake]                         # Drake has no rk4: its own integrator, fixed steps dt
+    integrator = "runge_kutta5"              # or accuracy = 1e-10 for error control
 """
 
 from __future__ import annotations
@@ -29,15 +32,16 @@ import numpy as np
 
 from relacc.core.cases import as_case, check_q, check_u
 from relacc.core.chain import TwoBodyChain
+from relacc.core.conventions import ENGINE_INTEGRATORS, ENGINE_LABELS
 from relacc.dynamics.effects import Effects
 from relacc.errors import InputError, RelaccError
 from relacc.fixtures import Fixture, tomlfile
 from relacc.fixtures import load as load_fixture
 from relacc.fixtures.model import inline
 
-SIM_ENGINES = ("relacc", "pinocchio", "mujoco")
+SIM_ENGINES = ("relacc", "pinocchio", "mujoco", "drake")
 INTEGRATORS = ("rk4", "euler", "implicit", "implicitfast")
-MUJOCO_ONLY = ("implicit", "implicitfast")
+"""The scene-wide integrators; each engine's own are in :data:`relacc.core.conventions.ENGINE_INTEGRATORS`."""
 MAX_STEPS = 1e9
 """Longest run accepted, in steps: memory does not limit it (runs stream), this guards against typos."""
 
@@ -68,11 +72,20 @@ class Scene:
     engines: tuple[str, ...]
     record_every: int = 1
     source: Path | None = field(default=None)
+    drake_integrator: str | None = None
+    drake_accuracy: float | None = None
 
     def __post_init__(self):
-        problem = check_simulate(self.duration, self.dt, self.integrator, list(self.engines), self.record_every)
+        problem = check_simulate(self.duration, self.dt, self.integrator, list(self.engines), self.record_every,
+                                 self.drake_integrator, self.drake_accuracy)
         if problem:
             raise InputError(f"scene {self.name}: {problem[0]}: {problem[1]}")
+
+    def integrator_for(self, engine: str) -> tuple[str, float | None]:
+        """``(integrator, accuracy)`` an engine runs: the scene's, or for Drake ``[simulate.drake]``'s."""
+        if engine == "drake" and self.drake_integrator is not None:
+            return self.drake_integrator, self.drake_accuracy
+        return self.integrator, None
 
     @property
     def n_steps(self) -> int:
@@ -86,7 +99,7 @@ class Scene:
         return Scene(**kw)
 
 
-def check_simulate(duration, dt, integrator, engines, record_every):
+def check_simulate(duration, dt, integrator, engines, record_every, drake_integrator=None, drake_accuracy=None):
     """The first problem with the ``[simulate]`` fields as ``(field, message)``, or None."""
     for key, value in (("duration", duration), ("dt", dt)):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value) or value <= 0:
@@ -104,8 +117,17 @@ def check_simulate(duration, dt, integrator, engines, record_every):
         return "integrator", f"unknown integrator {integrator!r}; accepted: {', '.join(INTEGRATORS)}"
     if not isinstance(engines, (list, tuple)) or not engines or any(e not in SIM_ENGINES for e in engines):
         return "engines", f"expected a non-empty list of {', '.join(SIM_ENGINES)}, got {engines!r}"
-    if integrator in MUJOCO_ONLY and set(engines) - {"mujoco"}:
-        return "integrator", f"{integrator!r} exists in MuJoCo only; list engines = [\"mujoco\"]"
+    for engine in engines:
+        own = drake_integrator if (engine == "drake" and drake_integrator) else integrator
+        if own not in ENGINE_INTEGRATORS[engine]:
+            if engine == "drake":
+                return "integrator", (f"Drake has no {integrator!r} integrator: name one of Drake's in "
+                                      f"[simulate.drake] integrator ({', '.join(ENGINE_INTEGRATORS['drake'])})")
+            only = [e for e, names in ENGINE_INTEGRATORS.items() if integrator in names]
+            return "integrator", (f"{integrator!r} exists in {', '.join(ENGINE_LABELS[e] for e in only)} only; "
+                                  f"list engines = {only}")
+    if drake_accuracy is not None and not (isinstance(drake_accuracy, float) and 0 < drake_accuracy < 1):
+        return "drake", f"accuracy must be a number in (0, 1), got {drake_accuracy!r}"
     if isinstance(record_every, bool) or not isinstance(record_every, int) or record_every < 1:
         return "record_every", f"expected a positive integer, got {record_every!r}"
     return None
@@ -136,12 +158,18 @@ def load(path) -> Scene:
     u = checked("initial", "u", lambda: check_u("u", doc.initial.u))
     effects = _effects(doc.effects, checked)
     sim = doc.simulate
-    problem = check_simulate(sim.duration, sim.dt, sim.integrator, sim.engines, sim.record_every)
+    drake_integrator = sim.drake.integrator if sim.drake else None
+    drake_accuracy = sim.drake.accuracy if sim.drake else None
+    problem = check_simulate(sim.duration, sim.dt, sim.integrator, sim.engines, sim.record_every, drake_integrator,
+                             drake_accuracy)
     if problem:
-        raise tomlfile.field_error(path, text, "simulate", *problem)
+        table = "simulate.drake" if problem[0] == "drake" else "simulate"
+        raise tomlfile.field_error(path, text, table, "accuracy" if problem[0] == "drake" else problem[0],
+                                   problem[1])
     return Scene(name=path.stem, title=doc.title or path.stem, description=doc.description, fixture=fixture,
                  case=case, q=q, u=u, effects=effects, duration=float(sim.duration), dt=float(sim.dt),
-                 integrator=sim.integrator, engines=tuple(sim.engines), record_every=sim.record_every, source=path)
+                 integrator=sim.integrator, engines=tuple(sim.engines), record_every=sim.record_every, source=path,
+                 drake_integrator=drake_integrator, drake_accuracy=drake_accuracy)
 
 
 def _model(path, text, model, checked) -> Fixture:

@@ -20,7 +20,7 @@ from relacc.core.kinematics import G2Kinematics, resolve_variant
 from relacc.core.scales import term_scales
 from relacc.core.states import States, random_states
 from relacc.core.tolerances import rounding_tolerance
-from relacc.engines import ENGINES, load_engine
+from relacc.engines import ENGINES, available, load_engine
 from relacc.errors import EngineError
 from relacc.fixtures import Fixture, load
 from relacc.validation.compare import Comparison, against_engines, compare
@@ -40,22 +40,26 @@ class Harness:
 
     Args:
         fixture: the chain's fixture (default: the shipped ``two_body.toml``).
-        engines: engine names to load.
+        engines: engine names to load (default: every engine installed), or ``{name: Engine}`` already loaded.
         n_states: states per case.
         seed: base seed (an integer >= 0).
         progress: callable taking one line of progress text, or None.
     """
 
-    def __init__(self, fixture: Fixture | None = None, engines=ENGINES, n_states=1000, seed=0, progress=None):
+    def __init__(self, fixture: Fixture | None = None, engines=None, n_states=1000, seed=0, progress=None):
         n_states = check_int("number of states", n_states, minimum=1)
         seed = check_int("seed", seed, minimum=0)
         self.fixture = fixture if fixture is not None else load()
         self.chain = self.fixture.chain
-        engines = tuple(engines) if isinstance(engines, (list, tuple)) else (engines,)
-        unknown = [e for e in engines if e not in ENGINES]
-        if unknown:
-            raise EngineError(f"unknown engines {unknown}: accepted are {', '.join(ENGINES)}")
-        self.engines = {name: load_engine(name, self.fixture) for name in engines}
+        if isinstance(engines, dict):  # engines already loaded (a test's, or one with a planted fault)
+            self.engines = dict(engines)
+        else:
+            engines = available() if engines is None else (
+                tuple(engines) if isinstance(engines, (list, tuple)) else (engines,))
+            unknown = [e for e in engines if e not in ENGINES]
+            if unknown:
+                raise EngineError(f"unknown engines {unknown}: accepted are {', '.join(ENGINES)}")
+            self.engines = {name: load_engine(name, self.fixture) for name in engines}
         self.n_states = int(n_states)
         self.seed = int(seed)
         self.progress = progress

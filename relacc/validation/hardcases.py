@@ -196,8 +196,11 @@ class Result:
 class Runner:
     """Runs catalogue entries against the core and engines; caches engines per geometry."""
 
-    def __init__(self, fixture: Fixture, engines=("pinocchio", "mujoco"), n: int = N_STATES, seed: int = 0):
-        self.fixture, self.engine_names, self.n, self.seed = fixture, tuple(engines), n, seed
+    def __init__(self, fixture: Fixture, engines=None, n: int = N_STATES, seed: int = 0):
+        from relacc.engines import available
+
+        self.engine_names = available() if engines is None else tuple(engines)
+        self.fixture, self.n, self.seed = fixture, n, seed
         self._engines = {}
 
     def engines_for(self, hc: HardCase):
@@ -226,7 +229,7 @@ class Runner:
         return out
 
 
-def run_catalogue(fixture: Fixture, engines=("pinocchio", "mujoco"), n=N_STATES, seed=0) -> list[Result]:
+def run_catalogue(fixture: Fixture, engines=None, n=N_STATES, seed=0) -> list[Result]:
     """Every entry's results."""
     runner = Runner(fixture, engines, n, seed)
     return [r for hc in catalogue() for r in runner.run(hc)]

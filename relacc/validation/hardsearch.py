@@ -99,7 +99,7 @@ def _private_storage():
 
 
 def hypothesis_search(fixture: Fixture, max_examples: int = 100, seed: int = 0,
-                      engines=("pinocchio", "mujoco")) -> Worst:
+                      engines=None) -> Worst:
     """Let Hypothesis push toward the largest error / bound over random states; return the worst.
 
     Each example draws one state (:func:`_draw_state`) and compares the core

@@ -20,6 +20,7 @@ FAMILIES = (
     ("far", "|s1| (m)", "all cases, B1's origin at distance |s1| from R's origin"),
 )
 COLORS = {"relacc": "black", "pinocchio/quaternion": "#1f77b4", "pinocchio/euler": "#17becf",
+          "drake/quaternion": "#2ca02c", "drake/euler": "#98df8a",
           "mujoco/quaternion": "#d62728", "mujoco/euler": "#ff9896"}
 MARKERS = {1: "o", 2: "s", 3: "^"}
 ZERO_AT = 1e-14
