@@ -116,6 +116,8 @@ def cmd_check(args) -> int:
     print("\nconventions (every number is about G2, in fixed-frame components):")
     for q in QUANTITIES:
         print(f"  {q:12s} {CONVENTIONS[q]}")
+    for verdict in report.referee:
+        print(f"referee: {verdict.sentence()}")
     n, bad = len(report.comparisons), len(report.failures)
     print(f"\n{'all ' + str(n) + ' comparisons agree' if not bad else f'{bad} of {n} comparisons DISAGREE'}")
     return 0 if report.passed else 1

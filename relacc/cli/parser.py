@@ -134,7 +134,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(
         prog="relacc",
         description="Check the relative-coordinate formulas of a two-body chain (the velocity and classical "
-                    "acceleration of G2) against Pinocchio and MuJoCo.",
+                    "acceleration of G2) against Pinocchio, MuJoCo and Drake.",
         epilog="examples:\n  relacc check\n  relacc report --quick --out report.html\n  relacc simulate tumbling\n\n"
                + EXIT_CODES + "\n\nrelacc COMMAND --help describes each command.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -199,7 +199,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--check", action="store_true", help="only check that the files are up to date (exit 1 if not)")
     _model(p)
 
-    p = _sub(sub, "simulate", "run a scene on relacc, Pinocchio and MuJoCo and compare them",
+    p = _sub(sub, "simulate", "run a scene on relacc and the engines and compare them",
              "Integrate a scene (which chain, from which state, under which effects, for how long) on every "
              "engine it lists and compare G2 along the runs. SCENE is a TOML file or the name of a shipped "
              "scene.",

@@ -54,7 +54,7 @@ def pareto(rows, error="error", cost="seconds"):
 
 def run(quick: bool = False, seed: int = 0, progress=None, fixture=None, profile: dict | None = None) -> Tradeoff:
     """Run both sweeps (``quick``: a small one for tests and CI; ``profile``: QUICK, REPORT or FULL)."""
-    from relacc.engines import load_engine
+    from relacc.engines import available, load_engine
     from relacc.fixtures import load, shipped
     from relacc.simulate import scenes
 
@@ -62,7 +62,7 @@ def run(quick: bool = False, seed: int = 0, progress=None, fixture=None, profile
     fixture = fixture if fixture is not None else load()
     if progress:
         progress("derivative sweep")
-    engines = {n: load_engine(n, fixture) for n in ("pinocchio", "mujoco")}
+    engines = {n: load_engine(n, fixture) for n in available()}
     drows = derivatives.sweep(fixture.chain, cfg["states"], seed, cfg["repeats"], engines)
     irows, refs = [], []
     for path in shipped.scene_paths():

@@ -174,6 +174,29 @@ def mujoco_loop(model, data, site, body, q, v, a, full: bool):
     return run
 
 
+def drake_loop(route, q, v, a):
+    """A closure looping Drake over the states (G2's acceleration alone); its ``acc`` attribute holds them (world).
+
+    Per state: ``SetPositions``, ``SetVelocities``, ``CalcSpatialAccelerationsFromVdot``, the pose and
+    spatial velocity of G2's body, and the shift to G2 (what the adapter does, without J and J_dot).
+    """
+    plant, ctx, body, offset = route.plant, route.context, route.body, route.offset
+    n = q.shape[0]
+    acc = np.empty((n, 3))
+
+    def run():
+        for i in range(n):
+            plant.SetPositions(ctx, q[i])
+            plant.SetVelocities(ctx, v[i])
+            A = plant.CalcSpatialAccelerationsFromVdot(ctx, a[i])[body.index()]
+            X = plant.EvalBodyPoseInWorld(ctx, body)
+            w = plant.EvalBodySpatialVelocityInWorld(ctx, body).rotational()
+            acc[i] = A.Shift(X.rotation().multiply(offset), w).translational()
+
+    run.acc = acc
+    return run
+
+
 def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
     """Time every row (see the module docstring); returns plain data with the machine's description."""
     described = machine()  # before timing: the commit as it was when the run started

@@ -20,10 +20,11 @@ from relacc.core.kinematics import G2Kinematics, resolve_variant
 from relacc.core.scales import term_scales
 from relacc.core.states import States, random_states
 from relacc.core.tolerances import rounding_tolerance
-from relacc.engines import ENGINES, available, load_engine
+from relacc.engines import ENGINES, available, installed, load_engine
 from relacc.errors import EngineError
 from relacc.fixtures import Fixture, load
 from relacc.validation.compare import Comparison, against_engines, compare
+from relacc.validation.referee import referee
 from relacc.validation.summary import Summary
 
 CHUNK = 20_000
@@ -70,6 +71,7 @@ class Harness:
         """Versions of relacc, Python, numpy and every loaded engine."""
         out = {"relacc": relacc.__version__, "python": sys.version.split()[0], "numpy": np.__version__}
         out.update({name: e.version for name, e in self.engines.items()})
+        out.update({name: "not installed" for name in ENGINES if name not in self.engines and not installed(name)})
         return out
 
     def chunks(self) -> list[tuple[int, int, int]]:
@@ -150,7 +152,9 @@ class Harness:
                 part = self.check_chunk(c, k, quantities)
                 merged = part if merged is None else [a.merge(b) for a, b in zip(merged, part)]
             summaries += merged
-        return CheckReport(tuple(summaries), self.n_states, self.seed, self.versions())
+        verdicts = tuple(referee(self, s.case, s.quantity, s.route, s.worst_seed[2])
+                         for s in summaries if not s.passed)
+        return CheckReport(tuple(summaries), self.n_states, self.seed, self.versions(), verdicts)
 
 
 @dataclass(frozen=True)
@@ -161,6 +165,8 @@ class CheckReport:
     n_states: int
     seed: int
     versions: dict
+    referee: tuple = ()
+    """:class:`relacc.validation.referee.Verdict` of each failed comparison: which evaluator is the odd one out."""
 
     @property
     def passed(self) -> bool:
@@ -181,4 +187,5 @@ class CheckReport:
             "states": f"chunk k of case c: {CHUNK} states from numpy.random.default_rng([seed, c, k])",
             "versions": self.versions,
             "comparisons": [c.as_dict() for c in self.comparisons],
+            "referee": [v.as_dict() for v in self.referee],
         }

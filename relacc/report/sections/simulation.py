@@ -1,4 +1,4 @@
-"""Simulation: the shipped scenes on relacc, Pinocchio and MuJoCo, and how agreement degrades with the step."""
+"""Simulation: the shipped scenes on relacc and every engine, and how agreement degrades with the step."""
 
 from __future__ import annotations
 
@@ -10,7 +10,8 @@ from relacc.report import svg
 ID = "simulation"
 TITLE = "Simulation"
 
-COLORS = {"relacc-pinocchio": "#1f77b4", "relacc-mujoco": "#d62728", "pinocchio-mujoco": "#2ca02c"}
+COLORS = {"relacc-pinocchio": "#1f77b4", "relacc-mujoco": "#d62728", "pinocchio-mujoco": "#2ca02c",
+          "relacc-drake": "#9467bd", "pinocchio-drake": "#8c564b", "mujoco-drake": "#e377c2"}
 
 
 def _differences_plot(entries) -> str:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 
+from relacc.core.conventions import ENGINE_LABELS
 from relacc.core.tolerances import EPS
 
 ID = "summary"
@@ -16,14 +17,18 @@ def build(ctx) -> dict:
     statuses = Counter(e.status for e in items)
     corrected_ok = all(e.agrees for e in items)
     agree = check.passed and corrected_ok
+    names = [ENGINE_LABELS[n] for n in ctx.harness.engines]
+    engines = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]
     failures = [
         f"case {c.case} {c.engine}/{c.route} {c.quantity}: {c.max_error / EPS:.1f} eps"
         for c in check.failures
     ] + [f"{e.id}: corrected form off by {e.corrected_error:.2e}" for e in items if not e.agrees]
     return {
+        "engines": engines,
+        "referee": [v.sentence() for v in check.referee],
         "agree": agree,
         "headline": (
-            "The corrected formulas agree with Pinocchio and MuJoCo in all three cases."
+            f"The corrected formulas agree with {engines} in all three cases."
             if agree
             else f"{len(failures)} disagreement(s) between the corrected formulas and the engines."
         ),

@@ -16,7 +16,7 @@ ID = "tradeoff"
 TITLE = "What accuracy costs"
 
 MARK = {"analytic": ("black", "*"), "analytic-reference": ("#555555", "P"), "pinocchio": ("#1f77b4", "D"),
-        "mujoco": ("#d62728", "s"), "forward": ("#ff7f0e", "."), "central": ("#2ca02c", "."),
+        "mujoco": ("#d62728", "s"), "drake": ("#17becf", "X"), "forward": ("#ff7f0e", "."), "central": ("#2ca02c", "."),
         "central4": ("#9467bd", "."), "richardson": ("#8c564b", "."), "complex-step": ("#e377c2", ".")}
 
 
@@ -61,8 +61,9 @@ def _step_plot(rows) -> str:
 def _integrator_plot(rows, scenes) -> str:
     fig, axes = plt.subplots(1, len(scenes), figsize=(11.5, 3.2), sharey=True)
     styles = {"rk4": "-", "euler": "--", "implicit": ":", "implicitfast": "-.", "RK45": (0, (1, 1)),
-              "DOP853": (0, (3, 1, 1, 1))}
-    colors = {"relacc": "black", "pinocchio": "#1f77b4", "mujoco": "#d62728"}
+              "DOP853": (0, (3, 1, 1, 1)), "runge_kutta2": (0, (5, 2)), "runge_kutta3": (0, (5, 1, 1, 1)),
+              "runge_kutta5": (0, (8, 2))}
+    colors = {"relacc": "black", "pinocchio": "#1f77b4", "mujoco": "#d62728", "drake": "#17becf"}
     for ax, scene in zip(np.atleast_1d(axes), scenes):
         for engine in colors:
             for integrator in styles:

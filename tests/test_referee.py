@@ -1,0 +1,79 @@
+"""The referee names the odd one out among three engines, relacc's kernels, its reference and complex steps."""
+
+import json
+
+import numpy as np
+import pytest
+
+from relacc.engines import load_engine
+from relacc.engines.drake_ import DrakeEngine
+from relacc.engines.pinocchio_ import PinocchioEngine
+from relacc.validation.check import Harness
+from relacc.validation.referee import judge, referee
+
+from .conftest import SEED
+
+
+@pytest.fixture(scope="module")
+def mujoco(fixture):
+    return load_engine("mujoco", fixture)
+
+
+def test_pinocchio_composite_joint_is_the_odd_one_out(fixture, mujoco):
+    """With the split-joint workaround off, Pinocchio's Vdot fails, and the referee names Pinocchio alone."""
+    engines = {"pinocchio": PinocchioEngine(fixture, split=False), "mujoco": mujoco,
+               "drake": load_engine("drake", fixture)}
+    report = Harness(fixture, engines=engines, n_states=200, seed=SEED).check()
+    assert {(c.engine, c.quantity) for c in report.failures} == {("pinocchio", "Vdot")}
+    assert {v.case for v in report.referee} == {1, 2, 3}
+    for verdict in report.referee:
+        assert verdict.odd_one_out == "pinocchio", verdict.sentence()
+        assert set(verdict.agreeing) == {"mujoco", "drake", "relacc", "relacc-reference", "complex-step"}
+    as_json = report.as_dict()["referee"][0]
+    assert as_json["odd_one_out"] == "pinocchio" and "odd one out is pinocchio" in as_json["verdict"]
+
+
+class _Faulty(DrakeEngine):
+    """Drake with a planted fault: G2's acceleration off by one part in a million."""
+
+    def points(self, route, q, v, a):
+        pts = super().points(route, q, v, a)
+        if pts.acceleration is not None:
+            pts.acceleration[:] *= 1 + 1e-6
+        return pts
+
+
+def test_a_planted_fault_is_named(fixture, mujoco):
+    """A fault planted in Drake's acceleration fails check, and the referee names Drake, not the others."""
+    engines = {"pinocchio": load_engine("pinocchio", fixture), "mujoco": mujoco, "drake": _Faulty(fixture)}
+    h = Harness(fixture, engines=engines, n_states=100, seed=SEED)
+    report = h.check()
+    assert {(c.engine, c.quantity) for c in report.failures} == {("drake", "acceleration")}
+    assert [v.odd_one_out for v in report.referee] == ["drake"] * len(report.referee)
+    clean = referee(h, 2, "Vdot")
+    assert clean.everyone_agrees and clean.odd_one_out is None
+
+
+def test_no_single_odd_one_out_is_said_so():
+    """When two evaluators each disagree with the rest, no single one is blamed."""
+    rng = np.random.default_rng(SEED)
+    x = rng.normal(size=(5, 3))
+    values = {"a": x, "b": x, "c": x * (1 + 1e-6), "d": x * (1 - 1e-6)}
+    bounds = {k: np.full(5, 1e-14) for k in values}
+    odd, agreeing, pairs = judge(values, bounds, np.ones(5))
+    assert odd is None and agreeing == () and pairs["a|b"] <= 1 < pairs["c|d"]
+    values["d"] = x
+    assert judge(values, bounds, np.ones(5))[0] == "c"
+
+
+def test_check_prints_the_referee(capsys, fixture, monkeypatch):
+    """`relacc check` prints one referee line per failed comparison, and --json carries the verdicts."""
+    from relacc.cli import main
+    from relacc.engines import drake_
+
+    monkeypatch.setattr(drake_, "DrakeEngine", _Faulty)
+    assert main(["check", "--states", "50", "--cases", "1", "--quiet", "--model", str(fixture.source)]) == 1
+    out = capsys.readouterr().out
+    assert "referee: case 1 acceleration (quaternion route): the odd one out is drake" in out
+    assert main(["check", "--states", "50", "--cases", "1", "--quiet", "--json", "--model", str(fixture.source)]) == 1
+    assert json.loads(capsys.readouterr().out)["referee"][0]["odd_one_out"] == "drake"
