@@ -77,7 +77,7 @@ from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 from relacc.core.conventions import DRAKE_SCHEMES
 from relacc.core.rotations import matrix_from_quaternion, tilde
 from relacc.engines.base import Engine, PointKinematics, identity_input, note_from_quaternions, quaternion_route_input
-from relacc.errors import EngineError, FixtureError
+from relacc.errors import EngineError, FixtureError, IntegrationError
 from relacc.fixtures import Fixture
 
 KV = JacobianWrtVariable.kV
@@ -330,7 +330,10 @@ class DrakeEngine(Engine):
             plant.SetPositions(pctx, x)
             plant.SetVelocities(pctx, w)
             steps[0] += k
-            simulator.AdvanceTo(steps[0] * dt)
+            try:
+                simulator.AdvanceTo(steps[0] * dt)
+            except RuntimeError as exc:  # Drake stops a run whose state has become meaningless (NaN, a step too long)
+                raise IntegrationError(f"Drake's {scheme} stopped: {str(exc).splitlines()[0]}") from None
             return plant.GetPositions(pctx).copy(), plant.GetVelocities(pctx).copy()
 
         simulator.Initialize()
