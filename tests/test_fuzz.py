@@ -5,6 +5,7 @@ Hypothesis runs under the suite's derandomized "relacc" profile (conftest.py).
 
 import contextlib
 import io
+from pathlib import Path
 
 import numpy as np
 from hypothesis import given
@@ -17,6 +18,8 @@ from relacc.cli import main
 from relacc.core import speeds
 from relacc.core.derivatives import advance
 from relacc.validation.check import Harness
+
+REPO = Path(__file__).resolve().parents[1]
 
 FLOATS = st.floats(allow_nan=True, allow_infinity=True, width=64)
 SCALARS = st.one_of(st.none(), st.booleans(), st.integers(-10, 10), FLOATS, st.text(max_size=5),
@@ -195,6 +198,10 @@ JUNK_VALUES = {
     "--duration": ["0", "-1e-3", "nan", "x"],
     "--integrator": ["rk5", ""],
     "--case": ["0", "4", "x", "1.0"],
+    "--quantity": ["speed", "", "v"],
+    "--q2": ["1,2", "a,b,c", "1,2,nan", ""],
+    "--m2": ["-1", "0", "x", "1,2"],
+    "FUNCTION": ["nofunction", "missing.py:f", "json:nothing_here", ":f", "os:getcwd", "json:loads"],
 }
 """Values each flag never accepts."""
 
@@ -209,6 +216,9 @@ COMMANDS = {
                  ["--dt", "--duration", "--integrator", "--engines", "--out", "SCENE"]),
     "tradeoff": (["--quick", "--quiet"], ["--seed", "--model"]),
     "report": (["--quick", "--quiet", "--out", "r.html"], ["--states", "--seed", "--out", "--model"]),
+    "grade": (["examples/student_correct.py:V", "--quantity", "V", "--case", "1", "--states", "3"],
+              ["--quantity", "--case", "--states", "--seed", "--model", "FUNCTION"]),
+    "export": (["--out", "exported"], ["--q2", "--m2", "--model"]),
 }
 """Each command: valid, cheap arguments, and the arguments fuzzed one at a time."""
 
@@ -232,8 +242,9 @@ def test_every_command_turns_malformed_input_into_one_line_and_exit_2(tmp_path_f
     else:  # --out: a path that cannot be written
         value = data.draw(st.sampled_from([str(tmp / "a_file" / "sub"), str(tmp) if command == "report"
                                            else str(tmp / "a_file")]), label="out")
-    argv = [command] + base
-    if flag in ("STATE", "SCENE"):
+    base = [str(REPO / b) if b.startswith("examples/") else str(tmp / b) if b == "exported" else b for b in base]
+    argv = ["fixtures" if command == "export" else command] + base
+    if flag in ("STATE", "SCENE", "FUNCTION"):
         argv = [command, value] + (["--json"] if command == "eval" else base[1:])
     elif flag in argv:
         argv[argv.index(flag) + 1] = value

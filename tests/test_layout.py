@@ -27,6 +27,7 @@ LAYERS = {
     "validation": BASE | {"core", "kernels", "dynamics", "fixtures", "engines"},
     "tradeoff": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation"},
     "report": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation", "tradeoff"},
+    "testing": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "validation"},
 }
 """Which layers each layer may import (besides itself). ``cli`` and ``relacc/__init__`` may import any."""
 

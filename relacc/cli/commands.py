@@ -142,16 +142,48 @@ def cmd_errata(args) -> int:
     return 0 if ok else 1
 
 
+def cmd_grade(args) -> int:
+    from relacc.testing.grade import check_formula, load_function
+
+    fn = load_function(args.function)
+    grade = check_formula(fn, quantity=args.quantity, case=args.case, n=args.states, seed=args.seed,
+                          chain=fixtures.load(args.model).chain)
+    print(json.dumps(grade.as_dict(), indent=2) if args.json else grade.text())
+    return 0 if grade.ok else 1
+
+
 def cmd_fixtures(args) -> int:
     fixture = fixtures.load(args.model)
-    changed = fixtures.write(fixture, check=args.check)
-    if args.check:
-        if changed:
-            print(f"out of date: {', '.join(changed)} (run `relacc fixtures` to regenerate)", file=sys.stderr)
-            return 1
-        print(f"up to date: {', '.join(fixtures.MODEL_FILES)}")
+    changes = {k: getattr(args, k) for k in ("q2", "r2", "r1", "m1", "m2", "I1", "I2", "name")
+               if getattr(args, k) is not None}
+    if args.out is None:
+        if changes:
+            raise InputError(f"--{', --'.join(changes)}: change the chain only when exporting it (give --out DIR)")
+        changed = fixtures.write(fixture, check=args.check)
+        if args.check:
+            if changed:
+                print(f"out of date: {', '.join(changed)} (run `relacc fixtures` to regenerate)", file=sys.stderr)
+                return 1
+            print(f"up to date: {', '.join(fixtures.MODEL_FILES)}")
+            return 0
+        print(f"wrote {', '.join(changed)}" if changed else "already up to date")
         return 0
-    print(f"wrote {', '.join(changed)}" if changed else "already up to date")
+    if args.check:
+        raise InputError("--check compares the files beside --model; it does not go with --out")
+    from relacc.core.chain import TwoBodyChain
+    from relacc.fixtures.export import export
+    from relacc.fixtures.model import Fixture
+
+    values = {k: getattr(fixture.chain, k) for k in ("q2", "r2", "r1", "m1", "m2", "I1", "I2")}
+    for key, text in changes.items():
+        if key == "name":
+            continue
+        numbers = _numbers(text, key)
+        values[key] = numbers[0] if key in ("m1", "m2") and len(numbers) == 1 else (
+            np.reshape(numbers, (3, 3)) if key in ("I1", "I2") and len(numbers) == 9 else numbers)
+    chain = TwoBodyChain(**values)
+    written = export(Fixture(changes.get("name", fixture.name), chain, None), args.out)
+    print("wrote " + ", ".join(str(p) for p in written))
     return 0
 
 

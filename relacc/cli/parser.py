@@ -14,7 +14,7 @@ import sys
 EXIT_CODES = """exit codes:
   0  success: everything compared agrees
   1  a disagreement: a comparison is outside its tolerance
-  2  a usage or input error (one line on stderr)"""
+  2  a usage or input error (one line on stderr); for grade, a function that cannot be called"""
 
 ENGINE_NAMES = ("pinocchio", "mujoco", "drake")
 SIM_ENGINE_NAMES = ("relacc",) + ENGINE_NAMES
@@ -192,11 +192,39 @@ def build_parser() -> argparse.ArgumentParser:
     _quiet(p)
     _model(p)
 
-    p = _sub(sub, "fixtures", "write the engine model files from a chain's TOML",
-             "Render the MJCF and URDF files of a chain from its TOML source, beside it (all or nothing); "
-             "each file carries the SHA-256 of the TOML it came from.",
-             ["relacc fixtures --check", "relacc fixtures --model my_chain.toml"])
+    p = _sub(sub, "grade", "grade your own implementation of a formula against the engines",
+             "Call MODULE:FUNCTION as fn(chain, q, u, udot) on ordinary and hard states of a case (one state: "
+             "q (nq,), u (12,), udot (12,), the case's coordinates; a function that takes whole batches works "
+             "too) and compare what it returns with every engine and relacc's corrected formulas: G2's "
+             "position, velocity or classical acceleration (3,), or V / Vdot (3, 12), fixed-frame components. "
+             "When it is wrong: which generalized-speed columns disagree, and which of the note's known slips "
+             "reproduce it. MODULE is a dotted module or a path to a .py file.",
+             ["relacc grade examples/student_correct.py:acceleration --quantity acceleration --case 1",
+              "relacc grade mypkg.kinematics:v_g2 --quantity velocity --case 2 --json"])
+    p.add_argument("function", metavar="MODULE:FUNCTION", help="the formula to grade")
+    p.add_argument("--quantity", required=True, choices=("position", "velocity", "acceleration", "V", "Vdot"),
+                   help="what the function returns")
+    p.add_argument("--case", required=True, type=_case, metavar="{1,2,3}", help="the case of its q and u")
+    _states(p, 200, "ordinary states, and as many hard ones")
+    _seed(p)
+    _json(p, "ok, worst_error, columns, matches, seed")
+    _model(p)
+
+    p = _sub(sub, "fixtures", "write a chain's engine model files (and export them with their conventions)",
+             "Render the MJCF and URDF files of a chain from its TOML source, beside it, all or nothing; each file "
+             "carries the SHA-256 of the chain it came from. With --out, export instead: the chain's TOML, its "
+             "engine files and conventions.json (every engine's coordinate layout and the map from each case's q "
+             "and u to it), into DIR; --q2, --r2, ... change the chain first.",
+             ["relacc fixtures --check", "relacc fixtures --model my_chain.toml",
+              "relacc fixtures --out exported/ --q2 0.3,0,0.1 --m2 1.5"])
     p.add_argument("--check", action="store_true", help="only check that the files are up to date (exit 1 if not)")
+    p.add_argument("--out", metavar="DIR", help="export the chain, its engine files and conventions.json to DIR")
+    p.add_argument("--name", help="the exported chain's name")
+    for flag, what in (("--q2", "q2' (3 numbers, m, B1 components)"), ("--r2", "r2' (3 numbers, m, B2 components)"),
+                       ("--r1", "r1' (3 numbers, m, B1 components)"), ("--m1", "mass of B1 (kg)"),
+                       ("--m2", "mass of B2 (kg)"), ("--I1", "inertia of B1 about G1 (9 numbers, row-major, kg m^2)"),
+                       ("--I2", "inertia of B2 about G2 (9 numbers, row-major, kg m^2)")):
+        p.add_argument(flag, help=f"with --out: {what}")
     _model(p)
 
     p = _sub(sub, "simulate", "run a scene on relacc and the engines and compare them",

@@ -1,0 +1,140 @@
+"""States and engine truth for other people's tests, carrying what judging them needs.
+
+:func:`states` draws seeded states of a case (ordinary ones, or the hard-case
+catalogue's); :func:`truth` evaluates them with an engine (or relacc's own
+corrected formulas) and returns a :class:`Truth` whose quantities are
+:class:`Expected` values: the reference numbers plus, per state, the
+magnitude of the terms (the error model's scale) and the evaluator's own
+accuracy bound, so that :func:`relacc.testing.assert_agrees` can judge a
+user's numbers exactly as ``relacc check`` judges the engines.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from relacc.core.cases import as_case, check_int
+from relacc.core.conventions import QUANTITIES
+from relacc.core.scales import term_scales
+from relacc.core.states import States, random_states
+from relacc.core.tolerances import rounding_tolerance
+from relacc.errors import InputError
+
+
+def states(case, n: int = 200, seed: int = 0, hard: bool = False) -> States:
+    """``n`` seeded states of a case, ``numpy.random.default_rng(seed)``-reproducible.
+
+    Args:
+        hard: draw from the hard-case catalogue (:mod:`relacc.validation.hardcases`) instead: gimbal
+            lock, quaternion edge cases, fast spin, far from the origin, large prismatic offsets:
+            every entry that applies to the case and edits the state, not the chain (those that change
+            ``q2'`` or ``r2'`` would need another chain), taken in turn: every entry once, then again,
+            until there are ``n``.
+
+    Returns:
+        :class:`relacc.core.states.States` with ``q (n, nq)``, ``u (n, 12)``, ``udot (n, 12)``,
+        ``case`` and ``seed``.
+    """
+    c = int(as_case(case))
+    n = check_int("n", n, minimum=1)
+    seed = check_int("seed", seed, minimum=0)
+    if not hard:
+        return random_states(c, n, seed)
+    from relacc.validation.hardcases import catalogue, states_for
+
+    entries = [hc for hc in catalogue() if c in hc.cases and not hc.geometry]
+    per = max(1, -(-n // len(entries)))
+    parts = [states_for(hc, c, per, seed) for hc in entries]
+    # round robin: state k of every entry, then state k + 1, so that any n >= the entries meets them all
+    q, u, udot = (np.stack([p[i] for p in parts], axis=1).reshape(per * len(entries), -1)[:n] for i in range(3))
+    return States(as_case(c), q, u, udot, ["hard", seed])
+
+
+@dataclass(frozen=True, eq=False)
+class Expected:
+    """One quantity's reference values over a batch, with what judging them needs.
+
+    Attributes:
+        quantity: ``position``, ``velocity``, ``acceleration``, ``V`` or ``Vdot`` (G2, fixed-frame
+            components; classical acceleration; units as :class:`relacc.G2Kinematics`).
+        case: the case of the states (names the columns of V and Vdot).
+        values: ``(n, 3)`` or ``(n, 3, 12)`` reference values.
+        scale: ``(n,)`` magnitude of the terms of each state (:func:`relacc.core.scales.term_scales`).
+        bound: ``(n,)`` the reference's own accuracy bound (normalized), e.g. an engine far from the origin.
+        seed: the states' seed; source: who computed the values (``mujoco/quaternion``, ``relacc``).
+    """
+
+    quantity: str
+    case: int
+    values: np.ndarray = field(repr=False)
+    scale: np.ndarray = field(repr=False)
+    bound: np.ndarray = field(repr=False)
+    seed: object
+    source: str
+
+    def __array__(self, dtype=None, copy=None):
+        return np.asarray(self.values, dtype=dtype)
+
+    @property
+    def shape(self):
+        return self.values.shape
+
+
+@dataclass(frozen=True, eq=False)
+class Truth:
+    """An evaluator's G2 kinematics for a batch of states; each quantity an :class:`Expected`."""
+
+    source: str
+    states: States
+    kinematics: object = field(repr=False)
+    scales: object = field(repr=False)
+    bounds: dict = field(repr=False)
+
+    def of(self, quantity: str) -> Expected:
+        if quantity not in QUANTITIES:
+            raise InputError(f"unknown quantity {quantity!r}: accepted are {', '.join(QUANTITIES)}")
+        return Expected(quantity, int(self.states.case), getattr(self.kinematics, quantity),
+                        self.scales.of(quantity), self.bounds[quantity], self.states.seed, self.source)
+
+    position = property(lambda self: self.of("position"))
+    velocity = property(lambda self: self.of("velocity"))
+    acceleration = property(lambda self: self.of("acceleration"))
+    V = property(lambda self: self.of("V"))
+    Vdot = property(lambda self: self.of("Vdot"))
+
+
+def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain=None) -> Truth:
+    """G2's kinematics for the states ``s`` by an engine (or ``"relacc"``: the corrected formulas).
+
+    Args:
+        engine: ``pinocchio``, ``mujoco``, ``drake`` (installed ones) or ``relacc``.
+        route: ``quaternion`` (any case) or ``euler`` (case 3: the engines' Euler-angle models).
+        chain: a :class:`relacc.TwoBodyChain` (default the shipped chain); engines need its model files.
+
+    Raises:
+        EngineError: unknown or uninstalled engine, or a route that does not apply.
+    """
+    from relacc.fixtures import load
+
+    fixture = load()
+    if chain is not None and chain is not fixture.chain:
+        from relacc.fixtures.model import inline
+
+        fixture = inline("user_chain", chain)
+    c = int(s.case)
+    scales = term_scales(fixture.chain, c, s.q, s.u, s.udot)
+    if engine == "relacc":
+        from relacc.core.kinematics import g2_kinematics
+
+        k = g2_kinematics(fixture.chain, c, s.q, s.u, s.udot)
+        tol = np.full(len(s), rounding_tolerance())
+        return Truth("relacc", s, k, scales, {q: tol for q in QUANTITIES})
+    from relacc.engines import load_engine
+
+    e = load_engine(engine, fixture)
+    k = e.g2_kinematics(c, s.q, s.u, s.udot, route=route)
+    bounds = {q: np.broadcast_to(e.bound(route, q, fixture.chain, c, s.q, s.u, s.udot), (len(s),))
+              for q in QUANTITIES}
+    return Truth(f"{engine}/{route}", s, k, scales, bounds)
