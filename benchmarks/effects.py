@@ -1,4 +1,4 @@
-"""What an effect costs: Kane's equations, Pinocchio and MuJoCo with no effect, each one, and all.
+"""What an effect costs: relacc's forward dynamics, Pinocchio and MuJoCo with no effect, each one, and all.
 
 An effect that is off is not computed at all (relacc: no term is assembled;
 MuJoCo: the gravity, spring and damper flags are off; Pinocchio: no
@@ -11,11 +11,11 @@ import argparse
 import sys
 
 import relacc
+from relacc import dynamics
 from relacc.core.states import random_states
 from relacc.dynamics.effects import NONE, Effects
 from relacc.engines import load_engine
 from relacc.fixtures import load
-from relacc.kernels import dynamics as fastdyn
 from relacc.tradeoff.throughput import wall_times
 
 ALL = Effects(gravity=[0, 0, -9.81], spring_stiffness=50.0, spring_damping=0.5, ball_damping=0.02,
@@ -38,11 +38,11 @@ def main(argv=None):
     x = mj.engine_input("quaternion", relacc.Case(2), s.q, s.u, None)
     xp = pn.engine_input("quaternion", relacc.Case(2), s.q, s.u, None)
     rows = [("none", NONE)] + [(name, ALL.without_all_but(name)) for name in ALL.active()] + [("all", ALL)]
-    print(f"microseconds per state ({args.states} states, case 2); relacc: fused Kane (M, f); "
+    print(f"microseconds per state ({args.states} states, case 2); relacc: dynamics.accelerations (compiled); "
           "Pinocchio: aba with the effects' forces; MuJoCo: mj_forward")
     print(f"{'effects':18s} {'relacc':>8s} {'pinocchio':>10s} {'mujoco':>8s}")
     for name, eff in rows:
-        r = per_state(lambda: fastdyn.equations_of_motion(chain, 2, s.q, s.u, eff), args.states)
+        r = per_state(lambda: dynamics.accelerations(chain, 2, s.q, s.u, eff), args.states)
         p = per_state(lambda: pn.forward_dynamics(xp.q, xp.v, eff), args.states, repeats=3)
         m = per_state(lambda: mj.forward_dynamics(x.q, x.v, eff), args.states, repeats=3)
         print(f"{name:18s} {r:8.3f} {p:10.3f} {m:8.3f}")

@@ -106,16 +106,41 @@ def test_kinetic_energy_and_momenta_equal_pinocchio(fixture, engines):
         assert np.allclose(h_about_origin, H[i], rtol=0, atol=256 * EPS * (np.abs(H[i]).max() + 1))
 
 
-def test_fused_kernel_equals_reference(fixture, case):
-    """fastdyn's (M, f) equal the reference Kane equations to a few ulps; the body speeds equal W u."""
+def test_fused_accelerations_satisfy_kanes_equations(fixture, case):
+    """The Newton-Euler kernel's udot solves Kane's M udot = f to rounding (backward error <= c eps), every effect on.
+
+    A different derivation (each body alone, no linear solve) held to the reference equations; its distance
+    from numpy's solve of them is within c eps kappa(M), the solve's own error bound.
+    """
     s = _states(case, 45)
     M, f = dynamics.equations_of_motion(fixture.chain, case, s.q, s.u, ALL)
-    Mf, ff, nu = fastdyn.equations_of_motion(fixture.chain, case, s.q, s.u, ALL)
-    sM, sf = dynamics_scales(fixture.chain, case, s.q, s.u, ALL)
-    assert_agree(Mf, M, sM, what="M", seed=s.seed, factor=8)
-    assert_agree(ff, f, sf, what="f", seed=s.seed, factor=8)
-    _, nu_ref, _ = relacc.core.speeds.to_body_speeds(case, s.q, s.u)
-    assert_agree(nu, nu_ref, np.linalg.norm(s.u, axis=1), what="nu", seed=s.seed, factor=8)
+    a = dynamics.accelerations(fixture.chain, case, s.q, s.u, ALL)
+    residual = np.linalg.norm(np.einsum("nij,nj->ni", M, a) - f, axis=1)
+    size = np.linalg.norm(M, axis=(1, 2)) * np.linalg.norm(a, axis=1) + np.linalg.norm(f, axis=1)
+    assert_agree(residual, 0 * residual, size, what="M udot - f", seed=s.seed)
+    ref = dynamics.accelerations(fixture.chain, case, s.q, s.u, ALL, backend="reference")
+    kappa = np.linalg.cond(M)
+    assert_agree(a, ref, np.linalg.norm(ref, axis=1) * kappa, what="udot", seed=s.seed)
+
+
+def test_fused_tangent_is_the_body_speeds(fixture, case):
+    """The kernel's tangent (what the integrators move along) is Case 2's body speeds W u (case 3: u itself)."""
+    s = _states(case, 46, n=50)
+    tangent = np.array([fastdyn.rates_one(case, q, u, fastdyn.chain_params(fixture.chain),
+                                          fastdyn.effect_params(ALL))[0] for q, u in zip(s.q, s.u)])
+    _, nu, _ = relacc.core.speeds.to_body_speeds(case, s.q, s.u)
+    assert_agree(tangent, s.u if case == 3 else nu, np.linalg.norm(s.u, axis=1), what="tangent", seed=s.seed,
+                 factor=8)
+
+
+def test_accelerations_take_an_out_buffer(fixture):
+    """accelerations(out=...) writes into the buffer and returns it; a wrong buffer is an InputError."""
+    s = _states(2, 47, n=10)
+    out = np.empty((10, 12))
+    assert dynamics.accelerations(fixture.chain, 2, s.q, s.u, ALL, out=out) is out
+    assert np.array_equal(out, dynamics.accelerations(fixture.chain, 2, s.q, s.u, ALL))
+    with pytest.raises(relacc.InputError, match="out"):
+        dynamics.accelerations(fixture.chain, 2, s.q, s.u, ALL, out=np.empty((10, 12), dtype=np.float32))
 
 
 def test_effects_reject_bad_values():

@@ -102,6 +102,21 @@ def check_finite_result(arrays, q, u, udot=None) -> None:
             )
 
 
+def check_out(out, shape, name: str):
+    """An ``out=`` buffer: None, or a writable C-contiguous float64 array of exactly ``shape``.
+
+    Raises:
+        InputError: anything else, naming the shape and dtype expected.
+    """
+    if out is None:
+        return None
+    if not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == tuple(shape)
+            and out.flags.c_contiguous and out.flags.writeable):
+        got = f"{type(out).__name__} {getattr(out, 'shape', '')} {getattr(out, 'dtype', '')}".strip()
+        raise InputError(f"{name}: expected a writable C-contiguous float64 array of shape {tuple(shape)}, got {got}")
+    return out
+
+
 def _variant_label(variant, printed) -> str:
     if isinstance(variant, str):
         return variant

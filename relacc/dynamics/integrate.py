@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.rotations import quaternion_exp, quaternion_multiply, tilde
+from relacc.core.rotations import tilde
 
 
 def so3_dexpinv_body(phi, w):
@@ -57,30 +57,16 @@ class CaseSpace:
         self.angles = self.case is Case.ANGLE_RATES
 
     def integrate(self, q, delta):
-        if self.angles:
-            return q + delta
-        from relacc.kernels import dynamics as fastdyn
+        """``q`` moved by the tangent vector ``delta`` (the compiled :func:`relacc.kernels.dynamics.move`)."""
+        from relacc.kernels.dynamics import move_one
 
-        if fastdyn.HAVE_NUMBA:
-            return fastdyn.integrate_q14(q, delta)
-        out = q.copy()
-        out[0:3] += delta[0:3]
-        out[3:7] = quaternion_multiply(q[3:7], quaternion_exp(delta[3:6]))
-        out[7:10] += delta[6:9]
-        out[10:14] = quaternion_multiply(q[10:14], quaternion_exp(delta[9:12]))
-        return out
+        return move_one(int(self.case), np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(delta, dtype=float))
 
     def dexpinv(self, delta, w):
-        if self.angles:
-            return w
-        from relacc.kernels import dynamics as fastdyn
+        """The rate of the local coordinates ``delta`` whose move has velocity ``w`` (identity in case 3)."""
+        from relacc.kernels.dynamics import dexp_one
 
-        if fastdyn.HAVE_NUMBA:
-            return fastdyn.dexpinv_q14(delta, w)
-        out = w.copy()
-        out[3:6] = so3_dexpinv_body(delta[3:6], w[3:6])
-        out[9:12] = so3_dexpinv_body(delta[9:12], w[9:12])
-        return out
+        return dexp_one(int(self.case), np.ascontiguousarray(delta, dtype=float), np.ascontiguousarray(w, dtype=float))
 
 
 def rkmk4_step(space, x, v, h, derivs):
@@ -114,30 +100,38 @@ STEPPERS = {"rk4": rkmk4_step, "euler": euler_step}
 """Integrators for relacc and Pinocchio, by scene name."""
 
 def stepper(chain, case, effects, dt: float, integrator: str):
-    """relacc's own fixed-step integrator: ``advance(q, u, k) -> (q, u)``, ``k`` steps of ``dt`` seconds.
+    """relacc's own fixed-step integrator as a :class:`relacc.dynamics.steps.Stepper`, compiled.
 
-    Kane's equations (the fused kernel, :class:`relacc.kernels.dynamics.Rates`)
-    under exactly ``effects``, integrated in the case's own coordinates by
-    ``integrator`` (``rk4``: RKMK4 on SO(3) for cases 1-2; ``euler``:
-    semi-implicit Euler). See :mod:`relacc.dynamics.steps`.
+    The forward dynamics of :mod:`relacc.kernels.dynamics` (Newton-Euler, block by block) under exactly
+    ``effects``, integrated in the case's own coordinates by ``integrator`` (``rk4``: RKMK4 on SO(3) for
+    cases 1-2, RK4 on the angles for case 3; ``euler``: semi-implicit Euler), in compiled loops over
+    steps and records: the same algorithms as :func:`rkmk4_step` and :func:`euler_step`.
 
     Raises:
         EngineError: an integrator relacc lacks.
     """
-    from relacc.kernels.dynamics import Rates
+    from relacc.dynamics.steps import Stepper
+    from relacc.kernels import dynamics as kernel
 
-    if integrator not in STEPPERS:
+    if integrator not in kernel.INTEGRATORS:
         from relacc.errors import EngineError
 
-        raise EngineError(f"relacc integrators: {', '.join(STEPPERS)}; got {integrator!r}")
-    space, step, derivs = CaseSpace(case), STEPPERS[integrator], Rates(chain, case, effects)
+        raise EngineError(f"relacc integrators: {', '.join(kernel.INTEGRATORS)}; got {integrator!r}")
+    c, method = int(case), kernel.INTEGRATORS[integrator]
+    cp, ep = kernel.chain_params(chain), kernel.effect_params(effects)
 
     def advance(q, u, k):
-        for _ in range(k):
-            q, u = step(space, q, u, dt, derivs)
-        return q, u
+        return kernel.advance(c, method, np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(u, dtype=float),
+                              float(dt), int(k), cp, ep)
 
-    return advance
+    def record(q, u, gaps):
+        Q, U = np.empty((len(gaps), np.size(q))), np.empty((len(gaps), 12))
+        with np.errstate(all="ignore"):  # a diverging run is reported by its record count, not by warnings
+            n = kernel.record_run(c, method, np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(u, dtype=float),
+                                  float(dt), np.ascontiguousarray(gaps, dtype=np.int64), cp, ep, Q, U)
+        return Q, U, n
+
+    return Stepper(advance, record)
 
 
 def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: float, atol: float,

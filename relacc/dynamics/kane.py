@@ -28,7 +28,7 @@ import numpy as np
 
 from relacc.core.cases import as_case, check_q, check_u, layout
 from relacc.core.chain import TwoBodyChain
-from relacc.core.kinematics import check_finite_result, g2_kinematics
+from relacc.core.kinematics import check_finite_result, check_out, g2_kinematics
 from relacc.core.note.common import T, configuration, mv
 from relacc.core.rotations import tilde
 from relacc.core.speeds import body_speed_map, check_invertible
@@ -164,20 +164,60 @@ def equations_of_motion(chain, case, q, u, effects: Effects = NONE):
     return M, f
 
 
-def accelerations(chain, case, q, u, effects: Effects = NONE):
-    """The case's ``udot`` ``(..., 12)`` from Kane's equations (``numpy.linalg.solve``).
+def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = "auto", out=None):
+    """The case's ``udot`` ``(..., 12)``: the rates of its speeds under exactly ``effects``.
 
-    Rates of the case's speeds: m/s^2 for the translational blocks, rad/s^2
-    for the angular ones, in the components the case's speeds use.
+    m/s^2 for the translational blocks, rad/s^2 for the angular ones, in the
+    components the case's speeds use.
+
+    Args:
+        backend: ``"auto"`` (default: the compiled Newton-Euler kernel of
+            :mod:`relacc.kernels.dynamics` for real inputs), ``"fast"``, or
+            ``"reference"`` (Kane's ``M`` and ``f``, :func:`equations_of_motion`,
+            solved by ``numpy.linalg.solve``). The two satisfy Kane's equations to rounding.
+        out: a float64 C-contiguous array ``(..., 12)`` to write into (numpy's ``out``
+            convention); returned.
 
     Raises:
         SingularityError: case 3 within ``MAX_CONDITION`` of gimbal lock, where
             the angle rates' accelerations are not defined to useful accuracy
             (:func:`relacc.core.speeds.check_invertible`).
+        InputError: as :func:`relacc.g2_kinematics`; a bad ``out``.
     """
-    check_invertible(case, check_q(as_case(case), q))
-    M, f = equations_of_motion(chain, case, q, u, effects)
-    return np.linalg.solve(M, f[..., None])[..., 0]
+    if not isinstance(chain, TwoBodyChain):
+        raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
+    if not isinstance(effects, Effects):
+        raise InputError(f"effects: expected relacc.dynamics.Effects, got {type(effects).__name__}")
+    if backend not in ("auto", "fast", "reference"):
+        raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
+    c = as_case(case)
+    q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
+    check_invertible(c, q)
+    try:
+        batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
+    except ValueError:
+        raise InputError(f"batch shapes of q {q.shape} and u {u.shape} do not broadcast") from None
+    real = q.dtype.kind == "f" and u.dtype.kind == "f"
+    if backend == "fast" and not real:
+        raise InputError("backend 'fast' takes real inputs only; use backend 'reference' for complex ones")
+    out = check_out(out, batch + (12,), "out")
+    if backend == "reference" or not real:
+        M, f = equations_of_motion(chain, c, q, u, effects)
+        udot = np.linalg.solve(M, f[..., None])[..., 0]
+        if out is None:
+            return udot
+        out[...] = udot
+        return out
+    from relacc.kernels import dynamics as kernel
+
+    flat = lambda a, w: np.ascontiguousarray(np.broadcast_to(a, batch + (w,)).reshape(-1, w))  # noqa: E731
+    target = out.reshape(-1, 12) if out is not None else np.empty((int(np.prod(batch)), 12))
+    with np.errstate(all="ignore"):
+        bad = kernel.accelerations(int(c), flat(q, q.shape[-1]), flat(u, 12), kernel.chain_params(chain),
+                                   kernel.effect_params(effects), target)
+    if bad:
+        check_finite_result((target,), q, u)
+    return out if out is not None else target.reshape(batch + (12,))
 
 
 def energy_terms(chain, case, q, u, effects: Effects = NONE):

@@ -1,8 +1,11 @@
-"""The one step loop: every fixed-step run, relacc's and each engine's, goes through :func:`march`.
+"""The one step loop: every fixed-step run, relacc's and each engine's, goes through :func:`blocks`.
 
-An integrator is an *advance* function ``advance(x, v, k) -> (x, v)`` that
-takes ``k`` steps of its own fixed ``dt`` from the state ``(x, v)`` (engine
-coordinates). :func:`march` owns what every run shares:
+An integrator is a :class:`Stepper`: ``advance(x, v, k) -> (x, v)`` takes ``k``
+steps of its own fixed ``dt`` from the state ``(x, v)`` (engine coordinates);
+``record(x, v, gaps) -> (X, V, n)`` takes ``gaps[j]`` steps before storing
+record ``j``, for a whole block of records at once (relacc's compiled
+integrators do it in one call; the default loops over :meth:`Stepper.advance`).
+:func:`blocks` owns what every run shares:
 
 * the recording rule (:func:`recorded_steps`): step 0, every
   ``record_every``-th step, and always the last step, so the state at
@@ -10,8 +13,7 @@ coordinates). :func:`march` owns what every run shares:
 * the divergence check: a non-finite state raises
   :class:`relacc.IntegrationError` naming the integrator, ``dt`` and the
   interval of time where it happened;
-* progress: ``progress(fraction)`` after each advance that takes the run past
-  another 1/200th of its steps.
+* progress: ``progress(fraction)`` after each block.
 """
 
 from __future__ import annotations
@@ -22,7 +24,30 @@ import numpy as np
 
 from relacc.errors import IntegrationError
 
-Advance = Callable[[np.ndarray, np.ndarray, int], tuple]
+BLOCK = 512
+"""Records per block: a block is advanced, checked and handed on at once."""
+
+
+class Stepper:
+    """An integrator: ``advance(x, v, k)``, and ``record(x, v, gaps)`` (default: a loop over ``advance``)."""
+
+    def __init__(self, advance: Callable, record: Callable | None = None):
+        self.advance = advance
+        self._record = record
+
+    def record(self, x, v, gaps):
+        """``(X, V, n)``: the states after ``gaps[0]``, ``gaps[0] + gaps[1]``, ... steps; ``n < len(gaps)`` when
+        record ``n`` became non-finite (those before it are valid)."""
+        if self._record is not None:
+            return self._record(x, v, gaps)
+        X, V = np.empty((len(gaps), np.size(x))), np.empty((len(gaps), np.size(v)))
+        for j, k in enumerate(gaps):
+            if k:
+                x, v = self.advance(x, v, int(k))
+            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+                return X, V, j
+            X[j], V[j] = x, v
+        return X, V, len(gaps)
 
 
 def recorded_steps(n_steps: int, record_every: int) -> np.ndarray:
@@ -31,39 +56,40 @@ def recorded_steps(n_steps: int, record_every: int) -> np.ndarray:
     return steps if steps[-1] == n_steps else np.append(steps, n_steps)
 
 
-def march(advance: Advance, x, v, steps, *, who: str, dt: float, integrator: str,
-          progress=None) -> Iterator[tuple[int, np.ndarray, np.ndarray]]:
-    """Yield ``(k, x, v)`` at each step index of ``steps`` (ascending, the first 0), advancing between them.
+def blocks(stepper: Stepper, x, v, steps, *, who: str, dt: float, integrator: str, progress=None,
+           size: int = BLOCK) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Yield ``(steps_block, X, V)``: the states at the step indices ``steps`` (ascending, the first 0), a block
+    of ``size`` records at a time.
 
     Raises:
-        IntegrationError: the state became non-finite; the message names
-            ``who``, the interval of time and the step.
+        IntegrationError: the state became non-finite; the message names ``who``,
+            the interval of time and the step.
     """
     x, v = np.array(x, dtype=float), np.array(v, dtype=float)
+    steps = np.asarray(steps, dtype=np.int64)
     n = int(steps[-1]) if len(steps) else 0
-    done, shown = 0, 0
-    for k in steps:
-        k = int(k)
-        if k > done:
-            try:
-                x, v = advance(x, v, k - done)
-            except IntegrationError as exc:
-                raise IntegrationError(f"{who}: between t = {done * dt:.6g} s and t = {k * dt:.6g} s "
-                                       f"(dt = {dt} s, {integrator}): {exc}") from None
-            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-                raise IntegrationError(
-                    f"{who}: the integration diverged between t = {done * dt:.6g} s and t = {k * dt:.6g} s "
-                    f"(dt = {dt} s, {integrator}); reduce the step")
-            done = k
-            if progress and n and (200 * done) // n > shown:
-                shown = (200 * done) // n
-                progress(done / n)
-        yield k, x, v
+    done = 0
+    for start in range(0, len(steps), size):
+        chunk = steps[start:start + size]
+        gaps = np.diff(np.concatenate([[done], chunk]))
+        try:
+            X, V, got = stepper.record(x, v, gaps)
+        except IntegrationError as exc:
+            raise IntegrationError(f"{who}: between t = {done * dt:.6g} s and t = {chunk[-1] * dt:.6g} s "
+                                   f"(dt = {dt} s, {integrator}): {exc}") from None
+        if got < len(chunk):
+            before = int(chunk[got - 1]) if got else done
+            raise IntegrationError(f"{who}: the integration diverged between t = {before * dt:.6g} s and "
+                                   f"t = {int(chunk[got]) * dt:.6g} s (dt = {dt} s, {integrator}); reduce the step")
+        x, v, done = X[-1], V[-1], int(chunk[-1])
+        if progress and n:
+            progress(done / n)
+        yield chunk, X, V
 
 
-def collect(advance: Advance, x, v, dt: float, n_steps: int, record_every: int, *, who: str, integrator: str,
+def collect(stepper: Stepper, x, v, dt: float, n_steps: int, record_every: int, *, who: str, integrator: str,
             progress=None):
-    """Run :func:`march` over :func:`recorded_steps` and keep every record.
+    """Run :func:`blocks` over :func:`recorded_steps` and keep every record.
 
     Returns:
         ``(t, X, V)``: times ``(m,)`` in s, states ``(m, nx)`` and ``(m, nv)``
@@ -71,9 +97,5 @@ def collect(advance: Advance, x, v, dt: float, n_steps: int, record_every: int, 
         state at ``n_steps dt`` last.
     """
     steps = recorded_steps(n_steps, record_every)
-    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
-    X, V = np.empty((len(steps), x.size)), np.empty((len(steps), v.size))
-    for j, (_, xk, vk) in enumerate(march(advance, x, v, steps, who=who, dt=dt, integrator=integrator,
-                                         progress=progress)):
-        X[j], V[j] = xk, vk
-    return steps * dt, X, V
+    parts = list(blocks(stepper, x, v, steps, who=who, dt=dt, integrator=integrator, progress=progress))
+    return steps * dt, np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts])

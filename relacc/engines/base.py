@@ -164,10 +164,10 @@ class Engine(abc.ABC):
 
     @abc.abstractmethod
     def stepper(self, effects, dt: float, integrator: str, accuracy: float | None = None):
-        """The engine's integrator under exactly ``effects``: ``advance(x, v, k) -> (x, v)``.
+        """The engine's integrator under exactly ``effects``, a :class:`relacc.dynamics.steps.Stepper`.
 
-        ``advance`` takes ``k`` steps of ``dt`` seconds from engine coordinates
-        ``(x, v)`` (:mod:`relacc.dynamics.steps`). ``accuracy``: the target of
+        Its ``advance(x, v, k)`` takes ``k`` steps of ``dt`` seconds from engine
+        coordinates ``(x, v)`` (:mod:`relacc.dynamics.steps`). ``accuracy``: the target of
         an error-controlled integrator (its largest step ``dt``); None for
         fixed steps, the only kind most engines have.
 
@@ -191,9 +191,8 @@ class Engine(abc.ABC):
         """
         from relacc.dynamics.steps import collect
 
-        advance = self.stepper(effects, dt, integrator, accuracy)
-        return collect(advance, q, v, dt, n_steps, record_every, who=self.name, integrator=integrator,
-                       progress=progress)
+        return collect(self.stepper(effects, dt, integrator, accuracy), q, v, dt, n_steps, record_every,
+                       who=self.name, integrator=integrator, progress=progress)
 
     @abc.abstractmethod
     def body_state(self, q, v):

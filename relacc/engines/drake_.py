@@ -76,6 +76,7 @@ from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 
 from relacc.core.conventions import DRAKE_SCHEMES
 from relacc.core.rotations import matrix_from_quaternion, tilde
+from relacc.dynamics.steps import Stepper
 from relacc.engines.base import Engine, PointKinematics, identity_input, note_from_quaternions, quaternion_route_input
 from relacc.errors import EngineError, FixtureError, IntegrationError
 from relacc.fixtures import Fixture
@@ -337,7 +338,7 @@ class DrakeEngine(Engine):
             return plant.GetPositions(pctx).copy(), plant.GetVelocities(pctx).copy()
 
         simulator.Initialize()
-        return advance
+        return Stepper(advance)
 
     def energy_terms(self, chain, q, v, effects):
         """Drake's own kinetic and gravitational energy, and the spring's, J, for a batch of Drake states.

@@ -43,6 +43,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from relacc.dynamics.steps import Stepper
 from relacc.engines.base import (
     Engine,
     PointKinematics,
@@ -228,7 +229,7 @@ class MujocoEngine(Engine):
                 mujoco.mj_step(m, d)
             return d.qpos.copy(), d.qvel.copy()
 
-        return advance
+        return Stepper(advance)
 
     def body_state(self, q, v):
         return np.array(q, dtype=float), np.array(v, dtype=float)  # qpos, qvel are Case 2's q and u

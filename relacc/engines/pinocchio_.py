@@ -50,6 +50,7 @@ import numpy as np
 import pinocchio as pin
 
 from relacc.core.rotations import matrix_from_quaternion, quaternion_from_xyzw, quaternion_to_xyzw, tilde
+from relacc.dynamics.steps import Stepper
 from relacc.engines.base import (
     Engine,
     PointKinematics,
@@ -296,7 +297,7 @@ class PinocchioEngine(Engine):
                     x, w = step(space.at(x), x, w, dt, derivs)
             return x, w
 
-        return advance
+        return Stepper(advance)
 
     def body_state(self, q, v):
         q, v = np.atleast_2d(q), np.atleast_2d(v)

@@ -1,32 +1,47 @@
-"""Fused kernel for Kane's equations: the throughput path of :mod:`relacc.dynamics`.
+"""Fused forward dynamics and integration: the throughput path of :mod:`relacc.dynamics` and simulations.
 
-Same mathematics as :func:`relacc.dynamics.equations_of_motion`, per state,
-with the partial velocities in the column form of :mod:`relacc.kernels.kinematics`:
+The chain's joint between B1 and B2 is three slides and a ball: six degrees
+of freedom, so the two bodies are free of each other and Kane's ``12 x 12``
+mass matrix is, in the bodies' absolute accelerations, block diagonal: two
+6 x 6 blocks, ``diag(m_i I, I_Gi)``. The forward dynamics of one state is
+therefore, without any linear solve:
 
-* ``V_G2`` columns ``[e_j | p_j x L | C1_j | g_j x r2]``, ``V_G1`` columns
-  ``[e_j | p_j x r1 | 0 | 0]``, ``Om_B1 = [0 | p_j | 0 | 0]``, ``Om_B2 = [0 | p_j | 0 | g_j]``;
-* the velocity-product terms ``Vdot u`` and ``Omdot u`` are the
-  accelerations of :mod:`relacc.kernels.kinematics` evaluated with ``udot = 0``.
+1. the bodies' angular velocities from the case's speeds (fixed components:
+   ``omega_B1``, ``omega_hat_B2``, ``omega_B2 = omega_B1 + omega_hat_B2``);
+2. every active effect as a force and a torque on each body (gravity
+   ``m_i g``; the spring and damper on ``s2'`` as equal and opposite forces at
+   B2's joint point; ball damping ``-c omega_hat_B2`` on B2 and its reaction on
+   B1; the force at G2; the torques);
+3. Newton-Euler for each body: ``a_Gi = F_i / m_i``,
+   ``alpha_i = I_i^-1 (T_i - omega_i x I_i omega_i)`` (body components);
+4. the case's ``udot`` from the absolute accelerations, by differentiating
+   the relative coordinates twice: ``s1_ddot`` from ``a_G1``; ``s2'_ddot`` from
+   ``a_G2`` minus everything else in ``d^2/dt^2 (s1 + [R_B1]^T (q2' + s2') + r2)``;
+   the angular rates as the derivatives of the case's components of
+   ``omega_B1`` and ``omega_hat_B2`` (case 3: through ``W(theta)^-1``).
 
-Each effect is assembled only when its flag is set: an absent effect costs
-nothing. ``tests/test_dynamics.py`` holds the kernel to the reference.
+It is a different derivation from Kane's equations (:mod:`relacc.dynamics.kane`):
+``tests/test_dynamics.py`` holds its ``udot`` to satisfy them, ``M udot = f``,
+to rounding (backward error ``<= c eps``).
+
+The integrators (RKMK4 on SO(3) for cases 1-2, RK4 on the angles for case 3,
+semi-implicit Euler) run here as compiled loops over steps (:func:`advance`,
+:func:`record`) and over the members of an ensemble (:func:`ensemble`), the
+same algorithms as :mod:`relacc.dynamics.integrate`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from relacc.kernels import kinematics as fast
-from relacc.kernels.perstate import HAVE_NUMBA, acc_from, columns, cross, jitable, mm, mv, state_quantities, trig_of
-
-if HAVE_NUMBA:
-    import numba
+from relacc.kernels.perstate import HAVE_NUMBA, cross, jitable, mv, numba, quat_matrix, r123
 
 # Offsets into the chain parameters ``cp`` (:func:`chain_params`), all in the chain's own components.
 Q2, R2, R1 = 0, 3, 6          # q2' (B1), r2' (B2), r1' (B1): 3 each, m
 M1, M2 = 9, 10                # masses, kg
 INERTIA_B1, INERTIA_B2 = 11, 20  # inertias about G1 (B1 comps), G2 (B2 comps): 9 each, row-major, kg m^2
-N_CHAIN = 29
+INVERSE_B1, INVERSE_B2 = 29, 38  # their inverses, 1/(kg m^2)
+N_CHAIN = 47
 
 # Offsets into the effect parameters ``ep`` (:func:`effect_params`): each effect has a flag (1.0 on, 0.0 off:
 # off means not computed) followed by its values.
@@ -39,13 +54,18 @@ TORQUE1_ON, TORQUE1 = 21, 22                  # T1 (3) N m on B1, fixed componen
 TORQUE2_ON, TORQUE2 = 25, 26                  # T2 (3) N m on B2, fixed components
 N_EFFECTS = 29
 
+INTEGRATORS = {"rk4": 0, "euler": 1}
+"""relacc's integrators by scene name, and their codes in the compiled loops."""
+
 
 def chain_params(chain) -> np.ndarray:
-    """The chain's constants as one float array laid out by ``Q2`` ... ``INERTIA_B2`` (``N_CHAIN`` values)."""
+    """The chain's constants as one float array laid out by ``Q2`` ... ``INVERSE_B2`` (``N_CHAIN`` values)."""
     out = np.empty(N_CHAIN)
     out[Q2:Q2 + 3], out[R2:R2 + 3], out[R1:R1 + 3] = chain.q2, chain.r2, chain.r1
     out[M1], out[M2] = chain.m1, chain.m2
     out[INERTIA_B1:INERTIA_B1 + 9], out[INERTIA_B2:INERTIA_B2 + 9] = chain.I1.ravel(), chain.I2.ravel()
+    out[INVERSE_B1:INVERSE_B1 + 9] = np.linalg.inv(chain.I1).ravel()
+    out[INVERSE_B2:INVERSE_B2 + 9] = np.linalg.inv(chain.I2).ravel()
     return out
 
 
@@ -68,151 +88,394 @@ def effect_params(effects) -> np.ndarray:
 
 
 @jitable
-def _col(A, j):
-    return A[j], A[3 + j], A[6 + j]
+def _mtv(A, x0, x1, x2):
+    """``A^T x`` for a row-major 3x3 tuple ``A``."""
+    return (A[0] * x0 + A[3] * x1 + A[6] * x2, A[1] * x0 + A[4] * x1 + A[7] * x2,
+            A[2] * x0 + A[5] * x1 + A[8] * x2)
 
 
 @jitable
-def _eom(case, q, u, cp, ep, M, f, nu):
-    """Kane's ``M`` (12x12) and ``f`` (12) and the body speeds ``nu`` (12) of one state, into the arrays."""
-    z = np.zeros(12)
-    q2p, r2p, r1p = cp[Q2:Q2 + 3], cp[R2:R2 + 3], cp[R1:R1 + 3]
+def _cp3(cp, at):
+    return cp[at], cp[at + 1], cp[at + 2]
+
+
+@jitable
+def _cp9(cp, at):
+    return (cp[at], cp[at + 1], cp[at + 2], cp[at + 3], cp[at + 4], cp[at + 5], cp[at + 6], cp[at + 7],
+            cp[at + 8])
+
+
+@jitable
+def _add(a, b):
+    return a[0] + b[0], a[1] + b[1], a[2] + b[2]
+
+
+@jitable
+def _sub(a, b):
+    return a[0] - b[0], a[1] - b[1], a[2] - b[2]
+
+
+@jitable
+def _scale(s, a):
+    return s * a[0], s * a[1], s * a[2]
+
+
+@jitable
+def _x(a, b):
+    return cross(a[0], a[1], a[2], b[0], b[1], b[2])
+
+
+@jitable
+def _w123(t1, t2, x):
+    """``W(theta) x`` for 1-2-3 angles: reference-frame angular velocity from angle rates."""
+    c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+    return x[0] + s2 * x[2], c1 * x[1] - s1 * c2 * x[2], s1 * x[1] + c1 * c2 * x[2]
+
+
+@jitable
+def _w123_dot(t1, t2, d1, d2, x):
+    """``W_dot(theta, theta_dot) x``."""
+    c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+    return (c2 * d2 * x[2], -s1 * d1 * x[1] + (-c1 * c2 * d1 + s1 * s2 * d2) * x[2],
+            c1 * d1 * x[1] + (-s1 * c2 * d1 - c1 * s2 * d2) * x[2])
+
+
+@jitable
+def _w123_solve(t1, t2, b):
+    """``W(theta)^-1 b`` (``det W = cos theta2``: inf or NaN at gimbal lock, caught by the callers)."""
+    c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+    x2 = (c1 * b[2] - s1 * b[1]) / c2
+    return b[0] - s2 * x2, c1 * b[1] + s1 * b[2], x2
+
+
+@jitable
+def _newton_euler(m, I, Iinv, C, F, T, w):
+    """Absolute accelerations of one body: ``a_G = F / m``, ``alpha = C I^-1 (C^T T - w' x I w')`` (fixed comps)."""
+    wb = _mtv(C, w[0], w[1], w[2])
+    Iw = mv(I, wb[0], wb[1], wb[2])
+    Tb = _mtv(C, T[0], T[1], T[2])
+    g = _sub(Tb, _x(wb, Iw))
+    ab = mv(Iinv, g[0], g[1], g[2])
+    return _scale(1.0 / m, F), mv(C, ab[0], ab[1], ab[2])
+
+
+@jitable
+def rates(case, q, u, cp, ep):
+    """One state's ``(tangent, udot)``, 12-tuples: what the integrators move along, and the speeds' rates.
+
+    ``tangent``: cases 1-2 the body speeds ``[s1_dot, omega'_B1, s2'_dot, omega_hat'_B2]`` (the
+    quaternions move by ``quat (x) Exp(omega' dt)``); case 3 ``u`` itself. ``udot``: the case's
+    speeds' rates by Newton-Euler (module docstring), m/s^2 and rad/s^2 in the case's components.
+    """
+    if case == 3:
+        C1 = r123(np.cos(q[3]), np.cos(q[4]), np.cos(q[5]), np.sin(q[3]), np.sin(q[4]), np.sin(q[5]))
+        Mr = r123(np.cos(q[9]), np.cos(q[10]), np.cos(q[11]), np.sin(q[9]), np.sin(q[10]), np.sin(q[11]))
+        o = 6
+    else:
+        C1, Mr = quat_matrix(q[3], q[4], q[5], q[6]), quat_matrix(q[10], q[11], q[12], q[13])
+        o = 7
+    C2 = (C1[0] * Mr[0] + C1[1] * Mr[3] + C1[2] * Mr[6], C1[0] * Mr[1] + C1[1] * Mr[4] + C1[2] * Mr[7],
+          C1[0] * Mr[2] + C1[1] * Mr[5] + C1[2] * Mr[8], C1[3] * Mr[0] + C1[4] * Mr[3] + C1[5] * Mr[6],
+          C1[3] * Mr[1] + C1[4] * Mr[4] + C1[5] * Mr[7], C1[3] * Mr[2] + C1[4] * Mr[5] + C1[5] * Mr[8],
+          C1[6] * Mr[0] + C1[7] * Mr[3] + C1[8] * Mr[6], C1[6] * Mr[1] + C1[7] * Mr[4] + C1[8] * Mr[7],
+          C1[6] * Mr[2] + C1[7] * Mr[5] + C1[8] * Mr[8])
+    ua, ub = (u[3], u[4], u[5]), (u[9], u[10], u[11])
+    # 1. angular velocities, fixed components
+    if case == 1:
+        w1, wh = ua, mv(C1, ub[0], ub[1], ub[2])
+    elif case == 2:
+        w1, wh = mv(C1, ua[0], ua[1], ua[2]), mv(C2, ub[0], ub[1], ub[2])
+    else:
+        w1 = _w123(q[3], q[4], ua)
+        hb = _w123(q[9], q[10], ub)
+        wh = mv(C1, hb[0], hb[1], hb[2])
+    w2 = _add(w1, wh)
+    # geometry, fixed components: G1 from B1's origin, the joint point from B1's origin, G2 from it
+    r1 = mv(C1, cp[R1], cp[R1 + 1], cp[R1 + 2])
+    L = mv(C1, cp[Q2] + q[o], cp[Q2 + 1] + q[o + 1], cp[Q2 + 2] + q[o + 2])
+    r2 = mv(C2, cp[R2], cp[R2 + 1], cp[R2 + 2])
+    sd = mv(C1, u[6], u[7], u[8])
     m1, m2 = cp[M1], cp[M2]
-    C1, Mr, r, L, Ld, w, al, wh, hd, sd, rd, t = state_quantities(case, q, u, z, q2p, r2p, trig_of(case, q))
-    P, P_dot, G, G_dot = columns(case, q, u, C1, Mr, w, wh, t)
-    C2 = mm(C1, Mr)
-    r1 = mv(C1, r1p[0], r1p[1], r1p[2])
-    # partial velocity (V1, V2) and angular velocity (O1, O2) columns, fixed components: (3, 12)
-    V1, V2, O1, O2 = np.zeros((3, 12)), np.zeros((3, 12)), np.zeros((3, 12)), np.zeros((3, 12))
-    for j in range(3):
-        pj, gj, cj = _col(P, j), _col(G, j), _col(C1, j)
-        a = cross(pj[0], pj[1], pj[2], L[0], L[1], L[2])
-        b = cross(pj[0], pj[1], pj[2], r1[0], r1[1], r1[2])
-        c = cross(gj[0], gj[1], gj[2], r[0], r[1], r[2])
-        for k in range(3):
-            V1[k, j] = V2[k, j] = 1.0 if k == j else 0.0
-            V2[k, 3 + j], V2[k, 6 + j], V2[k, 9 + j] = a[k], cj[k], c[k]
-            V1[k, 3 + j] = b[k]
-            O1[k, 3 + j] = O2[k, 3 + j] = pj[k]
-            O2[k, 9 + j] = gj[k]
-    # velocity-product terms: accelerations with udot = 0
-    a2 = acc_from(z, C1, r, L, Ld, w, al, wh, hd, sd, rd)
-    wr = cross(w[0], w[1], w[2], r1[0], r1[1], r1[2])
-    t1, t2 = cross(al[0], al[1], al[2], r1[0], r1[1], r1[2]), cross(w[0], w[1], w[2], wr[0], wr[1], wr[2])
-    a1 = (t1[0] + t2[0], t1[1] + t2[1], t1[2] + t2[2])
-    w2 = (w[0] + wh[0], w[1] + wh[1], w[2] + wh[2])
-    al2 = (al[0] + hd[0], al[1] + hd[1], al[2] + hd[2])
-    I1 = np.empty((3, 3))
-    I2 = np.empty((3, 3))
-    for R, Ib, out in ((C1, cp[INERTIA_B1:INERTIA_B1 + 9], I1), (C2, cp[INERTIA_B2:INERTIA_B2 + 9], I2)):
-        RI = mm(R, (Ib[0], Ib[1], Ib[2], Ib[3], Ib[4], Ib[5], Ib[6], Ib[7], Ib[8]))
-        RIRt = mm(RI, (R[0], R[3], R[6], R[1], R[4], R[7], R[2], R[5], R[8]))
-        for k in range(9):
-            out[k // 3, k % 3] = RIRt[k]
-    for i in range(12):
-        for j in range(12):
-            s = 0.0
-            for k in range(3):
-                s += m1 * V1[k, i] * V1[k, j] + m2 * V2[k, i] * V2[k, j]
-                for l in range(3):
-                    s += O1[k, i] * I1[k, l] * O1[l, j] + O2[k, i] * I2[k, l] * O2[l, j]
-            M[i, j] = s
-    # inertia terms: -m V^T (Vdot u) - Om^T (I Omdot u + omega x I omega)
-    h1 = np.empty(3)
-    h2 = np.empty(3)
-    for k in range(3):
-        h1[k] = I1[k, 0] * al[0] + I1[k, 1] * al[1] + I1[k, 2] * al[2]
-        h2[k] = I2[k, 0] * al2[0] + I2[k, 1] * al2[1] + I2[k, 2] * al2[2]
-    Iw1 = (I1[0, 0] * w[0] + I1[0, 1] * w[1] + I1[0, 2] * w[2], I1[1, 0] * w[0] + I1[1, 1] * w[1] + I1[1, 2] * w[2],
-           I1[2, 0] * w[0] + I1[2, 1] * w[1] + I1[2, 2] * w[2])
-    Iw2 = (I2[0, 0] * w2[0] + I2[0, 1] * w2[1] + I2[0, 2] * w2[2],
-           I2[1, 0] * w2[0] + I2[1, 1] * w2[1] + I2[1, 2] * w2[2],
-           I2[2, 0] * w2[0] + I2[2, 1] * w2[1] + I2[2, 2] * w2[2])
-    g1 = cross(w[0], w[1], w[2], Iw1[0], Iw1[1], Iw1[2])
-    g2 = cross(w2[0], w2[1], w2[2], Iw2[0], Iw2[1], Iw2[2])
-    F1 = np.empty(3)   # force on G1 (N) and torques on B1, B2 (N m), fixed components, from every active effect
-    F2 = np.empty(3)
-    T1 = np.empty(3)
-    T2 = np.empty(3)
-    for k in range(3):
-        F1[k] = -m1 * a1[k]
-        F2[k] = -m2 * a2[k]
-        T1[k] = -h1[k] - g1[k]
-        T2[k] = -h2[k] - g2[k]
-        if ep[GRAVITY_ON] != 0.0:
-            F1[k] += m1 * ep[GRAVITY + k]
-            F2[k] += m2 * ep[GRAVITY + k]
-        if ep[FORCE_ON] != 0.0:
-            F2[k] += ep[FORCE + k]
-        if ep[TORQUE1_ON] != 0.0:
-            T1[k] += ep[TORQUE1 + k]
-        if ep[TORQUE2_ON] != 0.0:
-            T2[k] += ep[TORQUE2 + k]
-    for i in range(12):
-        s = 0.0
-        for k in range(3):
-            s += V1[k, i] * F1[k] + V2[k, i] * F2[k] + O1[k, i] * T1[k] + O2[k, i] * T2[k]
-        f[i] = s
-    o = 7 if case != 3 else 6
-    for k in range(3):
+    # 2. forces on G1, G2 and torques about them, fixed components, from the active effects only
+    F1, F2, T1, T2 = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    if ep[GRAVITY_ON] != 0.0:
+        g = _cp3(ep, GRAVITY)
+        F1, F2 = _scale(m1, g), _scale(m2, g)
+    if ep[SPRING_ON] != 0.0 or ep[DAMPING_ON] != 0.0:
+        f0, f1, f2 = 0.0, 0.0, 0.0
         if ep[SPRING_ON] != 0.0:
-            f[6 + k] -= ep[STIFFNESS + k] * (q[o + k] - ep[REST + k])
+            f0 -= ep[STIFFNESS] * (q[o] - ep[REST])
+            f1 -= ep[STIFFNESS + 1] * (q[o + 1] - ep[REST + 1])
+            f2 -= ep[STIFFNESS + 2] * (q[o + 2] - ep[REST + 2])
         if ep[DAMPING_ON] != 0.0:
-            f[6 + k] -= ep[DAMPING + k] * u[6 + k]
+            f0 -= ep[DAMPING] * u[6]
+            f1 -= ep[DAMPING + 1] * u[7]
+            f2 -= ep[DAMPING + 2] * u[8]
+        fs = mv(C1, f0, f1, f2)  # on B2 at the joint point; its reaction on B1 at the same point
+        F2, F1 = _add(F2, fs), _sub(F1, fs)
+        T2 = _add(T2, _x(_scale(-1.0, r2), fs))
+        T1 = _add(T1, _x(_sub(L, r1), _scale(-1.0, fs)))
     if ep[BALL_ON] != 0.0:
-        what = mv(G, u[9], u[10], u[11])
-        for j in range(3):
-            f[9 + j] -= ep[BALL] * (G[j] * what[0] + G[3 + j] * what[1] + G[6 + j] * what[2])
-    # body speeds nu = W u: [s1_dot, omega'_B1 = C1^T omega_B1, s2'_dot, omega_hat'_B2 = C2^T w_hat]
-    wb = mv((C1[0], C1[3], C1[6], C1[1], C1[4], C1[7], C1[2], C1[5], C1[8]), w[0], w[1], w[2])
-    hb = mv((C2[0], C2[3], C2[6], C2[1], C2[4], C2[7], C2[2], C2[5], C2[8]), wh[0], wh[1], wh[2])
+        tb = _scale(-ep[BALL], wh)  # on B2; its reaction on B1
+        T2, T1 = _add(T2, tb), _sub(T1, tb)
+    if ep[FORCE_ON] != 0.0:
+        F2 = _add(F2, _cp3(ep, FORCE))
+    if ep[TORQUE1_ON] != 0.0:
+        T1 = _add(T1, _cp3(ep, TORQUE1))
+    if ep[TORQUE2_ON] != 0.0:
+        T2 = _add(T2, _cp3(ep, TORQUE2))
+    # 3. Newton-Euler, each body alone
+    a1, al1 = _newton_euler(m1, _cp9(cp, INERTIA_B1), _cp9(cp, INVERSE_B1), C1, F1, T1, w1)
+    a2, al2 = _newton_euler(m2, _cp9(cp, INERTIA_B2), _cp9(cp, INVERSE_B2), C2, F2, T2, w2)
+    # 4. the case's udot from the absolute accelerations
+    s1dd = _sub(_sub(a1, _x(al1, r1)), _x(w1, _x(w1, r1)))
+    rest = _add(_add(_add(s1dd, _x(al1, L)), _x(w1, _x(w1, L))), _scale(2.0, _x(w1, sd)))
+    rest = _add(_add(rest, _x(al2, r2)), _x(w2, _x(w2, r2)))
+    s2dd = _mtv(C1, a2[0] - rest[0], a2[1] - rest[1], a2[2] - rest[2])
+    hd = _sub(_sub(al2, al1), _x(w1, wh))  # d/dt of omega_hat_B2's B1 components, in fixed components
+    if case == 1:
+        ang1, ang2 = al1, _mtv(C1, hd[0], hd[1], hd[2])
+        tan1, tan2 = _mtv(C1, w1[0], w1[1], w1[2]), _mtv(C2, wh[0], wh[1], wh[2])
+    elif case == 2:
+        ang1 = _mtv(C1, al1[0], al1[1], al1[2])
+        h2 = _sub(_sub(al2, al1), _x(w2, wh))
+        ang2 = _mtv(C2, h2[0], h2[1], h2[2])
+        tan1, tan2 = ua, ub
+    else:
+        ang1 = _w123_solve(q[3], q[4], _sub(al1, _w123_dot(q[3], q[4], u[3], u[4], ua)))
+        hb1 = _mtv(C1, hd[0], hd[1], hd[2])
+        ang2 = _w123_solve(q[9], q[10], _sub(hb1, _w123_dot(q[9], q[10], u[9], u[10], ub)))
+        tan1, tan2 = ua, ub
+    udot = (s1dd[0], s1dd[1], s1dd[2], ang1[0], ang1[1], ang1[2], s2dd[0], s2dd[1], s2dd[2],
+            ang2[0], ang2[1], ang2[2])
+    tangent = (u[0], u[1], u[2], tan1[0], tan1[1], tan1[2], u[6], u[7], u[8], tan2[0], tan2[1], tan2[2])
+    return tangent, udot
+
+
+@jitable
+def _exp_mul(q, at, phi0, phi1, phi2, out):
+    """``out[at:at+4] = q[at:at+4] (x) Exp(phi)`` for a unit quaternion (w, x, y, z) and a body rotation vector."""
+    th2 = phi0 * phi0 + phi1 * phi1 + phi2 * phi2
+    if th2 < 1e-8:  # series of cos(a/2) and sin(a/2)/a, exact to rounding below 1e-8
+        w, k = 1 - th2 / 8 + th2 * th2 / 384, 0.5 - th2 / 48 + th2 * th2 / 3840
+    else:
+        th = np.sqrt(th2)
+        w, k = np.cos(th / 2), np.sin(th / 2) / th
+    x, y, z = k * phi0, k * phi1, k * phi2
+    a, b, c, d = q[at], q[at + 1], q[at + 2], q[at + 3]
+    out[at] = a * w - b * x - c * y - d * z
+    out[at + 1] = a * x + b * w + c * z - d * y
+    out[at + 2] = a * y - b * z + c * w + d * x
+    out[at + 3] = a * z + b * y - c * x + d * w
+
+
+@jitable
+def _dexpinv(phi0, phi1, phi2, w0, w1, w2):
+    """``J_r^-1(phi) w`` (see :func:`relacc.dynamics.integrate.so3_dexpinv_body`)."""
+    th2 = phi0 * phi0 + phi1 * phi1 + phi2 * phi2
+    if th2 < 1e-4:
+        beta = 1 / 12 + th2 / 720 + th2 * th2 / 30240
+    else:
+        th = np.sqrt(th2)
+        beta = 1 / th2 - (1 + np.cos(th)) / (2 * th * np.sin(th))
+    c = cross(phi0, phi1, phi2, w0, w1, w2)
+    cc = cross(phi0, phi1, phi2, c[0], c[1], c[2])
+    return w0 + 0.5 * c[0] + beta * cc[0], w1 + 0.5 * c[1] + beta * cc[1], w2 + 0.5 * c[2] + beta * cc[2]
+
+
+@jitable
+def move(case, q, delta, out):
+    """``out = q`` moved by the tangent vector ``delta`` (cases 1-2: ``quat (x) Exp``; case 3: ``q + delta``)."""
+    if case == 3:
+        for k in range(12):
+            out[k] = q[k] + delta[k]
+        return
     for k in range(3):
-        nu[k], nu[3 + k], nu[6 + k], nu[9 + k] = u[k], wb[k], u[6 + k], hb[k]
+        out[k] = q[k] + delta[k]
+        out[7 + k] = q[7 + k] + delta[6 + k]
+    _exp_mul(q, 3, delta[3], delta[4], delta[5], out)
+    _exp_mul(q, 10, delta[9], delta[10], delta[11], out)
+
+
+@jitable
+def _dexp_tangent(case, delta, w, out):
+    """The local-coordinate rate whose move of ``delta`` has velocity ``w`` (identity in case 3)."""
+    for k in range(12):
+        out[k] = w[k]
+    if case != 3:
+        a = _dexpinv(delta[3], delta[4], delta[5], w[3], w[4], w[5])
+        b = _dexpinv(delta[9], delta[10], delta[11], w[9], w[10], w[11])
+        out[3], out[4], out[5], out[9], out[10], out[11] = a[0], a[1], a[2], b[0], b[1], b[2]
+
+
+@jitable
+def step(case, method, q, u, dt, cp, ep, s):
+    """One step of ``dt`` seconds, in place on ``q``, ``u``; ``s`` a (10, 14) scratch.
+
+    ``method`` 0: RKMK4 (RK4 in local coordinates around the step's start, so cases 1-2 stay on
+    SO(3) at order 4); 1: semi-implicit Euler (``u`` first, then ``q`` moves with the new ``u``).
+    """
+    nq = q.shape[0]
+    if method == 1:
+        _, a = rates(case, q, u, cp, ep)
+        for k in range(12):
+            u[k] += dt * a[k]
+        w, _ = rates(case, q, u, cp, ep)
+        for k in range(12):
+            s[0, k] = dt * w[k]
+        move(case, q, s[0], s[1])
+        q[:] = s[1, :nq]
+        return
+    d, x, v, kk, acc = s[0], s[1], s[2], s[3], s[4]  # local coordinates, moved q, u, stage slope, sum
+    w1, a1 = rates(case, q, u, cp, ep)
+    for k in range(12):
+        kk[k] = w1[k]
+        acc[k] = w1[k]
+        s[5, k] = a1[k]
+    for stage in range(3):
+        h = 0.5 * dt if stage < 2 else dt
+        for k in range(12):
+            d[k] = h * kk[k]
+            v[k] = u[k] + h * (a1[k] if stage == 0 else s[5 + stage, k])
+        move(case, q, d, x)
+        wn, an = rates(case, x[:nq], v[:12], cp, ep)
+        for k in range(12):
+            s[6 + stage, k] = an[k]
+            s[9, k] = wn[k]
+        _dexp_tangent(case, d, s[9], kk)
+        for k in range(12):
+            acc[k] += (2.0 if stage < 2 else 1.0) * kk[k]
+    for k in range(12):
+        d[k] = dt / 6 * acc[k]
+        u[k] += dt / 6 * (s[5, k] + 2 * s[6, k] + 2 * s[7, k] + s[8, k])
+    move(case, q, d, x)
+    q[:] = x[:nq]
+
+
+@jitable
+def _finite_state(q, u):
+    z = 0.0
+    for k in range(q.shape[0]):
+        z += q[k] * 0.0
+    for k in range(12):
+        z += u[k] * 0.0
+    return z == 0.0
+
+
+@jitable
+def record(case, method, q, u, dt, gaps, cp, ep, Q, U):
+    """From ``(q, u)``, take ``gaps[j]`` steps then store the state in ``Q[j]``, ``U[j]``, for every ``j``.
+
+    Returns:
+        The number of records stored: ``len(gaps)``, or the index of the first record whose state
+        became non-finite (the run diverged there; the records before it are valid).
+    """
+    s = np.empty((10, 14))
+    for j in range(gaps.shape[0]):
+        for _ in range(gaps[j]):
+            step(case, method, q, u, dt, cp, ep, s)
+        if not _finite_state(q, u):
+            return j
+        Q[j, :] = q
+        U[j, :] = u
+    return gaps.shape[0]
 
 
 if HAVE_NUMBA:
 
-    @numba.njit(cache=True)
-    def _eom_one(case, q, u, cp, ep):  # pragma: no cover - compiled
-        M, f, nu = np.empty((12, 12)), np.empty(12), np.empty(12)
-        _eom(case, q, u, cp, ep, M, f, nu)
-        return M, f, nu
+    @numba.njit(parallel=True, cache=True)
+    def accelerations(case, q, u, cp, ep, out):  # pragma: no cover - compiled
+        """Every state's ``udot`` into ``out`` ``(n, 12)``; returns the number of non-finite ones."""
+        bad = 0
+        for i in numba.prange(q.shape[0]):
+            _, a = rates(case, q[i], u[i], cp, ep)
+            nb = 0
+            for k in range(12):
+                out[i, k] = a[k]
+                nb += 0 if (a[k] == a[k] and abs(a[k]) < np.inf) else 1
+            bad += nb
+        return bad
 
     @numba.njit(cache=True)
-    def _rates_one(case, q, u, cp, ep):  # pragma: no cover - compiled
-        M, f, nu = _eom_one(case, q, u, cp, ep)
-        return nu, np.linalg.solve(M, f)
+    def advance(case, method, q, u, dt, k, cp, ep):  # pragma: no cover - compiled
+        """``k`` steps from ``(q, u)`` (copies); returns the new ``(q, u)``."""
+        q, u = q.copy(), u.copy()
+        s = np.empty((10, 14))
+        for _ in range(k):
+            step(case, method, q, u, dt, cp, ep, s)
+        return q, u
+
+    @numba.njit(cache=True)
+    def record_run(case, method, q, u, dt, gaps, cp, ep, Q, U):  # pragma: no cover - compiled
+        """:func:`record` on copies of ``q``, ``u``."""
+        return record(case, method, q.copy(), u.copy(), dt, gaps, cp, ep, Q, U)
 
     @numba.njit(parallel=True, cache=True)
-    def _eom_batch(case, q, u, cp, ep, M, f, nu):  # pragma: no cover - compiled
-        for i in numba.prange(q.shape[0]):
-            _eom(case, q[i], u[i], cp, ep, M[i], f[i], nu[i])
+    def ensemble(case, method, Q0, U0, dt, gaps, cp, ep, Q, U, done):  # pragma: no cover - compiled
+        """:func:`record` for every member in parallel: ``Q0 (N, nq)``, ``U0 (N, 12)`` -> ``Q (N, m, nq)``,
+        ``U (N, m, 12)``; ``done[i]`` the records member ``i`` stored."""
+        for i in numba.prange(Q0.shape[0]):
+            done[i] = record(case, method, Q0[i].copy(), U0[i].copy(), dt, gaps, cp, ep, Q[i], U[i])
 
+    @numba.njit(cache=True)
+    def rates_one(case, q, u, cp, ep):  # pragma: no cover - compiled
+        """:func:`rates` of one state as two arrays, for Python callers (``solve_ivp``)."""
+        w, a = rates(case, q, u, cp, ep)
+        return np.array(w), np.array(a)
 
-def equations_of_motion(chain, case, q, u, effects):
-    """Kane's equations for validated float64 ``q (n, nq)``, ``u (n, 12)`` (see :mod:`relacc.dynamics`).
+    @numba.njit(cache=True)
+    def move_one(case, q, delta):  # pragma: no cover - compiled
+        out = np.empty(q.shape[0])
+        move(case, q, delta, out)
+        return out
 
-    Returns:
-        ``M`` ``(n, 12, 12)`` (kg, kg m, kg m^2 blocks), ``f`` ``(n, 12)`` (N and
-        N m per unit speed), both in the case's speeds, and the body speeds
-        ``nu`` ``(n, 12)`` (Case 2's ``u``: m/s, rad/s).
-    """
-    n = q.shape[0]
-    M, f, nu = np.empty((n, 12, 12)), np.empty((n, 12)), np.empty((n, 12))
-    cp, ep = chain_params(chain), effect_params(effects)
-    if fast.BACKEND == "numba":
-        _eom_batch(int(case), np.ascontiguousarray(q), np.ascontiguousarray(u), cp, ep, M, f, nu)
-    else:
-        for i in range(n):
-            _eom(int(case), q[i], u[i], cp, ep, M[i], f[i], nu[i])
-    return M, f, nu
+    @numba.njit(cache=True)
+    def dexp_one(case, delta, w):  # pragma: no cover - compiled
+        out = np.empty(12)
+        _dexp_tangent(case, delta, w, out)
+        return out
+
+else:  # pragma: no cover - exercised only without numba
+
+    def accelerations(case, q, u, cp, ep, out):
+        bad = 0
+        for i in range(q.shape[0]):
+            out[i] = rates(case, q[i], u[i], cp, ep)[1]
+            bad += int(np.count_nonzero(~np.isfinite(out[i])))
+        return bad
+
+    def advance(case, method, q, u, dt, k, cp, ep):
+        q, u, s = q.copy(), u.copy(), np.empty((10, 14))
+        for _ in range(k):
+            step(case, method, q, u, dt, cp, ep, s)
+        return q, u
+
+    def record_run(case, method, q, u, dt, gaps, cp, ep, Q, U):
+        return record(case, method, q.copy(), u.copy(), dt, gaps, cp, ep, Q, U)
+
+    def ensemble(case, method, Q0, U0, dt, gaps, cp, ep, Q, U, done):
+        for i in range(Q0.shape[0]):
+            done[i] = record(case, method, Q0[i].copy(), U0[i].copy(), dt, gaps, cp, ep, Q[i], U[i])
+
+    def rates_one(case, q, u, cp, ep):
+        w, a = rates(case, q, u, cp, ep)
+        return np.array(w), np.array(a)
+
+    def move_one(case, q, delta):
+        out = np.empty(q.shape[0])
+        move(case, q, delta, out)
+        return out
+
+    def dexp_one(case, delta, w):
+        out = np.empty(12)
+        _dexp_tangent(case, delta, w, out)
+        return out
 
 
 class Rates:
-    """``(nu, udot)`` of one state for the integrators: body speeds (the tangent) and Kane's accelerations.
+    """``(tangent, udot)`` of one state as arrays, for Python integrators (``solve_ivp`` on SO(3) charts).
 
-    Cases 1-2 integrate the quaternions with the body speeds ``nu``; case 3
-    integrates the angles with ``u`` itself.
+    Raises :class:`relacc.IntegrationError` when the state or its rates are non-finite.
     """
 
     def __init__(self, chain, case, effects):
@@ -221,66 +484,10 @@ class Rates:
     def __call__(self, q, u):
         from relacc.errors import IntegrationError
 
-        message = ("the integration diverged: the state or its equations of motion became non-finite or "
-                   "singular; reduce the step (or, near case-3 gimbal lock, use quaternion coordinates)")
-        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(u))):
-            raise IntegrationError(message)
-        try:
-            with np.errstate(over="ignore", invalid="ignore"):
-                if fast.BACKEND == "numba":
-                    nu, udot = _rates_one(self.case, q, u, self.cp, self.ep)
-                else:
-                    M, f, nu = np.empty((12, 12)), np.empty(12), np.empty(12)
-                    _eom(self.case, q, u, self.cp, self.ep, M, f, nu)
-                    udot = np.linalg.solve(M, f)
-        except np.linalg.LinAlgError:
-            raise IntegrationError(message) from None
-        return (u if self.case == 3 else nu), udot
-
-
-@jitable
-def exp_mul(q, phi):
-    """``q (x) Exp(phi)`` for a unit quaternion ``q`` (w, x, y, z) and a rotation vector ``phi`` (body)."""
-    th2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
-    if th2 < 1e-8:
-        w, k = 1 - th2 / 8 + th2 * th2 / 384, 0.5 - th2 / 48 + th2 * th2 / 3840
-    else:
-        th = np.sqrt(th2)
-        w, k = np.cos(th / 2), np.sin(th / 2) / th
-    x, y, z = k * phi[0], k * phi[1], k * phi[2]
-    return (q[0] * w - q[1] * x - q[2] * y - q[3] * z, q[0] * x + q[1] * w + q[2] * z - q[3] * y,
-            q[0] * y - q[1] * z + q[2] * w + q[3] * x, q[0] * z + q[1] * y - q[2] * x + q[3] * w)
-
-
-@jitable
-def so3_dexpinv(phi, w):
-    """``J_r^-1(phi) w`` (see :func:`relacc.dynamics.integrate.so3_dexpinv_body`)."""
-    th2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
-    if th2 < 1e-4:
-        beta = 1 / 12 + th2 / 720 + th2 * th2 / 30240
-    else:
-        th = np.sqrt(th2)
-        beta = 1 / th2 - (1 + np.cos(th)) / (2 * th * np.sin(th))
-    c = cross(phi[0], phi[1], phi[2], w[0], w[1], w[2])
-    cc = cross(phi[0], phi[1], phi[2], c[0], c[1], c[2])
-    return w[0] + 0.5 * c[0] + beta * cc[0], w[1] + 0.5 * c[1] + beta * cc[1], w[2] + 0.5 * c[2] + beta * cc[2]
-
-
-if HAVE_NUMBA:
-
-    @numba.njit(cache=True)
-    def integrate_q14(q, delta):  # pragma: no cover - compiled
-        out = q.copy()
-        for k in range(3):
-            out[k] += delta[k]
-            out[7 + k] += delta[6 + k]
-        out[3:7] = exp_mul(q[3:7], delta[3:6])
-        out[10:14] = exp_mul(q[10:14], delta[9:12])
-        return out
-
-    @numba.njit(cache=True)
-    def dexpinv_q14(delta, w):  # pragma: no cover - compiled
-        out = w.copy()
-        out[3:6] = so3_dexpinv(delta[3:6], w[3:6])
-        out[9:12] = so3_dexpinv(delta[9:12], w[9:12])
-        return out
+        with np.errstate(all="ignore"):
+            w, a = rates_one(self.case, np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(u, dtype=float),
+                             self.cp, self.ep)
+        if not (np.all(np.isfinite(w)) and np.all(np.isfinite(a))):
+            raise IntegrationError("the integration diverged: the state or its rates became non-finite; reduce "
+                                   "the step (or, near case-3 gimbal lock, use quaternion coordinates)")
+        return w, a

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import itertools
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,14 +34,14 @@ from relacc.core.scales import term_scales
 from relacc.core.speeds import to_body_speeds
 from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
 from relacc.dynamics.integrate import stepper
-from relacc.dynamics.steps import march, recorded_steps
+from relacc.dynamics.steps import BLOCK, blocks, recorded_steps
 from relacc.engines import load_engine
 from relacc.errors import EngineError
 from relacc.limits import require_memory
 from relacc.simulate.scenes import SIM_ENGINES, Scene
 from relacc.simulate.trajectory import Track, Trajectory
 
-RECORD_BLOCK = 512
+RECORD_BLOCK = BLOCK
 """Records per block: the engines advance, are compared and are written this many records at a time."""
 
 NOTE_CHECK_STATES = 40
@@ -130,18 +129,18 @@ def _observe_engine(engine, scene: Scene):
 
 
 class _Run:
-    """One engine's run in progress: its march over the recorded steps, its observation, its track."""
+    """One engine's run in progress: its blocks of records, its observation, its track."""
 
     def __init__(self, name, engine, scene: Scene, steps, keep, progress):
         integrator, accuracy = scene.integrator_for(name)
         if name == "relacc":
-            advance, x0, v0 = stepper(scene.fixture.chain, scene.case, scene.effects, scene.dt,
-                                      integrator), scene.q, scene.u
-            observe, applied = _observe_relacc(scene), {"equations": "Kane, " + (", ".join(
-                scene.effects.active()) or "no effects")}
+            integ, x0, v0 = stepper(scene.fixture.chain, scene.case, scene.effects, scene.dt,
+                                    integrator), scene.q, scene.u
+            observe, applied = _observe_relacc(scene), {"equations": "Newton-Euler per body (Kane's, solved), " + (
+                ", ".join(scene.effects.active()) or "no effects")}
         else:
             x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
-            advance = engine.stepper(scene.effects, scene.dt, integrator, accuracy)
+            integ = engine.stepper(scene.effects, scene.dt, integrator, accuracy)
             observe, applied = _observe_engine(engine, scene), engine.applied(scene.effects)
             if (integrator, accuracy) != (scene.integrator, None):
                 applied = {"integrator": integrator + ("" if accuracy is None else f", error-controlled to "
@@ -151,22 +150,16 @@ class _Run:
                                                         for i in range(v0.size)])
         self.track = Track(name, columns, applied, keep)
         self.observe = observe
-
-        def timed(x, v, k):
-            start = time.perf_counter()
-            try:
-                return advance(x, v, k)
-            finally:
-                self.track.seconds += time.perf_counter() - start
-
         cb = (lambda f: progress(name, f)) if progress else None
-        self.states = march(timed, x0, v0, steps, who=name, dt=scene.dt, integrator=integrator, progress=cb)
+        self.blocks = blocks(integ, x0, v0, steps, who=name, dt=scene.dt, integrator=integrator, progress=cb,
+                             size=RECORD_BLOCK)
 
-    def block(self, steps, dt) -> dict:
-        """The next ``len(steps)`` records, observed and added to the track."""
-        records = list(itertools.islice(self.states, len(steps)))
-        X, V = np.array([r[1] for r in records]), np.array([r[2] for r in records])
-        block = {"t": steps * dt, "q": X, "u": V, **self.observe(X, V)}
+    def block(self, dt) -> dict:
+        """The next block of records, observed and added to the track (its seconds: the integration alone)."""
+        start = time.perf_counter()
+        chunk, X, V = next(self.blocks)
+        self.track.seconds += time.perf_counter() - start
+        block = {"t": chunk * dt, "q": X, "u": V, **self.observe(X, V)}
         self.track.add(block)
         return block
 
@@ -205,13 +198,13 @@ def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=Non
         writers = {n: _csv_writer(handles[p], scene, runs[n].track) for n, p in zip(names, paths)}
         for start in range(0, len(steps), RECORD_BLOCK):
             chunk = steps[start:start + RECORD_BLOCK]
-            blocks = {n: r.block(chunk, scene.dt) for n, r in runs.items()}
-            _compare_pairs(blocks, pairs)
-            if "relacc" in blocks:
-                note_states += [(blocks["relacc"]["q"][j - start], blocks["relacc"]["u"][j - start])
+            blocks_ = {n: r.block(scene.dt) for n, r in runs.items()}
+            _compare_pairs(blocks_, pairs)
+            if "relacc" in blocks_:
+                note_states += [(blocks_["relacc"]["q"][j - start], blocks_["relacc"]["u"][j - start])
                                 for j in range(start, start + len(chunk)) if j in note_at]
             for n, w in writers.items():
-                b = blocks[n]
+                b = blocks_[n]
                 w.writerows(np.column_stack([b["t"], b["q"], b["u"], b["position"], b["velocity"],
                                              b["acceleration"], b["energy"]]).tolist())
     note = _note_check(scene, note_states, loaded) if note_states and loaded else {}
