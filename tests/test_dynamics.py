@@ -149,3 +149,12 @@ def test_effects_reject_bad_values():
                    {"ball_damping": [1, 2, 3]}, {"torque_B1": "up"}):
         with pytest.raises(relacc.InputError):
             Effects(**kwargs)
+
+
+def test_equations_of_motion_take_out_buffers(fixture):
+    """equations_of_motion(out=(M, f)) writes Kane's M and f into the caller's arrays and returns them."""
+    s = _states(1, 48, n=7)
+    M, f = dynamics.equations_of_motion(fixture.chain, 1, s.q, s.u, ALL)
+    out = (np.empty((7, 12, 12)), np.empty((7, 12)))
+    Mo, fo = dynamics.equations_of_motion(fixture.chain, 1, s.q, s.u, ALL, out=out)
+    assert Mo is out[0] and fo is out[1] and np.array_equal(Mo, M) and np.array_equal(fo, f)

@@ -120,3 +120,29 @@ def test_stream_memory_is_bounded_by_the_chunk(chain, tmp_path):
     small, large = peak(100_000), peak(400_000)
     per_chunk = 20_000 * (14 + 12 + 12 + 3) * 8
     assert large <= 1.2 * small + 1e6 and large <= 3 * per_chunk, (small, large, per_chunk)
+
+
+def test_out_buffers_give_the_same_numbers_without_new_outputs(chain, case):
+    """g2_kinematics(out=...) and g2_acceleration(out=...) write the same bits into the caller's arrays."""
+    s = random_states(case, 300, seed_for(case, 38))
+    k = relacc.g2_kinematics(chain, case, s.q, s.u, s.udot)
+    out = (np.empty((300, 3)), np.empty((300, 3)), np.empty((300, 3)), np.empty((300, 3, 12)), np.empty((300, 3, 12)))
+    again = relacc.g2_kinematics(chain, case, s.q, s.u, s.udot, out=out)
+    for name, buf in zip(FIELDS, out):
+        assert getattr(again, name) is buf and np.array_equal(buf, getattr(k, name)) and buf.flags.writeable
+    acc = np.empty((300, 3))
+    assert relacc.g2_acceleration(chain, case, s.q, s.u, s.udot, out=acc) is acc
+    assert np.array_equal(acc, k.acceleration)
+    with pytest.raises(relacc.InputError, match="out V: expected a writable C-contiguous float64 array"):
+        relacc.g2_kinematics(chain, case, s.q, s.u, s.udot, out=out[:3] + (np.empty((300, 12, 3)), out[4]))
+
+
+def test_stream_reuses_its_buffers(chain):
+    """reuse=True writes every chunk into the same arrays and gives the same numbers chunk by chunk."""
+    s = random_states(2, 1000, seed_for(2, 39))
+    whole = relacc.g2_kinematics(chain, 2, s.q, s.u, s.udot)
+    seen = set()
+    for states, k in iter_g2_kinematics(chain, 2, s.q, s.u, s.udot, chunk_size=300, reuse=True):
+        assert np.array_equal(k.V, whole.V[states])
+        seen.add(k.V.__array_interface__["data"][0])
+    assert len(seen) == 1  # one buffer for all four chunks (the last a view of it)

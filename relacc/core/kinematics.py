@@ -5,7 +5,7 @@ Entry point: :func:`g2_kinematics`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -47,8 +47,12 @@ class G2Kinematics:
     Vdot: np.ndarray
     case: Case
     variant: str
+    owns: bool = field(default=True, repr=False)
+    """False when the arrays are the caller's ``out`` buffers: then they stay writable, for reuse."""
 
     def __post_init__(self):
+        if not self.owns:
+            return
         for name in ("position", "velocity", "acceleration", "V", "Vdot"):
             value = getattr(self, name)
             if isinstance(value, np.ndarray):
@@ -165,7 +169,7 @@ def _flat(a, batch, width):
     return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width), dtype=np.float64)
 
 
-def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend="auto") -> G2Kinematics:
+def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend="auto", out=None) -> G2Kinematics:
     """Position, velocity, acceleration, V and Vdot of G2 by the note's formulas.
 
     Args:
@@ -184,6 +188,11 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend=
             for the corrected variant on real inputs, else the reference),
             ``"fast"`` or ``"reference"`` (the note's formulas one by one, as
             labelled in :mod:`relacc.core.note`; the two agree to a few ulps).
+        out: numpy's ``out`` convention: ``(position, velocity, acceleration, V, Vdot)``,
+            writable C-contiguous float64 arrays of shapes ``batch + (3,)`` (three times) and
+            ``batch + (3, 12)`` (twice), ``acceleration`` None when ``udot`` is; the results are
+            written there (no new output memory) and the returned :class:`G2Kinematics` holds
+            them, still writable for the next call.
 
     Batch dimensions of ``q``, ``u`` and ``udot`` broadcast against each
     other. Complex inputs are accepted (every formula is analytic), which the
@@ -198,35 +207,65 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend=
         CaseError: unknown case. VariantError: unknown variant.
     """
     printed = resolve_variant(variant)
-    c, q, u, udot, path, batch = _inputs(chain, case, q, u, udot, printed, backend)
+    c, q, u, udot, path, batch = _inputs(chain, case, q, u, udot, printed, backend, out=out)
+    buffers = _kinematics_out(out, batch, udot is not None)
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an InputError
         if path == "fast":
             flat = [_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), None if udot is None else _flat(udot, batch, 12)]
-            (pos, vel, acc, V, Vdot), bad, bad_in = _kernels().kinematics(int(c), *flat, chain.q2, chain.r2)
+            views = None if buffers is None else tuple(
+                None if b is None else b.reshape((-1,) + b.shape[len(batch):]) for b in buffers)
+            (pos, vel, acc, V, Vdot), bad, bad_in = _kernels().kinematics(int(c), *flat, chain.q2, chain.r2,
+                                                                          out=views)
             if bad_in:
                 check_values(c, q, u, udot)  # raises, naming the bad entry
             if bad:
                 check_finite_result((pos, vel, acc, V, Vdot), q, u, udot)
+            if buffers is not None:
+                return G2Kinematics(*buffers, c, _variant_label(variant, printed), owns=False)
             shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
             return G2Kinematics(shape(pos, (3,)), shape(vel, (3,)), None if acc is None else shape(acc, (3,)),
                                 shape(V, (3, 12)), shape(Vdot, (3, 12)), c, _variant_label(variant, printed))
-        return _evaluate(chain, c, q, u, udot, printed, batch, variant)
+        k = _evaluate(chain, c, q, u, udot, printed, batch, variant)
+    if buffers is None:
+        return k
+    for target, name in zip(buffers, ("position", "velocity", "acceleration", "V", "Vdot")):
+        if target is not None:
+            target[...] = getattr(k, name)
+    return G2Kinematics(*buffers, c, k.variant, owns=False)
 
 
-def g2_acceleration(chain, case, q, u, udot, *, backend="auto"):
+def _kinematics_out(out, batch, with_acc):
+    """Check ``g2_kinematics``'s ``out`` (None, or 5 buffers of the batch's shapes)."""
+    if out is None:
+        return None
+    if not isinstance(out, (tuple, list)) or len(out) != 5:
+        raise InputError("out: expected (position, velocity, acceleration, V, Vdot) arrays (acceleration None "
+                         f"without udot), got {type(out).__name__}")
+    names = ("position", "velocity", "acceleration", "V", "Vdot")
+    tails = ((3,), (3,), (3,), (3, 12), (3, 12))
+    if (out[2] is None) == with_acc:
+        raise InputError("out: give an acceleration buffer exactly when udot is given")
+    return tuple(None if (name == "acceleration" and not with_acc) else check_out(b, batch + tail, f"out {name}")
+                 for b, name, tail in zip(out, names, tails))
+
+
+def g2_acceleration(chain, case, q, u, udot, *, backend="auto", out=None):
     """G2's classical acceleration alone (corrected formulas), the fastest path.
 
-    Same arguments and checks as :func:`g2_kinematics`, without V, Vdot.
+    Same arguments and checks as :func:`g2_kinematics`, without V, Vdot; ``out``:
+    a writable C-contiguous float64 ``batch + (3,)`` array to write into (returned).
 
     Returns:
         ``(..., 3)`` acceleration of G2 in R (second time derivative of its
         position), fixed-frame components, m/s^2.
     """
-    c, q, u, udot, path, batch = _inputs(chain, case, q, u, udot, frozenset(), backend, need_udot=True)
+    c, q, u, udot, path, batch = _inputs(chain, case, q, u, udot, frozenset(), backend, need_udot=True, out=out)
+    out = check_out(out, batch + (3,), "out")
     with np.errstate(over="ignore", invalid="ignore"):
         if path == "fast":
             flat = (_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), _flat(udot, batch, 12))
-            acc, bad, bad_in = _kernels().acceleration(int(c), *flat, chain.q2, chain.r2)
+            acc, bad, bad_in = _kernels().acceleration(int(c), *flat, chain.q2, chain.r2,
+                                                       out=None if out is None else out.reshape(-1, 3))
             if bad_in:
                 check_values(c, q, u, udot)  # raises, naming the bad entry
             acc = acc.reshape(batch + (3,))
@@ -234,12 +273,17 @@ def g2_acceleration(chain, case, q, u, udot, *, backend="auto"):
                 check_finite_result((acc,), q, u, udot)
         else:
             acc = _evaluate(chain, c, q, u, udot, frozenset(), batch, "corrected").acceleration
+            if out is not None:
+                out[...] = acc
+                acc = out
+    if out is not None:
+        return out
     if isinstance(acc, np.ndarray):
         acc.setflags(write=False)
     return acc
 
 
-def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False):
+def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False, out=None):
     """The checks both entry points share: ``(case, q, u, udot, path, batch)``.
 
     Types and shapes here; values (finite, unit quaternions) here on the
@@ -263,6 +307,8 @@ def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False):
             f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes"
         ) from None
     per_state = (41 if need_udot else 120) * (1 if path == "fast" else 20)  # doubles: outputs, copies, temporaries
+    if out is not None and path == "fast":
+        per_state = 38  # the outputs are the caller's: only the inputs' contiguous copies, at most
     require_memory(8 * per_state * float(np.prod(batch)), f"evaluating {int(np.prod(batch))} states at once",
                    "stream them with relacc.core.stream.iter_g2_kinematics")
     return c, q, u, udot, path, batch

@@ -27,7 +27,7 @@ CHUNK_SIZE = 65_536
 
 def iter_g2_kinematics(chain, case, q, u, udot=None, *, chunk_size: int = CHUNK_SIZE,
                        acceleration_only: bool = False, variant="corrected",
-                       backend="auto") -> Iterator[tuple[slice, object]]:
+                       backend="auto", reuse: bool = False) -> Iterator[tuple[slice, object]]:
     """Yield ``(states, result)`` for consecutive chunks of a long batch.
 
     Args:
@@ -38,6 +38,10 @@ def iter_g2_kinematics(chain, case, q, u, udot=None, *, chunk_size: int = CHUNK_
         acceleration_only: yield the ``(n, 3)`` acceleration of
             :func:`relacc.g2_acceleration` instead of a :class:`relacc.G2Kinematics`
             (needs ``udot``).
+        reuse: write every chunk's results into the same buffers (``out=``): no new
+            output memory after the first chunk, so none to touch for the first
+            time; each yielded result is then overwritten by the next chunk's
+            (copy what you keep). The last chunk, shorter, gets views of them.
 
     Yields:
         ``states``: the slice of the batch a chunk covers; ``result``: its
@@ -58,15 +62,23 @@ def iter_g2_kinematics(chain, case, q, u, udot=None, *, chunk_size: int = CHUNK_
         raise InputError(f"q, u and udot must have the same number of states, got {[a.shape[0] for a in arrays]}")
     if acceleration_only and udot is None:
         raise InputError("acceleration_only needs udot")
+    buffers = None
+    if reuse:
+        m = min(chunk_size, n)
+        buffers = (np.empty((m, 3)),) if acceleration_only else (
+            np.empty((m, 3)), np.empty((m, 3)), None if udot is None else np.empty((m, 3)), np.empty((m, 3, 12)),
+            np.empty((m, 3, 12)))
     for start in range(0, n, chunk_size):
         states = slice(start, min(start + chunk_size, n))
         qc, uc = np.asarray(q[states]), np.asarray(u[states])
         dc = None if udot is None else np.asarray(udot[states])
+        k = states.stop - states.start
+        out = None if buffers is None else tuple(None if b is None else b[:k] for b in buffers)
         try:
             if acceleration_only:
-                result = g2_acceleration(chain, case, qc, uc, dc, backend=backend)
+                result = g2_acceleration(chain, case, qc, uc, dc, backend=backend, out=None if out is None else out[0])
             else:
-                result = g2_kinematics(chain, case, qc, uc, dc, variant=variant, backend=backend)
+                result = g2_kinematics(chain, case, qc, uc, dc, variant=variant, backend=backend, out=out)
         except RelaccError:
             try:  # name the bad state by its index in the whole batch, not in the chunk
                 check_values(case, qc, uc, dc, offset=states.start)

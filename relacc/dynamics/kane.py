@@ -129,7 +129,7 @@ def generalized_forces(chain, case, q, u, effects: Effects, bp: BodyPartials | N
     return Q
 
 
-def equations_of_motion(chain, case, q, u, effects: Effects = NONE):
+def equations_of_motion(chain, case, q, u, effects: Effects = NONE, *, out=None):
     """Kane's equations ``[M] udot = {f}`` of the chain in a case's speeds.
 
     Args:
@@ -142,8 +142,12 @@ def equations_of_motion(chain, case, q, u, effects: Effects = NONE):
         lock in case 3; kg, kg m, kg m^2 blocks) and ``f`` ``(..., 12)``
         (N and N m per unit speed).
 
+    Args:
+        out: numpy's ``out`` convention: ``(M, f)`` writable C-contiguous float64 arrays
+            ``batch + (12, 12)`` and ``batch + (12,)`` to write into; returned.
+
     Raises:
-        InputError: as :func:`relacc.g2_kinematics`; effects not an Effects.
+        InputError: as :func:`relacc.g2_kinematics`; effects not an Effects; a bad ``out``.
     """
     if not isinstance(chain, TwoBodyChain):
         raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
@@ -161,7 +165,14 @@ def equations_of_motion(chain, case, q, u, effects: Effects = NONE):
         w = mv(Om, u)
         f = f - mv(T(Om), mv(I, mv(Omd, u)) + np.cross(w, mv(I, w)))
     check_finite_result((M, f), q, u)
-    return M, f
+    if out is None:
+        return M, f
+    if not isinstance(out, (tuple, list)) or len(out) != 2:
+        raise InputError(f"out: expected (M, f) arrays, got {type(out).__name__}")
+    Mo = check_out(out[0], M.shape, "out M")
+    fo = check_out(out[1], f.shape, "out f")
+    Mo[...], fo[...] = M, f
+    return Mo, fo
 
 
 def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = "auto", out=None):

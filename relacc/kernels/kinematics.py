@@ -137,8 +137,8 @@ if HAVE_NUMBA:
         return bad, bad_in
 
 
-def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None):
-    """G2's classical acceleration for validated, C-contiguous float64 ``(n, .)`` inputs.
+def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None, out=None):
+    """G2's classical acceleration for validated, C-contiguous float64 ``(n, .)`` inputs (into ``out`` if given).
 
     Returns:
         ``(acceleration, n_nonfinite, n_bad_inputs)``: ``(n, 3)`` fixed
@@ -149,15 +149,18 @@ def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None):
         when a count is non-zero.
     """
     if (backend or BACKEND) == "numba":
-        out = np.empty((q.shape[0], 3))
+        out = np.empty((q.shape[0], 3)) if out is None else out
         bad, bad_in = _acc_loop(int(case), q, u, udot, q2p, r2p, out)
         return out, bad, bad_in
-    out = np.stack(acceleration_of(int(case), q.T, u.T, udot.T, q2p, r2p, _numpy_trig(int(case), q.T)), -1)
-    return out, int(np.count_nonzero(~np.isfinite(out))), _numpy_bad_inputs(int(case), q, u, udot)
+    acc = np.stack(acceleration_of(int(case), q.T, u.T, udot.T, q2p, r2p, _numpy_trig(int(case), q.T)), -1)
+    if out is not None:
+        out[...] = acc
+        acc = out
+    return acc, int(np.count_nonzero(~np.isfinite(acc))), _numpy_bad_inputs(int(case), q, u, udot)
 
 
-def kinematics(case: int, q, u, udot, q2p, r2p, backend: str | None = None):
-    """All outputs for validated, C-contiguous float64 ``(n, .)`` inputs.
+def kinematics(case: int, q, u, udot, q2p, r2p, backend: str | None = None, out=None):
+    """All outputs for validated, C-contiguous float64 ``(n, .)`` inputs (into the 5 arrays ``out`` if given).
 
     Returns:
         ``((position, velocity, acceleration or None, V, Vdot), n_nonfinite, n_bad_inputs)``:
@@ -169,13 +172,21 @@ def kinematics(case: int, q, u, udot, q2p, r2p, backend: str | None = None):
     with_acc = udot is not None
     d = udot if with_acc else np.zeros((n, 12))
     if (backend or BACKEND) == "numba":
-        pos, vel, acc = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
-        V, Vd = np.empty((n, 3, 12)), np.empty((n, 3, 12))
-        bad, bad_in = _full_loop(int(case), q, u, d, q2p, r2p, pos, vel, acc, V, Vd, with_acc)
+        if out is None:
+            out = (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)) if with_acc else None, np.empty((n, 3, 12)),
+                   np.empty((n, 3, 12)))
+        pos, vel, acc, V, Vd = out
+        bad, bad_in = _full_loop(int(case), q, u, d, q2p, r2p, pos, vel, acc if with_acc else np.empty((1, 3)),
+                                 V, Vd, with_acc)
         return (pos, vel, (acc if with_acc else None), V, Vd), bad, bad_in
-    out = _numpy_kinematics(int(case), q, u, d, q2p, r2p, with_acc)
-    bad = sum(int(np.count_nonzero(~np.isfinite(a))) for a in out if a is not None)
-    return out, bad, _numpy_bad_inputs(int(case), q, u, d)
+    result = _numpy_kinematics(int(case), q, u, d, q2p, r2p, with_acc)
+    if out is not None:
+        for target, value in zip(out, result):
+            if value is not None:
+                target[...] = value
+        result = tuple(out[k] if result[k] is not None else None for k in range(5))
+    bad = sum(int(np.count_nonzero(~np.isfinite(a))) for a in result if a is not None)
+    return result, bad, _numpy_bad_inputs(int(case), q, u, d)
 
 
 def _numpy_trig(case, qT):
