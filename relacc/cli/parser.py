@@ -232,7 +232,8 @@ def build_parser() -> argparse.ArgumentParser:
              "engine it lists and compare G2 along the runs. SCENE is a TOML file or the name of a shipped "
              "scene.",
              ["relacc simulate tumbling", "relacc simulate my_scene.toml --out runs/ --json",
-              "relacc simulate gimbal_spin --engines relacc,mujoco --dt 1e-4"])
+              "relacc simulate gimbal_spin --engines relacc,mujoco --dt 1e-4",
+              "relacc simulate tumbling --ensemble 1000 --spread 0.05 --engines relacc,mujoco"])
     p.add_argument("scene", metavar="SCENE", help="scene TOML file, or a shipped scene's name")
     p.add_argument("--out", metavar="DIR", help="a new directory for one CSV per engine")
     _json(p, "the summary")
@@ -241,6 +242,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--dt", type=_positive_float(), help="override the scene's time step (s)")
     p.add_argument("--duration", type=_positive_float(), help="override the scene's duration (s)")
     p.add_argument("--integrator", choices=INTEGRATOR_NAMES, help="override the scene's integrator")
+    p.add_argument("--ensemble", type=_int_in(1, 10**7), metavar="N",
+                   help="run N members from perturbed initial states (member 0: the scene's own) on every engine's "
+                        "batched API, and report steps per second and the largest G2 difference per member")
+    p.add_argument("--spread", type=_positive_float(), default=0.05,
+                   help="size of the perturbations (m, rad, m/s, rad/s; default 0.05)")
+    _seed(p)
     _quiet(p)
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",

@@ -1,0 +1,306 @@
+"""Ensembles: one scene from many initial states, on relacc and the engines' batched APIs.
+
+* ``relacc``: the compiled integrators of :mod:`relacc.kernels.dynamics`, in
+  parallel over the members (numba's threads), each member's steps in one
+  compiled loop;
+* ``mujoco``: ``mujoco.rollout`` (MuJoCo's own threaded rollouts, one
+  ``MjData`` per thread), the scene's forces as ``xfrc_applied`` controls;
+* ``pinocchio``: RKMK4 on Pinocchio's manifold with every stage's accelerations
+  from ``pin.abaInParallel`` over the members (the manifold steps,
+  ``pin.integrate``/``pin.dIntegrate``, per member);
+* any other engine (Drake): its own stepper, member after member.
+
+Records follow the one recording rule (:func:`relacc.dynamics.steps.recorded_steps`):
+``t = 0``, every ``record_every``-th step, ``t = duration``. G2's position,
+velocity and classical acceleration at every record are computed afterwards,
+in batches, by each engine (relacc: its formulas).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from relacc.core.cases import check_int, check_q, check_u
+from relacc.core.kinematics import g2_kinematics
+from relacc.core.rotations import quaternion_exp, quaternion_multiply
+from relacc.dynamics.steps import recorded_steps
+from relacc.errors import EngineError, IntegrationError
+from relacc.limits import require_memory
+from relacc.simulate.scenes import SIM_ENGINES, Scene
+
+
+@dataclass(frozen=True, eq=False)
+class Ensemble:
+    """An ensemble's run on one engine.
+
+    Attributes:
+        engine: who ran it. t: ``(m,)`` s.
+        q, u: ``(N, m, nq)``, ``(N, m, 12)``: the members' states in the scene's case coordinates
+            (relacc) or the engine's own (``columns`` say which).
+        position, velocity, acceleration: ``(N, m, 3)``: G2 in R, fixed components (m, m/s, m/s^2;
+            classical acceleration).
+        seconds: wall time of the integration alone; steps: ``N x n_steps``.
+        threads: threads the integration used.
+    """
+
+    engine: str
+    t: np.ndarray
+    q: np.ndarray = field(repr=False)
+    u: np.ndarray = field(repr=False)
+    position: np.ndarray = field(repr=False)
+    velocity: np.ndarray = field(repr=False)
+    acceleration: np.ndarray = field(repr=False)
+    seconds: float
+    steps: int
+    threads: int
+
+    @property
+    def steps_per_second(self) -> float:
+        return self.steps / self.seconds if self.seconds > 0 else float("inf")
+
+
+def perturbed(scene: Scene, n: int, spread: float, seed: int):
+    """``(q0 (n, nq), u0 (n, 12))``: the scene's initial state and ``n - 1`` perturbations of it.
+
+    Member 0 is the scene's own state. The others: positions and angles plus
+    ``spread`` times standard normals (m, rad), quaternions turned by rotation
+    vectors of that size (they stay unit), speeds plus ``spread`` times standard
+    normals (m/s, rad/s); ``numpy.random.default_rng(seed)``.
+    """
+    n = check_int("ensemble size", n, minimum=1)
+    if not (isinstance(spread, (int, float)) and np.isfinite(spread) and spread >= 0):
+        raise EngineError(f"spread: expected a finite number >= 0, got {spread!r}")
+    rng = np.random.default_rng(seed)
+    q0 = np.repeat(scene.q[None].astype(float), n, axis=0)
+    u0 = np.repeat(scene.u[None].astype(float), n, axis=0)
+    if n > 1:
+        m = n - 1
+        if scene.case == 3:
+            q0[1:] += spread * rng.normal(size=(m, 12))
+        else:
+            for sl in (slice(0, 3), slice(7, 10)):
+                q0[1:, sl] += spread * rng.normal(size=(m, 3))
+            for sl in (slice(3, 7), slice(10, 14)):
+                q0[1:, sl] = quaternion_multiply(q0[1:, sl], quaternion_exp(spread * rng.normal(size=(m, 3))))
+        u0[1:] += spread * rng.normal(size=(m, 12))
+    return check_q(scene.case, q0), check_u("u0", u0)
+
+
+def ensemble(scene: Scene, q0, u0, *, engine: str = "relacc", threads: int | None = None) -> Ensemble:
+    """Run the scene from every initial state ``q0 (N, nq)``, ``u0 (N, 12)`` (its case's coordinates) on one engine.
+
+    Args:
+        threads: threads for relacc, MuJoCo and Pinocchio (default: numba's, i.e. the cores).
+
+    Raises:
+        EngineError: an unknown engine or an integrator it lacks. IntegrationError: a member diverged
+            (which one, and when). InputError: bad initial states; a request that cannot fit in memory.
+    """
+    if engine not in SIM_ENGINES:
+        raise EngineError(f"unknown engine {engine!r}: accepted are {', '.join(SIM_ENGINES)}")
+    q0, u0 = check_q(scene.case, q0), check_u("u0", u0)
+    if q0.ndim != 2 or u0.ndim != 2 or len(q0) != len(u0):
+        raise EngineError(f"q0 and u0 must be (N, nq) and (N, 12) with the same N, got {q0.shape}, {u0.shape}")
+    steps = recorded_steps(scene.n_steps, scene.record_every)
+    n, m = len(q0), len(steps)
+    require_memory(8.0 * n * m * (q0.shape[1] + 12 + 9) * 2, f"an ensemble of {n} members x {m} records",
+                   "use record_every > 1, or fewer members per call")
+    if threads is None:
+        from relacc.kernels.jit import numba
+
+        threads = numba.get_num_threads() if numba is not None else 1
+    threads = check_int("threads", threads, minimum=1)
+    runner = {"relacc": _relacc, "mujoco": _mujoco, "pinocchio": _pinocchio}.get(engine, _one_by_one)
+    return runner(scene, q0.astype(float), u0.astype(float), steps, threads, engine)
+
+
+def _gaps(steps):
+    return np.diff(np.concatenate([[0], steps])).astype(np.int64)
+
+
+def _relacc(scene, q0, u0, steps, threads, _):
+    from relacc.dynamics import accelerations
+    from relacc.kernels import dynamics as kernel
+    from relacc.kernels.jit import numba
+
+    integrator, _ = scene.integrator_for("relacc")
+    if integrator not in kernel.INTEGRATORS:
+        raise EngineError(f"relacc integrators: {', '.join(kernel.INTEGRATORS)}; got {integrator!r}")
+    n, m = len(q0), len(steps)
+    Q, U, done = np.empty((n, m, q0.shape[1])), np.empty((n, m, 12)), np.empty(n, dtype=np.int64)
+    chain, case = scene.fixture.chain, scene.case
+    args = (int(case), kernel.INTEGRATORS[integrator], q0, u0, float(scene.dt), _gaps(steps),
+            kernel.chain_params(chain), kernel.effect_params(scene.effects), Q, U, done)
+    before = numba.get_num_threads() if numba is not None else 1
+    if numba is not None:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        start = time.perf_counter()
+        with np.errstate(all="ignore"):
+            kernel.ensemble(*args)
+        seconds = time.perf_counter() - start
+    finally:
+        if numba is not None:
+            numba.set_num_threads(before)
+    _check_done(done, m, steps, scene, "relacc")
+    flat_q, flat_u = Q.reshape(n * m, -1), U.reshape(n * m, 12)
+    k = g2_kinematics(chain, case, flat_q, flat_u, accelerations(chain, case, flat_q, flat_u, scene.effects))
+    return Ensemble("relacc", steps * scene.dt, Q, U, *(getattr(k, a).reshape(n, m, 3) for a in
+                                                        ("position", "velocity", "acceleration")),
+                    seconds, n * int(steps[-1]), threads)
+
+
+def _check_done(done, m, steps, scene, who):
+    bad = np.flatnonzero(done < m)
+    if bad.size:
+        i, j = int(bad[0]), int(done[bad[0]])
+        raise IntegrationError(f"{who}: member {i} diverged between t = {steps[j - 1] * scene.dt if j else 0:.6g} s "
+                               f"and t = {steps[j] * scene.dt:.6g} s (dt = {scene.dt} s); reduce the step")
+
+
+def _engine_states(engine, scene, q0, u0):
+    from relacc.core.cases import as_case
+
+    x = engine.engine_input("quaternion", as_case(scene.case), q0, u0, None)
+    return np.ascontiguousarray(x.q), np.ascontiguousarray(x.v)
+
+
+def _observed(engine_name, engine, scene, Q, V, steps, seconds, threads):
+    """G2 at every record of an engine's ensemble, by the engine itself (its own forward dynamics)."""
+    n, m = Q.shape[:2]
+    flat_q, flat_v = Q.reshape(n * m, -1), V.reshape(n * m, -1)
+    pts = engine.points("quaternion", flat_q, flat_v, engine.forward_dynamics(flat_q, flat_v, scene.effects))
+    velocity = np.einsum("nij,nj->ni", pts.J, flat_v)
+    return Ensemble(engine_name, steps * scene.dt, Q, V, pts.position.reshape(n, m, 3), velocity.reshape(n, m, 3),
+                    pts.acceleration.reshape(n, m, 3), seconds, n * int(steps[-1]), threads)
+
+
+def _mujoco(scene, q0, u0, steps, threads, name):
+    import mujoco
+    from mujoco import rollout
+
+    from relacc.engines import load_engine
+
+    engine = load_engine("mujoco", scene.fixture)
+    engine.stepper(scene.effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
+    model, data0 = engine.routes["quaternion"].model, engine.routes["quaternion"].data
+    qpos, qvel = _engine_states(engine, scene, q0, u0)
+    n, m = len(q0), len(steps)
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    state = np.zeros((n, mujoco.mj_stateSize(model, spec)))
+    state[:, 1:1 + model.nq], state[:, 1 + model.nq:1 + model.nq + model.nv] = qpos, qvel
+    xfrc = data0.xfrc_applied.ravel().copy()[None, None]  # the scene's forces and torques, every step
+    datas = [mujoco.MjData(model) for _ in range(threads)]
+    Q, V = np.empty((n, m, model.nq)), np.empty((n, m, model.nv))
+    Q[:, 0], V[:, 0] = qpos, qvel
+    seconds, j, nq, nv = 0.0, 1, model.nq, model.nv
+    while j < m:  # one rollout call per block of records spanning at most ROLLOUT_STEPS steps
+        k = j
+        while k + 1 < m and steps[k + 1] - steps[j - 1] <= ROLLOUT_STEPS:
+            k += 1
+        nstep = int(steps[k] - steps[j - 1])
+        start = time.perf_counter()
+        out, _ = rollout.rollout(model, datas, state, xfrc, control_spec=mujoco.mjtState.mjSTATE_XFRC_APPLIED,
+                                 nstep=nstep)
+        seconds += time.perf_counter() - start
+        rows = steps[j:k + 1] - steps[j - 1] - 1  # the state after that many steps is out[:, steps - 1]
+        Q[:, j:k + 1], V[:, j:k + 1] = out[:, rows, 1:1 + nq], out[:, rows, 1 + nq:1 + nq + nv]
+        if not (np.all(np.isfinite(Q[:, j:k + 1])) and np.all(np.isfinite(V[:, j:k + 1]))):
+            finite = np.all(np.isfinite(Q[:, j:k + 1]), axis=2) & np.all(np.isfinite(V[:, j:k + 1]), axis=2)
+            _check_done(np.where(finite.all(axis=1), m, j + np.argmin(finite, axis=1)), m, steps, scene, "mujoco")
+        state, j = out[:, -1], k + 1
+    return _observed("mujoco", engine, scene, Q, V, steps, seconds, threads)
+
+
+ROLLOUT_STEPS = 4096
+"""Steps per ``mujoco.rollout`` call: records are taken from the states it returns, every step's."""
+
+
+def _pinocchio(scene, q0, u0, steps, threads, name):
+    import pinocchio as pin
+
+    from relacc.engines import load_engine
+
+    if scene.integrator != "rk4":  # the batched path is RKMK4 (relacc.dynamics.integrate.rkmk4_step's tableau)
+        return _one_by_one(scene, q0, u0, steps, threads, name)
+    engine = load_engine("pinocchio", scene.fixture)
+    x0, v0 = _engine_states(engine, scene, q0, u0)
+    n, m = len(q0), len(steps)
+    dt, eff = scene.dt, scene.effects
+    Q, V = np.empty((n, m, x0.shape[1])), np.empty((n, m, v0.shape[1]))
+    Q[:, 0], V[:, 0] = x0, v0
+    x, v = x0.copy(), v0.copy()
+    seconds = 0.0
+    with engine.ode(eff) as (space, _):
+        model = space.model
+        pool = pin.ModelPool(model, threads)
+        res = np.zeros((model.nv, n), order="F")
+
+        def accel(xs, vs):
+            tau = np.array([engine.generalized_forces(xs[i], vs[i], eff) for i in range(n)]).T
+            pin.abaInParallel(threads, pool, np.asfortranarray(xs.T), np.asfortranarray(vs.T), np.asfortranarray(tau),
+                              res)
+            return res.T.copy()
+
+        def move(xs, ds):
+            return np.array([pin.integrate(model, xs[i], ds[i]) for i in range(n)])
+
+        def dexpinv(base, ds, ws):
+            return np.array([np.linalg.solve(pin.dIntegrate(model, base[i], ds[i], pin.ArgumentPosition.ARG1), ws[i])
+                             if np.any(ds[i]) else ws[i] for i in range(n)])
+
+        for j, gap in enumerate(_gaps(steps)[1:], start=1):
+            start = time.perf_counter()
+            for _ in range(int(gap)):
+                a1 = accel(x, v)
+                d2 = 0.5 * dt * v
+                x2, v2 = move(x, d2), v + 0.5 * dt * a1
+                a2 = accel(x2, v2)
+                k2 = dexpinv(x, d2, v2)
+                d3 = 0.5 * dt * k2
+                x3, v3 = move(x, d3), v + 0.5 * dt * a2
+                a3 = accel(x3, v3)
+                k3 = dexpinv(x, d3, v3)
+                d4 = dt * k3
+                x4, v4 = move(x, d4), v + dt * a3
+                a4 = accel(x4, v4)
+                k4 = dexpinv(x, d4, v4)
+                x, v = move(x, dt / 6 * (v + 2 * k2 + 2 * k3 + k4)), v + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+            seconds += time.perf_counter() - start
+            Q[:, j], V[:, j] = x, v
+            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+                _check_done(np.where(np.all(np.isfinite(x), axis=1), m, j), m, steps, scene, "pinocchio")
+    return _observed("pinocchio", engine, scene, Q, V, steps, seconds, threads)
+
+
+def _one_by_one(scene, q0, u0, steps, threads, name):
+    """Any engine's own stepper, member after member (one thread)."""
+    from relacc.dynamics.steps import blocks
+    from relacc.engines import load_engine
+
+    engine = load_engine(name, scene.fixture)
+    integrator, accuracy = scene.integrator_for(name)
+    x0, v0 = _engine_states(engine, scene, q0, u0)
+    n, m = len(q0), len(steps)
+    Q, V = np.empty((n, m, x0.shape[1])), np.empty((n, m, v0.shape[1]))
+    seconds = 0.0
+    for i in range(n):
+        stepper = engine.stepper(scene.effects, scene.dt, integrator, accuracy)
+        start = time.perf_counter()
+        at = 0
+        for chunk, X, Vb in blocks(stepper, x0[i], v0[i], steps, who=f"{name} member {i}", dt=scene.dt,
+                                   integrator=integrator):
+            Q[i, at:at + len(chunk)], V[i, at:at + len(chunk)] = X, Vb
+            at += len(chunk)
+        seconds += time.perf_counter() - start
+    return _observed(name, engine, scene, Q, V, steps, seconds, 1)
+
+
+def largest_differences(runs: dict) -> dict:
+    """``{"a-b": (N,) largest G2 position difference over the run per member, m}`` for every pair of engines."""
+    names = list(runs)
+    return {f"{a}-{b}": np.max(np.linalg.norm(runs[a].position - runs[b].position, axis=2), axis=1)
+            for i, a in enumerate(names) for b in names[i + 1:]}
