@@ -105,7 +105,9 @@ def stepper(chain, case, effects, dt: float, integrator: str):
     The forward dynamics of :mod:`relacc.kernels.dynamics` (Newton-Euler, block by block) under exactly
     ``effects``, integrated in the case's own coordinates by ``integrator`` (``rk4``: RKMK4 on SO(3) for
     cases 1-2, RK4 on the angles for case 3; ``euler``: semi-implicit Euler), in compiled loops over
-    steps and records: the same algorithms as :func:`rkmk4_step` and :func:`euler_step`.
+    steps and records: the same algorithms as :func:`rkmk4_step` and :func:`euler_step`. Making the
+    stepper loads the compiled loop (compiles it, the first time on a machine), so that what a run then
+    times is its integration.
 
     Raises:
         EngineError: an integrator relacc lacks.
@@ -131,7 +133,8 @@ def stepper(chain, case, effects, dt: float, integrator: str):
                                   float(dt), np.ascontiguousarray(gaps, dtype=np.int64), cp, ep, Q, U)
         return Q, U, n
 
-    return Stepper(advance, record)
+    record(np.zeros(14 if c != 3 else 12), np.zeros(12), np.zeros(0, dtype=np.int64))  # load (or compile) it now,
+    return Stepper(advance, record)  # so that a run's seconds are its integration's
 
 
 def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: float, atol: float,

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+from mujoco import rollout
 
 from relacc.dynamics.steps import Stepper
 from relacc.engines.base import (
@@ -208,11 +209,18 @@ class MujocoEngine(Engine):
             out[i] = d.qacc
         return out
 
+    ROLLOUT_STEPS = 4096
+
     INTEGRATORS = {"rk4": "mjINT_RK4", "euler": "mjINT_EULER", "implicit": "mjINT_IMPLICIT",
                    "implicitfast": "mjINT_IMPLICITFAST"}
 
     def stepper(self, effects, dt, integrator, accuracy=None):
-        """MuJoCo's own ``mj_step`` with ``opt.integrator`` and ``opt.timestep = dt``."""
+        """MuJoCo's own ``mj_step`` with ``opt.integrator`` and ``opt.timestep = dt``.
+
+        Blocks of records run through ``mujoco.rollout`` (MuJoCo's compiled step loop, the same
+        ``mj_step``; the scene's forces as ``xfrc_applied`` controls), with at most
+        :attr:`ROLLOUT_STEPS` steps per call; ``advance`` steps from Python.
+        """
         if integrator not in self.INTEGRATORS:
             raise EngineError(f"MuJoCo integrators: {', '.join(self.INTEGRATORS)}; got {integrator!r}")
         self.fixed_step_only("MuJoCo", accuracy)
@@ -229,7 +237,36 @@ class MujocoEngine(Engine):
                 mujoco.mj_step(m, d)
             return d.qpos.copy(), d.qvel.copy()
 
-        return Stepper(advance)
+        xfrc = d.xfrc_applied.ravel().copy()[None, None]
+        spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+        work = [mujoco.MjData(m)]
+
+        def record(x, v, gaps):
+            X, V = np.empty((len(gaps), m.nq)), np.empty((len(gaps), m.nv))
+            state = np.zeros((1, mujoco.mj_stateSize(m, spec)))
+            state[0, 1:1 + m.nq], state[0, 1 + m.nq:1 + m.nq + m.nv] = x, v
+            ends = np.cumsum(gaps)
+            j = 0
+            while j < len(gaps):
+                if gaps[j] == 0:  # a record of the state as it is
+                    X[j], V[j] = state[0, 1:1 + m.nq], state[0, 1 + m.nq:1 + m.nq + m.nv]
+                    j += 1
+                    continue
+                base = ends[j - 1] if j else 0
+                k = j
+                while k + 1 < len(gaps) and ends[k + 1] - base <= self.ROLLOUT_STEPS:
+                    k += 1
+                out, _ = rollout.rollout(m, work, state, xfrc, control_spec=mujoco.mjtState.mjSTATE_XFRC_APPLIED,
+                                         nstep=int(ends[k] - base))
+                rows = ends[j:k + 1] - base - 1
+                X[j:k + 1], V[j:k + 1] = out[0, rows, 1:1 + m.nq], out[0, rows, 1 + m.nq:1 + m.nq + m.nv]
+                finite = np.all(np.isfinite(X[j:k + 1]), axis=1) & np.all(np.isfinite(V[j:k + 1]), axis=1)
+                if not finite.all():
+                    return X, V, j + int(np.argmin(finite))
+                state, j = out[:, -1], k + 1
+            return X, V, len(gaps)
+
+        return Stepper(advance, record)
 
     def body_state(self, q, v):
         return np.array(q, dtype=float), np.array(v, dtype=float)  # qpos, qvel are Case 2's q and u

@@ -50,6 +50,7 @@ import numpy as np
 import pinocchio as pin
 
 from relacc.core.rotations import matrix_from_quaternion, quaternion_from_xyzw, quaternion_to_xyzw, tilde
+from relacc.dynamics.effects import Effects
 from relacc.dynamics.steps import Stepper
 from relacc.engines.base import (
     Engine,
@@ -62,6 +63,9 @@ from relacc.errors import EngineError, FixtureError
 from relacc.fixtures import Fixture
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+THREADS = 2
+"""Threads of Pinocchio's batched algorithms here (``abaInParallel``, ``rneaInParallel``)."""
 
 
 def split_composites(model: "pin.Model") -> "pin.Model":
@@ -238,16 +242,44 @@ class PinocchioEngine(Engine):
                     tau += pin.getFrameJacobian(m, d, m.getFrameId(name), LWA)[3:].T @ torque
         return tau
 
+    def generalized_forces_batch(self, q, v, effects):
+        """:meth:`generalized_forces` of a batch ``(n, nv)``: joint-level effects vectorized, the others per state."""
+        tau = np.zeros((q.shape[0], self.routes["quaternion"].model.nv))
+        if effects.spring_stiffness is not None:
+            tau[:, 6:9] -= effects.spring_stiffness * (q[:, 7:10] - effects.spring_rest)
+        if effects.spring_damping is not None:
+            tau[:, 6:9] -= effects.spring_damping * v[:, 6:9]
+        if effects.ball_damping is not None:
+            tau[:, 9:12] -= effects.ball_damping * v[:, 9:12]
+        if {"force_G2", "torque_B1", "torque_B2"} & set(effects.active()):
+            only = Effects(force_G2=effects.force_G2, torque_B1=effects.torque_B1, torque_B2=effects.torque_B2)
+            tau += np.array([self.generalized_forces(q[i], v[i], only) for i in range(q.shape[0])])
+        return tau
+
+    def _pool(self, model, threads: int):
+        """A ``pin.ModelPool`` of ``model`` as it is now (its gravity included), made once per gravity and threads."""
+        if getattr(self, "_pools", None) is None:
+            self._pools = {}
+        key = (threads, tuple(model.gravity.linear))
+        if key not in self._pools:
+            self._pools[key] = pin.ModelPool(model, threads)
+        return self._pools[key]
+
     def dynamics(self, q, v, effects):
+        """``M`` by ``crba`` per state; the bias by ``rneaInParallel`` over the batch (Pinocchio's batched API)."""
         d = self.routes["quaternion"].data
         with self._gravity(effects) as m:
             n, nv = q.shape[0], m.nv
-            M, f = np.empty((n, nv, nv)), np.empty((n, nv))
-            zero = np.zeros(nv)
+            M = np.empty((n, nv, nv))
             for i in range(n):
                 upper = pin.crba(m, d, q[i])
                 M[i] = np.triu(upper) + np.triu(upper, 1).T  # crba fills the upper triangle
-                f[i] = self.generalized_forces(q[i], v[i], effects) - pin.rnea(m, d, q[i], v[i], zero)
+            bias = np.zeros((nv, n), order="F")
+            pool = self._pool(m, THREADS)
+            pin.rneaInParallel(THREADS, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), np.zeros((nv, n),
+                                                                                                        order="F"),
+                               bias)
+            f = self.generalized_forces_batch(q, v, effects) - bias.T
         return M, f
 
     @contextmanager
@@ -274,8 +306,14 @@ class PinocchioEngine(Engine):
             yield PinocchioSpace(m), (lambda x, w: (w, pin.aba(m, d, x, w, self.generalized_forces(x, w, effects))))
 
     def forward_dynamics(self, q, v, effects):
-        with self.ode(effects) as (_, derivs):
-            return np.array([derivs(q[i], v[i])[1] for i in range(q.shape[0])])
+        """``aba`` over the batch by ``abaInParallel`` (Pinocchio's batched API), under exactly ``effects``."""
+        with self._gravity(effects) as m:
+            n = q.shape[0]
+            out = np.zeros((m.nv, n), order="F")
+            pool = self._pool(m, THREADS)
+            tau = np.asfortranarray(self.generalized_forces_batch(q, v, effects).T)
+            pin.abaInParallel(THREADS, pool, np.asfortranarray(q.T), np.asfortranarray(v.T), tau, out)
+        return out.T.copy()
 
     def stepper(self, effects, dt, integrator, accuracy=None):
         """RKMK4 (or semi-implicit Euler) on Pinocchio's manifold with ``pin.aba`` accelerations.
