@@ -145,6 +145,34 @@ def test_accelerations_raise_at_gimbal_lock(fixture):
     assert np.all(np.isfinite(relacc.dynamics.accelerations(fixture.chain, 3, q, np.ones(12))))
 
 
+@pytest.mark.parametrize("column,value,match", [
+    (5, 0.5, r"quat_B1 at batch index \(637,\) has squared norm"),
+    (0, np.nan, r"non-finite"),
+    (-1, np.inf, r"non-finite"),  # in u
+])
+def test_accelerations_check_every_state_in_the_kernel(fixture, column, value, match):
+    """The compiled path flags a bad state inside a large batch and the checks name it, as g2_kinematics does."""
+    from relacc.core.states import random_states
+
+    s = random_states(1, 1000, [7, 1])
+    q, u = s.q.copy(), s.u.copy()
+    (u if column < 0 else q)[637, column] = value
+    with pytest.raises(InputError, match=match):
+        relacc.dynamics.accelerations(fixture.chain, 1, q, u)
+    with pytest.raises(InputError, match=match):
+        relacc.dynamics.accelerations(fixture.chain, 1, q, u, backend="reference")
+
+
+def test_accelerations_flag_near_gimbal_lock_but_the_checks_decide(fixture):
+    """Condition 2/delta: 6.7e7 (flagged by the kernel, under MAX_CONDITION = 1e8) passes; 2e8 raises."""
+    q = np.zeros((3, 12))
+    q[1, 4] = np.pi / 2 - 3e-8
+    assert np.all(np.isfinite(relacc.dynamics.accelerations(fixture.chain, 3, q, np.zeros(12))))
+    q[2, 10] = -np.pi / 2 + 1e-8
+    with pytest.raises(relacc.SingularityError, match=r"theta_B2\[1\].*batch index \(2,\)"):
+        relacc.dynamics.accelerations(fixture.chain, 3, q, np.zeros(12))
+
+
 def test_requests_that_cannot_fit_are_refused_up_front(chain):
     """A batch whose outputs exceed the memory available is refused with the estimate, before any work."""
     from relacc.limits import available_memory

@@ -74,7 +74,7 @@ def test_out_is_a_directory_is_one_line_error(tmp_path, capsys):
 
 
 def test_report_in_headless_chromium(quick_report):
-    """Chromium loads the page with no console error and no network request; sections render; screenshot saved."""
+    """Chromium loads the page with no console error, no network request and no table wider than the page."""
     from playwright.sync_api import sync_playwright
 
     chromium = shutil.which("chromium")
@@ -91,12 +91,17 @@ def test_report_in_headless_chromium(quick_report):
         assert "agree" in page.inner_text("#verdict")
         for module in SECTIONS:
             assert page.locator(f"section#{module.ID} h2").is_visible()
+        wide = page.evaluate("[...document.querySelectorAll('table')].filter("
+                             "t => t.getBoundingClientRect().right > document.body.getBoundingClientRect().right + 1)"
+                             ".map(t => t.id || t.parentElement.id)")
+        overflow = page.evaluate("document.documentElement.scrollWidth - document.documentElement.clientWidth")
         broken = page.evaluate("[...document.images].filter(i => !i.complete || i.naturalWidth === 0).length")
         n_images = page.evaluate("document.images.length")
         shot = REPO / "reports" / "report-quick.png"
         shot.parent.mkdir(exist_ok=True)
         page.screenshot(path=str(shot), full_page=True)
         browser.close()
+    assert wide == [] and overflow <= 0, f"tables wider than the page: {wide}; page overflow {overflow} px"
     assert console_errors == []
     outside = [u for u in requests if not u.startswith(("file://", "data:"))]
     assert outside == [], f"network requests: {outside}"
@@ -131,3 +136,36 @@ def test_recorded_runs_ratios_are_time_ratios(tmp_path):
     assert r["pinocchio"] == 0.2 / 0.004 and r["pinocchio_best"] == 0.15 / 0.003 and r["mujoco"] == 0.3 / 0.004
     assert r["one_thread_over_pinocchio"] == 0.2 / 0.008
     assert recorded_runs(tmp_path / "missing") == []
+
+
+def test_batched_ratios_compare_like_with_like(tmp_path):
+    """batched.ratios: anchor time over relacc's (slowest case) for times, relacc over anchor for steps/s."""
+    from relacc.tradeoff.batched import ratios, recorded_runs
+
+    def row(section, who, threads, value, best, case=None):
+        return {"section": section, "who": who, "threads": threads, "value": value, "value_best": best, "case": case}
+
+    rows = [row("dynamics", "relacc", 2, 150.0, 140.0, 1), row("dynamics", "relacc", 2, 300.0, 280.0, 3),
+            row("dynamics", "relacc", 1, 1.0, 1.0, 1), row("dynamics", "pinocchio abaInParallel", 2, 1200.0, 1120.0),
+            row("dynamics", "pinocchio abaInParallel", 1, 9.0, 9.0),
+            row("step", "relacc, step per call", 1, 4.0, 3.0), row("step", "mujoco mj_step per call", 1, 14.0, 12.0),
+            row("step", "relacc, compiled loop", 1, 2.0, 1.5), row("step", "mujoco rollout", 1, 13.0, 12.0),
+            row("ensemble", "relacc", 2, 1e6, 1.2e6), row("ensemble", "mujoco rollout", 2, 1.25e5, 1.5e5),
+            row("ensemble", "relacc", 1, 1.0, 1.0), row("ensemble", "mujoco rollout", 1, 1.0, 1.0)]
+    r = ratios({"rows": rows})
+    assert r["threads"] == 2
+    assert (r["dynamics"], r["dynamics_best"]) == (1200.0 / 300.0, 1120.0 / 280.0)
+    assert (r["ensemble"], r["ensemble_best"]) == (8.0, 8.0)
+    assert (r["step"], r["step_best"]) == (3.5, 4.0) and (r["step_loop"], r["step_loop_best"]) == (6.5, 8.0)
+    (tmp_path / "batched-x.json").write_text(json.dumps({"machine": {"date": "d"}, "rows": rows}))
+    assert [run["ratios"] for run in recorded_runs(tmp_path)] == [r]
+
+
+def test_report_shows_the_recorded_dynamics_runs(quick_report):
+    """Every recorded run of benchmarks/batched.py has a row in the throughput section, as does the live run."""
+    html = quick_report.read_text()
+    runs = sorted((REPO / "benchmarks" / "results").glob("batched-*.json"))
+    assert runs, "no recorded dynamics runs in benchmarks/results"
+    assert 'id="batched-table"' in html and 'id="recorded-batched"' in html
+    for path in runs:
+        assert f"<td>{path.name}</td>" in html

@@ -117,6 +117,10 @@ def check_out(out, shape, name: str):
     if not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == tuple(shape)
             and out.flags.c_contiguous and out.flags.writeable):
         got = f"{type(out).__name__} {getattr(out, 'shape', '')} {getattr(out, 'dtype', '')}".strip()
+        if isinstance(out, np.ndarray):
+            got += "".join(note for ok, note in ((out.flags.c_contiguous, ", not C-contiguous"),
+                                                 (out.flags.writeable, ", read-only (relacc's results are)"))
+                           if not ok)
         raise InputError(f"{name}: expected a writable C-contiguous float64 array of shape {tuple(shape)}, got {got}")
     return out
 

@@ -187,7 +187,7 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
             ``"reference"`` (Kane's ``M`` and ``f``, :func:`equations_of_motion`,
             solved by ``numpy.linalg.solve``). The two satisfy Kane's equations to rounding.
         out: a float64 C-contiguous array ``(..., 12)`` to write into (numpy's ``out``
-            convention); returned.
+            convention); returned. When an error is raised its contents are unspecified.
 
     Raises:
         SingularityError: case 3 within ``MAX_CONDITION`` of gimbal lock, where
@@ -202,8 +202,12 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
     if backend not in ("auto", "fast", "reference"):
         raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
     c = as_case(case)
-    q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
-    check_invertible(c, q)
+    q, u = check_q(c, q, values=False), check_u(f"u for case {int(c)}", u, values=False)
+
+    def check_values():  # raises, naming the bad entry
+        check_q(c, q), check_u(f"u for case {int(c)}", u)
+        check_invertible(c, q)
+
     try:
         batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
     except ValueError:
@@ -213,6 +217,7 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
         raise InputError("backend 'fast' takes real inputs only; use backend 'reference' for complex ones")
     out = check_out(out, batch + (12,), "out")
     if backend == "reference" or not real:
+        check_values()
         M, f = equations_of_motion(chain, c, q, u, effects)
         udot = np.linalg.solve(M, f[..., None])[..., 0]
         if out is None:
@@ -224,8 +229,10 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
     flat = lambda a, w: np.ascontiguousarray(np.broadcast_to(a, batch + (w,)).reshape(-1, w))  # noqa: E731
     target = out.reshape(-1, 12) if out is not None else np.empty((int(np.prod(batch)), 12))
     with np.errstate(all="ignore"):
-        bad = kernel.accelerations(int(c), flat(q, q.shape[-1]), flat(u, 12), kernel.chain_params(chain),
-                                   kernel.effect_params(effects), target)
+        bad, suspect = kernel.accelerations(int(c), flat(q, q.shape[-1]), flat(u, 12), kernel.chain_params(chain),
+                                            kernel.effect_params(effects), target)
+    if suspect:
+        check_values()
     if bad:
         check_finite_result((target,), q, u)
     return out if out is not None else target.reshape(batch + (12,))

@@ -34,7 +34,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.kernels.perstate import HAVE_NUMBA, cross, jitable, mv, numba, quat_matrix, r123
+from relacc.core.tolerances import MAX_CONDITION
+from relacc.kernels.perstate import HAVE_NUMBA, bad_inputs, cross, jitable, mv, numba, quat_matrix, r123
+from relacc.kernels.trig import LIMIT, sincos
 
 # Offsets into the chain parameters ``cp`` (:func:`chain_params`), all in the chain's own components.
 Q2, R2, R1 = 0, 3, 6          # q2' (B1), r2' (B2), r1' (B1): 3 each, m
@@ -126,24 +128,42 @@ def _x(a, b):
 
 
 @jitable
-def _w123(t1, t2, x):
-    """``W(theta) x`` for 1-2-3 angles: reference-frame angular velocity from angle rates."""
-    c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+def _angle_trig(x):
+    """``(cos x, sin x)`` of one angle (rad): :func:`relacc.kernels.trig.sincos`, libm beyond its range."""
+    if abs(x) <= LIMIT:
+        s, c = sincos(x)
+        return c, s
+    return np.cos(x), np.sin(x)
+
+
+@jitable
+def _trig3(q, k):
+    """``(c1, c2, c3, s1, s2, s3)`` of the 1-2-3 angles ``q[k:k + 3]``."""
+    c1, s1 = _angle_trig(q[k])
+    c2, s2 = _angle_trig(q[k + 1])
+    c3, s3 = _angle_trig(q[k + 2])
+    return c1, c2, c3, s1, s2, s3
+
+
+@jitable
+def _w123(t, x):
+    """``W(theta) x`` for 1-2-3 angles (``t``: :func:`_trig3`): reference-frame angular velocity from angle rates."""
+    c1, c2, s1, s2 = t[0], t[1], t[3], t[4]
     return x[0] + s2 * x[2], c1 * x[1] - s1 * c2 * x[2], s1 * x[1] + c1 * c2 * x[2]
 
 
 @jitable
-def _w123_dot(t1, t2, d1, d2, x):
+def _w123_dot(t, d1, d2, x):
     """``W_dot(theta, theta_dot) x``."""
-    c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+    c1, c2, s1, s2 = t[0], t[1], t[3], t[4]
     return (c2 * d2 * x[2], -s1 * d1 * x[1] + (-c1 * c2 * d1 + s1 * s2 * d2) * x[2],
             c1 * d1 * x[1] + (-s1 * c2 * d1 - c1 * s2 * d2) * x[2])
 
 
 @jitable
-def _w123_solve(t1, t2, b):
+def _w123_solve(t, b):
     """``W(theta)^-1 b`` (``det W = cos theta2``: inf or NaN at gimbal lock, caught by the callers)."""
-    c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+    c1, c2, s1, s2 = t[0], t[1], t[3], t[4]
     x2 = (c1 * b[2] - s1 * b[1]) / c2
     return b[0] - s2 * x2, c1 * b[1] + s1 * b[2], x2
 
@@ -167,9 +187,10 @@ def rates(case, q, u, cp, ep):
     quaternions move by ``quat (x) Exp(omega' dt)``); case 3 ``u`` itself. ``udot``: the case's
     speeds' rates by Newton-Euler (module docstring), m/s^2 and rad/s^2 in the case's components.
     """
+    t1 = t2 = (1.0, 1.0, 1.0, 0.0, 0.0, 0.0)  # the angles' trigonometry (case 3 only)
     if case == 3:
-        C1 = r123(np.cos(q[3]), np.cos(q[4]), np.cos(q[5]), np.sin(q[3]), np.sin(q[4]), np.sin(q[5]))
-        Mr = r123(np.cos(q[9]), np.cos(q[10]), np.cos(q[11]), np.sin(q[9]), np.sin(q[10]), np.sin(q[11]))
+        t1, t2 = _trig3(q, 3), _trig3(q, 9)
+        C1, Mr = r123(*t1), r123(*t2)
         o = 6
     else:
         C1, Mr = quat_matrix(q[3], q[4], q[5], q[6]), quat_matrix(q[10], q[11], q[12], q[13])
@@ -186,8 +207,8 @@ def rates(case, q, u, cp, ep):
     elif case == 2:
         w1, wh = mv(C1, ua[0], ua[1], ua[2]), mv(C2, ub[0], ub[1], ub[2])
     else:
-        w1 = _w123(q[3], q[4], ua)
-        hb = _w123(q[9], q[10], ub)
+        w1 = _w123(t1, ua)
+        hb = _w123(t2, ub)
         wh = mv(C1, hb[0], hb[1], hb[2])
     w2 = _add(w1, wh)
     # geometry, fixed components: G1 from B1's origin, the joint point from B1's origin, G2 from it
@@ -242,9 +263,9 @@ def rates(case, q, u, cp, ep):
         ang2 = _mtv(C2, h2[0], h2[1], h2[2])
         tan1, tan2 = ua, ub
     else:
-        ang1 = _w123_solve(q[3], q[4], _sub(al1, _w123_dot(q[3], q[4], u[3], u[4], ua)))
+        ang1 = _w123_solve(t1, _sub(al1, _w123_dot(t1, u[3], u[4], ua)))
         hb1 = _mtv(C1, hd[0], hd[1], hd[2])
-        ang2 = _w123_solve(q[9], q[10], _sub(hb1, _w123_dot(q[9], q[10], u[9], u[10], ub)))
+        ang2 = _w123_solve(t2, _sub(hb1, _w123_dot(t2, u[9], u[10], ub)))
         tan1, tan2 = ua, ub
     udot = (s1dd[0], s1dd[1], s1dd[2], ang1[0], ang1[1], ang1[2], s2dd[0], s2dd[1], s2dd[2],
             ang2[0], ang2[1], ang2[2])
@@ -381,20 +402,44 @@ def record(case, method, q, u, dt, gaps, cp, ep, Q, U):
     return gaps.shape[0]
 
 
+@jitable
+def suspect_input(case, q, u):
+    """1 when a state may fail the input checks of :func:`relacc.dynamics.accelerations`, else 0.
+
+    Non-finite entries and quaternions off unit norm (the rule of
+    :func:`relacc.kernels.perstate.bad_inputs`), and, for case 3, an angle
+    ``theta_2`` with ``|cos theta_2| < 4 / MAX_CONDITION``, which every speed map
+    of condition number ``(1 + |sin|) / |cos|`` above ``MAX_CONDITION / 2`` has:
+    a superset of what the checks reject, so that they only run, and decide,
+    when a state is suspect.
+    """
+    if bad_inputs(case, q, u, u):
+        return 1
+    if case == 3:  # (1 + |sin|) / |cos| > MAX_CONDITION / 2 needs |cos| < 4 / MAX_CONDITION
+        for k in (4, 10):
+            if abs(np.cos(q[k])) * MAX_CONDITION < 4.0:
+                return 1
+    return 0
+
+
 if HAVE_NUMBA:
 
     @numba.njit(parallel=True, cache=True)
     def accelerations(case, q, u, cp, ep, out):  # pragma: no cover - compiled
-        """Every state's ``udot`` into ``out`` ``(n, 12)``; returns the number of non-finite ones."""
-        bad = 0
+        """Every state's ``udot`` into ``out`` ``(n, 12)``; returns ``(non-finite results, suspect inputs)``.
+
+        Suspect inputs (:func:`suspect_input`) send the caller to the full Python checks, which decide.
+        """
+        bad, bad_in = 0, 0
         for i in numba.prange(q.shape[0]):
+            bad_in += suspect_input(case, q[i], u[i])
             _, a = rates(case, q[i], u[i], cp, ep)
             nb = 0
             for k in range(12):
                 out[i, k] = a[k]
                 nb += 0 if (a[k] == a[k] and abs(a[k]) < np.inf) else 1
             bad += nb
-        return bad
+        return bad, bad_in
 
     @numba.njit(cache=True)
     def advance(case, method, q, u, dt, k, cp, ep):  # pragma: no cover - compiled
@@ -438,11 +483,12 @@ if HAVE_NUMBA:
 else:  # pragma: no cover - exercised only without numba
 
     def accelerations(case, q, u, cp, ep, out):
-        bad = 0
+        bad, bad_in = 0, 0
         for i in range(q.shape[0]):
+            bad_in += suspect_input(case, q[i], u[i])
             out[i] = rates(case, q[i], u[i], cp, ep)[1]
             bad += int(np.count_nonzero(~np.isfinite(out[i])))
-        return bad
+        return bad, bad_in
 
     def advance(case, method, q, u, dt, k, cp, ep):
         q, u, s = q.copy(), u.copy(), np.empty((10, 14))

@@ -8,6 +8,8 @@ when called from jitted code (``numba.extending.register_jitable``).
 
 from __future__ import annotations
 
+import contextlib
+
 try:  # numba is a dependency; without it the functions stay plain Python
     import numba
     import numba.extending
@@ -29,3 +31,17 @@ def jitable(fn=None, *, inline=False):
     if not HAVE_NUMBA:
         return fn
     return numba.extending.register_jitable(inline="always")(fn) if inline else numba.extending.register_jitable(fn)
+
+
+@contextlib.contextmanager
+def threads(n: int):
+    """numba's parallel loops on ``min(n, NUMBA_NUM_THREADS)`` threads inside the block (no-op without numba)."""
+    if not HAVE_NUMBA:
+        yield
+        return
+    before = numba.get_num_threads()
+    numba.set_num_threads(max(1, min(int(n), numba.config.NUMBA_NUM_THREADS)))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)

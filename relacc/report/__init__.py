@@ -28,6 +28,9 @@ DEFAULT_EXAMPLES = 300
 QUICK_EXAMPLES = 40
 DEFAULT_BENCH = (20_000, 5)
 QUICK_BENCH = (2_000, 3)
+DEFAULT_BATCHED = {"n_states": 20_000, "n_steps": 1000, "members": 200, "duration": 0.2, "repeats": 3}
+QUICK_BATCHED = {"n_states": 2_000, "n_steps": 200, "members": 20, "duration": 0.05, "repeats": 3}
+"""Sizes of the report's run of :mod:`relacc.tradeoff.batched` (recorded runs: ``benchmarks/batched.py``)."""
 
 
 @dataclass(frozen=True)
@@ -40,6 +43,7 @@ class ReportContext:
     hard: list[Result]
     worst: Worst
     throughput: dict
+    batched: dict
     simulations: list
     tradeoff: object
     quick: bool
@@ -72,6 +76,12 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
     from relacc.tradeoff.throughput import run as run_benchmark
 
     throughput = run_benchmark(n_bench, repeats, seed, fixture)
+    sizes = dict(QUICK_BATCHED if quick else DEFAULT_BATCHED)
+    if progress:
+        progress(f"dynamics and simulation against the engines' batched APIs, {sizes['n_states']} states")
+    from relacc.tradeoff import batched
+
+    batched_result = batched.run(fixture, batched.tumbling(sizes.pop("duration"), fixture), seed=seed, **sizes)
     simulations = run_scenes(quick, progress)
     from relacc import tradeoff as tradeoff_mod
 
@@ -84,6 +94,7 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
         hard=hard,
         worst=worst,
         throughput=throughput,
+        batched=batched_result,
         simulations=simulations,
         tradeoff=tradeoff,
         quick=quick,

@@ -124,7 +124,7 @@ def _gaps(steps):
 def _relacc(scene, q0, u0, steps, threads, _):
     from relacc.dynamics import accelerations
     from relacc.kernels import dynamics as kernel
-    from relacc.kernels.jit import numba
+    from relacc.kernels.jit import threads as kernel_threads
 
     integrator, _ = scene.integrator_for("relacc")
     if integrator not in kernel.INTEGRATORS:
@@ -134,17 +134,11 @@ def _relacc(scene, q0, u0, steps, threads, _):
     chain, case = scene.fixture.chain, scene.case
     args = (int(case), kernel.INTEGRATORS[integrator], q0, u0, float(scene.dt), _gaps(steps),
             kernel.chain_params(chain), kernel.effect_params(scene.effects), Q, U, done)
-    before = numba.get_num_threads() if numba is not None else 1
-    if numba is not None:
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    try:
+    with kernel_threads(threads):
         start = time.perf_counter()
         with np.errstate(all="ignore"):
             kernel.ensemble(*args)
         seconds = time.perf_counter() - start
-    finally:
-        if numba is not None:
-            numba.set_num_threads(before)
     _check_done(done, m, steps, scene, "relacc")
     flat_q, flat_u = Q.reshape(n * m, -1), U.reshape(n * m, 12)
     k = g2_kinematics(chain, case, flat_q, flat_u, accelerations(chain, case, flat_q, flat_u, scene.effects))

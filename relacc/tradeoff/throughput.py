@@ -27,7 +27,6 @@ throughput section (a smaller run on the machine the report is made on).
 
 from __future__ import annotations
 
-import contextlib
 import datetime as dt
 import json
 import os
@@ -46,6 +45,7 @@ from relacc.core.states import random_states
 from relacc.engines import load_engine
 from relacc.fixtures import load
 from relacc.kernels import kinematics as fast
+from relacc.kernels.jit import threads
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -90,18 +90,9 @@ def machine() -> dict:
     }
 
 
-@contextlib.contextmanager
 def one_thread():
     """numba's parallel loops on one thread inside the block (no-op on the numpy backend)."""
-    if not fast.HAVE_NUMBA:
-        yield
-        return
-    before = fast.numba.get_num_threads()
-    fast.numba.set_num_threads(1)
-    try:
-        yield
-    finally:
-        fast.numba.set_num_threads(before)
+    return threads(1)
 
 
 def wall_times(fn, repeats: int, warmups: int = 2) -> tuple[float, float]:

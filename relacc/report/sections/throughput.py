@@ -1,4 +1,5 @@
-"""Throughput: relacc's batched kernels against looping the engines, measured on this machine."""
+"""Throughput: relacc's kinematics against looping the engines, and its dynamics and simulation against the
+engines' batched APIs, measured on this machine; the recorded runs of both benchmarks."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import numpy as np
 from matplotlib import pyplot as plt
 
 from relacc.report import svg
+from relacc.tradeoff import batched
 from relacc.tradeoff.throughput import recorded_runs
 
 ID = "throughput"
@@ -41,6 +43,43 @@ def _plot(rows) -> str:
     return svg.figure(fig)
 
 
+BATCHED_LINES = (
+    # (what, unit, relacc's row, the anchor's row, case); rows as named by relacc.tradeoff.batched
+    *((f"forward dynamics, case {c}", "ns/state", "relacc", "pinocchio abaInParallel", c) for c in (1, 2, 3)),
+    ("one scene, a step per call from Python", "µs/step", "relacc, step per call", "mujoco mj_step per call", None),
+    ("one scene, the compiled loop", "µs/step", "relacc, compiled loop", "mujoco rollout", None),
+    ("ensemble", "steps/s", "relacc", "mujoco rollout", None),
+)
+
+
+def _machine_line(m: dict) -> str:
+    return f"{m['date']}: {m['cpu']}, {m['logical_cpus']} logical CPUs, commit {m.get('relacc_commit') or '-'}"
+
+
+def batched_table(result: dict) -> dict:
+    """Plain data for the dynamics-and-simulation table: per line, relacc and the anchor at each thread count."""
+    rows = result["rows"]
+    threads = sorted({r["threads"] for r in rows if r["threads"] is not None})
+
+    def values(section, who, case):
+        return {r["threads"]: r["value"] for r in rows if r["section"] == section and r["who"] == who
+                and r.get("case") == case}
+
+    lines = []
+    for what, unit, mine, anchor, case in BATCHED_LINES:
+        section = "dynamics" if what.startswith("forward") else "ensemble" if what == "ensemble" else "step"
+        a, b = values(section, mine, case), values(section, anchor, None)  # Pinocchio: one model for every case
+        top = max(set(a) & set(b))
+        speedup = a[top] / b[top] if unit == "steps/s" else b[top] / a[top]
+        lines.append({"what": what, "unit": unit, "anchor": anchor, "relacc": [a.get(t) for t in threads],
+                      "engine": [b.get(t) for t in threads], "speedup": speedup, "at": top})
+    memory = [{"who": r["who"], "value": r["value"], "best": r["value_best"]} for r in rows if r["section"] == "memory"]
+    return {"threads": threads, "lines": lines, "memory": memory, "n_states": result["n_states"],
+            "n_steps": result["n_steps"], "members": result["members"], "ensemble_steps": result["ensemble_steps"],
+            "scene": result["scene"], "dt": result["dt"], "integrator": result["integrator"],
+            "repeats": result["repeats"]}
+
+
 def build(ctx) -> dict:
     t = ctx.throughput
     rows = t["rows"]
@@ -62,11 +101,14 @@ def build(ctx) -> dict:
                                             if "relacc-1-thread" in by else None),
             })
     recorded = [{
-        "file": run["file"], "date": run["machine"]["date"], "cpu": run["machine"]["cpu"],
-        "cpus": run["machine"]["logical_cpus"], "commit": run["machine"].get("relacc_commit") or "-",
-        "n_states": run["n_states"],
+        "file": run["file"], "machine_line": _machine_line(run["machine"]), "n_states": run["n_states"],
         "cells": [run["ratios"].get(key, {}) for key in RECORDED_COLUMNS],
     } for run in recorded_runs()]
-    return {"machine": t["machine"], "n_states": t["n_states"], "repeats": t["repeats"], "table": table,
+    recorded_batched = [{"file": run["file"], "date": run["machine"]["date"],
+                         "machine_line": _machine_line(run["machine"]),
+                         "commit": run["machine"].get("relacc_commit") or "-", **run["ratios"]}
+                        for run in batched.recorded_runs()]
+    return {"batched": batched_table(ctx.batched), "recorded_batched": recorded_batched,
+            "machine": t["machine"], "n_states": t["n_states"], "repeats": t["repeats"], "table": table,
             "figure": _plot(rows), "min_vs_pinocchio": float(np.min([r["vs_pinocchio"] for r in table])),
             "recorded": recorded, "recorded_columns": RECORDED_COLUMNS}
