@@ -210,6 +210,7 @@ class MujocoEngine(Engine):
         return out
 
     ROLLOUT_STEPS = 4096
+    """Steps per ``mujoco.rollout`` call (its output holds every step's state: 4096 x nstate doubles)."""
 
     INTEGRATORS = {"rk4": "mjINT_RK4", "euler": "mjINT_EULER", "implicit": "mjINT_IMPLICIT",
                    "implicitfast": "mjINT_IMPLICITFAST"}

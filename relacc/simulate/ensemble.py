@@ -193,7 +193,7 @@ def _mujoco(scene, q0, u0, steps, threads, name):
     seconds, j, nq, nv = 0.0, 1, model.nq, model.nv
     while j < m:  # one rollout call per block of records spanning at most ROLLOUT_STEPS steps
         k = j
-        while k + 1 < m and steps[k + 1] - steps[j - 1] <= ROLLOUT_STEPS:
+        while k + 1 < m and steps[k + 1] - steps[j - 1] <= engine.ROLLOUT_STEPS:
             k += 1
         nstep = int(steps[k] - steps[j - 1])
         start = time.perf_counter()
@@ -207,10 +207,6 @@ def _mujoco(scene, q0, u0, steps, threads, name):
             _check_done(np.where(finite.all(axis=1), m, j + np.argmin(finite, axis=1)), m, steps, scene, "mujoco")
         state, j = out[:, -1], k + 1
     return _observed("mujoco", engine, scene, Q, V, steps, seconds, threads)
-
-
-ROLLOUT_STEPS = 4096
-"""Steps per ``mujoco.rollout`` call: records are taken from the states it returns, every step's."""
 
 
 def _pinocchio(scene, q0, u0, steps, threads, name):
