@@ -32,6 +32,10 @@ class FixtureError(RelaccError):
     """A model or scene file is missing or malformed (path and field named)."""
 
 
+class ModelError(FixtureError):
+    """A robot model cannot be loaded or compared (the file, and the element when the parser names one)."""
+
+
 class EngineError(RelaccError):
     """An engine cannot be used as asked (unknown engine, unsupported case)."""
 

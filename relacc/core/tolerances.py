@@ -76,6 +76,17 @@ def rounding_tolerance(factor: float = ROUNDING_FACTOR) -> float:
     return factor * EPS
 
 
+def robot_tolerance(n_links: int) -> float:
+    """Tolerance on a normalized error between two engines' readings of one robot model (``relacc compare``).
+
+    ``ROUNDING_FACTOR * eps * n_links``: each engine forms a link's quantities through a chain of
+    transforms and sums over the links, each link adding at most the roundings that
+    ``ROUNDING_FACTOR`` covers for the two-body chain. Solves with the mass matrix carry their
+    condition number in the scale they are normalized by (:mod:`relacc.validation.robots.agreement`).
+    """
+    return ROUNDING_FACTOR * EPS * max(int(n_links), 1)
+
+
 def richardson_bound(h: float, fifth_derivative_scale, value_scale):
     """Error bound of Richardson extrapolation of central differences, ``(4 D(h/2) - D(h)) / 3``.
 

@@ -66,7 +66,7 @@ def _load(path) -> mujoco.MjModel:
     return model
 
 
-def _full_inertia(m, d, dst):
+def full_inertia(m, d, dst):
     """Dense joint-space inertia into ``dst``.
 
     ``mj_fullM`` takes ``(m, d, dst)`` in MuJoCo 4 and ``(m, dst, qM)`` before.
@@ -199,7 +199,7 @@ class MujocoEngine(Engine):
         nv = self.routes["quaternion"].model.nv
         M, f = np.empty((q.shape[0], nv, nv)), np.empty((q.shape[0], nv))
         for i, m, d in self._forward(q, v, effects):
-            _full_inertia(m, d, M[i])
+            full_inertia(m, d, M[i])
             f[i] = d.qfrc_smooth  # passive - bias + applied (xfrc_applied included)
         return M, f
 

@@ -71,13 +71,12 @@ THREADS = 2
 def split_composites(model: "pin.Model") -> "pin.Model":
     """The same model with every ``JointModelComposite`` replaced by its sub-joints.
 
-    Sub-joints keep their order (so ``q`` and ``v`` keep their layout); the
-    composite's placement goes to its first sub-joint, the body inertia to its
-    last; massless bodies sit in between. Frames are re-attached to the last
-    sub-joint with their placements unchanged.
-
-    Raises:
-        EngineError: a composite with non-identity internal placements.
+    Sub-joints keep their order (so ``q`` and ``v`` keep their layout) and their
+    placements (the composite's own placement times the first's, then each
+    after the one before, as ``JointModelComposite.jointPlacements`` holds
+    them); the body inertia goes to the last sub-joint, massless bodies sit in
+    between. Frames are re-attached to the last sub-joint with their
+    placements unchanged.
     """
     new = pin.Model()
     new.name = model.name
@@ -90,10 +89,8 @@ def split_composites(model: "pin.Model") -> "pin.Model":
         if jm.shortname() == "JointModelComposite":
             comp = jm.extract()
             subs, places = list(comp.joints), list(comp.jointPlacements)
-            if any(not p.isIdentity() for p in places):
-                raise EngineError(f"composite joint {model.names[jid]} has internal placements; cannot split")
-            for k, sub in enumerate(subs):
-                parent = new.addJoint(parent, sub, placement if k == 0 else pin.SE3.Identity(),
+            for k, sub in enumerate(subs):  # places[k]: sub-joint k's placement after sub-joint k - 1
+                parent = new.addJoint(parent, sub, placement * places[0] if k == 0 else places[k],
                                       f"{model.names[jid]}[{k}]")
                 if k < len(subs) - 1:
                     new.appendBodyToJoint(parent, pin.Inertia.Zero(), pin.SE3.Identity())

@@ -1,0 +1,183 @@
+"""``relacc compare``: does each engine see the same robot as MuJoCo, and do their dynamics agree?
+
+MuJoCo reads the MJCF natively and is the reference; Pinocchio (its MJCF parser, or a URDF of the
+same robot) and Drake (its MJCF parser) are compared with it:
+
+1. the **audit** (:mod:`relacc.validation.robots.audit`): structure, inertias, armature, damping,
+   gravity, each difference with the element it comes from and its cause, reproduced by recompiling
+   the model in MuJoCo the engine's way;
+2. the **dynamics** (:mod:`relacc.validation.robots.agreement`) at the reference configuration and at
+   random states, over the speeds both engines have, in MuJoCo's coordinates through each engine's
+   speed map (free joints: the three choices of speeds of relacc's note, at robot scale). A
+   disagreement gets a cause when the audit's causes, or a known difference in the engine's
+   algorithms, make it disappear.
+
+:func:`compare` returns a :class:`RobotComparison`; ``as_json()`` is the command's JSON summary.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from relacc.engines import installed
+from relacc.engines.robots import robot_class
+from relacc.errors import EngineError, ModelError
+from relacc.validation.robots.agreement import QUANTITIES, random_states
+from relacc.validation.robots.agreement import compare as compare_dynamics
+from relacc.validation.robots.audit import Item, Scales, explain, merge
+
+OTHERS = ("pinocchio", "drake")
+"""Engines compared with MuJoCo, in report order."""
+
+
+@dataclass(frozen=True)
+class EngineReport:
+    """What one engine made of the file: loaded or not (``error``), its sizes, its parser's warnings."""
+
+    name: str
+    loaded: bool
+    nq: int | None = None
+    nv: int | None = None
+    error: str | None = None
+    warnings: tuple[str, ...] = ()
+
+    def as_json(self) -> dict:
+        return {"loaded": self.loaded, "nq": self.nq, "nv": self.nv, "error": self.error,
+                "warnings": list(self.warnings)}
+
+
+@dataclass(frozen=True)
+class RobotComparison:
+    """The result of :func:`compare`.
+
+    Attributes:
+        model, urdf: the files. engines: ``{name: EngineReport}``, MuJoCo first.
+        audit: :class:`relacc.validation.robots.audit.Item` rows, one per difference over the engines.
+        dynamics: ``{quantity: {engine: {"max_error", "tolerance", "ok", "state", "cause"}}}``.
+        n_states, seed: the random states (plus the reference configuration, state 0).
+    """
+
+    model: str
+    urdf: str | None
+    engines: dict
+    audit: list = field(default_factory=list)
+    dynamics: dict = field(default_factory=dict)
+    n_states: int = 0
+    seed: int = 0
+
+    @property
+    def agree(self) -> bool:
+        """No audit difference and every dynamics quantity within tolerance for every engine."""
+        return not self.audit and all(r["ok"] for rows in self.dynamics.values() for r in rows.values())
+
+    @property
+    def exit_code(self) -> int:
+        return 0 if self.agree else 1
+
+    def as_json(self) -> dict:
+        dynamics = {}
+        for quantity, rows in self.dynamics.items():
+            worst = max(rows.values(), key=lambda r: r["max_error"] / r["tolerance"])
+            dynamics[quantity] = {"max_error": worst["max_error"], "tolerance": worst["tolerance"],
+                                  "ok": all(r["ok"] for r in rows.values()), "engines": rows}
+        return {"model": self.model, "urdf": self.urdf, "engines": {k: e.as_json() for k, e in self.engines.items()},
+                "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
+                "seed": self.seed, "agree": self.agree}
+
+
+def _readings(engine: str, attribute: str):
+    return getattr(importlib.import_module(f"relacc.engines.robots.{engine}_"), attribute)
+
+
+def _load(engine, path, reference, urdf):
+    cls = robot_class(engine)
+    return cls(path, reference, urdf) if engine == "pinocchio" else cls(path, reference)
+
+
+def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0) -> RobotComparison:
+    """Compare every engine's reading of ``model`` (MJCF) with MuJoCo's.
+
+    Args:
+        urdf: a URDF of the same robot for Pinocchio (links named as the MJCF's bodies, joints as its joints).
+        engines: among :data:`OTHERS` (default: those installed).
+        n_states: random states besides the reference configuration; seed: their seed.
+
+    Raises:
+        ModelError: MuJoCo cannot read or compile the file, or no other engine can (messages name the
+            file and the element). EngineError: an unknown or missing engine.
+    """
+    from relacc.engines.robots.mujoco_ import MujocoRobot
+
+    names = [e for e in OTHERS if installed(e)] if engines is None else list(engines)
+    for name in names:
+        if name not in OTHERS:
+            raise EngineError(f"unknown engine {name!r} for compare: accepted are {', '.join(OTHERS)}")
+    if urdf is not None and not Path(urdf).is_file():
+        raise ModelError(f"{urdf}: no such file")
+    reference = MujocoRobot(model)
+    reports = {"mujoco": EngineReport("mujoco", True, reference.model.nq, reference.model.nv,
+                                      warnings=tuple(reference.warnings))}
+    robots = []
+    for name in names:
+        try:
+            robot = _load(name, model, reference, urdf)
+        except ModelError as exc:
+            reports[name] = EngineReport(name, False, error=str(exc))
+            continue
+        robots.append(robot)
+        reports[name] = EngineReport(name, True, robot.structure.nq, robot.structure.nv,
+                                     warnings=tuple(robot.warnings))
+    if not robots:
+        why = "; ".join(f"{r.error}" for r in reports.values() if r.error) or "no other engine is installed"
+        raise ModelError(f"{model}: nothing to compare MuJoCo with: {why}")
+    scales = Scales.of(reference.structure)
+    states = random_states(reference, n_states, seed)
+    audits, dynamics = [], {q: {} for q in QUANTITIES}
+    for robot in robots:
+        readings = () if (robot.engine == "pinocchio" and urdf is not None) else _readings(robot.engine,
+                                                                                           "MJCF_READINGS")
+        items, explained, applied = explain(reference, robot, readings, scales)
+        audits.append(items)
+        rows = compare_dynamics(reference, robot, states)
+        for quantity, row in rows.items():
+            row["cause"] = "" if row["ok"] else _dynamics_cause(quantity, row, reference, robot, explained, applied,
+                                                                 readings, n_states, seed)
+            dynamics[quantity][robot.engine] = row
+    return RobotComparison(str(model), None if urdf is None else str(urdf), reports, merge(audits),
+                           {q: r for q, r in dynamics.items() if r}, n_states, seed)
+
+
+EXPLAINED = 1e-6
+"""A cause explains a dynamics disagreement when, applied, it leaves the quantity within tolerance or its largest
+absolute difference at most this fraction of what it was (the residue of readings that need MuJoCo's minimum
+body mass, 1e-14 kg, against an engine's zero)."""
+
+
+def _explained(again: dict, quantity: str, before: dict) -> bool:
+    row = again.get(quantity)
+    return row is not None and (row["ok"] or row["max_difference"] <= EXPLAINED * before["max_difference"])
+
+
+def _dynamics_cause(quantity, before, reference, robot, explained, applied, readings, n_states, seed) -> str:
+    """Why ``quantity`` disagrees: the audit's causes, or a known difference in the engine's algorithms."""
+    texts = [text for key, text, _, _ in readings if key in applied]
+    if applied:
+        again = compare_dynamics(explained, robot, random_states(explained, n_states, seed))
+        if _explained(again, quantity, before):
+            return "explained by the audit: " + "; ".join(texts)
+    for key, text, applies, rebuild in _readings(robot.engine, "ENGINE_READINGS"):
+        if applies(robot):
+            try:
+                fixed = rebuild(robot)
+            except (ModelError, EngineError):
+                continue
+            again = compare_dynamics(explained, fixed, random_states(explained, n_states, seed))
+            if _explained(again, quantity, before):
+                return text + (("; and the audit's causes: " + "; ".join(texts)) if texts else "")
+    return f"not explained by a known difference of {robot.engine}" + (
+        f" (the audit's causes were applied: {'; '.join(texts)})" if texts else "")
+
+
+__all__ = ["OTHERS", "EngineReport", "Item", "RobotComparison", "compare"]

@@ -1,0 +1,169 @@
+"""Dynamics agreement between MuJoCo and another engine at the reference configuration and at random states.
+
+Over the speeds both engines have (joints one engine lacks stay at MuJoCo's ``qpos0`` with zero
+speed), in the common coordinates of :mod:`relacc.engines.robots.base`:
+
+* ``mass matrix``, ``bias forces`` (Coriolis, centrifugal and gravity), ``gravity forces``,
+  ``forward dynamics`` (accelerations at zero torque, no passive force, actuator or constraint;
+  when one engine has speeds the other lacks, both solve ``M a = -bias`` over the shared ones);
+* per link both have with a mass, at its centre of mass: ``COM position``, ``COM Jacobian``, ``J_dot v``,
+  ``classical acceleration`` (at random speed rates).
+
+Normalized errors follow relacc's error model, ``max |x_e - x_mujoco| / scale`` per state with the
+scale the magnitude of the terms: ``max_i M_ii`` for the mass matrix (it bounds every entry);
+``sum_l m_l |g| |J_l| + max_i M_ii |v|^2 + |gravity| + |bias - gravity|`` for the bias and the first
+term plus the values for the gravity forces (the terms survive where the results cancel; the values are
+the larger of the two engines', so that an engine that leaves out a term is measured against it); ``||M^-1|| (||M|| |a| + bias scale)`` for the
+accelerations (the perturbation bound of a linear solve: it carries ``kappa_2(M)``);
+``|J| (|a| + |v|^2)`` for point accelerations and ``|J| |v|^2`` for ``J_dot v``; the values' own
+magnitude otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` per link).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from relacc.core.tolerances import robot_tolerance
+
+QUANTITIES = ("mass matrix", "bias forces", "gravity forces", "forward dynamics", "COM position", "COM Jacobian",
+              "J_dot v", "classical acceleration")
+"""What is compared, in report order."""
+
+
+
+@dataclass(frozen=True)
+class States:
+    """``q (n, nq)``, ``v (n, nv)``, ``a (n, nv)`` in MuJoCo's coordinates; state 0 is the reference
+    configuration at rest; ``seed`` of the others."""
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    seed: int
+
+
+def random_states(reference, n: int, seed: int) -> States:
+    """The reference configuration at rest, then ``n`` random states (``numpy.random.default_rng(seed)``).
+
+    Per joint: free, a position within the model's size of the origin and a uniformly random unit
+    quaternion; ball, a random unit quaternion; hinge and slide, uniform in their range when limited,
+    else hinge in ``[-pi, pi]`` and slide within the model's size. Speeds and their rates: standard normals.
+    """
+    m, rng = reference.model, np.random.default_rng(seed)
+    size = max([np.linalg.norm(link.com) for link in reference.structure.links] + [1.0])
+    q = np.repeat(reference.reference()[None], n + 1, axis=0)
+    v, a = np.zeros((n + 1, m.nv)), np.zeros((n + 1, m.nv))
+    v[1:], a[1:] = rng.standard_normal((n, m.nv)), rng.standard_normal((n, m.nv))
+    for j, joint in enumerate(reference.structure.joints):
+        at = int(m.jnt_qposadr[j])
+        if joint.type in ("free", "ball"):
+            quat = rng.standard_normal((n, 4))
+            quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+            if joint.type == "free":
+                q[1:, at:at + 3] = rng.uniform(-size, size, (n, 3))
+                at += 3
+            q[1:, at:at + 4] = quat
+        elif m.jnt_limited[j]:
+            lo, hi = m.jnt_range[j]
+            q[1:, at] = rng.uniform(lo, hi, n)
+        else:
+            q[1:, at] = rng.uniform(-np.pi, np.pi, n) if joint.type == "hinge" else rng.uniform(-size, size, n)
+    return States(q, v, a, seed)
+
+
+def _gravity_terms(reference, q, v, a, dofs, gravity) -> float:
+    """``sum_l m_l |g| max |J_l|``: the magnitude of the terms of the gravity forces (N or N m)."""
+    massive = [link for link in reference.structure.links if link.mass > 0]
+    if not massive or gravity == 0:
+        return 0.0
+    k = reference.kinematics(q, v, a, [link.name for link in massive])
+    return float(sum(link.mass * gravity * np.abs(J[:, dofs]).max(initial=0) for link, J in zip(massive, k.J)))
+
+
+def shared_links(ref, other, tolerance: float) -> list[str]:
+    """Links both structures have with a mass: a massless link's centre of mass is not defined."""
+    floor = tolerance * max(ref.total_mass, other.total_mass)
+    theirs = {link.name: link.mass for link in other.links}
+    return [link.name for link in ref.links if link.name in theirs and min(link.mass, theirs[link.name]) > floor]
+
+
+def _restrict(dyn, dofs, solve: bool):
+    M = dyn.M[np.ix_(dofs, dofs)] if dyn.M.shape[0] != len(dofs) else dyn.M
+    bias = dyn.bias[dofs] if dyn.bias.shape[0] != len(dofs) else dyn.bias
+    gravity = dyn.gravity[dofs] if dyn.gravity.shape[0] != len(dofs) else dyn.gravity
+    forward = np.linalg.solve(M, -bias) if solve or dyn.forward is None else dyn.forward
+    return M, bias, gravity, forward
+
+
+def compare(reference, robot, states: States) -> dict:
+    """``{quantity: {"max_error", "tolerance", "ok", "state", "max_difference"}}`` for ``robot`` against MuJoCo.
+
+    ``state``: the index of the worst state (0: the reference configuration); ``max_difference``: the
+    largest absolute difference over the states, in the quantity's units. Quantities a robot
+    cannot give (no shared link) are left out.
+    """
+    dofs = robot.dofs
+    solve = len(dofs) != reference.model.nv or robot.extra_dofs > 0
+    n_links = len(reference.structure.links)
+    gravity = max(np.linalg.norm(reference.structure.gravity), np.linalg.norm(robot.structure.gravity))
+    links = shared_links(reference.structure, robot.structure, robot_tolerance(n_links))
+    errors = {k: [] for k in QUANTITIES}
+    diffs = {k: 0.0 for k in QUANTITIES}
+
+    def _err(x, ref, scale, key):
+        d = _difference(x, ref)
+        diffs[key] = max(diffs[key], d)
+        if d == 0:
+            return 0.0
+        return float(d / scale) if scale > 0 and np.isfinite(d / scale) else float("inf")
+
+    for q, v0, a0 in zip(states.q, states.v, states.a):
+        v, a = np.zeros_like(v0), np.zeros_like(a0)
+        v[dofs], a[dofs] = v0[dofs], a0[dofs]  # unshared joints locked at rest
+        M0, b0, g0, f0 = _restrict(reference.dynamics(q, v), dofs, solve)
+        M1, b1, g1, f1 = _restrict(robot.dynamics(q, v), dofs, solve)
+        vs, as_ = np.abs(v[dofs]).max(initial=0), np.abs(a[dofs]).max(initial=0)
+        # the terms' magnitude: gravity's sum_l m_l |g| |J_l| and the velocity terms' max_i M_ii |v|^2, which
+        # stay when the results cancel (a planar model's gravity forces, a symmetric one's Coriolis forces)
+        terms = _gravity_terms(reference, q, v, a, dofs, gravity) + np.abs(np.diag(M0)).max(initial=0) * vs**2
+        bias_scale = terms + max(np.abs(g).max(initial=0) + np.abs(b - g).max(initial=0) for b, g in ((b0, g0),
+                                                                                                    (b1, g1)))
+        inv = np.linalg.norm(np.linalg.inv(M0), 2)
+        errors["mass matrix"].append(_err(M1, M0, max(np.abs(np.diag(M0)).max(initial=0),
+                                                      np.abs(np.diag(M1)).max(initial=0)), "mass matrix"))
+        errors["bias forces"].append(_err(b1, b0, bias_scale, "bias forces"))
+        errors["gravity forces"].append(_err(g1, g0, _gravity_terms(reference, q, v, a, dofs, gravity)
+                                             + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0), "gravity forces"))
+        errors["forward dynamics"].append(_err(f1, f0, inv * (np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0)
+                                                              + bias_scale), "forward dynamics"))
+        if links:
+            k0 = reference.kinematics(q, v, a, links)
+            k1 = robot.kinematics(q, v, a, links)
+            J0 = k0.J[:, :, dofs]
+            jscale = np.abs(J0).max(initial=0)
+            errors["COM position"].append(_err(k1.position, k0.position, np.abs(k0.position).max(initial=0),
+                                               "COM position"))
+            errors["COM Jacobian"].append(_err(k1.J, J0, jscale, "COM Jacobian"))
+            errors["J_dot v"].append(_err(k1.Jdot_v, k0.Jdot_v, jscale * vs**2, "J_dot v"))
+            errors["classical acceleration"].append(_err(k1.acceleration, k0.acceleration, jscale * (as_ + vs**2),
+                                                         "classical acceleration"))
+    out = {}
+    for k, e in errors.items():
+        if not e:
+            continue
+        e = np.asarray(e)
+        worst = int(np.argmax(np.where(np.isnan(e), np.inf, e)))
+        tol = robot_tolerance(n_links)
+        out[k] = {"max_error": float(e[worst]), "tolerance": tol, "ok": bool(np.all(e <= tol)), "state": worst,
+                  "max_difference": diffs[k]}
+    return out
+
+
+def _difference(x, ref) -> float:
+    """``max |x - ref|`` (inf for a shape or finiteness mismatch)."""
+    x, ref = np.asarray(x, dtype=float), np.asarray(ref, dtype=float)
+    if x.shape != ref.shape or not (np.all(np.isfinite(x)) and np.all(np.isfinite(ref))):
+        return float("inf")
+    return float(np.abs(x - ref).max(initial=0.0))
