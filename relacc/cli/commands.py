@@ -13,6 +13,7 @@ import numpy as np
 
 import relacc
 from relacc import files, fixtures
+from relacc.cli.compare import cmd_compare  # noqa: E402,F401  (dispatched by name from main)
 from relacc.core.conventions import CASE_NAMES, CONVENTIONS, COORDINATES, QUANTITIES, SPEEDS
 from relacc.core.tolerances import EPS
 from relacc.errors import InputError

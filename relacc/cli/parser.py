@@ -250,6 +250,25 @@ def build_parser() -> argparse.ArgumentParser:
     _seed(p)
     _quiet(p)
 
+    p = _sub(sub, "compare", "does Pinocchio (and Drake) see the same robot as MuJoCo?",
+             "Load an MJCF model in MuJoCo (the reference), Pinocchio (its MJCF parser, or --urdf) and Drake (its "
+             "MJCF parser); audit what each made of it (joints, axes, masses, inertias, armature, damping, gravity), "
+             "each difference with its cause, and compare their dynamics (mass matrix, bias and gravity forces, "
+             "forward dynamics, each link's centre-of-mass Jacobian, J_dot v and classical acceleration) at the "
+             "reference configuration and at random states, in MuJoCo's coordinates through speed maps. Exit 1 "
+             "when anything differs, 2 when the model cannot be compared.",
+             ["relacc compare robot.xml", "relacc compare robot.xml --urdf robot.urdf --engines pinocchio",
+              "relacc compare robot.xml --json --out robot.html"])
+    p.add_argument("model", metavar="MODEL.xml", help="the MJCF file")
+    p.add_argument("--urdf", metavar="MODEL.urdf",
+                   help="a URDF of the same robot for Pinocchio (links named as the MJCF's bodies)")
+    p.add_argument("--engines", type=_choices_list("--engines", ("pinocchio", "drake")), metavar="ENGINES",
+                   help="comma-separated subset of pinocchio,drake (default: those installed)")
+    _states(p, 20, "random states besides the reference configuration")
+    _seed(p)
+    _json(p, "the summary")
+    p.add_argument("--out", metavar="PAGE.html", help="also write a self-contained HTML page, atomically")
+
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
              "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "
              "Richardson, complex step and the engines (on --model's chain); whole trajectories by every "

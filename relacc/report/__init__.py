@@ -135,17 +135,21 @@ def run_scenes(quick: bool, progress=None) -> list:
     return out
 
 
-def render(ctx: ReportContext) -> str:
-    """The report's HTML text."""
-    env = Environment(
+def environment() -> Environment:
+    """The Jinja2 environment of relacc's pages: the package's templates, autoescaped, strict."""
+    return Environment(
         loader=PackageLoader("relacc", "report/templates"),
         autoescape=select_autoescape(["html", "j2"], default=True),
         undefined=StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
     )
+
+
+def render(ctx: ReportContext) -> str:
+    """The report's HTML text."""
     sections = [{"id": m.ID, "title": m.TITLE, "data": m.build(ctx)} for m in SECTIONS]
-    return env.get_template("report.html.j2").render(sections=sections)
+    return environment().get_template("report.html.j2").render(sections=sections)
 
 
 def build_report(out="reports/agreement.html", n_states=None, seed=0, quick=False, model=None, progress=None):

@@ -258,6 +258,7 @@ MJCF_READINGS = (
     ("settotalmass", "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
      lambda spec: spec.compiler.settotalmass > 0, lambda spec: setattr(spec.compiler, "settotalmass", -1.0)),
 )
-"""How Drake's MJCF parser reads a file differently from MuJoCo (as :data:`relacc.engines.robots.pinocchio_.MJCF_READINGS`)."""
+"""How Drake's MJCF parser reads a file differently from MuJoCo (as in :mod:`relacc.engines.robots.pinocchio_`)."""
 
 ENGINE_READINGS = ()
+"""No known difference in Drake's algorithms."""

@@ -146,7 +146,10 @@ class MujocoRobot(Robot):
         return Dynamics(M, bias, gravity, forward)
 
     def kinematics(self, q, v, a, links) -> LinkKinematics:
-        """Each link's centre of mass: ``mj_jac``, ``mj_jacDot`` at that point of its moving body; ``a = J a + J_dot v``."""
+        """Each link's centre of mass: ``mj_jac``, ``mj_jacDot`` at that point of its moving body.
+
+        The classical acceleration is ``J a + J_dot v`` from those.
+        """
         m, d = self.model, self._at(q, v)
         names = {self.body_name(b): b for b in self.groups}
         n = len(links)

@@ -72,9 +72,12 @@ class PinocchioRobot(Robot):
         self.qdofs = np.array(sorted(i for entry in self.map for i in entry["ref_q"]), dtype=int)
         self.extra_dofs = m.nv - len(self.dofs)
         self.link_frames = {}
-        named = {self._joint_of(e["v"][-1]): e["body"] for e in self.map}  # links by the reference's body names
+        last = {e["body"]: e for e in self.map}  # a body's last joint carries it
+        named = {self._joint_of(e["v"][-1]): body for body, e in last.items()}  # links by the reference's names
         for j in range(1, m.njoints):
             bodies = [f.name for f in m.frames if f.type == pin.FrameType.BODY and f.parentJoint == j]
+            if j not in named and not bodies:
+                continue  # a massless joint between the sub-joints of a split composite
             name = named.get(j, bodies[0] if bodies else m.names[j])
             placement = pin.SE3(np.eye(3), m.inertias[j].lever.copy())
             self.link_frames[name] = (j, tuple(bodies), m.addFrame(pin.Frame(f"relacc_com_{name}", j, placement,
@@ -116,7 +119,8 @@ class PinocchioRobot(Robot):
                 continue  # reported by the audit as a type difference
             qa, va = int(ref.jnt_qposadr[j]), int(ref.jnt_dofadr[j])
             nq, nv = {"free": (7, 6), "ball": (4, 3)}.get(t, (1, 1))
-            entries.append({"joint": j, "name": name, "body": reference.structure.joints[j].body, "type": t, "ref_q": range(qa, qa + nq), "ref_v": range(va, va + nv),
+            entries.append({"joint": j, "name": name, "body": reference.structure.joints[j].body, "type": t,
+                            "ref_q": range(qa, qa + nq), "ref_v": range(va, va + nv),
                             "q": range(iq, iq + jm.nq), "v": range(iv, iv + nv),
                             "placement": self._placement(iv) if t == "free" else None})
         return entries
@@ -186,7 +190,8 @@ class PinocchioRobot(Robot):
             R = d.oMi[j].rotation
             links.append(Link(name, bodies, float(I.mass), d.oMi[j].act(I.lever), R @ I.inertia @ R.T))
         body_names = tuple(f.name for f in m.frames if f.type == pin.FrameType.BODY)
-        return Structure(m.nq, m.nv, tuple(joints), tuple(links), m.gravity.linear.copy(), float(pin.computeTotalMass(m)),
+        return Structure(m.nq, m.nv, tuple(joints), tuple(links), m.gravity.linear.copy(),
+                         float(pin.computeTotalMass(m)),
                          body_names)
 
     def _joint_of(self, v_index) -> int:

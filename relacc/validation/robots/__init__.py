@@ -28,6 +28,8 @@ from relacc.validation.robots.agreement import QUANTITIES, random_states
 from relacc.validation.robots.agreement import compare as compare_dynamics
 from relacc.validation.robots.audit import Item, Scales, explain, merge
 
+URDF_CAUSE = "the URDF (Pinocchio's input) and the MJCF (MuJoCo's) describe this element differently"
+
 OTHERS = ("pinocchio", "drake")
 """Engines compared with MuJoCo, in report order."""
 
@@ -136,14 +138,16 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     states = random_states(reference, n_states, seed)
     audits, dynamics = [], {q: {} for q in QUANTITIES}
     for robot in robots:
-        readings = () if (robot.engine == "pinocchio" and urdf is not None) else _readings(robot.engine,
-                                                                                           "MJCF_READINGS")
-        items, explained, applied = explain(reference, robot, readings, scales)
+        from_urdf = robot.engine == "pinocchio" and urdf is not None
+        readings = () if from_urdf else _readings(robot.engine, "MJCF_READINGS")
+        items, explained, applied = explain(reference, robot, readings, scales, URDF_CAUSE if from_urdf else None)
         audits.append(items)
         rows = compare_dynamics(reference, robot, states)
         for quantity, row in rows.items():
             row["cause"] = "" if row["ok"] else _dynamics_cause(quantity, row, reference, robot, explained, applied,
                                                                  readings, n_states, seed)
+            if from_urdf and items and row["cause"].startswith("not explained"):
+                row["cause"] = "the URDF and the MJCF describe the robot differently (see the audit)"
             dynamics[quantity][robot.engine] = row
     return RobotComparison(str(model), None if urdf is None else str(urdf), reports, merge(audits),
                            {q: r for q, r in dynamics.items() if r}, n_states, seed)
@@ -173,9 +177,12 @@ def _dynamics_cause(quantity, before, reference, robot, explained, applied, read
                 fixed = rebuild(robot)
             except (ModelError, EngineError):
                 continue
+            alone = compare_dynamics(reference, fixed, random_states(reference, n_states, seed))
+            if _explained(alone, quantity, before):
+                return text
             again = compare_dynamics(explained, fixed, random_states(explained, n_states, seed))
-            if _explained(again, quantity, before):
-                return text + (("; and the audit's causes: " + "; ".join(texts)) if texts else "")
+            if texts and _explained(again, quantity, before):
+                return text + "; and the audit's causes: " + "; ".join(texts)
     return f"not explained by a known difference of {robot.engine}" + (
         f" (the audit's causes were applied: {'; '.join(texts)})" if texts else "")
 

@@ -13,8 +13,9 @@ Normalized errors follow relacc's error model, ``max |x_e - x_mujoco| / scale`` 
 scale the magnitude of the terms: ``max_i M_ii`` for the mass matrix (it bounds every entry);
 ``sum_l m_l |g| |J_l| + max_i M_ii |v|^2 + |gravity| + |bias - gravity|`` for the bias and the first
 term plus the values for the gravity forces (the terms survive where the results cancel; the values are
-the larger of the two engines', so that an engine that leaves out a term is measured against it); ``||M^-1|| (||M|| |a| + bias scale)`` for the
-accelerations (the perturbation bound of a linear solve: it carries ``kappa_2(M)``);
+the larger of the two engines', so that an engine that leaves out a term is measured against it);
+``||M^-1|| (||M|| |a| + bias scale)`` for the accelerations (the perturbation bound of a linear
+solve: it carries ``kappa_2(M)``);
 ``|J| (|a| + |v|^2)`` for point accelerations and ``|J| |v|^2`` for ``J_dot v``; the values' own
 magnitude otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` per link).
 """

@@ -93,10 +93,10 @@ def differences(ref, other, engine: str, sc: Scales) -> list[Item]:
             continue
         if j.axis is not None and differ(j.axis, o.axis, 1.0):
             add("joint axis (world, at the reference configuration)", where, j.axis, o.axis)
-        if j.anchor is not None and differ(j.anchor, o.anchor, sc.length):
+        elif j.anchor is not None and differ(j.anchor, o.anchor, sc.length):  # a hinge's: on its axis, so with it
             add("joint position (world, m)", where, j.anchor, o.anchor)
         if differ(j.armature, o.armature, max(np.abs(j.armature).max(initial=0), np.abs(o.armature).max(initial=0),
-                                                sc.inertia * 1e-12)):
+                                                1e-300)):
             add("armature", where, j.armature, o.armature)
         if differ(j.damping, o.damping, max(np.abs(j.damping).max(initial=0), np.abs(o.damping).max(initial=0),
                                               1e-300)):
@@ -123,12 +123,14 @@ def differences(ref, other, engine: str, sc: Scales) -> list[Item]:
     return items
 
 
-def explain(reference, robot, readings, sc: Scales) -> tuple[list[Item], object, list[str]]:
+def explain(reference, robot, readings, sc: Scales, unexplained: str | None = None) -> tuple[list[Item], object,
+                                                                                           list[str]]:
     """The audit of ``robot`` against ``reference`` with causes; ``(items, explained reference, applied keys)``.
 
     ``readings``: the engine's ``MJCF_READINGS``. The explained reference is MuJoCo recompiled with every
     reading that made a difference disappear, the model the dynamics are then compared against to see
-    whether the readings explain them too.
+    whether the readings explain them too. ``unexplained``: the cause to give what no reading explains
+    (default: that no known difference of the engine's parser explains it).
     """
     engine = robot.engine
     left = differences(reference.structure, robot.structure, engine, sc)
@@ -148,10 +150,10 @@ def explain(reference, robot, readings, sc: Scales) -> tuple[list[Item], object,
                 causes[k] = text
             current, applied = candidate, applied + [key]
             left = after
-    unexplained = {i.key for i in left}
+    still = {i.key for i in left}
     items = [Item(i.item, i.where, i.values, causes.get(i.key, "")) for i in
              differences(reference.structure, robot.structure, engine, sc)]
-    return [i if i.key not in unexplained else Item(i.item, i.where, i.values, _unknown(i, engine))
+    return [i if i.key not in still else Item(i.item, i.where, i.values, unexplained or _unknown(i, engine))
             for i in items], current, applied
 
 

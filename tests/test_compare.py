@@ -1,0 +1,241 @@
+"""relacc compare: the audit finds and attributes planted faults; dynamics agree where the engines read alike."""
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+from relacc.cli import main
+from relacc.core.tolerances import robot_tolerance
+from relacc.errors import ModelError
+from relacc.fixtures.shipped import models_dir
+from relacc.validation.robots import URDF_CAUSE, compare
+
+ARM_MJCF = """<mujoco model="arm">
+  <compiler angle="radian"/>{compiler}
+  <worldbody>
+    <body name="link1" pos="0 0 0.1">
+      <joint name="j1" type="hinge" axis="0 0 1"{armature}/>
+      <inertial pos="0.1 0 0" mass="1.0" diaginertia="0.01 0.02 0.03"/>
+      <body name="link2" pos="0.2 0 0">
+        <joint name="j2" type="hinge" axis="0 1 0"/>
+        <inertial pos="0.15 0 0" mass="0.8" diaginertia="0.004 0.005 0.006"/>
+        <body name="link3" pos="0.3 0 0">
+          <joint name="j3" type="hinge" axis="1 0 0"/>
+          <geom type="box" size="0.05 0.02 0.01" pos="0.05 0.02 0" mass="0.5"{visual}/>
+        </body>
+      </body>
+    </body>{extra}
+  </worldbody>
+</mujoco>
+"""
+
+ARM_URDF = """<robot name="arm">
+  <link name="base"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="link1"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-4" upper="4" effort="1" velocity="1"/></joint>
+  <link name="link1"><inertial><origin xyz="0.1 0 0"/><mass value="1.0"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j2" type="revolute"><parent link="link1"/><child link="link2"/>
+    <origin xyz="0.2 0 0"/><axis xyz="{axis2}"/><limit lower="-4" upper="4" effort="1" velocity="1"/></joint>
+  <link name="link2"><inertial><origin xyz="0.15 0 0"/><mass value="{mass2}"/>
+    <inertia ixx="0.004" iyy="0.005" izz="0.006" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j3" type="revolute"><parent link="link2"/><child link="link3"/>
+    <origin xyz="0.3 0 0"/><axis xyz="1 0 0"/><limit lower="-4" upper="4" effort="1" velocity="1"/></joint>
+  <link name="link3"><inertial><origin xyz="0.05 0.02 0"/><mass value="0.5"/>
+    <inertia ixx="{ixx3}" iyy="{iyy3}" izz="{izz3}" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>
+"""
+BOX = (0.05, 0.02, 0.01)  # link3's box half-sizes: its inertia, by hand, for the URDF
+IXX3, IYY3, IZZ3 = (0.5 / 3 * (BOX[1] ** 2 + BOX[2] ** 2), 0.5 / 3 * (BOX[0] ** 2 + BOX[2] ** 2),
+                    0.5 / 3 * (BOX[0] ** 2 + BOX[1] ** 2))
+
+
+def arm(tmp_path, *, compiler="", armature="", visual="", extra="", axis2="0 1 0", mass2="0.8"):
+    """An MJCF arm and a URDF of it written side by side; keyword arguments plant faults in one of them."""
+    xml = tmp_path / "arm.xml"
+    xml.write_text(ARM_MJCF.format(compiler=compiler, armature=armature, visual=visual, extra=extra))
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(ARM_URDF.format(axis2=axis2, mass2=mass2, ixx3=IXX3, iyy3=IYY3, izz3=IZZ3))
+    return xml, urdf
+
+
+def rows(result, engine):
+    return {(a.item, a.where): a for a in result.audit if engine in a.values}
+
+
+def failing(result, engine):
+    return {q: r[engine] for q, r in result.dynamics.items() if engine in r and not r[engine]["ok"]}
+
+
+def test_arm_and_its_urdf_agree_to_a_few_eps(tmp_path):
+    """The control: an MJCF arm and a URDF written from the same numbers agree in every audit item and quantity."""
+    xml, urdf = arm(tmp_path)
+    result = compare(xml, urdf=urdf, engines=["pinocchio"], n_states=10, seed=3)
+    assert result.audit == [], [a.as_json() for a in result.audit]
+    assert failing(result, "pinocchio") == {}, f"seed {result.seed}"
+    assert result.exit_code == 0 and len(result.dynamics) == 8
+
+
+@pytest.mark.parametrize("fault,item,where,values", [
+    ({"mass2": "0.9"}, "mass (kg)", "link link2", {"mujoco": 0.8, "pinocchio": 0.9}),
+    ({"axis2": "0 0.6 0.8"}, "joint axis (world, at the reference configuration)", "joint j2 (hinge, body link2)",
+     {"mujoco": [0.0, 1.0, 0.0], "pinocchio": [0.0, 0.6, 0.8]}),
+    ({"armature": ' armature="0.05"'}, "armature", "joint j1 (hinge, body link1)",
+     {"mujoco": [0.05], "pinocchio": [0.0]}),
+])
+def test_planted_faults_are_found_and_attributed(tmp_path, fault, item, where, values):
+    """A changed mass, a moved joint axis, a missing armature: each one audit row, at its element, with the cause."""
+    xml, urdf = arm(tmp_path, **fault)
+    result = compare(xml, urdf=urdf, engines=["pinocchio"], n_states=4, seed=1)
+    found = rows(result, "pinocchio")
+    consequences = {("total mass (kg)", "model")} if item == "mass (kg)" else set()
+    assert (item, where) in found and set(found) <= {(item, where)} | consequences, [a.as_json() for a in result.audit]
+    row = found[(item, where)]
+    for engine, value in values.items():
+        assert row.values[engine] == pytest.approx(value, abs=1e-12)
+    assert row.cause == f"pinocchio: {URDF_CAUSE}"
+    assert failing(result, "pinocchio"), "the fault must show in the dynamics too"
+    assert all("URDF" in r["cause"] for r in failing(result, "pinocchio").values())
+    assert result.exit_code == 1
+
+
+@pytest.mark.parametrize("plant,engines,where,cause", [
+    ({"compiler": '\n  <compiler settotalmass="5"/>'}, ("pinocchio", "drake"), "model", "settotalmass"),
+    ({"extra": '\n    <body name="puck" pos="1 0 0"><joint name="px" type="slide" axis="1 0 0"/>'
+               '<geom type="sphere" size="0.05"/></body>'}, ("pinocchio",), "joint px (slide, body puck)",
+     "reads only the first <body> under <worldbody>"),
+    ({"visual": ' contype="0" conaffinity="0"', "armature": ""}, ("pinocchio",), "link link3",
+     "contype=0 and conaffinity=0"),
+])
+def test_known_parser_readings_are_reproduced(tmp_path, plant, engines, where, cause):
+    """MJCF features an engine's parser reads otherwise are attributed by recompiling MuJoCo that engine's way."""
+    xml, _ = arm(tmp_path, **plant)
+    result = compare(xml, n_states=4, seed=2)
+    for engine in engines:
+        attributed = [a for a in rows(result, engine).values() if a.where == where]
+        assert attributed, (engine, [a.as_json() for a in result.audit])
+        assert all(cause in a.cause for a in attributed), [a.cause for a in attributed]
+        assert not [a for a in result.audit if "not explained" in a.cause], [a.as_json() for a in result.audit]
+        assert all(not r["cause"].startswith("not explained") for r in failing(result, engine).values())
+
+
+def test_relaccs_own_chain_agrees_with_drake_to_a_few_eps():
+    """The control: two_body.xml in Drake (free joint, slides, ball through speed maps) agrees in everything."""
+    result = compare(models_dir() / "two_body.xml", engines=["drake"], n_states=10, seed=0)
+    assert result.audit == [] and failing(result, "drake") == {}
+    tol = robot_tolerance(2)
+    assert all(r["drake"]["max_error"] <= tol for r in result.dynamics.values())
+
+
+def test_relaccs_own_chain_in_pinocchio_differs_by_known_causes_only():
+    """Pinocchio on two_body.xml: only its gravity reading and its composite-joint J_dot differ, both attributed."""
+    result = compare(models_dir() / "two_body.xml", engines=["pinocchio"], n_states=10, seed=0)
+    assert [(a.item, a.where) for a in result.audit] == [("gravity (m/s^2)", "model")]
+    assert "ignores <option gravity>" in result.audit[0].cause
+    bad = failing(result, "pinocchio")
+    assert set(bad) == {"bias forces", "gravity forces", "forward dynamics", "J_dot v"}
+    assert all("<option gravity>" in bad[q]["cause"] for q in ("bias forces", "gravity forces", "forward dynamics"))
+    assert "JointModelComposite" in bad["J_dot v"]["cause"]
+    for quantity in ("mass matrix", "COM position", "COM Jacobian", "classical acceleration"):
+        assert result.dynamics[quantity]["pinocchio"]["ok"]
+
+
+def gym_assets():
+    gymnasium = pytest.importorskip("gymnasium")  # a test dependency (pip install -e .[test])
+    return Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+
+
+GYM = {  # file: facts the audit must state (item, where, engine, mujoco's value, the engine's)
+    "half_cheetah.xml": [("total mass (kg)", "model", "pinocchio", 14.0, 21.18371737525)],
+    "swimmer.xml": [("total mass (kg)", "model", "pinocchio", 106.81415022205, 0.0)],
+    "pusher.xml": [("degrees of freedom", "model", "pinocchio", 11, 7)],
+    "reacher.xml": [("degrees of freedom", "model", "pinocchio", 4, 2)],
+}
+
+
+@pytest.mark.parametrize("name", ["ant.xml", "half_cheetah.xml", "hopper.xml", "humanoid.xml", "humanoidstandup.xml",
+                                  "inverted_double_pendulum.xml", "inverted_pendulum.xml", "point.xml", "pusher.xml",
+                                  "pusher_v5.xml", "reacher.xml", "swimmer.xml", "walker2d.xml", "walker2d_v5.xml"])
+def test_gymnasium_assets_are_compared_and_every_difference_explained(name):
+    """Each gymnasium MuJoCo asset: compared (exit 0 or 1), the known facts stated, no difference without a cause."""
+    path = gym_assets() / name
+    result = compare(path, n_states=4, seed=0)
+    assert result.exit_code in (0, 1)
+    assert result.engines["pinocchio"].loaded
+    unexplained = [a.as_json() for a in result.audit if "not explained" in a.cause]
+    unexplained += [(q, e, r["cause"]) for q, rs in result.dynamics.items() for e, r in rs.items()
+                    if not r["ok"] and r["cause"].startswith("not explained")]
+    assert unexplained == []
+    for item, where, engine, mine, theirs in GYM.get(name, []):
+        row = rows(result, engine)[(item, where)]
+        assert row.values["mujoco"] == pytest.approx(mine, rel=1e-10)
+        assert row.values[engine] == pytest.approx(theirs, rel=1e-10, abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["ant.xml", "humanoid.xml"])
+def test_free_root_models_are_compared_through_the_speed_maps(name):
+    """ant and humanoid (free root joint): every quantity is compared for both engines, none skipped."""
+    result = compare(gym_assets() / name, n_states=4, seed=5)
+    for engine in ("pinocchio", "drake"):
+        assert all(engine in rs for rs in result.dynamics.values())
+        assert result.dynamics["forward dynamics"][engine]["ok"] or result.dynamics["forward dynamics"][engine]["cause"]
+    assert result.dynamics["COM Jacobian"]["pinocchio"]["ok"] and result.dynamics["mass matrix"]["pinocchio"]["ok"]
+    if name == "ant.xml":
+        assert result.agree
+
+
+def test_json_summary_has_the_documented_fields(tmp_path, capsys):
+    """--json prints model, engines (loaded, nq, nv, error), audit rows and dynamics (max_error, tolerance, ok)."""
+    xml, _ = arm(tmp_path, armature=' armature="0.05"')
+    code = main(["compare", str(xml), "--json", "--states", "3", "--out", str(tmp_path / "page.html")])
+    data = json.loads(capsys.readouterr().out)
+    assert code == 0 if data["agree"] else code == 1
+    assert set(data) >= {"model", "engines", "audit", "dynamics", "agree"}
+    assert set(data["engines"]["pinocchio"]) >= {"loaded", "nq", "nv", "error"}
+    assert all(set(a) >= {"item", "where", "mujoco", "cause"} for a in data["audit"])
+    assert all(set(r) >= {"max_error", "tolerance", "ok"} for r in data["dynamics"].values())
+    html = (tmp_path / "page.html").read_text()
+    assert "<script" not in html and "armature" in html and 'src="http' not in html
+
+
+@pytest.mark.parametrize("content,name,message", [
+    (None, "missing.xml", "no such file"),
+    ("<mujoco><worldbody><body name='a'><joint type='hinge'/></body></worldbody>", "broken.xml", "Line number=1"),
+    ('<mujoco><asset><mesh name="m" file="absent_mesh.stl"/></asset><worldbody><body name="b">'
+     '<joint type="hinge"/><geom type="mesh" mesh="m"/></body></worldbody></mujoco>', "mesh.xml", "absent_mesh.stl"),
+])
+def test_models_that_cannot_be_compared_exit_2_with_one_line(tmp_path, capsys, content, name, message):
+    """A missing file, a parser failure, a missing mesh: one line on stderr naming it, exit 2, no traceback."""
+    path = tmp_path / name
+    if content is not None:
+        path.write_text(content)
+    assert main(["compare", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "Traceback" not in err
+    with pytest.raises(ModelError):
+        compare(path)
+
+
+def test_no_file_is_left_when_the_page_cannot_be_written(tmp_path, capsys):
+    """--out into a missing directory is refused before any work, with one line and exit 2."""
+    xml, _ = arm(tmp_path)
+    assert main(["compare", str(xml), "--out", str(tmp_path / "nope" / "page.html")]) == 2
+    assert "nope" in capsys.readouterr().err
+    assert sorted(os.listdir(tmp_path)) == ["arm.urdf", "arm.xml"]
+
+
+def test_docs_table_is_current():
+    """docs/compare.md's gymnasium table is what scripts/compare_table.py writes today."""
+    import importlib.util
+    import re
+
+    gym_assets()
+    path = Path(__file__).resolve().parents[1] / "scripts" / "compare_table.py"
+    spec = importlib.util.spec_from_file_location("compare_table", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    doc = module.DOC.read_text()
+    shown = re.search(r"<!-- compare:gymnasium -->\n(.*?)\n<!-- /compare:gymnasium -->", doc, re.S).group(1)
+    assert shown == module.table(), "run python scripts/compare_table.py"
