@@ -8,7 +8,7 @@ import pytest
 from relacc.cli import main
 from relacc.fixtures import shipped
 from relacc.simulate import ensemble, perturbed, run, scenes
-from relacc.simulate.ensemble import largest_differences
+from relacc.simulate.members import largest_differences
 
 
 @pytest.fixture(scope="module")
@@ -22,6 +22,17 @@ def test_members_start_at_the_scene_and_at_perturbed_states(scene):
     assert np.array_equal(q0[0], scene.q) and np.array_equal(u0[0], scene.u)
     assert 0.001 < np.abs(u0[1:] - scene.u).max() < 0.5
     assert np.allclose(np.linalg.norm(q0[:, 3:7], axis=1), 1, rtol=0, atol=1e-15)
+
+
+def test_any_range_of_members_is_the_same_slice_of_the_whole(scene):
+    """Members come from per-chunk seeds: members 1000-1099 alone equal rows 1000-1099 of the first 2100."""
+    from relacc.simulate.members import MEMBER_CHUNK
+
+    q_all, u_all = perturbed(scene, 2100, 0.05, seed=9)
+    q, u = perturbed(scene, 100, 0.05, seed=9, start=1000)
+    assert np.array_equal(q, q_all[1000:1100]) and np.array_equal(u, u_all[1000:1100])
+    assert MEMBER_CHUNK < 1100  # the range crosses a chunk boundary
+    assert not np.array_equal(q_all[1:MEMBER_CHUNK], perturbed(scene, MEMBER_CHUNK, 0.05, seed=10)[0][1:])
 
 
 @pytest.mark.parametrize("engine", ["relacc", "mujoco"])

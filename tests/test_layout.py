@@ -28,6 +28,7 @@ LAYERS = {
     "tradeoff": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation"},
     "report": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation", "tradeoff"},
     "testing": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "validation"},
+    "cluster": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation"},
 }
 """Which layers each layer may import (besides itself). ``cli`` and ``relacc/__init__`` may import any."""
 

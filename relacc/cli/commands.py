@@ -98,7 +98,12 @@ def _harness(args):
 
 def cmd_check(args) -> int:
     harness = _harness(args)
-    report = harness.check(cases=args.cases)
+    if args.scheduler:
+        from relacc.cluster.sweeps import check
+
+        report = check(args.scheduler, harness, cases=args.cases, progress=None if args.quiet else _bar)
+    else:
+        report = harness.check(cases=args.cases)
     if args.json:
         print(json.dumps(report.as_dict(), indent=2))
         return 0 if report.passed else 1
@@ -231,36 +236,42 @@ def cmd_simulate(args) -> int:
 
 def _ensemble(scene, args) -> int:
     """``relacc simulate --ensemble N``: every engine's steps per second and its members' G2 differences."""
-    from relacc.simulate.ensemble import ensemble, largest_differences, perturbed
+    from relacc.simulate.members import run_members
 
     if args.out:
         raise InputError("--out writes one run's CSVs; it does not go with --ensemble")
-    q0, u0 = perturbed(scene, args.ensemble, args.spread, args.seed)
-    runs = {}
-    for name in scene.engines:
+
+    def say(name):
         if not args.quiet:
             print(f"  {name}: {args.ensemble} members x {scene.n_steps} steps", file=sys.stderr, flush=True)
-        runs[name] = ensemble(scene, q0, u0, engine=name)
-    diffs = largest_differences(runs)
-    summary = {"scene": scene.name, "members": args.ensemble, "spread": args.spread, "seed": args.seed,
-               "steps": scene.n_steps, "dt": scene.dt,
-               "engines": {n: {"steps_per_second": r.steps_per_second, "seconds": r.seconds, "threads": r.threads}
-                           for n, r in runs.items()},
-               "largest_g2_position_difference": {k: {"max": float(v.max()), "median": float(np.median(v)),
-                                                      "worst_member": int(np.argmax(v))} for k, v in diffs.items()}}
+
+    if args.scheduler:
+        from relacc.cluster.sweeps import ensemble_members
+
+        part = ensemble_members(args.scheduler, scene, args.ensemble, args.spread, args.seed,
+                                progress=None if args.quiet else _bar)
+    else:
+        part = run_members(scene, 0, args.ensemble, args.spread, args.seed, progress=say)
+    summary = part.summary(scene, args.spread, args.seed)
     if args.json:
         print(json.dumps(summary, indent=2))
         return 0
     print(f"{scene.title} ({scene.name}): an ensemble of {args.ensemble} members (spread {args.spread}, seed "
           f"{args.seed}), {scene.n_steps} steps of {scene.dt} s each, {scene.integrator}")
-    print(f"{'engine':10s} {'steps/s':>12s} {'seconds':>9s} {'threads':>7s}   (integration only; member 0: the "
-          "scene's own state)")
-    for n, r in runs.items():
-        print(f"{n:10s} {r.steps_per_second:12.4g} {r.seconds:9.3f} {r.threads:7d}")
+    print(f"{'engine':10s} {'steps/s':>12s} {'seconds':>9s} {'threads':>7s}   (integration only, summed over "
+          "workers; member 0: the scene's own state)")
+    for n, r in summary["engines"].items():
+        print(f"{n:10s} {r['steps_per_second']:12.4g} {r['seconds']:9.3f} {r['threads']:7d}")
     print("largest G2 position difference over the run, per member (m):")
     for k, v in summary["largest_g2_position_difference"].items():
         print(f"  {k:20s} max {v['max']:.3e} (member {v['worst_member']}), median {v['median']:.3e}")
     return 0
+
+
+def _bar(done: int, total: int) -> None:
+    """A progress bar on stderr driven by finished cluster tasks."""
+    print(f"\r  [{'#' * int(30 * done / total):30s}] {done}/{total} tasks", end="\n" if done == total else "",
+          file=sys.stderr, flush=True)
 
 
 def cmd_tradeoff(args) -> int:

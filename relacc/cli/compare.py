@@ -8,14 +8,19 @@ from relacc.core.tolerances import EPS
 
 
 def cmd_compare(args) -> int:
+    from relacc.errors import InputError
     from relacc.validation.robots import compare
 
     out = None
     if args.out:
         from relacc import files
 
+        if len(args.model) > 1:
+            raise InputError("--out writes one model's page; give one MODEL.xml, or use --json for several")
         out = files.check_output_file(args.out)  # before the work: a bad path is a one-line error up front
-    result = compare(args.model, urdf=args.urdf, engines=args.engines, n_states=args.states, seed=args.seed)
+    if len(args.model) > 1 or args.scheduler:
+        return _many(args)
+    result = compare(args.model[0], urdf=args.urdf, engines=args.engines, n_states=args.states, seed=args.seed)
     if out is not None:
         from relacc.report.robot import write
 
@@ -25,6 +30,46 @@ def cmd_compare(args) -> int:
     else:
         print(text(result) + (f"\nwrote {out}" if out is not None else ""))
     return result.exit_code
+
+
+def _many(args) -> int:
+    """Several models (or one on a cluster): each compared alone; exit the highest of their codes."""
+    from relacc.errors import RelaccError
+
+    if args.scheduler:
+        from relacc.cli.commands import _bar
+        from relacc.cluster.sweeps import compare_models
+
+        results = compare_models(args.scheduler, args.model, urdf=args.urdf, engines=args.engines,
+                                 n_states=args.states, seed=args.seed, progress=_bar)
+    else:
+        from relacc.validation.robots import compare
+
+        results = []
+        for model in args.model:
+            try:
+                results.append((model, compare(model, urdf=args.urdf, engines=args.engines, n_states=args.states,
+                                               seed=args.seed)))
+            except RelaccError as exc:
+                results.append((model, exc))
+    if args.out:
+        from relacc.report.robot import write
+
+        _, only = results[0]
+        if isinstance(only, RelaccError):
+            raise only
+        write(only, args.out)
+    codes = [2 if isinstance(r, RelaccError) else r.exit_code for _, r in results]
+    if args.json:
+        print(json.dumps([{"model": m, "error": str(r), "exit": 2} if isinstance(r, RelaccError)
+                          else {**r.as_json(), "exit": r.exit_code} for m, r in results], indent=2))
+    else:
+        for (model, r), code in zip(results, codes):
+            print(f"{model}: error: {r}" if isinstance(r, RelaccError) else text(r))
+            print()
+        print(f"{len(results)} models: {codes.count(0)} agree, {codes.count(1)} disagree, {codes.count(2)} cannot "
+              "be compared")
+    return max(codes)
 
 
 def text(result) -> str:

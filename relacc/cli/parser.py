@@ -125,6 +125,13 @@ def _quiet(p):
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
+def _scheduler(p, what):
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help=f"run {what} on a Dask cluster: local or local:N (N worker processes here, started and "
+                        "stopped by relacc) or tcp://host:port (a running `dask scheduler`); the same seed gives "
+                        "the same answer")
+
+
 def _states(p, default, what="states per case"):
     p.add_argument("--states", type=_int_in(1, MAX_STATES), default=default, metavar="N",
                    help=f"{what} (default {default})")
@@ -169,7 +176,8 @@ def build_parser() -> argparse.ArgumentParser:
              "same seeded states; the error is normalized by the magnitude of the terms and held to the error "
              "model. States are generated and evaluated in chunks, so memory stays bounded for any --states.",
              ["relacc check", "relacc check --states 100000 --cases 3 --engines mujoco",
-              "relacc check --json --seed 7 > check.json"])
+              "relacc check --json --seed 7 > check.json",
+              "relacc check --states 100000000 --scheduler tcp://10.0.0.5:8786"])
     _states(p, 1000)
     _seed(p)
     p.add_argument("--cases", type=_cases, default=(1, 2, 3), metavar="1,2,3",
@@ -179,6 +187,7 @@ def build_parser() -> argparse.ArgumentParser:
     _json(p)
     _quiet(p)
     _model(p)
+    _scheduler(p, "the sweep (tasks of at least 100,000 states)")
 
     p = _sub(sub, "errata", "evaluate every printed formula of the note against the engines",
              "For each equation id of the note: ok, wrong, ambiguous or missing, with the normalized error of "
@@ -249,6 +258,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="size of the perturbations (m, rad, m/s, rad/s; default 0.05)")
     _seed(p)
     _quiet(p)
+    _scheduler(p, "an --ensemble (one task per 1,024 members)")
 
     p = _sub(sub, "compare", "does Pinocchio (and Drake) see the same robot as MuJoCo?",
              "Load an MJCF model in MuJoCo (the reference), Pinocchio (its MJCF parser, or --urdf) and Drake (its "
@@ -258,8 +268,10 @@ def build_parser() -> argparse.ArgumentParser:
              "reference configuration and at random states, in MuJoCo's coordinates through speed maps. Exit 1 "
              "when anything differs, 2 when the model cannot be compared.",
              ["relacc compare robot.xml", "relacc compare robot.xml --urdf robot.urdf --engines pinocchio",
-              "relacc compare robot.xml --json --out robot.html"])
-    p.add_argument("model", metavar="MODEL.xml", help="the MJCF file")
+              "relacc compare robot.xml --json --out robot.html",
+              "relacc compare models/*.xml --scheduler local:2 --json > all.json"])
+    p.add_argument("model", metavar="MODEL.xml", nargs="+",
+                   help="the MJCF file; several: each compared alone (exit: the highest of theirs)")
     p.add_argument("--urdf", metavar="MODEL.urdf",
                    help="a URDF of the same robot for Pinocchio (links named as the MJCF's bodies)")
     p.add_argument("--engines", type=_choices_list("--engines", ("pinocchio", "drake")), metavar="ENGINES",
@@ -267,7 +279,8 @@ def build_parser() -> argparse.ArgumentParser:
     _states(p, 20, "random states besides the reference configuration")
     _seed(p)
     _json(p, "the summary")
-    p.add_argument("--out", metavar="PAGE.html", help="also write a self-contained HTML page, atomically")
+    p.add_argument("--out", metavar="PAGE.html", help="also write a self-contained HTML page, atomically (one model)")
+    _scheduler(p, "one task per model")
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
              "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "

@@ -6,10 +6,12 @@ one) the engines; nothing here is imported by ``import relacc``.
 * :mod:`~relacc.simulate.scenes`: scene files (which chain, from which state, under which effects).
 * :mod:`~relacc.simulate.runs`: a scene on relacc and the engines in lockstep, compared, streamed to CSV.
 * :mod:`~relacc.simulate.trajectory`: what a run records and keeps.
-* :mod:`~relacc.simulate.ensemble`: one scene from many initial states, on every engine's batched API.
+* :mod:`~relacc.simulate.ensemble`: one scene from many initial states, on every engine's batched API;
+  :mod:`~relacc.simulate.members`: the members, chunk by chunk, and what an ensemble reports.
 """
 
-from relacc.simulate.ensemble import Ensemble, ensemble, perturbed
+from relacc.simulate.ensemble import Ensemble, ensemble
+from relacc.simulate.members import perturbed
 from relacc.simulate.runs import SimulationResult, format_text, run
 from relacc.simulate.trajectory import Trajectory
 

@@ -25,7 +25,6 @@ import numpy as np
 
 from relacc.core.cases import check_int, check_q, check_u
 from relacc.core.kinematics import g2_kinematics
-from relacc.core.rotations import quaternion_exp, quaternion_multiply
 from relacc.dynamics.steps import recorded_steps
 from relacc.errors import EngineError, IntegrationError
 from relacc.limits import require_memory
@@ -60,33 +59,6 @@ class Ensemble:
     @property
     def steps_per_second(self) -> float:
         return self.steps / self.seconds if self.seconds > 0 else float("inf")
-
-
-def perturbed(scene: Scene, n: int, spread: float, seed: int):
-    """``(q0 (n, nq), u0 (n, 12))``: the scene's initial state and ``n - 1`` perturbations of it.
-
-    Member 0 is the scene's own state. The others: positions and angles plus
-    ``spread`` times standard normals (m, rad), quaternions turned by rotation
-    vectors of that size (they stay unit), speeds plus ``spread`` times standard
-    normals (m/s, rad/s); ``numpy.random.default_rng(seed)``.
-    """
-    n = check_int("ensemble size", n, minimum=1)
-    if not (isinstance(spread, (int, float)) and np.isfinite(spread) and spread >= 0):
-        raise EngineError(f"spread: expected a finite number >= 0, got {spread!r}")
-    rng = np.random.default_rng(seed)
-    q0 = np.repeat(scene.q[None].astype(float), n, axis=0)
-    u0 = np.repeat(scene.u[None].astype(float), n, axis=0)
-    if n > 1:
-        m = n - 1
-        if scene.case == 3:
-            q0[1:] += spread * rng.normal(size=(m, 12))
-        else:
-            for sl in (slice(0, 3), slice(7, 10)):
-                q0[1:, sl] += spread * rng.normal(size=(m, 3))
-            for sl in (slice(3, 7), slice(10, 14)):
-                q0[1:, sl] = quaternion_multiply(q0[1:, sl], quaternion_exp(spread * rng.normal(size=(m, 3))))
-        u0[1:] += spread * rng.normal(size=(m, 12))
-    return check_q(scene.case, q0), check_u("u0", u0)
 
 
 def ensemble(scene: Scene, q0, u0, *, engine: str = "relacc", threads: int | None = None) -> Ensemble:
@@ -287,10 +259,3 @@ def _one_by_one(scene, q0, u0, steps, threads, name):
             at += len(chunk)
         seconds += time.perf_counter() - start
     return _observed(name, engine, scene, Q, V, steps, seconds, 1)
-
-
-def largest_differences(runs: dict) -> dict:
-    """``{"a-b": (N,) largest G2 position difference over the run per member, m}`` for every pair of engines."""
-    names = list(runs)
-    return {f"{a}-{b}": np.max(np.linalg.norm(runs[a].position - runs[b].position, axis=2), axis=1)
-            for i, a in enumerate(names) for b in names[i + 1:]}

@@ -44,7 +44,8 @@ from relacc.dynamics.effects import Effects
 from relacc.dynamics.integrate import stepper
 from relacc.engines import load_engine
 from relacc.kernels.jit import threads as numba_threads
-from relacc.simulate.ensemble import ensemble, perturbed
+from relacc.simulate.ensemble import ensemble
+from relacc.simulate.members import perturbed
 from relacc.simulate.scenes import Scene
 from relacc.tradeoff.throughput import machine, one_thread, wall_times
 

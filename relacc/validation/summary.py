@@ -82,8 +82,13 @@ class Summary:
                                minlength=EDGES.size + 1), comp.errors, comp.tolerance)
 
     def merge(self, other: "Summary") -> "Summary":
-        """The summary of both sweeps' states (disjoint chunks of the same comparison)."""
-        a, b = (self, other) if self.max_ratio >= other.max_ratio else (other, self)
+        """The summary of both sweeps' states (disjoint chunks of the same comparison).
+
+        Associative and commutative (ties in the worst ratio go to the earlier state), so chunks may be
+        merged in any grouping, on any machine, to the same summary.
+        """
+        first = (self.max_ratio, -self.worst_state) >= (other.max_ratio, -other.worst_state)
+        a = self if first else other  # ties: the earlier state, whatever the order of merging
         return replace(a, n=self.n + other.n, max_error=max(self.max_error, other.max_error),
                        max_bound=max(self.max_bound, other.max_bound), over=self.over + other.over,
                        finite=self.finite and other.finite, counts=self.counts + other.counts, errors=None)

@@ -1,0 +1,136 @@
+"""Sweeps on a Dask cluster: ``--scheduler local[:N]`` or ``--scheduler tcp://host:port``.
+
+The local, in-process run stays the default; this layer only distributes work the other layers
+define chunk by chunk (every chunk's states come from its own seed, never from a shared stream), so
+the same seed gives the same answer, the same maxima, worst states and verdicts, whatever runs it:
+
+* :func:`connect` opens a client: a ``LocalCluster`` of N single-threaded worker processes started
+  and stopped here, or an existing cluster by address; within a bounded time, the workers must
+  import relacc at the client's version, else one :class:`ClusterError` line;
+* :class:`RelaccPlugin`, registered on every worker, loads relacc's kernels once per worker and keeps
+  what tasks load (engines, harnesses) in a per-worker cache, so nothing heavy is pickled per task;
+* :func:`run` submits coarse tasks, drives the progress callback from their completion, reduces
+  their small answers on the workers (a tree of merges), retries the tasks of a worker that dies,
+  and cancels everything on Ctrl-C.
+
+Users: :mod:`relacc.cluster.sweeps` (``check``, ``compare`` over many models, ensembles).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+
+from relacc.errors import RelaccError
+
+TIMEOUT = float(os.environ.get("RELACC_SCHEDULER_TIMEOUT", "15"))
+"""Seconds to reach a scheduler and see its first worker, before one line and exit 2 (environment variable
+``RELACC_SCHEDULER_TIMEOUT``)."""
+
+RETRIES = 3
+"""Times a task is resubmitted after its worker died (Dask reschedules it; the answer is unchanged)."""
+
+FAN_IN = 16
+"""Partial answers merged per reduction task on the workers."""
+
+
+class ClusterError(RelaccError):
+    """A scheduler that cannot be reached, workers without relacc or at another version, a malformed address."""
+
+
+def parse_address(address: str) -> tuple[str, int | None]:
+    """``("local", N or None)`` or ``("tcp", None)``; raises :class:`ClusterError` naming what is accepted."""
+    text = str(address).strip()
+    if text == "local" or text.startswith("local:"):
+        n = text.partition(":")[2]
+        if n and not (n.isdigit() and int(n) >= 1):
+            raise ClusterError(f"--scheduler {text!r}: local:N needs a whole number of workers >= 1")
+        return "local", int(n) if n else None
+    if text.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
+        return "tcp", None
+    raise ClusterError(f"--scheduler {text!r}: accepted are local, local:N (N worker processes here) and "
+                       "tcp://host:port (a running `dask scheduler`)")
+
+
+def _worker_versions():  # runs on every worker
+    import relacc
+
+    return relacc.__version__
+
+
+@contextlib.contextmanager
+def connect(address: str, timeout: float = TIMEOUT):
+    """A ``distributed.Client`` for ``address`` with :class:`RelaccPlugin` registered, closed at the end.
+
+    Raises:
+        ClusterError: a malformed address, no scheduler or no worker within ``timeout`` seconds,
+            workers that cannot import relacc or run another version of it.
+    """
+    kind, n = parse_address(address)
+    from distributed import Client, LocalCluster
+
+    import relacc
+
+    logging.getLogger("distributed").setLevel(logging.ERROR)
+    with contextlib.ExitStack() as stack:
+        if kind == "local":
+            cluster = stack.enter_context(LocalCluster(n_workers=n or os.cpu_count() or 1, threads_per_worker=1,
+                                                       processes=True, dashboard_address=":0",
+                                                       silence_logs=logging.ERROR))
+            target = cluster
+        else:
+            target = address
+        try:
+            client = stack.enter_context(Client(target, timeout=f"{timeout}s"))
+            client.wait_for_workers(1, timeout=timeout)
+        except (OSError, TimeoutError) as exc:
+            raise ClusterError(f"--scheduler {address}: no scheduler with a worker answered within {timeout:g} s "
+                               f"({type(exc).__name__}: {' '.join(str(exc).split()) or 'timed out'})") from None
+        try:
+            versions = client.run(_worker_versions)
+        except Exception as exc:  # a worker without relacc raises ModuleNotFoundError there
+            raise ClusterError(f"--scheduler {address}: a worker cannot import relacc "
+                               f"({type(exc).__name__}: {exc}); install relacc {relacc.__version__} on every "
+                               "worker") from None
+        other = {w: v for w, v in versions.items() if v != relacc.__version__}
+        if other:
+            raise ClusterError(f"--scheduler {address}: workers run relacc {sorted(set(other.values()))}, this "
+                               f"client {relacc.__version__}; install the same version everywhere")
+        from relacc.cluster.plugin import RelaccPlugin
+
+        client.register_plugin(RelaccPlugin(), name=RelaccPlugin.name)
+        yield client
+
+
+def run(client, function, tasks, merge, progress=None):
+    """``merge``-reduced results of ``function(*task)`` for every task, computed on the cluster.
+
+    Args:
+        tasks: argument tuples, one per task (coarse: each does seconds of work).
+        merge: ``merge(a, b)`` of two answers, associative; answers are merged in task order, so the
+            result does not depend on which worker finishes first.
+        progress: called with ``(done, total)`` as tasks finish.
+    """
+    from distributed import as_completed
+
+    futures = [client.submit(function, *task, pure=False, retries=RETRIES) for task in tasks]
+    try:
+        if progress is not None:
+            for done, _ in enumerate(as_completed(futures), start=1):
+                progress(done, len(futures))
+        level = futures
+        while len(level) > 1:  # a tree of merges on the workers, in task order
+            level = [client.submit(_merge_all, merge, *level[i:i + FAN_IN], pure=False, retries=RETRIES)
+                     for i in range(0, len(level), FAN_IN)]
+        return level[0].result()
+    except BaseException:
+        client.cancel(futures)
+        raise
+
+
+def _merge_all(merge, *answers):
+    out = answers[0]
+    for answer in answers[1:]:
+        out = merge(out, answer)
+    return out
