@@ -108,6 +108,32 @@ def test_a_worker_killed_mid_run_changes_nothing(cluster, capsys, monkeypatch):
     assert remote == local
 
 
+def test_ctrl_c_cancels_the_clusters_work(cluster):
+    """SIGINT to a running `relacc check --scheduler`: one line, exit 130, and the scheduler holds no task after."""
+    from distributed import Client
+
+    relacc = shutil.which("relacc") or str(Path(sys.executable).parent / "relacc")
+    proc = subprocess.Popen([relacc, "check", "--states", "2000000", "--cases", "1",
+                             "--engines", "mujoco", "--quiet", "--scheduler", cluster["address"]],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    with Client(cluster["address"], timeout="20s") as client:
+        def tasks():
+            return client.run_on_scheduler(lambda dask_scheduler: len(dask_scheduler.tasks))
+
+        deadline = time.monotonic() + 60
+        while tasks() == 0 and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.2)
+        assert tasks() > 0, "the sweep never reached the scheduler"
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+        deadline = time.monotonic() + 30
+        while tasks() > 0 and time.monotonic() < deadline:
+            time.sleep(0.2)
+        left = tasks()
+    assert proc.returncode == 130 and err.strip().count("\n") == 0 and "interrupted" in err, err
+    assert left == 0
+
+
 def test_compare_of_several_models_on_the_cluster(cluster, capsys, tmp_path):
     """relacc compare A B --scheduler: the same JSON as in-process, one entry per model, a broken one exit 2."""
     from relacc.fixtures.shipped import models_dir

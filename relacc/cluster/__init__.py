@@ -77,7 +77,7 @@ def connect(address: str, timeout: float = TIMEOUT):
         if kind == "local":
             cluster = stack.enter_context(LocalCluster(n_workers=n or os.cpu_count() or 1, threads_per_worker=1,
                                                        processes=True, dashboard_address=":0",
-                                                       silence_logs=logging.ERROR))
+                                                       silence_logs=logging.CRITICAL))
             target = cluster
         else:
             target = address
