@@ -239,3 +239,38 @@ def test_docs_table_is_current():
     doc = module.DOC.read_text()
     shown = re.search(r"<!-- compare:gymnasium -->\n(.*?)\n<!-- /compare:gymnasium -->", doc, re.S).group(1)
     assert shown == module.table(), "run python scripts/compare_table.py"
+
+
+@pytest.mark.parametrize("name", ["two_body.xml", "ant.xml"])
+def test_speed_maps_are_the_engines_velocities_along_mujocos_motion(name):
+    """T(q) v equals each engine's own velocity of the configuration MuJoCo moves along v (central differences)."""
+    import mujoco
+    import numpy as np
+    import pinocchio as pin
+
+    from relacc.core.tolerances import central_difference_bound
+    from relacc.engines.robots import robot_class
+    from relacc.validation.robots.agreement import random_states
+
+    path = models_dir() / name if name == "two_body.xml" else gym_assets() / name
+    reference = robot_class("mujoco")(path)
+    engines = [robot_class("pinocchio")(path, reference), robot_class("drake")(path, reference)]
+    states, h = random_states(reference, 4, seed=11), 1e-5
+    m = reference.model
+    for q, v in zip(states.q[1:], states.v[1:]):
+        moved = []
+        for sign in (1, -1):
+            x = q.copy()
+            mujoco.mj_integratePos(m, x, v, sign * h)
+            moved.append(x)
+        for robot in engines:
+            T, _ = robot.speed_map(q, v)
+            expected = T @ v[robot.dofs]
+            plus, minus = robot.engine_q(moved[0]), robot.engine_q(moved[1])
+            if robot.engine == "pinocchio":
+                measured = pin.difference(robot.model, minus, plus) / (2 * h)
+            else:
+                robot.plant.SetPositions(robot.context, robot.engine_q(q))
+                measured = robot.plant.MapQDotToVelocity(robot.context, (plus - minus) / (2 * h))
+            bound = central_difference_bound(h, (1 + np.abs(v).max()) ** 3, np.abs(plus).max() + 1)
+            assert np.abs(measured - expected).max() <= bound, (robot.engine, np.abs(measured - expected).max(), bound)

@@ -87,6 +87,14 @@ def robot_tolerance(n_links: int) -> float:
     return ROUNDING_FACTOR * EPS * max(int(n_links), 1)
 
 
+def central_difference_bound(h: float, third_derivative_scale, value_scale):
+    """Error bound of the central difference ``(f(x + h) - f(x - h)) / 2h``.
+
+    Truncation ``h^2 |f'''| / 6`` plus rounding ``eps |f| / h``; scales may be arrays.
+    """
+    return h**2 / 6 * third_derivative_scale + EPS / h * value_scale
+
+
 def richardson_bound(h: float, fifth_derivative_scale, value_scale):
     """Error bound of Richardson extrapolation of central differences, ``(4 D(h/2) - D(h)) / 3``.
 
