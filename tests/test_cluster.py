@@ -200,7 +200,7 @@ def test_bad_schedulers_are_one_line_in_bounded_time(address, message, capsys, m
     monkeypatch.setattr(cluster_module, "TIMEOUT", 3.0)
     started = time.monotonic()
     assert main(["check", "--states", "10", "--scheduler", address]) == 2
-    assert time.monotonic() - started < 20
+    assert time.monotonic() - started < 3.0 + 5.0  # the timeout plus the client's start and shutdown
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err
 

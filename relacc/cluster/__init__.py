@@ -60,14 +60,17 @@ def _worker_versions():  # runs on every worker
 
 
 @contextlib.contextmanager
-def connect(address: str, timeout: float = TIMEOUT):
+def connect(address: str, timeout: float | None = None):
     """A ``distributed.Client`` for ``address`` with :class:`RelaccPlugin` registered, closed at the end.
+
+    ``timeout`` in seconds; None reads :data:`TIMEOUT` at the call.
 
     Raises:
         ClusterError: a malformed address, no scheduler or no worker within ``timeout`` seconds,
             workers that cannot import relacc or run another version of it.
     """
     kind, n = parse_address(address)
+    timeout = TIMEOUT if timeout is None else timeout
     from distributed import Client, LocalCluster
 
     import relacc
