@@ -1,5 +1,5 @@
-"""Rewrite docs/compare.md's table of gymnasium's MuJoCo assets from ``relacc compare`` (tests/test_compare.py
-checks the table is current).
+"""Rewrite docs/compare.md's tables from ``relacc compare``: gymnasium's MuJoCo assets, and models outside that
+set from the engines' own pip packages (tests/test_compare.py checks both tables are current).
 
 Run:  python scripts/compare_table.py          (needs gymnasium: pip install -e .[gymnasium])
 """
@@ -19,36 +19,66 @@ SHORT = {  # a cause's words -> its label in the table
     "armature only": "armature only with a motor",
     "several joints in the parent": "stacked joints in the parent's frame",
     "JointModelComposite": "composite-joint J_dot v",
+    "no inertia moves": "mass matrix singular (a speed with no inertia)",
+    "leaves a root link": "URDF root link left free",
 }
 
 
 def labels(cause: str) -> set[str]:
+    if cause.startswith("not explained"):
+        return {"UNEXPLAINED"}
     found = {short for words, short in SHORT.items() if words in cause}
     return found or {"UNEXPLAINED"}
 
 
-def table() -> str:
-    """The markdown table: one row per asset, one column group per engine."""
+def words(message: str, path: Path, shown: str) -> str:
+    """An engine's message without this machine's paths: the model's shown name, the parser's own words."""
+    text = " ".join(message.replace(str(path), shown).replace(str(path.parent) + "/", "").split())
+    return re.sub(r"From file: \S+ in function: .*? message: ", "", text)
+
+
+def gymnasium_models() -> list[tuple[str, Path]]:
+    """``(shown name, path)`` of gymnasium's MuJoCo assets."""
     import gymnasium
 
+    assets = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+    return [(path.name, path) for path in sorted(assets.glob("*.xml"))]
+
+
+OTHERS = (("mujoco", "testdata/model.xml"), ("mujoco", "testdata/msh.xml"), ("mujoco", "testdata/model.urdf"),
+          ("pydrake", "share/drake/examples/acrobot/Acrobot.urdf"),
+          ("pydrake", "share/drake/examples/acrobot/Acrobot_no_collision.urdf"),
+          ("pydrake", "share/drake/examples/pendulum/Pendulum.urdf"))
+"""Models outside gymnasium, from the engines' own pip packages: (package, path inside it)."""
+
+
+def other_models() -> list[tuple[str, Path]]:
+    """``(shown name, path)`` of :data:`OTHERS`, found in the installed packages."""
+    import importlib.util
+
+    return [(f"{package}: {inside}", Path(importlib.util.find_spec(package).origin).parent / inside)
+            for package, inside in OTHERS]
+
+
+def table(models=None) -> str:
+    """The markdown table: one row per model (default: gymnasium's assets), one column group per engine."""
     from relacc.errors import ModelError
     from relacc.validation.robots import compare
 
-    assets = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
     lines = ["| model | MuJoCo nv | engine | loads (nv) | audit differences: causes "
              "| dynamics outside tolerance: causes | exit |", "|---|---|---|---|---|---|---|"]
-    for path in sorted(assets.glob("*.xml")):
+    for shown, path in gymnasium_models() if models is None else models:
         try:
             result = compare(path, n_states=STATES, seed=SEED)
         except ModelError as exc:
-            lines.append(f"| `{path.name}` | - | - | {exc} | | | 2 |")
+            lines.append(f"| `{shown}` | - | - | no: {words(str(exc), path, shown)} | | | 2 |")
             continue
         nv = result.engines["mujoco"].nv
         for k, (name, report) in enumerate((n, r) for n, r in result.engines.items() if n != "mujoco"):
             first = k == 0
-            head = f"| `{path.name}` | {nv} |" if first else "| | |"
+            head = f"| `{shown}` | {nv} |" if first else "| | |"
             if not report.loaded:
-                why = report.error.rsplit("error: ", 1)[-1]  # the parser's words, not this machine's path
+                why = words(report.error, path, shown).split(" cannot read it: ", 1)[-1]
                 lines.append(f"{head} {name} | no: {why} | | | {result.exit_code if first else ''} |")
                 continue
             items = [a for a in result.audit if name in a.values]
@@ -67,8 +97,10 @@ def rewrite() -> None:
     from relacc.files import write_text
 
     text = DOC.read_text()
-    new = re.sub(r"(<!-- compare:gymnasium -->\n).*?(\n<!-- /compare:gymnasium -->)",
-                 lambda m: m.group(1) + table() + m.group(2), text, flags=re.S)
+    for marker, models in (("gymnasium", None), ("others", other_models())):
+        text = re.sub(rf"(<!-- compare:{marker} -->\n).*?(\n<!-- /compare:{marker} -->)",
+                      lambda m: m.group(1) + table(models) + m.group(2), text, flags=re.S)
+    new = text
     write_text(DOC, new)
     print(f"updated {DOC}")
 

@@ -226,8 +226,71 @@ def test_no_file_is_left_when_the_page_cannot_be_written(tmp_path, capsys):
     assert sorted(os.listdir(tmp_path)) == ["arm.urdf", "arm.xml"]
 
 
+def other_model(package: str, inside: str) -> Path:
+    """A model file shipped inside an installed engine's pip package."""
+    import importlib.util
+
+    return Path(importlib.util.find_spec(package).origin).parent / inside
+
+
+def strict(text: str):
+    """JSON as the standard has it: no Infinity or NaN."""
+    def refuse(constant):
+        raise ValueError(f"{constant} is not JSON")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_drake_names_a_model_without_a_name_and_says_so():
+    """gymnasium's point.xml has no model name: Drake loads it through a directive naming it, says so, and agrees."""
+    result = compare(gym_assets() / "point.xml", engines=["drake"], n_states=4, seed=0)
+    report = result.engines["drake"]
+    assert report.loaded and any("no model name" in w and "'point'" in w for w in report.warnings)
+    assert result.audit == [] and all(rs["drake"]["ok"] for rs in result.dynamics.values())
+
+
+def test_a_urdf_model_is_read_by_every_engines_urdf_parser():
+    """Drake's acrobot URDF: MuJoCo and Pinocchio agree everywhere; Drake's 6 more speeds are its free root link."""
+    result = compare(other_model("pydrake", "share/drake/examples/acrobot/Acrobot_no_collision.urdf"),
+                     n_states=4, seed=1)
+    assert (result.engines["pinocchio"].nv, result.engines["drake"].nv) == (2, 8)
+    (row,) = result.audit
+    assert (row.item, row.values) == ("degrees of freedom", {"mujoco": 2, "drake": 8})
+    assert "leaves a root link" in row.cause
+    assert all(rs[e]["ok"] for rs in result.dynamics.values() for e in ("pinocchio", "drake")), f"seed {result.seed}"
+
+
+def test_a_singular_mass_matrix_is_named_not_a_traceback(capsys):
+    """MuJoCo's testdata/model.xml: Drake's M over the shared speeds is singular; its forward dynamics is undefined,
+    written null in strict JSON with the joint named, and the run exits 1."""
+    import numpy as np
+
+    from relacc.engines.robots.drake_ import DrakeRobot
+    from relacc.engines.robots.mujoco_ import MujocoRobot
+
+    path = other_model("mujoco", "testdata/model.xml")
+    reference = MujocoRobot(path)
+    M = DrakeRobot(path, reference).dynamics(reference.model.qpos0, np.zeros(reference.model.nv)).M
+    assert np.linalg.matrix_rank(M) < M.shape[0]  # the independent fact: Drake's own M is singular
+    assert main(["compare", str(path), "--states", "3", "--json"]) == 1
+    row = strict(capsys.readouterr().out)["dynamics"]["forward dynamics"]["engines"]["drake"]
+    assert row["max_error"] is None and row["ok"] is False
+    assert "singular" in row["cause"] and "slider" in row["cause"]
+
+
+@pytest.mark.parametrize("package,inside,message", [
+    ("mujoco", "testdata/msh.xml", "no body found"),
+    ("pydrake", "share/drake/examples/acrobot/Acrobot.urdf", "URDF joint parent or child missing"),
+    ("pydrake", "share/drake/examples/pendulum/Pendulum.urdf", "inertia must have positive eigenvalues"),
+])
+def test_other_packages_models_that_cannot_be_compared_exit_2(capsys, package, inside, message):
+    """Models from the engines' own packages that MuJoCo or every other engine cannot read: one line, exit 2."""
+    assert main(["compare", str(other_model(package, inside))]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "Traceback" not in err
+
+
 def test_docs_table_is_current():
-    """docs/compare.md's gymnasium table is what scripts/compare_table.py writes today."""
+    """docs/compare.md's tables (gymnasium's assets, models outside it) are what scripts/compare_table.py writes."""
     import importlib.util
     import re
 
@@ -237,8 +300,9 @@ def test_docs_table_is_current():
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     doc = module.DOC.read_text()
-    shown = re.search(r"<!-- compare:gymnasium -->\n(.*?)\n<!-- /compare:gymnasium -->", doc, re.S).group(1)
-    assert shown == module.table(), "run python scripts/compare_table.py"
+    for marker, models in (("gymnasium", None), ("others", module.other_models())):
+        shown = re.search(rf"<!-- compare:{marker} -->\n(.*?)\n<!-- /compare:{marker} -->", doc, re.S).group(1)
+        assert shown == module.table(models), f"{marker}: run python scripts/compare_table.py"
 
 
 @pytest.mark.parametrize("name", ["two_body.xml", "ant.xml"])

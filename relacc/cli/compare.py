@@ -92,8 +92,10 @@ def text(result) -> str:
     for quantity, row in data["dynamics"].items():
         for engine, r in row["engines"].items():
             verdict = "agree" if r["ok"] else "DIFFER"
-            lines.append(f"  {quantity:22s} {engine:9s} {r['max_error']:9.3g} ({r['max_error'] / EPS:.3g} eps; "
-                         f"tolerance {r['tolerance']:.3g})  {verdict}" + (f": {r['cause']}" if r["cause"] else ""))
+            error = ("undefined (" if r["max_error"] is None else
+                     f"{r['max_error']:9.3g} ({r['max_error'] / EPS:.3g} eps; ")
+            lines.append(f"  {quantity:22s} {engine:9s} {error}tolerance {r['tolerance']:.3g})  {verdict}"
+                         + (f": {r['cause']}" if r["cause"] else ""))
     lines.append("every engine sees the same robot and the dynamics agree" if data["agree"] else
                  "the engines DISAGREE (exit 1)")
     return "\n".join(lines)

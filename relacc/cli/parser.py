@@ -271,7 +271,8 @@ def build_parser() -> argparse.ArgumentParser:
               "relacc compare robot.xml --json --out robot.html",
               "relacc compare models/*.xml --scheduler local:2 --json > all.json"])
     p.add_argument("model", metavar="MODEL.xml", nargs="+",
-                   help="the MJCF file; several: each compared alone (exit: the highest of theirs)")
+                   help="the MJCF file (or a URDF, which every engine then reads by its URDF parser); several: "
+                        "each compared alone (exit: the highest of theirs)")
     p.add_argument("--urdf", metavar="MODEL.urdf",
                    help="a URDF of the same robot for Pinocchio (links named as the MJCF's bodies)")
     p.add_argument("--engines", type=_choices_list("--engines", ("pinocchio", "drake")), metavar="ENGINES",

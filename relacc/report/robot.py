@@ -23,7 +23,7 @@ def page_data(result) -> dict:
         cells = []
         for e in others:
             r = row["engines"].get(e)
-            cells.append(None if r is None else {**r, "eps": r["max_error"] / EPS})
+            cells.append(None if r is None else {**r, "eps": None if r["max_error"] is None else r["max_error"] / EPS})
         rows.append({"quantity": quantity, "cells": cells})
     audit = [{"item": a["item"], "where": a["where"], "cells": [_show(a.get(e)) for e in engines],
               "cause": a["cause"]} for a in data["audit"]]

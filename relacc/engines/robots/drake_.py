@@ -23,6 +23,7 @@ Drake's parser warnings (unsupported attributes and elements) are collected, not
 
 from __future__ import annotations
 
+import json
 import logging
 from pathlib import Path
 
@@ -49,15 +50,44 @@ class _Collect(logging.Handler):
         self.lines.append(" ".join(record.getMessage().split()))
 
 
+NO_MODEL_NAME = "must have a name attribute or a model name must be specified"
+"""Drake's MJCF parser refuses a ``<mujoco>`` without ``model=`` (MuJoCo itself names it "MuJoCo Model")."""
+
+
+def _directive(path) -> str:
+    """A Drake model directive adding ``path`` under its file's stem: how Drake's parser takes a model name."""
+    path = Path(path).resolve()
+    return ("directives:\n- add_model:\n"
+            f"    name: {json.dumps(path.stem)}\n    file: {json.dumps(path.as_uri())}\n")
+
+
+def _parse(path, named: bool):
+    plant = MultibodyPlant(0.0)
+    parser = Parser(plant)
+    if named:
+        parser.AddModelsFromString(_directive(path), "dmd.yaml")
+    else:
+        parser.AddModels(str(path))
+    plant.Finalize()
+    return plant
+
+
 def _load(path):
+    """Drake's plant of ``path`` and its parser's warnings (and, when relacc named the model, a line saying so)."""
     log, handler = logging.getLogger("drake"), _Collect()
     before = log.propagate
     log.addHandler(handler)
     log.propagate = False
     try:
-        plant = MultibodyPlant(0.0)
-        Parser(plant).AddModels(str(path))
-        plant.Finalize()
+        try:
+            plant = _parse(path, named=False)
+        except Exception as exc:
+            if NO_MODEL_NAME not in str(exc):
+                raise
+            handler.lines.clear()
+            plant = _parse(path, named=True)
+            handler.lines.append(f"the file has no model name, which Drake's parser requires: relacc loaded it "
+                                 f"through a model directive naming it {Path(path).stem!r} (the name only)")
     except Exception as exc:  # Drake raises RuntimeError with its parser's message (file and line)
         raise ModelError(f"{path}: Drake cannot read it: {' '.join(str(exc).split())}") from None
     finally:
@@ -223,6 +253,17 @@ class DrakeRobot(Robot):
         return LinkKinematics(pos, J, Jdv, acc)
 
 
+def _loose_roots(spec):
+    """Bodies on the world with no joint: MuJoCo welds them; Drake's URDF parser leaves such a root link free."""
+    return [b for b in spec.worldbody.bodies if len(b.joints) == 0]
+
+
+def _free_roots(spec):
+    for body in _loose_roots(spec):
+        body.add_freejoint()
+    spec.compiler.boundmass = spec.compiler.boundinertia = 1e-14  # MuJoCo refuses massless moving bodies
+
+
 def _unactuated(spec):
     """Joints with armature and no actuator on them (Drake drops their armature)."""
     driven = {a.target for a in spec.actuators}
@@ -257,8 +298,12 @@ MJCF_READINGS = (
      lambda spec: bool(_unactuated(spec)), _no_armature_without_motor),
     ("settotalmass", "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
      lambda spec: spec.compiler.settotalmass > 0, lambda spec: setattr(spec.compiler, "settotalmass", -1.0)),
+    ("free_root", "Drake's URDF parser leaves a root link that no joint attaches to the world free (a floating "
+     "body, 6 more degrees of freedom); MuJoCo and Pinocchio weld it to the world",
+     lambda spec: bool(_loose_roots(spec)), _free_roots),
 )
-"""How Drake's MJCF parser reads a file differently from MuJoCo (as in :mod:`relacc.engines.robots.pinocchio_`)."""
+"""How Drake's parsers read a file differently from MuJoCo (as in :mod:`relacc.engines.robots.pinocchio_`); each
+is applied only where recompiling MuJoCo with it makes a difference disappear."""
 
 ENGINE_READINGS = ()
 """No known difference in Drake's algorithms."""

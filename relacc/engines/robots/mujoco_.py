@@ -72,7 +72,9 @@ class MujocoRobot(Robot):
     def __init__(self, path, spec=None):
         self.path = Path(path)
         self.spec = load_spec(path) if spec is None else spec
-        self.model, self.warnings = compile_spec(self.spec, self.path)
+        # a copy is compiled: compiling edits a spec in place where it fuses static bodies (compiler fusestatic,
+        # the default for URDF), and the readings are applied to the spec as the file has it
+        self.model, self.warnings = compile_spec(self.spec.copy(), self.path)
         self.data = mujoco.MjData(self.model)
         m = self.model
         self.dofs, self.qdofs = np.arange(m.nv), np.arange(m.nq)

@@ -21,6 +21,8 @@ import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from relacc.engines import installed
 from relacc.engines.robots import robot_class
 from relacc.errors import EngineError, ModelError
@@ -82,11 +84,19 @@ class RobotComparison:
         dynamics = {}
         for quantity, rows in self.dynamics.items():
             worst = max(rows.values(), key=lambda r: r["max_error"] / r["tolerance"])
-            dynamics[quantity] = {"max_error": worst["max_error"], "tolerance": worst["tolerance"],
-                                  "ok": all(r["ok"] for r in rows.values()), "engines": rows}
+            dynamics[quantity] = {"max_error": _finite(worst["max_error"]), "tolerance": worst["tolerance"],
+                                  "ok": all(r["ok"] for r in rows.values()),
+                                  "engines": {e: {k: _finite(x) if isinstance(x, float) else x for k, x in r.items()}
+                                              for e, r in rows.items()}}
         return {"model": self.model, "urdf": self.urdf, "engines": {k: e.as_json() for k, e in self.engines.items()},
                 "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
                 "seed": self.seed, "agree": self.agree}
+
+
+def _finite(x: float) -> float | None:
+    """JSON has no infinity: an undefined or infinite error or difference is written ``null`` (the row's cause
+    says why)."""
+    return x if np.isfinite(x) else None
 
 
 def _readings(engine: str, attribute: str):
@@ -99,10 +109,11 @@ def _load(engine, path, reference, urdf):
 
 
 def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0) -> RobotComparison:
-    """Compare every engine's reading of ``model`` (MJCF) with MuJoCo's.
+    """Compare every engine's reading of ``model`` (MJCF, or a URDF MuJoCo reads) with MuJoCo's.
 
     Args:
-        urdf: a URDF of the same robot for Pinocchio (links named as the MJCF's bodies, joints as its joints).
+        urdf: a URDF of the same robot for Pinocchio (links named as the MJCF's bodies, joints as its joints);
+            when ``model`` itself is a URDF, Pinocchio reads it by its URDF parser.
         engines: among :data:`OTHERS` (default: those installed).
         n_states: random states besides the reference configuration; seed: their seed.
 
@@ -119,6 +130,8 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     if urdf is not None and not Path(urdf).is_file():
         raise ModelError(f"{urdf}: no such file")
     reference = MujocoRobot(model)
+    if urdf is None and Path(model).suffix.lower() == ".urdf":  # MuJoCo reads URDF too: Pinocchio by its URDF parser
+        urdf = model
     reports = {"mujoco": EngineReport("mujoco", True, reference.model.nq, reference.model.nv,
                                       warnings=tuple(reference.warnings))}
     robots = []
@@ -149,7 +162,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
             if from_urdf and items and row["cause"].startswith("not explained"):
                 row["cause"] = "the URDF and the MJCF describe the robot differently (see the audit)"
             dynamics[quantity][robot.engine] = row
-    return RobotComparison(str(model), None if urdf is None else str(urdf), reports, merge(audits),
+    return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
                            {q: r for q, r in dynamics.items() if r}, n_states, seed)
 
 
@@ -161,7 +174,10 @@ body mass, 1e-14 kg, against an engine's zero)."""
 
 def _explained(again: dict, quantity: str, before: dict) -> bool:
     row = again.get(quantity)
-    return row is not None and (row["ok"] or row["max_difference"] <= EXPLAINED * before["max_difference"])
+    if row is None:
+        return False
+    return row["ok"] or (np.isfinite(before["max_difference"])
+                         and row["max_difference"] <= EXPLAINED * before["max_difference"])
 
 
 def _dynamics_cause(quantity, before, reference, robot, explained, applied, readings, n_states, seed) -> str:
@@ -183,6 +199,11 @@ def _dynamics_cause(quantity, before, reference, robot, explained, applied, read
             again = compare_dynamics(explained, fixed, random_states(explained, n_states, seed))
             if texts and _explained(again, quantity, before):
                 return text + "; and the audit's causes: " + "; ".join(texts)
+    if before.get("singular"):
+        return "forward dynamics undefined: " + "; ".join(
+            f"{'MuJoCo' if engine == 'mujoco' else engine}'s mass matrix over the shared speeds is singular "
+            f"(no inertia moves with {', '.join(joints) or 'a combination of speeds'})"
+            for engine, joints in before["singular"].items())
     return f"not explained by a known difference of {robot.engine}" + (
         f" (the audit's causes were applied: {'; '.join(texts)})" if texts else "")
 

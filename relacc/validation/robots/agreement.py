@@ -15,7 +15,9 @@ scale the magnitude of the terms: ``max_i M_ii`` for the mass matrix (it bounds 
 term plus the values for the gravity forces (the terms survive where the results cancel; the values are
 the larger of the two engines', so that an engine that leaves out a term is measured against it);
 ``||M^-1|| (||M|| |a| + bias scale)`` for the accelerations (the perturbation bound of a linear
-solve: it carries ``kappa_2(M)``);
+solve: it carries ``kappa_2(M)``; where an engine's ``M`` over the shared speeds is exactly singular,
+a speed moving no inertia, its forward dynamics is undefined: the error is infinite and the row
+names that engine's inertia-less joints under ``singular``);
 ``|J| (|a| + |v|^2)`` for point accelerations and ``|J| |v|^2`` for ``J_dot v``; the values' own
 magnitude otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` per link).
 """
@@ -94,8 +96,27 @@ def _restrict(dyn, dofs, solve: bool):
     M = dyn.M[np.ix_(dofs, dofs)] if dyn.M.shape[0] != len(dofs) else dyn.M
     bias = dyn.bias[dofs] if dyn.bias.shape[0] != len(dofs) else dyn.bias
     gravity = dyn.gravity[dofs] if dyn.gravity.shape[0] != len(dofs) else dyn.gravity
-    forward = np.linalg.solve(M, -bias) if solve or dyn.forward is None else dyn.forward
+    forward = _solve(M, -bias) if solve or dyn.forward is None else dyn.forward
     return M, bias, gravity, forward
+
+
+def _solve(M, rhs):
+    """``M^-1 rhs``, or NaN where ``M`` is exactly singular (a speed with no inertia): forward dynamics undefined."""
+    try:
+        return np.linalg.solve(M, rhs)
+    except np.linalg.LinAlgError:
+        return np.full(np.shape(rhs), np.nan)
+
+
+def inertialess(reference, M, dofs) -> list[str]:
+    """The joints (by name, or their body's) of the speeds whose row of ``M`` is zero: no inertia moves with them."""
+    names = []
+    for i in np.flatnonzero(~np.any(M != 0, axis=1)):
+        k = int(reference.model.dof_jntid[dofs[i]])
+        name = f"{reference.joint_names[k]} (body {reference.structure.joints[k].body})"
+        if name not in names:
+            names.append(name)
+    return names
 
 
 def compare(reference, robot, states: States) -> dict:
@@ -112,6 +133,7 @@ def compare(reference, robot, states: States) -> dict:
     links = shared_links(reference.structure, robot.structure, robot_tolerance(n_links))
     errors = {k: [] for k in QUANTITIES}
     diffs = {k: 0.0 for k in QUANTITIES}
+    singular = {}  # engine -> joints with no inertia, where its M over the shared speeds is exactly singular
 
     def _err(x, ref, scale, key):
         d = _difference(x, ref)
@@ -131,14 +153,20 @@ def compare(reference, robot, states: States) -> dict:
         terms = _gravity_terms(reference, q, v, a, dofs, gravity) + np.abs(np.diag(M0)).max(initial=0) * vs**2
         bias_scale = terms + max(np.abs(g).max(initial=0) + np.abs(b - g).max(initial=0) for b, g in ((b0, g0),
                                                                                                     (b1, g1)))
-        inv = np.linalg.norm(np.linalg.inv(M0), 2)
+        sigma = np.linalg.svd(M0, compute_uv=False)
+        inv = 1.0 / sigma[-1] if sigma.size and sigma[-1] > 0 else np.inf  # ||M^-1||_2
+        for name, M, f in (("mujoco", M0, f0), (robot.engine, M1, f1)):
+            if np.isnan(f).any():
+                singular.setdefault(name, [])
+                singular[name] += [j for j in inertialess(reference, M, dofs) if j not in singular[name]]
         errors["mass matrix"].append(_err(M1, M0, max(np.abs(np.diag(M0)).max(initial=0),
                                                       np.abs(np.diag(M1)).max(initial=0)), "mass matrix"))
         errors["bias forces"].append(_err(b1, b0, bias_scale, "bias forces"))
         errors["gravity forces"].append(_err(g1, g0, _gravity_terms(reference, q, v, a, dofs, gravity)
                                              + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0), "gravity forces"))
-        errors["forward dynamics"].append(_err(f1, f0, inv * (np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0)
-                                                              + bias_scale), "forward dynamics"))
+        f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
+        errors["forward dynamics"].append(_err(f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
+                                               "forward dynamics"))
         if links:
             k0 = reference.kinematics(q, v, a, links)
             k1 = robot.kinematics(q, v, a, links)
@@ -159,6 +187,8 @@ def compare(reference, robot, states: States) -> dict:
         tol = robot_tolerance(n_links)
         out[k] = {"max_error": float(e[worst]), "tolerance": tol, "ok": bool(np.all(e <= tol)), "state": worst,
                   "max_difference": diffs[k]}
+    if singular and "forward dynamics" in out:
+        out["forward dynamics"]["singular"] = singular
     return out
 
 
