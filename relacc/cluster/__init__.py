@@ -75,7 +75,7 @@ def connect(address: str, timeout: float | None = None):
 
     import relacc
 
-    logging.getLogger("distributed").setLevel(logging.ERROR)
+    quiet(logging.ERROR)
     with contextlib.ExitStack() as stack:
         if kind == "local":
             cluster = stack.enter_context(LocalCluster(n_workers=n or os.cpu_count() or 1, threads_per_worker=1,
@@ -103,7 +103,17 @@ def connect(address: str, timeout: float | None = None):
         from relacc.cluster.plugin import RelaccPlugin
 
         client.register_plugin(RelaccPlugin(), name=RelaccPlugin.name)
-        yield client
+        try:
+            yield client
+        except BaseException:
+            quiet(logging.CRITICAL)  # closing after Ctrl-C or an error: relacc says what happened, in one line
+            raise
+
+
+def quiet(level: int) -> None:
+    """Dask's loggers (``distributed`` and its children, which Dask gives levels of their own) at ``level``."""
+    for name in ["distributed", *[n for n in logging.root.manager.loggerDict if n.startswith("distributed.")]]:
+        logging.getLogger(name).setLevel(level)
 
 
 def run(client, function, tasks, merge, progress=None):
@@ -128,6 +138,7 @@ def run(client, function, tasks, merge, progress=None):
                      for i in range(0, len(level), FAN_IN)]
         return level[0].result()
     except BaseException:
+        quiet(logging.CRITICAL)  # the client's own complaints while it is torn down are not the user's news
         client.cancel(futures)
         raise
 
