@@ -259,9 +259,9 @@ def test_a_urdf_model_is_read_by_every_engines_urdf_parser():
     assert all(rs[e]["ok"] for rs in result.dynamics.values() for e in ("pinocchio", "drake")), f"seed {result.seed}"
 
 
-def test_a_singular_mass_matrix_is_named_not_a_traceback(capsys):
+def test_a_singular_mass_matrix_is_named_not_a_traceback(tmp_path, capsys):
     """MuJoCo's testdata/model.xml: Drake's M over the shared speeds is singular; its forward dynamics is undefined,
-    written null in strict JSON with the joint named, and the run exits 1."""
+    written null in strict JSON and "undefined" on the page, with the joint named, and the run exits 1."""
     import numpy as np
 
     from relacc.engines.robots.drake_ import DrakeRobot
@@ -271,10 +271,11 @@ def test_a_singular_mass_matrix_is_named_not_a_traceback(capsys):
     reference = MujocoRobot(path)
     M = DrakeRobot(path, reference).dynamics(reference.model.qpos0, np.zeros(reference.model.nv)).M
     assert np.linalg.matrix_rank(M) < M.shape[0]  # the independent fact: Drake's own M is singular
-    assert main(["compare", str(path), "--states", "3", "--json"]) == 1
+    assert main(["compare", str(path), "--states", "3", "--json", "--out", str(tmp_path / "page.html")]) == 1
     row = strict(capsys.readouterr().out)["dynamics"]["forward dynamics"]["engines"]["drake"]
     assert row["max_error"] is None and row["ok"] is False
     assert "singular" in row["cause"] and "slider" in row["cause"]
+    assert "undefined (tolerance" in (tmp_path / "page.html").read_text()
 
 
 @pytest.mark.parametrize("package,inside,message", [

@@ -60,6 +60,7 @@ def test_failed_run_leaves_no_file(tmp_path, monkeypatch, fixture):
     def boom(ctx):
         raise RuntimeError("render failed")
 
+    monkeypatch.setattr(report_mod, "build_context", lambda **kwargs: {})  # the run itself is not under test here
     monkeypatch.setattr(report_mod, "render", boom)
     out = tmp_path / "agreement.html"
     with pytest.raises(RuntimeError):
