@@ -16,7 +16,7 @@ SHORT = {  # a cause's words -> its label in the table
     "first <body>": "reads only the first worldbody body",
     "contype=0": "leaves contype=0 geoms out of the inertia",
     "<option gravity>": "ignores option gravity",
-    "armature only": "armature only with a motor",
+    "armature only": "armature only with <motor>/<position>",
     "several joints in the parent": "stacked joints in the parent's frame",
     "JointModelComposite": "composite-joint J_dot v",
     "no inertia moves": "mass matrix singular (a speed with no inertia)",

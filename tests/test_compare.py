@@ -290,6 +290,53 @@ def test_other_packages_models_that_cannot_be_compared_exit_2(capsys, package, i
     assert err.count("\n") == 1 and message in err and "Traceback" not in err
 
 
+STACKED_MJCF = """<mujoco model="stacked">
+  <worldbody>
+    <body name="base" pos="0 0 1">
+      <joint name="root" type="hinge" axis="1 0 0"/>
+      <geom type="sphere" size="0.1" mass="2"/>
+      <body name="hip" pos="0.3 0.1 0" euler="0 0 90">
+        <joint name="hip_z" type="hinge" axis="0 0 1"/>
+        <joint name="hip_y" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.05" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>{actuators}</actuator>
+</mujoco>
+"""
+
+
+def test_stacked_joints_of_a_body_oriented_by_euler_angles_are_attributed(tmp_path):
+    """A body rotated by euler="0 0 90" with two joints: Drake puts the first at the parent's origin (its numbers
+    read in the parent's frame), and the audit attributes it to that reading, not to an unknown cause."""
+    xml = tmp_path / "stacked.xml"
+    xml.write_text(STACKED_MJCF.format(actuators=""))
+    result = compare(xml, engines=["drake"], n_states=3, seed=0)
+    row = rows(result, "drake")[("joint position (world, m)", "joint hip_z (hinge, body hip)")]
+    # a hinge's position is the point of its axis (here vertical) nearest the world origin (docs/compare.md)
+    assert row.values["mujoco"] == pytest.approx([0.3, 0.1, 0.0], abs=1e-12)  # the XML: hip at 0.3 0.1 on base
+    assert row.values["drake"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)  # through the parent's origin
+    assert "several joints in the parent" in row.cause
+
+
+@pytest.mark.parametrize("actuator,kept", [("motor", True), ("position", True), ("velocity", False),
+                                           ("general", False)])
+def test_drake_keeps_armature_only_with_the_actuators_it_reads(tmp_path, actuator, kept):
+    """Armature on a joint driven by <motor> or <position> survives in Drake; by <velocity> or <general> it is lost,
+    and the audit says why."""
+    gains = {"motor": 'gear="2"', "position": 'kp="10"', "velocity": 'kv="1"', "general": 'gear="2"'}[actuator]
+    xml = tmp_path / "armature.xml"
+    xml.write_text(STACKED_MJCF.replace('name="root" type="hinge"', 'name="root" type="hinge" armature="0.3"')
+                   .format(actuators=f'<{actuator} joint="root" {gains}/>'))
+    result = compare(xml, engines=["drake"], n_states=3, seed=0)
+    found = rows(result, "drake").get(("armature", "joint root (hinge, body base)"))
+    if kept:
+        assert found is None
+    else:
+        assert found.values == {"mujoco": [0.3], "drake": [0.0]} and "<motor> or <position>" in found.cause
+
+
 def test_docs_table_is_current():
     """docs/compare.md's tables (gymnasium's assets, models outside it) are what scripts/compare_table.py writes."""
     import importlib.util

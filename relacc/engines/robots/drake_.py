@@ -10,8 +10,8 @@ Imports only ``pydrake``. Drake's conventions, converted here:
   ``R_FM omega_M`` (again ``T_dot v = 0``);
 * a body with several MJCF joints becomes a chain of massless bodies, one joint each (the last
   carries the body's name); hinge and slide joints keep their names and coordinates;
-* armature: Drake keeps it only as the reflected inertia of a ``<motor>`` on that joint
-  (``rotor_inertia gear^2``), which is what this adapter reports;
+* armature: Drake keeps it only as the reflected inertia of an actuator it reads on that joint (``<motor>``
+  or ``<position>``; ``rotor_inertia gear^2``), which is what this adapter reports;
 * dynamics: ``CalcMassMatrix``, ``CalcBiasTerm`` (``C v``), ``CalcGravityGeneralizedForces``
   (``tau_g``, so the bias is ``C v - tau_g``), forward dynamics from the plant's generalized
   acceleration output (Drake's articulated-body algorithm) with zero actuation and joint damping;
@@ -36,6 +36,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 
 from relacc.core.rotations import matrix_from_quaternion
 from relacc.engines.robots.base import Dynamics, Joint, Link, LinkKinematics, Robot, Structure, combine
+from relacc.engines.robots.drake_readings import MJCF_READINGS, drop_armature, unactuated
 from relacc.errors import ModelError
 
 TYPES = {"quaternion_floating": "free", "ball_rpy": "ball", "revolute": "hinge", "prismatic": "slide"}
@@ -181,6 +182,15 @@ class DrakeRobot(Robot):
         mass, com, inertia = combine(parts)
         return Link(name, tuple(b.name() for b in self._group(head)), mass, com, inertia)
 
+    @property
+    def mjcf_readings(self) -> tuple:
+        """:data:`MJCF_READINGS`, the armature reading bound to the joints this plant has an actuator on."""
+        driven = frozenset(self.plant.get_joint_actuator(a).joint().name()
+                           for a in self.plant.GetJointActuatorIndices())
+        return tuple((key, text, lambda spec: bool(unactuated(spec, driven)),
+                      lambda spec: drop_armature(spec, driven)) if key == "armature" else
+                     (key, text, applies, change) for key, text, applies, change in MJCF_READINGS)
+
     def _structure(self, reference) -> Structure:
         p, ctx = self.plant, self.context
         self._set(reference.reference())
@@ -252,58 +262,6 @@ class DrakeRobot(Robot):
             acc[i] = A[head.index()].Shift(pos[i] - X.translation(), w).translational()
         return LinkKinematics(pos, J, Jdv, acc)
 
-
-def _loose_roots(spec):
-    """Bodies on the world with no joint: MuJoCo welds them; Drake's URDF parser leaves such a root link free."""
-    return [b for b in spec.worldbody.bodies if len(b.joints) == 0]
-
-
-def _free_roots(spec):
-    for body in _loose_roots(spec):
-        body.add_freejoint()
-    spec.compiler.boundmass = spec.compiler.boundinertia = 1e-14  # MuJoCo refuses massless moving bodies
-
-
-def _unactuated(spec):
-    """Joints with armature and no actuator on them (Drake drops their armature)."""
-    driven = {a.target for a in spec.actuators}
-    return [j for j in spec.joints if j.armature > 0 and j.name not in driven]
-
-
-def _no_armature_without_motor(spec):
-    for j in _unactuated(spec):
-        j.armature = 0.0
-
-
-def _stacked(spec):
-    """Bodies with several joints and a position offset from their parent."""
-    return [b for b in spec.bodies if len(b.joints) > 1 and np.any(np.asarray(b.pos) != 0)]
-
-
-def _joints_at_parent(spec):
-    """Every joint but the last of such a body: its ``pos`` and ``axis`` read in the parent's frame."""
-    for body in _stacked(spec):
-        R = matrix_from_quaternion(np.asarray(body.quat, dtype=float) / np.linalg.norm(body.quat))
-        for joint in list(body.joints)[:-1]:
-            joint.pos = R.T @ (np.asarray(joint.pos, dtype=float) - np.asarray(body.pos, dtype=float))
-            joint.axis = R.T @ np.asarray(joint.axis, dtype=float)
-
-
-MJCF_READINGS = (
-    ("stacked_joints", "Drake's MJCF parser reads the position and axis of every joint but the last of a body with "
-     "several joints in the parent body's frame instead of the body's",
-     lambda spec: bool(_stacked(spec)), _joints_at_parent),
-    ("armature", "Drake's MJCF parser keeps a joint's armature only as the reflected inertia of an actuator on "
-     "that joint; joints without one lose it",
-     lambda spec: bool(_unactuated(spec)), _no_armature_without_motor),
-    ("settotalmass", "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
-     lambda spec: spec.compiler.settotalmass > 0, lambda spec: setattr(spec.compiler, "settotalmass", -1.0)),
-    ("free_root", "Drake's URDF parser leaves a root link that no joint attaches to the world free (a floating "
-     "body, 6 more degrees of freedom); MuJoCo and Pinocchio weld it to the world",
-     lambda spec: bool(_loose_roots(spec)), _free_roots),
-)
-"""How Drake's parsers read a file differently from MuJoCo (as in :mod:`relacc.engines.robots.pinocchio_`); each
-is applied only where recompiling MuJoCo with it makes a difference disappear."""
 
 ENGINE_READINGS = ()
 """No known difference in Drake's algorithms."""

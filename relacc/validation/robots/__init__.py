@@ -152,7 +152,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     audits, dynamics = [], {q: {} for q in QUANTITIES}
     for robot in robots:
         from_urdf = robot.engine == "pinocchio" and urdf is not None
-        readings = () if from_urdf else _readings(robot.engine, "MJCF_READINGS")
+        readings = () if from_urdf else getattr(robot, "mjcf_readings", _readings(robot.engine, "MJCF_READINGS"))
         items, explained, applied = explain(reference, robot, readings, scales, URDF_CAUSE if from_urdf else None)
         audits.append(items)
         rows = compare_dynamics(reference, robot, states)
