@@ -143,7 +143,7 @@ def test_relaccs_own_chain_in_pinocchio_differs_by_known_causes_only():
 
 
 def gym_assets():
-    gymnasium = pytest.importorskip("gymnasium")  # a test dependency (pip install -e .[test])
+    import gymnasium  # a test dependency (pip install -e .[test]): if it is missing these tests fail
     return Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 
 
@@ -176,7 +176,7 @@ def test_gymnasium_assets_are_compared_and_every_difference_explained(name):
 
 @pytest.mark.parametrize("name", ["ant.xml", "humanoid.xml"])
 def test_free_root_models_are_compared_through_the_speed_maps(name):
-    """ant and humanoid (free root joint): every quantity is compared for both engines, none skipped."""
+    """ant and humanoid (free root joint): every quantity is compared for both engines, none left out."""
     result = compare(gym_assets() / name, n_states=4, seed=5)
     for engine in ("pinocchio", "drake"):
         assert all(engine in rs for rs in result.dynamics.values())

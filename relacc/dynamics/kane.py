@@ -254,13 +254,10 @@ def energy_terms(chain, case, q, u, effects: Effects = NONE):
         v, w = mv(V, u), mv(Om, u)
         T = T + 0.5 * m * np.sum(v * v, -1) + 0.5 * np.sum(w * mv(_inertia_fixed(R, I), w), -1)
     zero = np.zeros_like(np.real(T))
-    gravity, spring = zero, zero
+    gravity = zero
     if effects.gravity is not None:
         gravity = -chain.m1 * bp.rG1 @ effects.gravity - chain.m2 * bp.rG2 @ effects.gravity
-    if effects.spring_stiffness is not None:
-        d = q[..., layout(c).s2_p] - effects.spring_rest
-        spring = 0.5 * np.sum(effects.spring_stiffness * d * d, -1)
-    return T, gravity, spring
+    return T, gravity, effects.spring_energy(q[..., layout(c).s2_p])
 
 
 def energy(chain, case, q, u, effects: Effects = NONE):

@@ -249,12 +249,7 @@ class DrakeEngine(Engine):
         r = self.routes["quaternion"]
         plant, ctx = r.plant, r.context
         tau = np.zeros(12)
-        if effects.spring_stiffness is not None:
-            tau[9:12] -= effects.spring_stiffness * (q[11:14] - effects.spring_rest)
-        if effects.spring_damping is not None:
-            tau[9:12] -= effects.spring_damping * v[9:12]
-        if effects.ball_damping is not None:
-            tau[6:9] -= effects.ball_damping * v[6:9]
+        tau[9:12], tau[6:9] = effects.joint_forces(q[11:14], v[9:12], v[6:9])
         if {"force_G2", "torque_B1", "torque_B2"} & set(effects.active()):
             plant.SetPositions(ctx, q)
             world = plant.world_frame()
@@ -358,11 +353,7 @@ class DrakeEngine(Engine):
                 T[i], Vg[i] = plant.CalcKineticEnergy(ctx), plant.CalcPotentialEnergy(ctx)
         finally:
             self._set_gravity(plant, _NO_GRAVITY)
-        spring = np.zeros(len(q))
-        if effects.spring_stiffness is not None:
-            d = q[:, 11:14] - effects.spring_rest
-            spring = 0.5 * np.sum(effects.spring_stiffness * d * d, axis=1)
-        return T, Vg, spring
+        return T, Vg, effects.spring_energy(q[:, 11:14])
 
     def momenta(self, chain, q, v):
         """Drake's linear (kg m/s) and angular (kg m^2/s, about R's origin) momenta, world components."""

@@ -223,12 +223,7 @@ class PinocchioEngine(Engine):
         r = self.routes["quaternion"]
         m, d = r.model, r.data
         tau = np.zeros(m.nv)
-        if effects.spring_stiffness is not None:
-            tau[6:9] -= effects.spring_stiffness * (q[7:10] - effects.spring_rest)
-        if effects.spring_damping is not None:
-            tau[6:9] -= effects.spring_damping * v[6:9]
-        if effects.ball_damping is not None:
-            tau[9:12] -= effects.ball_damping * v[9:12]
+        tau[6:9], tau[9:12] = effects.joint_forces(q[7:10], v[6:9], v[9:12])
         if {"force_G2", "torque_B1", "torque_B2"} & set(effects.active()):
             pin.computeJointJacobians(m, d, q)
             pin.updateFramePlacements(m, d)
@@ -242,12 +237,7 @@ class PinocchioEngine(Engine):
     def generalized_forces_batch(self, q, v, effects):
         """:meth:`generalized_forces` of a batch ``(n, nv)``: joint-level effects vectorized, the others per state."""
         tau = np.zeros((q.shape[0], self.routes["quaternion"].model.nv))
-        if effects.spring_stiffness is not None:
-            tau[:, 6:9] -= effects.spring_stiffness * (q[:, 7:10] - effects.spring_rest)
-        if effects.spring_damping is not None:
-            tau[:, 6:9] -= effects.spring_damping * v[:, 6:9]
-        if effects.ball_damping is not None:
-            tau[:, 9:12] -= effects.ball_damping * v[:, 9:12]
+        tau[:, 6:9], tau[:, 9:12] = effects.joint_forces(q[:, 7:10], v[:, 6:9], v[:, 9:12])
         if {"force_G2", "torque_B1", "torque_B2"} & set(effects.active()):
             only = Effects(force_G2=effects.force_G2, torque_B1=effects.torque_B1, torque_B2=effects.torque_B2)
             tau += np.array([self.generalized_forces(q[i], v[i], only) for i in range(q.shape[0])])
