@@ -1,4 +1,5 @@
-"""relacc: the relative-coordinate formulas of a two-body chain, checked against engines.
+"""relacc: the note's relative-coordinate method, for its two-body chain and for any kinematic tree,
+checked against engines.
 
 ``import relacc`` loads the engine-free core only (numpy and the standard
 library): the compiled kernels load at the first batched call, an engine
@@ -31,6 +32,9 @@ from relacc.core.checked import (
 )
 from relacc.core.kinematics import G2Kinematics, g2_acceleration, g2_kinematics
 from relacc.core.note.equations import EQUATIONS
+from relacc.core.tree import Body, Joint, Point, Tree, TreeKinematics, tree_kinematics
+from relacc.dynamics.tree import TreeDynamics, tree_accelerations, tree_dynamics
+from relacc.dynamics.tree_effects import BodyLoad, JointEffect, TreeEffects
 from relacc.errors import (
     CaseError,
     EngineError,
@@ -47,7 +51,7 @@ from relacc.errors import (
 __version__ = "0.2.0"
 
 _SUBPACKAGES = ("core", "kernels", "dynamics", "simulate", "engines", "validation", "fixtures", "report",
-                "tradeoff", "cli")
+                "tradeoff", "testing", "cluster", "cli")
 
 
 def __getattr__(name):
@@ -58,6 +62,8 @@ def __getattr__(name):
 
 
 __all__ = [
+    "Body",
+    "BodyLoad",
     "Case",
     "CaseError",
     "EQUATIONS",
@@ -65,11 +71,18 @@ __all__ = [
     "FixtureError",
     "G2Kinematics",
     "InputError",
+    "Joint",
+    "JointEffect",
     "IntegrationError",
     "ModelError",
     "OutputError",
+    "Point",
     "RelaccError",
     "SingularityError",
+    "Tree",
+    "TreeDynamics",
+    "TreeEffects",
+    "TreeKinematics",
     "TwoBodyChain",
     "VariantError",
     "g2_acceleration",
@@ -82,5 +95,8 @@ __all__ = [
     "quaternion_from_123",
     "quaternion_multiply",
     "tilde",
+    "tree_accelerations",
+    "tree_dynamics",
+    "tree_kinematics",
     "__version__",
 ]

@@ -40,6 +40,8 @@ set to zero and reads the classical acceleration directly.
 
 from __future__ import annotations
 
+import contextlib
+
 import mujoco
 import numpy as np
 from mujoco import rollout
@@ -54,6 +56,34 @@ from relacc.engines.base import (
 )
 from relacc.errors import EngineError, FixtureError
 from relacc.fixtures import Fixture
+
+WARNINGS_KEPT = 1000
+"""MuJoCo's warnings are kept in memory, the newest this many, for the command that caused them."""
+
+_WARNINGS: list[str] = []
+
+
+def _warning(message: str) -> None:
+    """MuJoCo's warning handler: keep the message (one line) for relacc's output, never the terminal or a file."""
+    _WARNINGS.append(" ".join(str(message).split()))
+    del _WARNINGS[:-WARNINGS_KEPT]
+
+
+# Without a handler MuJoCo prints its warnings and appends them to MUJOCO_LOG.TXT in the working
+# directory; relacc reports them in its own output instead (captured_warnings).
+mujoco.set_mju_user_warning(_warning)
+
+
+@contextlib.contextmanager
+def captured_warnings():
+    """Inside the block, MuJoCo's warnings are collected into the list it yields (one line each)."""
+    start = len(_WARNINGS)
+    got: list[str] = []
+    try:
+        yield got
+    finally:
+        got.extend(_WARNINGS[start:])
+        del _WARNINGS[start:]
 
 
 def _load(path) -> mujoco.MjModel:

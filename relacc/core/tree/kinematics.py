@@ -1,0 +1,200 @@
+"""Every body's kinematics at its mass centre, by the note's method: :func:`tree_kinematics`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from relacc.core.cases import as_case
+from relacc.core.tree.coordinates import check_q, check_u
+from relacc.core.tree.model import Tree
+from relacc.core.tree.walk import cross_columns, mv, walk
+from relacc.errors import InputError
+from relacc.limits import require_memory
+
+
+@dataclass(frozen=True, eq=False)
+class TreeKinematics:
+    """Kinematics of a tree's bodies in the fixed frame R. Immutable unless written into ``out`` buffers.
+
+    Every array is in **fixed-frame components** and starts with the batch shape ``...`` of the
+    inputs; ``nb`` is the number of bodies (MuJoCo's order, the world left out), ``nv`` of speeds.
+
+    Attributes:
+        position: ``(..., nb, 3)`` each body's mass centre from R's origin, m.
+        velocity: ``(..., nb, 3)`` its velocity in R, m/s.
+        acceleration: ``(..., nb, 3)`` its classical acceleration in R (second time derivative of
+            ``position``, not a spatial acceleration), m/s^2; None without ``udot``.
+        omega: ``(..., nb, 3)`` each body's angular velocity in R, rad/s.
+        alpha: ``(..., nb, 3)`` its angular acceleration in R, rad/s^2; None without ``udot``.
+        rotation: ``(..., nb, 3, 3)`` each body's orientation: body components to fixed components.
+        V: ``(..., nb, 3, nv)`` partial velocities of the mass centres, ``velocity = V u`` (1 or m per column).
+        Vdot: ``(..., nb, 3, nv)`` their time derivatives, ``acceleration = V udot + Vdot u`` (1/s or m/s).
+        Omega: ``(..., nb, 3, nv)`` partial angular velocities, ``omega = Omega u`` (0 or 1 per column, or
+            the 1-2-3 map's entries in case 3).
+        Omegadot: ``(..., nb, 3, nv)`` their time derivatives, ``alpha = Omega udot + Omegadot u`` (1/s).
+        points: :class:`PointKinematics` of the named points asked for, or None.
+        case: the choice of speeds. bodies: the bodies' names.
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray | None
+    omega: np.ndarray
+    alpha: np.ndarray | None
+    rotation: np.ndarray
+    V: np.ndarray
+    Vdot: np.ndarray
+    Omega: np.ndarray
+    Omegadot: np.ndarray
+    points: "PointKinematics | None"
+    case: int
+    bodies: tuple = field(repr=False)
+
+    def __post_init__(self):
+        for name in ("position", "velocity", "acceleration", "omega", "alpha", "rotation", "V", "Vdot", "Omega",
+                     "Omegadot"):
+            value = getattr(self, name)
+            if isinstance(value, np.ndarray) and value.flags.owndata:
+                value.setflags(write=False)
+
+
+@dataclass(frozen=True, eq=False)
+class PointKinematics:
+    """Named points fixed in bodies (MJCF sites, URDF frames), fixed-frame components.
+
+    Attributes:
+        names: the points, in the order of the arrays' ``np`` axis.
+        position ``(..., np, 3)`` m; velocity ``(..., np, 3)`` m/s; acceleration ``(..., np, 3)`` m/s^2
+        (classical; None without ``udot``); V, Vdot ``(..., np, 3, nv)`` as in :class:`TreeKinematics`.
+    """
+
+    names: tuple
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray | None
+    V: np.ndarray
+    Vdot: np.ndarray
+
+
+def _point_set(tree, points):
+    if points is None:
+        return ()
+    if points == "all":
+        return tuple(range(len(tree.points)))
+    if isinstance(points, str):
+        points = (points,)
+    out = []
+    for name in points:
+        if name not in tree.point_names:
+            known = ", ".join(tree.point_names) or "none"
+            raise InputError(f"tree {tree.name!r} has no point {name!r}; points: {known}")
+        out.append(tree.point_names.index(name))
+    return tuple(out)
+
+
+def inputs(tree, case, q, u, udot=None, *, need_udot=False):
+    """The checks every tree entry point shares: ``(case, q, u, udot, batch)``, all checked and broadcast."""
+    if not isinstance(tree, Tree):
+        raise InputError(f"tree: expected a relacc.Tree (Tree.from_file, Tree.from_chain), got {type(tree).__name__}")
+    c = int(as_case(case))
+    q = check_q(tree, c, q)
+    u = check_u(tree, f"u for case {c}", u)
+    if udot is not None or need_udot:
+        udot = check_u(tree, f"udot for case {c}", udot)
+    shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
+    try:
+        batch = np.broadcast_shapes(*shapes)
+    except ValueError:
+        raise InputError(f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes") from None
+    return c, q, u, udot, batch
+
+
+def flat(a, batch, width):
+    """``a`` broadcast to ``batch + (width,)`` as a C-contiguous ``(n, width)`` array."""
+    return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width))
+
+
+def tree_kinematics(tree, case, q, u, udot=None, *, points=None) -> TreeKinematics:
+    """Every body's mass-centre kinematics, angular velocity and partial velocities, by the note's method.
+
+    Args:
+        tree: :class:`relacc.Tree`.
+        case: 1, 2 or 3 (see :mod:`relacc.core.tree.coordinates`: case 2 is MuJoCo's ``qpos``, ``qvel``).
+        q: ``(..., nq)`` the case's coordinates. u: ``(..., nv)`` its speeds.
+        udot: ``(..., nv)`` their rates, or None to skip accelerations.
+        points: None, ``"all"``, or names of the tree's points to evaluate too.
+
+    Returns:
+        :class:`TreeKinematics`, fixed-frame components throughout.
+
+    Raises:
+        InputError: a bad tree, shape, value (non-finite, non-unit quaternion) or point name.
+        CaseError: an unknown case.
+    """
+    c, q, u, udot, batch = inputs(tree, case, q, u, udot)
+    chosen = _point_set(tree, points)
+    n = int(np.prod(batch))
+    require_memory(8.0 * n * (tree.nb + len(chosen) + 4) * 3 * tree.nv * 6, f"evaluating {n} states of {tree.name!r}",
+                   "pass fewer states at a time")
+    qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
+    udf = None if udot is None else flat(udot, batch, tree.nv)
+    frames, _ = walk(tree, c, qf, uf)
+    out = {k: [] for k in ("position", "V", "Vdot", "Omega", "Omegadot", "rotation")}
+    for f, body in zip(frames, tree.bodies):
+        r = mv(f.R, np.broadcast_to(body.com, (n, 3)))
+        V, Vdot = f.point(r)
+        for key, value in (("position", f.o + r), ("V", V), ("Vdot", Vdot), ("Omega", f.Omega),
+                           ("Omegadot", f.Omegadot), ("rotation", f.R)):
+            out[key].append(value)
+    arr = {k: np.stack(v, axis=1) for k, v in out.items()}
+    res = _motion(arr["V"], arr["Vdot"], uf, udf)
+    ang = _motion(arr["Omega"], arr["Omegadot"], uf, udf)
+    shape = lambda a, tail: None if a is None else np.ascontiguousarray(a).reshape(batch + tail)  # noqa: E731
+    pk = None
+    if points is not None:
+        pk = _points(tree, frames, chosen, uf, udf, batch, n)
+    nb, nv = tree.nb, tree.nv
+    return TreeKinematics(shape(arr["position"], (nb, 3)), shape(res[0], (nb, 3)), shape(res[1], (nb, 3)),
+                          shape(ang[0], (nb, 3)), shape(ang[1], (nb, 3)), shape(arr["rotation"], (nb, 3, 3)),
+                          shape(arr["V"], (nb, 3, nv)), shape(arr["Vdot"], (nb, 3, nv)),
+                          shape(arr["Omega"], (nb, 3, nv)), shape(arr["Omegadot"], (nb, 3, nv)), pk, c,
+                          tree.body_names)
+
+
+def _motion(P, Pdot, u, udot):
+    """``(P u, P udot + Pdot u)`` over bodies: ``(n, m, 3)`` each (the second None without ``udot``)."""
+    vel = np.einsum("nbij,nj->nbi", P, u)
+    if udot is None:
+        return vel, None
+    return vel, np.einsum("nbij,nj->nbi", P, udot) + np.einsum("nbij,nj->nbi", Pdot, u)
+
+
+def _points(tree, frames, chosen, u, udot, batch, n) -> PointKinematics:
+    nv = tree.nv
+    pos, Vs, Vds = [], [], []
+    for i in chosen:
+        p = tree.points[i]
+        if p.body < 0:  # fixed in the world
+            pos.append(np.broadcast_to(p.pos, (n, 3)).astype(float))
+            Vs.append(np.zeros((n, 3, nv)))
+            Vds.append(np.zeros((n, 3, nv)))
+            continue
+        f = frames[p.body]
+        r = mv(f.R, np.broadcast_to(p.pos, (n, 3)))
+        V, Vdot = f.point(r)
+        pos.append(f.o + r)
+        Vs.append(V)
+        Vds.append(Vdot)
+    m = len(chosen)
+    P = np.stack(Vs, 1) if m else np.zeros((n, 0, 3, nv))
+    Pd = np.stack(Vds, 1) if m else np.zeros((n, 0, 3, nv))
+    vel, acc = _motion(P, Pd, u, udot)
+    shape = lambda a, tail: None if a is None else np.ascontiguousarray(a).reshape(batch + tail)  # noqa: E731
+    return PointKinematics(tuple(tree.points[i].name for i in chosen),
+                           shape(np.stack(pos, 1) if m else np.zeros((n, 0, 3)), (m, 3)), shape(vel, (m, 3)),
+                           shape(acc, (m, 3)), shape(P, (m, 3, nv)), shape(Pd, (m, 3, nv)))
+
+
+__all__ = ["PointKinematics", "TreeKinematics", "cross_columns", "tree_kinematics"]

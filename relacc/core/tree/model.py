@@ -1,0 +1,406 @@
+"""relacc's tree: bodies, joints and named points of any kinematic tree, as MuJoCo places them.
+
+A :class:`Tree` is a list of :class:`Body` in MuJoCo's body order (parents first, the world left
+out: parent ``-1``). Each body is placed in its parent's frame (``pos``, ``quat``) and then moved by
+its joints, in order, exactly as MuJoCo's ``mj_kinematics`` moves it:
+
+* ``free``: the body's pose is the coordinates themselves, ``[p (3), quat (4)]`` in the world;
+* ``ball``: a rotation about the anchor ``pos`` (body frame), ``quat (4)`` relative to the frame
+  the joint turns from;
+* ``hinge``: a rotation by ``q - ref`` about ``axis`` through the anchor;
+* ``slide``: a translation by ``q - ref`` along ``axis``.
+
+A body without joints is welded to its parent; it keeps its own entry (so that indices are
+MuJoCo's) and moves with the body it is welded to. Units: m, kg, kg m^2, rad.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+
+import numpy as np
+
+from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
+from relacc.errors import InputError
+
+JOINT_TYPES = ("free", "ball", "slide", "hinge")
+"""Joint types, MuJoCo's names."""
+
+NV = {"free": 6, "ball": 3, "slide": 1, "hinge": 1}
+"""Speeds per joint type, in every case."""
+
+NQ = {"free": 7, "ball": 4, "slide": 1, "hinge": 1}
+"""Coordinates per joint type in cases 1 and 2 (quaternions); case 3 has :data:`NQ_ANGLES`."""
+
+NQ_ANGLES = {"free": 6, "ball": 3, "slide": 1, "hinge": 1}
+"""Coordinates per joint type in case 3 (each quaternion replaced by three 1-2-3 angles)."""
+
+AXIS_TOLERANCE = QUATERNION_NORM_TOLERANCE
+"""Largest accepted ``| |axis|^2 - 1 |``: axes are unit as given, never normalized."""
+
+
+def _vec(owner, name, value, n=3) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"{owner}: {name} must be {n} real numbers, got {value!r:.80}") from None
+    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
+        raise InputError(f"{owner}: {name} must be {n} finite numbers, got {np.asarray(value).tolist()!r:.80}")
+    arr.setflags(write=False)
+    return arr
+
+
+def _number(owner, name, value, minimum=None) -> float:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"{owner}: {name} must be a real number, got {value!r:.80}")
+    x = float(value)
+    if not np.isfinite(x) or (minimum is not None and x < minimum):
+        raise InputError(f"{owner}: {name} must be a finite number" + (f" >= {minimum}" if minimum is not None else "")
+                         + f", got {x}")
+    return x
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One joint of a body, in the body's frame.
+
+    Attributes:
+        name: unique in the tree. type: one of :data:`JOINT_TYPES`.
+        pos: ``(3,)`` the anchor, body frame at the joint's zero, m (hinge and ball rotate about it).
+        axis: ``(3,)`` unit axis, body frame (hinge, slide; ignored for ball and free).
+        ref: the coordinate at which the body sits as placed (hinge rad, slide m; MuJoCo's ``ref``).
+        armature: ``(nv,)`` rotor inertia added to the mass matrix's diagonal in MuJoCo's (case 2)
+            speeds, kg m^2 or kg.
+    """
+
+    name: str
+    type: str
+    pos: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
+    axis: np.ndarray = field(default=(0.0, 0.0, 1.0), repr=False)
+    ref: float = 0.0
+    armature: np.ndarray = field(default=None, repr=False)
+
+    def __post_init__(self):
+        who = f"joint {self.name!r}"
+        if not isinstance(self.name, str) or not self.name:
+            raise InputError(f"joint name: expected a non-empty string, got {self.name!r}")
+        if self.type not in JOINT_TYPES:
+            raise InputError(f"{who}: unknown type {self.type!r}; accepted: {', '.join(JOINT_TYPES)}")
+        object.__setattr__(self, "pos", _vec(who, "pos", self.pos))
+        axis = _vec(who, "axis", self.axis)
+        if self.type in ("hinge", "slide") and abs(float(axis @ axis) - 1) > AXIS_TOLERANCE:
+            raise InputError(f"{who}: axis {axis.tolist()} has squared norm {float(axis @ axis):.17g}; pass a unit "
+                             "axis (relacc does not normalize it)")
+        object.__setattr__(self, "axis", axis)
+        object.__setattr__(self, "ref", _number(who, "ref", self.ref))
+        nv = NV[self.type]
+        try:
+            arm = np.zeros(nv) if self.armature is None else np.array(
+                np.broadcast_to(np.asarray(self.armature, dtype=np.float64), (nv,)))
+        except (TypeError, ValueError):
+            raise InputError(f"{who}: armature must be one number or {nv} numbers, got {self.armature!r:.80}") from None
+        if not np.all(np.isfinite(arm)) or np.any(arm < 0):
+            raise InputError(f"{who}: armature must be finite and >= 0, got {arm.tolist()}")
+        object.__setattr__(self, "armature", arm)
+        self.armature.setflags(write=False)
+
+    @property
+    def nv(self) -> int:
+        return NV[self.type]
+
+    @classmethod
+    def free(cls, name: str, armature=None) -> "Joint":
+        """A free joint: ``q = [p, quat]``, the body's origin and orientation in the world."""
+        return cls(name, "free", armature=armature)
+
+    @classmethod
+    def ball(cls, name: str, pos=(0.0, 0.0, 0.0), armature=None) -> "Joint":
+        """A ball joint about the anchor ``pos`` (body frame)."""
+        return cls(name, "ball", pos=pos, armature=armature)
+
+    @classmethod
+    def hinge(cls, name: str, axis, pos=(0.0, 0.0, 0.0), ref=0.0, armature=None) -> "Joint":
+        """A hinge about the unit ``axis`` through ``pos`` (body frame)."""
+        return cls(name, "hinge", pos=pos, axis=axis, ref=ref, armature=armature)
+
+    @classmethod
+    def slide(cls, name: str, axis, ref=0.0, armature=None) -> "Joint":
+        """A slide along the unit ``axis`` (body frame)."""
+        return cls(name, "slide", axis=axis, ref=ref, armature=armature)
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body placed in its parent's frame and moved by its joints.
+
+    Attributes:
+        name: unique in the tree. parent: index of the parent body, ``-1`` for the world (a name is
+            accepted when building a :class:`Tree` and resolved there).
+        pos: ``(3,)`` the body frame's origin in the parent's frame at the joints' zero, m.
+        quat: ``(4,)`` unit quaternion ``(w, x, y, z)``, the body frame in the parent's frame.
+        joints: the joints moving it relative to its parent, applied in order.
+        mass: kg (0 for a massless body). com: ``(3,)`` mass centre, body frame, m.
+        inertia: ``(3, 3)`` about the mass centre, body components, kg m^2.
+    """
+
+    name: str
+    parent: int | str = -1
+    pos: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
+    quat: np.ndarray = field(default=(1.0, 0.0, 0.0, 0.0), repr=False)
+    joints: tuple = ()
+    mass: float = 0.0
+    com: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
+    inertia: np.ndarray = field(default=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)), repr=False)
+
+    def __post_init__(self):
+        who = f"body {self.name!r}"
+        if not isinstance(self.name, str) or not self.name:
+            raise InputError(f"body name: expected a non-empty string, got {self.name!r}")
+        object.__setattr__(self, "pos", _vec(who, "pos", self.pos))
+        quat = _vec(who, "quat", self.quat, 4)
+        if abs(float(quat @ quat) - 1) > QUATERNION_NORM_TOLERANCE:
+            raise InputError(f"{who}: quat {quat.tolist()} has squared norm {float(quat @ quat):.17g}; pass a unit "
+                             "quaternion (w, x, y, z): relacc does not normalize it")
+        object.__setattr__(self, "quat", quat)
+        joints = tuple(self.joints)
+        if not all(isinstance(j, Joint) for j in joints):
+            raise InputError(f"{who}: joints must be relacc.Joint objects")
+        if any(j.type == "free" for j in joints) and len(joints) > 1:
+            raise InputError(f"{who}: a free joint must be the body's only joint (as in MuJoCo)")
+        object.__setattr__(self, "joints", joints)
+        object.__setattr__(self, "mass", _number(who, "mass", self.mass, minimum=0.0))
+        object.__setattr__(self, "com", _vec(who, "com", self.com))
+        try:
+            inertia = np.array(self.inertia, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"{who}: inertia must be a 3x3 tensor of real numbers") from None
+        if inertia.shape != (3, 3) or not np.all(np.isfinite(inertia)):
+            raise InputError(f"{who}: inertia must be a finite 3x3 tensor (kg m^2), got shape {inertia.shape}")
+        scale = float(np.abs(inertia).max())
+        if np.abs(inertia - inertia.T).max() > 1e-12 * scale or np.linalg.eigvalsh(inertia)[0] < -1e-12 * scale:
+            raise InputError(f"{who}: inertia must be symmetric positive semidefinite, got {inertia.tolist()}")
+        inertia.setflags(write=False)
+        object.__setattr__(self, "inertia", inertia)
+
+
+@dataclass(frozen=True)
+class Point:
+    """A named point fixed in a body (an MJCF site, a URDF frame): ``pos (3,)`` in the body's frame, m.
+
+    ``body``: the body's index (a name is accepted when building a :class:`Tree`); ``-1`` the world.
+    """
+
+    name: str
+    body: int | str
+    pos: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "pos", _vec(f"point {self.name!r}", "pos", self.pos))
+
+
+@dataclass(frozen=True, eq=False)
+class Tree:
+    """A kinematic tree: bodies in MuJoCo's order (parents first), gravity, named points.
+
+    Attributes:
+        name: the model's name. bodies: :class:`Body` in order, the world left out.
+        gravity: ``(3,)`` m/s^2, world components (the model file's; zero if it has none).
+        points: :class:`Point` objects, named points of interest.
+        source: where it was read from (a path) or ``"python"``.
+
+    Build one in Python (bodies' ``parent`` may be a name), read one with :meth:`from_file`, or
+    make the note's chain with :meth:`from_chain`.
+    """
+
+    name: str
+    bodies: tuple
+    gravity: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
+    points: tuple = ()
+    source: str = "python"
+
+    def __post_init__(self):
+        bodies = tuple(self.bodies)
+        if not bodies or not all(isinstance(b, Body) for b in bodies):
+            raise InputError("Tree: bodies must be a non-empty list of relacc.Body")
+        index = {}
+        resolved = []
+        for i, b in enumerate(bodies):
+            if b.name in index:
+                raise InputError(f"Tree: two bodies are named {b.name!r}")
+            parent = b.parent
+            if isinstance(parent, str):
+                if parent not in index:
+                    raise InputError(f"Tree: body {b.name!r} names parent {parent!r}, which is not an earlier body "
+                                     f"(known: {', '.join(index) or 'none'}); list parents first")
+                parent = index[parent]
+            elif parent is None:
+                parent = -1
+            if isinstance(parent, bool) or not isinstance(parent, (int, np.integer)) or not -1 <= parent < i:
+                raise InputError(f"Tree: body {b.name!r} has parent {b.parent!r}; expected -1 (the world), an earlier "
+                                 "body's index or its name")
+            index[b.name] = i
+            resolved.append(b if parent == b.parent else replace(b, parent=int(parent)))
+        names = [j.name for b in resolved for j in b.joints]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise InputError(f"Tree: joint names must be unique, repeated: {', '.join(twice)}")
+        points = []
+        for p in self.points:
+            if not isinstance(p, Point):
+                raise InputError("Tree: points must be relacc.Point objects")
+            body = index.get(p.body, p.body) if isinstance(p.body, str) else p.body
+            if isinstance(body, str) or isinstance(body, bool) or not -1 <= int(body) < len(bodies):
+                raise InputError(f"Tree: point {p.name!r} is on unknown body {p.body!r}")
+            points.append(p if body == p.body else replace(p, body=int(body)))
+        pnames = [p.name for p in points]
+        if len(set(pnames)) != len(pnames):
+            raise InputError("Tree: point names must be unique")
+        object.__setattr__(self, "bodies", tuple(resolved))
+        object.__setattr__(self, "points", tuple(points))
+        object.__setattr__(self, "gravity", _vec("Tree", "gravity", self.gravity))
+
+    def __repr__(self) -> str:
+        return f"Tree({self.name!r}: {self.nb} bodies, {len(self.joints)} joints, nv {self.nv}, from {self.source})"
+
+    # ---- sizes and addresses -----------------------------------------------------------------
+    @property
+    def nb(self) -> int:
+        """Number of bodies (the world not counted)."""
+        return len(self.bodies)
+
+    @cached_property
+    def joints(self) -> tuple:
+        """``((body index, Joint), ...)`` every joint in order."""
+        return tuple((b, j) for b, body in enumerate(self.bodies) for j in body.joints)
+
+    @cached_property
+    def nv(self) -> int:
+        """Number of generalized speeds (the same in every case)."""
+        return sum(j.nv for _, j in self.joints)
+
+    def nq(self, case) -> int:
+        """Number of coordinates in a case: quaternions in cases 1-2, 1-2-3 angles in case 3."""
+        table = NQ_ANGLES if int(case) == 3 else NQ
+        return sum(table[j.type] for _, j in self.joints)
+
+    @cached_property
+    def dofadr(self) -> tuple:
+        """First speed index of each joint (in :attr:`joints` order)."""
+        out, at = [], 0
+        for _, j in self.joints:
+            out.append(at)
+            at += j.nv
+        return tuple(out)
+
+    def qadr(self, case) -> tuple:
+        """First coordinate index of each joint in a case's ``q``."""
+        table = NQ_ANGLES if int(case) == 3 else NQ
+        out, at = [], 0
+        for _, j in self.joints:
+            out.append(at)
+            at += table[j.type]
+        return tuple(out)
+
+    @cached_property
+    def body_joints(self) -> tuple:
+        """Per body, the indices (in :attr:`joints`) of its own joints."""
+        out, k = [], 0
+        for body in self.bodies:
+            out.append(tuple(range(k, k + len(body.joints))))
+            k += len(body.joints)
+        return tuple(out)
+
+    @cached_property
+    def path_dofs(self) -> tuple:
+        """Per body, the speeds that move it: its own and its ancestors', ascending."""
+        out = []
+        for b, body in enumerate(self.bodies):
+            own = [self.dofadr[k] + i for k in self.body_joints[b] for i in range(self.joints[k][1].nv)]
+            inherited = [] if body.parent < 0 else list(out[body.parent])
+            out.append(tuple(sorted(inherited + own)))
+        return tuple(out)
+
+    @cached_property
+    def depth(self) -> tuple:
+        """Per body, the number of joints between it and the world (at least 1: its placement)."""
+        out = []
+        for b, body in enumerate(self.bodies):
+            up = 0 if body.parent < 0 else out[body.parent]
+            out.append(up + max(1, len(body.joints)))
+        return tuple(out)
+
+    # ---- names --------------------------------------------------------------------------------
+    @cached_property
+    def body_names(self) -> tuple:
+        return tuple(b.name for b in self.bodies)
+
+    @cached_property
+    def joint_names(self) -> tuple:
+        return tuple(j.name for _, j in self.joints)
+
+    @cached_property
+    def point_names(self) -> tuple:
+        return tuple(p.name for p in self.points)
+
+    def body(self, name) -> int:
+        """A body's index by name (or index)."""
+        if isinstance(name, (int, np.integer)) and not isinstance(name, bool) and 0 <= name < self.nb:
+            return int(name)
+        try:
+            return self.body_names.index(name)
+        except ValueError:
+            raise InputError(f"tree {self.name!r} has no body {name!r}; bodies: {', '.join(self.body_names)}") from None
+
+    def joint(self, name) -> int:
+        """A joint's index (in :attr:`joints`) by name."""
+        try:
+            return self.joint_names.index(name)
+        except ValueError:
+            raise InputError(f"tree {self.name!r} has no joint {name!r}; joints: "
+                             f"{', '.join(self.joint_names) or 'none'}") from None
+
+    def speed_names(self) -> tuple:
+        """A label per speed: the joint's name and the component (``x``, ``wx``, ...)."""
+        labels = {"free": ("vx", "vy", "vz", "wx", "wy", "wz"), "ball": ("wx", "wy", "wz"), "slide": ("",),
+                  "hinge": ("",)}
+        return tuple(f"{j.name}{'.' + c if c else ''}" for _, j in self.joints for c in labels[j.type])
+
+    # ---- readers ------------------------------------------------------------------------------
+    @classmethod
+    def from_file(cls, path) -> "Tree":
+        """Read a model file: an MJCF (``.xml``) or a URDF (``.urdf``) through MuJoCo's compiler (the reading
+        ``relacc compare`` takes as its reference), or a chain TOML (``.toml``).
+
+        Raises:
+            ModelError: the file cannot be read or compiled (the message names the file and element).
+        """
+        from pathlib import Path
+
+        if Path(path).suffix.lower() == ".toml":
+            from relacc.fixtures import load
+
+            return cls.from_chain(load(path).chain, name=Path(path).stem, source=str(path))
+        from relacc.engines.mujoco_tree import read_tree
+
+        return read_tree(path)
+
+    @classmethod
+    def from_chain(cls, chain, name: str = "two_body", source: str = "python") -> "Tree":
+        """The note's two-body chain as a tree, with the names of ``models/two_body.xml``.
+
+        B1 on a free joint; B2 at ``q2'`` on three slides along B1's axes (``s2'``) and a ball
+        (``quat_B2/B1``). Its case-1/2/3 coordinates and speeds are the chain's, in the same order.
+        Points: ``B1_origin``, ``Q2`` (B2's joint point at ``s2' = 0``) and ``G2``.
+        """
+        from relacc.core.chain import TwoBodyChain
+
+        if not isinstance(chain, TwoBodyChain):
+            raise InputError(f"chain: expected a relacc.TwoBodyChain, got {type(chain).__name__}")
+        eye = np.eye(3)
+        b1 = Body("B1", -1, joints=(Joint.free("B1_free"),), mass=chain.m1, com=chain.r1, inertia=chain.I1)
+        slides = tuple(Joint.slide(f"s2_{c}", eye[k]) for k, c in enumerate("xyz"))
+        b2 = Body("B2", 0, pos=chain.q2, joints=slides + (Joint.ball("B2_ball"),), mass=chain.m2, com=chain.r2,
+                  inertia=chain.I2)
+        points = (Point("B1_origin", 0), Point("Q2", 0, chain.q2), Point("G2", 1, chain.r2))
+        return cls(name, (b1, b2), points=points, source=source)

@@ -1,0 +1,193 @@
+"""Kane's equations of any tree in any of the three cases: :func:`tree_dynamics`, :func:`tree_accelerations`.
+
+From the partial velocities of every mass centre ``[V_b]`` and partial angular velocities
+``[Omega_b]`` (:mod:`relacc.core.tree.walk`), with ``[I_b]`` about the mass centre in fixed components:
+
+    M = sum_b m_b [V_b]^T [V_b] + [Omega_b]^T [I_b] [Omega_b]  (+ armature)
+    f = sum_b [V_b]^T (m_b g + F_b - m_b [Vdot_b]{u})
+        + [Omega_b]^T (T_b - [I_b][Omegadot_b]{u} - omega_b x [I_b] omega_b)
+        + joint springs and dampers
+
+so that ``M udot = f + tau`` with ``tau`` the generalized forces conjugate to ``u``. Armature ``D``
+(MuJoCo's, diagonal in case-2 speeds ``u2 = [B] u``) adds ``[B]^T D [B]`` to ``M`` and
+``-[B]^T D [B_dot] u`` to ``f``; joint springs and dampers act on case-2 speeds through ``[B]^T``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from relacc.core.rotations import quaternion_from_123, tilde
+from relacc.core.so3 import SO3
+from relacc.core.tree.coordinates import check_invertible, rotations
+from relacc.core.tree.kinematics import flat, inputs
+from relacc.core.tree.walk import mv, walk
+from relacc.dynamics.tree_effects import NO_EFFECTS, TreeEffects
+from relacc.errors import InputError, SingularityError
+from relacc.limits import require_memory
+
+
+@dataclass(frozen=True, eq=False)
+class TreeDynamics:
+    """``M udot = f + tau`` of a tree in a case's speeds.
+
+    Attributes:
+        M: ``(..., nv, nv)`` generalized mass matrix (kg, kg m or kg m^2 per pair of speeds).
+        f: ``(..., nv)`` generalized forces of the effects minus the inertial (Coriolis, centrifugal)
+            terms, conjugate to ``u`` (N or N m per speed).
+        case: the choice of speeds.
+    """
+
+    M: np.ndarray
+    f: np.ndarray
+    case: int
+
+
+def _speed_map(case, kind, jf):
+    """``(B, B_dot)``: a ball's or free joint's MuJoCo (case 2) angular speeds are ``B u`` of the case's."""
+    Ra = jf.R_after
+    RaT = np.swapaxes(Ra, -1, -2)
+    if case == 2:
+        eye = np.broadcast_to(np.eye(3), Ra.shape)
+        return eye, np.zeros_like(eye)
+    return RaT @ jf.A, RaT @ jf.A_dot - RaT @ tilde(jf.w_after) @ jf.A
+
+
+def _ball_quaternion(case, q, a):
+    return quaternion_from_123(q[:, a:a + 3]) if case == 3 else q[:, a:a + 4]
+
+
+def equations(tree, case, q, u, effects=None, t=0.0):
+    """``(M (n, nv, nv), f (n, nv))`` for flat, checked ``q (n, nq)``, ``u (n, nv)`` (see the module docstring)."""
+    effects = NO_EFFECTS if effects is None else effects
+    if not isinstance(effects, TreeEffects):
+        raise InputError(f"effects: expected a relacc.dynamics.tree_effects.TreeEffects, got {type(effects).__name__}")
+    gravity, joint_effects, loads = effects.resolve(tree)
+    n, nv = q.shape[0], tree.nv
+    frames, joints = walk(tree, case, q, u)
+    M = np.zeros((n, nv, nv))
+    f = np.zeros((n, nv))
+    load_at = {b: load for b, load in loads}
+    for b, (fr, body) in enumerate(zip(frames, tree.bodies)):
+        dofs = np.asarray(tree.path_dofs[b])
+        if not dofs.size:
+            continue
+        r = mv(fr.R, np.broadcast_to(body.com, (n, 3)))
+        V, Vdot = fr.point(r)
+        V, Vdot = V[:, :, dofs], Vdot[:, :, dofs]
+        Om, Omd = fr.Omega[:, :, dofs], fr.Omegadot[:, :, dofs]
+        u_b = u[:, dofs]
+        I_w = fr.R @ body.inertia @ np.swapaxes(fr.R, -1, -2)
+        w = mv(Om, u_b)
+        F = body.mass * (gravity - mv(Vdot, u_b))
+        T = -mv(I_w, mv(Omd, u_b)) - np.cross(w, mv(I_w, w))
+        if b in load_at:
+            s = np.broadcast_to(load_at[b].factor(t), (n,))[:, None]
+            F, T = F + s * load_at[b].force, T + s * load_at[b].torque
+        sub = (slice(None), dofs[:, None], dofs[None, :])
+        M[sub] += body.mass * np.einsum("nia,nib->nab", V, V) + np.einsum("nia,nij,njb->nab", Om, I_w, Om)
+        f[:, dofs] += np.einsum("nia,ni->na", V, F) + np.einsum("nia,ni->na", Om, T)
+    _joint_terms(tree, case, q, u, joints, joint_effects, M, f)
+    return M, f
+
+
+def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
+    """Armature, springs and dampers: terms on case-2 speeds, mapped to the case's through ``[B]``."""
+    effect_at = {k: (eff, rest) for k, eff, rest in joint_effects}
+    rot = {k: (kind, a, d) for k, kind, a, d in rotations(tree, case)}
+    for k, ((_, j), a, d) in enumerate(zip(tree.joints, tree.qadr(case), tree.dofadr)):
+        eff, rest = effect_at.get(k, (None, None))
+        if not (np.any(j.armature) or eff is not None):
+            continue
+        lin = 3 if j.type == "free" else (1 if j.type in ("hinge", "slide") else 0)
+        for i in range(lin):  # hinge, slide, a free joint's translation: case-2 speeds in every case
+            M[:, d + i, d + i] += j.armature[i]
+            if eff is not None:
+                spring = eff.stiffness * (q[:, a + i] - rest) if j.type != "free" else 0.0
+                f[:, d + i] -= spring + eff.damping * u[:, d + i]
+        if k not in rot:
+            continue
+        kind, qa, da = rot[k]
+        B, B_dot = _speed_map(case, kind, joints[k])
+        u2 = mv(B, u[:, da:da + 3])
+        D = np.diag(j.armature[lin:lin + 3])
+        blk = (slice(None), slice(da, da + 3), slice(da, da + 3))
+        M[blk] += np.swapaxes(B, -1, -2) @ D @ B
+        tau2 = -mv(D, mv(B_dot, u[:, da:da + 3]))
+        if eff is not None:
+            tau2 = tau2 - eff.damping * u2
+            if kind == "ball" and eff.stiffness:
+                tau2 = tau2 - eff.stiffness * (SO3(np.broadcast_to(rest, (q.shape[0], 4))).inverse()
+                                               @ SO3(_ball_quaternion(case, q, qa))).log()
+        f[:, da:da + 3] += mv(np.swapaxes(B, -1, -2), tau2)
+
+
+def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
+    """Kane's ``M udot = f + tau`` of a tree in a case's speeds (see the module docstring).
+
+    Args:
+        tree: :class:`relacc.Tree`. case: 1, 2 or 3. q: ``(..., nq)``. u: ``(..., nv)``.
+        effects: :class:`relacc.dynamics.tree_effects.TreeEffects`; default gravity of the tree only.
+        t: time (s), for sinusoidal loads; a scalar or broadcast against the batch.
+
+    Returns:
+        :class:`TreeDynamics`.
+    """
+    c, q, u, _, batch = inputs(tree, case, q, u)
+    n = int(np.prod(batch))
+    require_memory(8.0 * n * (tree.nv * tree.nv + 4 * tree.nb * 3 * tree.nv * 3), f"Kane's equations of {n} states",
+                   "pass fewer states at a time")
+    tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
+    M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
+    M, f = M.reshape(batch + (tree.nv, tree.nv)), f.reshape(batch + (tree.nv,))
+    M.setflags(write=False)
+    f.setflags(write=False)
+    return TreeDynamics(M, f, c)
+
+
+def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0):
+    """``udot`` with ``M udot = f + tau``: forward dynamics of a tree in a case's speeds.
+
+    Args:
+        tau: ``(..., nv)`` generalized forces conjugate to ``u`` (N or N m), default zero.
+        (the others as in :func:`tree_dynamics`)
+
+    Returns:
+        ``(..., nv)`` the speeds' rates (m/s^2, rad/s^2).
+
+    Raises:
+        SingularityError: ``M`` is singular (speeds that move no inertia, named) or case 3 is within
+            the gimbal-lock limit at a joint (named).
+    """
+    from relacc.core.tree.coordinates import check_u
+
+    d = tree_dynamics(tree, case, q, u, effects=effects, t=t)
+    rhs = np.array(d.f)
+    if tau is not None:
+        rhs = rhs + check_u(tree, "tau", tau)
+    if d.case == 3:
+        check_invertible(tree, np.asarray(q, dtype=float))
+    return solve(tree, d.M, rhs)
+
+
+def solve(tree, M, rhs):
+    """``M^-1 rhs`` by Cholesky, batched; SingularityError naming the speeds without inertia where ``M`` is singular."""
+    try:
+        L = np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        flatM = M.reshape(-1, tree.nv, tree.nv)
+        names = tree.speed_names()
+        dead = sorted({names[i] for Mi in flatM for i in np.flatnonzero(np.abs(Mi).max(axis=1) == 0)})
+        raise SingularityError(
+            "the mass matrix is singular" + (f": no inertia moves with {', '.join(dead)}" if dead else
+                                             " (not positive definite)")
+            + "; give those bodies mass or inertia, or lock those joints") from None
+    y = np.linalg.solve(L, rhs[..., None])
+    out = np.linalg.solve(np.swapaxes(L, -1, -2), y)[..., 0]
+    out.setflags(write=False)
+    return out
+
+
+__all__ = ["TreeDynamics", "TreeEffects", "equations", "solve", "tree_accelerations", "tree_dynamics"]

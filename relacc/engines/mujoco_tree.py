@@ -1,0 +1,95 @@
+"""MJCF and URDF files as relacc trees, read through MuJoCo's compiler: :func:`read_tree`.
+
+The reading is ``relacc compare``'s reference (:func:`relacc.engines.robots.mujoco_.load_spec`,
+``compile_spec``): includes, default classes, ``<compiler>`` settings (``angle``, ``eulerseq``,
+``settotalmass``, ``inertiafromgeom``, ``fusestatic``, ...) are resolved by MuJoCo, and the tree takes the
+compiled model's numbers: bodies in MuJoCo's order, their placement ``body_pos``/``body_quat``, joints'
+``jnt_pos``/``jnt_axis``, ``qpos0`` as hinges' and slides' ``ref``, ``dof_armature``, the inertia
+``body_ipos``, ``body_mass`` and ``body_inertia`` turned by ``body_iquat`` into body components, and the
+gravity of ``<option>`` (zero when the model disables gravity). Named points: every site, and every
+body the compiler fused into another (``fusestatic``, the default for URDF: a URDF's fixed links), at
+its place in the body it was fused into.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from relacc.core.rotations import matrix_from_quaternion
+from relacc.core.tree.model import Body, Joint, Point, Tree
+from relacc.engines.mujoco_ import captured_warnings
+from relacc.engines.robots.mujoco_ import TYPES, compile_spec, load_spec
+
+
+def tree_of(model, name: str = "", source: str = "", fused: tuple = ()) -> Tree:
+    """A compiled ``MjModel`` as a :class:`relacc.Tree` (see the module docstring); ``fused``: extra points."""
+    m = model
+    body_name = lambda b: m.body(b).name or f"body {b}"  # noqa: E731
+    bodies = []
+    for b in range(1, m.nbody):
+        joints = []
+        for j in range(int(m.body_jntadr[b]), int(m.body_jntadr[b] + m.body_jntnum[b])):
+            kind = TYPES[int(m.jnt_type[j])]
+            d = int(m.jnt_dofadr[j])
+            nv = {"free": 6, "ball": 3}.get(kind, 1)
+            joints.append(Joint(m.joint(j).name or f"joint {j}", kind, pos=m.jnt_pos[j].copy(),
+                                axis=m.jnt_axis[j].copy() if kind in ("hinge", "slide") else (0.0, 0.0, 1.0),
+                                ref=float(m.qpos0[m.jnt_qposadr[j]]) if kind in ("hinge", "slide") else 0.0,
+                                armature=m.dof_armature[d:d + nv].copy()))
+        R = matrix_from_quaternion(m.body_iquat[b])
+        inertia = R @ np.diag(m.body_inertia[b]) @ R.T
+        bodies.append(Body(body_name(b), int(m.body_parentid[b]) - 1, pos=m.body_pos[b].copy(),
+                           quat=m.body_quat[b].copy(), joints=tuple(joints), mass=float(m.body_mass[b]),
+                           com=m.body_ipos[b].copy(), inertia=0.5 * (inertia + inertia.T)))
+    points = [Point(m.site(s).name or f"site {s}", int(m.site_bodyid[s]) - 1, m.site_pos[s].copy())
+              for s in range(m.nsite)]
+    taken = {p.name for p in points}
+    points += [p for p in fused if p.name not in taken]
+    gravity = np.zeros(3) if m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY else m.opt.gravity.copy()
+    return Tree(name, tuple(bodies), gravity=gravity, points=tuple(points), source=source)
+
+
+def _fused_points(spec, model, path) -> tuple:
+    """Bodies the compiler fused away (``fusestatic``), as points of the body that took them."""
+    kept = {model.body(b).name for b in range(model.nbody)}
+    whole = spec.copy()
+    whole.compiler.fusestatic = False
+    try:
+        full, _ = compile_spec(whole, path)
+    except Exception:  # noqa: BLE001 - the fused model compiled; without fusing there is nothing to add
+        return ()
+    if full.nbody == model.nbody:
+        return ()
+    data = mujoco.MjData(full)
+    mujoco.mj_kinematics(full, data)
+    points = []
+    for b in range(1, full.nbody):
+        name = full.body(b).name
+        if not name or name in kept:
+            continue
+        anc = int(full.body_parentid[b])
+        while anc and full.body(anc).name not in kept:
+            anc = int(full.body_parentid[anc])
+        R = data.xmat[anc].reshape(3, 3)
+        rel = R.T @ (data.xpos[b] - data.xpos[anc])
+        into = full.body(anc).name if anc else None
+        at = -1 if into is None else [model.body(i).name for i in range(1, model.nbody)].index(into)
+        points.append(Point(name, at, rel))
+    return tuple(points)
+
+
+def read_tree(path) -> Tree:
+    """Read an MJCF (``.xml``) or URDF (``.urdf``) file into a :class:`relacc.Tree` through MuJoCo's compiler.
+
+    Raises:
+        ModelError: MuJoCo cannot read or compile the file (its message names the element).
+    """
+    path = Path(path)
+    with captured_warnings():
+        spec = load_spec(path)
+        model, _ = compile_spec(spec.copy(), path)
+        fused = _fused_points(spec, model, path)
+    return tree_of(model, spec.modelname or path.stem, str(path), fused)
