@@ -18,23 +18,27 @@ def _f(v):
     return " ".join(repr(float(x)) for x in np.atleast_1d(v))
 
 
-def random_mjcf(seed: int, n_bodies: int, *, free_root: bool = True, scale: float = 1.0,
-                mass_floor: float = 0.1) -> str:
+def random_mjcf(seed: int, n_bodies: int, *, free_root: bool = True, scale: float = 1.0, chain: bool = False,
+                light: float | None = None) -> str:
     """An MJCF of ``n_bodies`` bodies with random placements, anchors, axes and inertial frames.
 
     Body 0 is the root (free when ``free_root``, else a ball at the world); each later body hangs on a
-    random earlier body with a random stack of :data:`STACKS`. Masses are ``mass_floor`` to 2 kg,
+    random earlier body (the previous one with ``chain``) with a random stack of :data:`STACKS`. Masses
+    are 0.1 to 2 kg (``light`` kg and inertia ``light`` times as small for every body but the root),
     principal moments satisfy the triangle inequality. Lengths are scaled by ``scale`` (m).
     """
     rng = np.random.default_rng(seed)
-    parents = [-1] + [int(rng.integers(0, b)) for b in range(1, n_bodies)]
+    parents = [-1] + [b - 1 if chain else int(rng.integers(0, b)) for b in range(1, n_bodies)]
     children = {b: [c for c in range(n_bodies) if parents[c] == b] for b in range(-1, n_bodies)}
 
-    def inertial():
+    def inertial(root):
         a, b = rng.uniform(0.05, 1.0, 2)
         c = rng.uniform(abs(a - b) + 1e-3, a + b - 1e-3)
+        mass, factor = rng.uniform(0.1, 2.0), 0.1
+        if light is not None and not root:
+            mass, factor = light, 0.1 * light
         return (f'<inertial pos="{_f(scale * rng.uniform(-0.3, 0.3, 3))}" quat="{_f(_unit(rng, 4))}" '
-                f'mass="{rng.uniform(mass_floor, 2.0)!r}" diaginertia="{_f(np.array([a, b, c]) * 0.1)}"/>')
+                f'mass="{mass!r}" diaginertia="{_f(np.array([a, b, c]) * factor)}"/>')
 
     def body(b, depth):
         pad = "  " * depth
@@ -52,7 +56,7 @@ def random_mjcf(seed: int, n_bodies: int, *, free_root: bool = True, scale: floa
                               f'{extra}/>')
             pos = scale * rng.uniform(-0.6, 0.6, 3)
         head = f'{pad}<body name="b{b}" pos="{_f(pos)}" quat="{_f(_unit(rng, 4))}">'
-        inner = [pad + "  " + line for line in joints + [inertial()]]
+        inner = [pad + "  " + line for line in joints + [inertial(b == 0)]]
         inner += [body(c, depth + 1) for c in children[b]]
         return "\n".join([head] + inner + [f"{pad}</body>"])
 

@@ -112,10 +112,10 @@ def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
         kind, qa, da = rot[k]
         B, B_dot = _speed_map(case, kind, joints[k])
         u2 = mv(B, u[:, da:da + 3])
-        D = np.diag(j.armature[lin:lin + 3])
+        arm = j.armature[lin:lin + 3]
         blk = (slice(None), slice(da, da + 3), slice(da, da + 3))
-        M[blk] += np.swapaxes(B, -1, -2) @ D @ B
-        tau2 = -mv(D, mv(B_dot, u[:, da:da + 3]))
+        M[blk] += np.swapaxes(B, -1, -2) @ (arm[:, None] * B)
+        tau2 = -arm * mv(B_dot, u[:, da:da + 3])
         if eff is not None:
             tau2 = tau2 - eff.damping * u2
             if kind == "ball" and eff.stiffness:

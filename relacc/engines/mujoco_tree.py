@@ -22,6 +22,7 @@ from relacc.core.rotations import matrix_from_quaternion
 from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.engines.mujoco_ import captured_warnings
 from relacc.engines.robots.mujoco_ import TYPES, compile_spec, load_spec
+from relacc.errors import ModelError
 
 
 def tree_of(model, name: str = "", source: str = "", fused: tuple = ()) -> Tree:
@@ -92,4 +93,6 @@ def read_tree(path) -> Tree:
         spec = load_spec(path)
         model, _ = compile_spec(spec.copy(), path)
         fused = _fused_points(spec, model, path)
+    if model.nbody < 2:
+        raise ModelError(f"{path}: MuJoCo reads no body besides the world in it: there is nothing to evaluate")
     return tree_of(model, spec.modelname or path.stem, str(path), fused)
