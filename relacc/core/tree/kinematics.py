@@ -51,12 +51,14 @@ class TreeKinematics:
     points: "PointKinematics | None"
     case: int
     bodies: tuple = field(repr=False)
+    buffers: frozenset = field(default=frozenset(), repr=False)
+    """The fields that hold the caller's ``out`` buffers: those stay writable, for reuse."""
 
     def __post_init__(self):
         for name in ("position", "velocity", "acceleration", "omega", "alpha", "rotation", "V", "Vdot", "Omega",
                      "Omegadot"):
             value = getattr(self, name)
-            if isinstance(value, np.ndarray) and value.flags.owndata:
+            if isinstance(value, np.ndarray) and name not in self.buffers:
                 value.setflags(write=False)
 
 
@@ -116,7 +118,10 @@ def flat(a, batch, width):
     return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width))
 
 
-def tree_kinematics(tree, case, q, u, udot=None, *, points=None) -> TreeKinematics:
+BACKENDS = ("auto", "fast", "reference")
+
+
+def tree_kinematics(tree, case, q, u, udot=None, *, points=None, backend="auto", out=None) -> TreeKinematics:
     """Every body's mass-centre kinematics, angular velocity and partial velocities, by the note's method.
 
     Args:
@@ -125,6 +130,11 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None) -> TreeKinemati
         q: ``(..., nq)`` the case's coordinates. u: ``(..., nv)`` its speeds.
         udot: ``(..., nv)`` their rates, or None to skip accelerations.
         points: None, ``"all"``, or names of the tree's points to evaluate too.
+        backend: ``"auto"`` (the fused kernel of :mod:`relacc.kernels.tree` for real inputs, else the reference),
+            ``"fast"`` or ``"reference"`` (:mod:`relacc.core.tree.walk`, plain numpy; the two agree to rounding).
+        out: numpy's ``out`` convention: a dict of writable C-contiguous float64 arrays to write the body outputs
+            into, keyed by the field names of :class:`TreeKinematics` (``position`` ... ``Omegadot``; the batch's
+            shapes), fast backend only; the returned arrays are those buffers, still writable.
 
     Returns:
         :class:`TreeKinematics`, fixed-frame components throughout.
@@ -135,11 +145,21 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None) -> TreeKinemati
     """
     c, q, u, udot, batch = inputs(tree, case, q, u, udot)
     chosen = _point_set(tree, points)
+    if backend not in BACKENDS:
+        raise InputError(f"unknown backend {backend!r}: accepted are {', '.join(BACKENDS)}")
+    real = all(a is None or a.dtype.kind != "c" for a in (q, u, udot))
+    if backend == "fast" and not real:
+        raise InputError("backend 'fast' evaluates real inputs only; use backend 'reference' for complex ones")
+    fast = backend == "fast" or (backend == "auto" and real)
+    if out is not None and not fast:
+        raise InputError("out= is for the fast backend (real inputs)")
     n = int(np.prod(batch))
-    require_memory(8.0 * n * (tree.nb + len(chosen) + 4) * 3 * tree.nv * 6, f"evaluating {n} states of {tree.name!r}",
-                   "pass fewer states at a time")
+    per_state = (tree.nb + len(chosen)) * 3 * tree.nv * 4 + (tree.nb + 4) * 3 * tree.nv * (4 if fast else 12)
+    require_memory(8.0 * n * per_state, f"evaluating {n} states of {tree.name!r}", "pass fewer states at a time")
     qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
     udf = None if udot is None else flat(udot, batch, tree.nv)
+    if fast:
+        return _fast(tree, c, qf, uf, udf, chosen, points is not None, batch, out)
     frames, _ = walk(tree, c, qf, uf)
     out = {k: [] for k in ("position", "V", "Vdot", "Omega", "Omegadot", "rotation")}
     for f, body in zip(frames, tree.bodies):
@@ -161,6 +181,49 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None) -> TreeKinemati
                           shape(arr["V"], (nb, 3, nv)), shape(arr["Vdot"], (nb, 3, nv)),
                           shape(arr["Omega"], (nb, 3, nv)), shape(arr["Omegadot"], (nb, 3, nv)), pk, c,
                           tree.body_names)
+
+
+FIELDS = ("position", "velocity", "acceleration", "omega", "alpha", "rotation", "V", "Vdot", "Omega", "Omegadot")
+TAILS = {"position": (3,), "velocity": (3,), "acceleration": (3,), "omega": (3,), "alpha": (3,), "rotation": (3, 3),
+         "V": (3, -1), "Vdot": (3, -1), "Omega": (3, -1), "Omegadot": (3, -1)}
+
+
+def _fast(tree, c, q, u, udot, chosen, want_points, batch, out):
+    """The fused kernel's answer as a :class:`TreeKinematics` (see :func:`relacc.kernels.tree.kinematics`)."""
+    from relacc.core.kinematics import check_finite_result, check_out
+    from relacc.kernels import tree as kernel
+
+    nb, nv = tree.nb, tree.nv
+    tail = lambda k: tuple(nv if t == -1 else t for t in TAILS[k])  # noqa: E731
+    buffers = None
+    if out is not None:
+        if not isinstance(out, dict) or set(out) - set(FIELDS):
+            raise InputError(f"out: expected a dict with keys among {', '.join(FIELDS)}, got {out!r:.80}")
+        buffers = {k: check_out(b, batch + (nb,) + tail(k), f"out {k}") for k, b in out.items()}
+        if udot is None and any(buffers.get(k) is not None for k in ("acceleration", "alpha")):
+            raise InputError("out: acceleration and alpha buffers need udot")
+    flat_out = None if buffers is None else {k: b.reshape((-1, nb) + tail(k)) for k, b in buffers.items()}
+    with np.errstate(over="ignore", invalid="ignore"):
+        res, bad = kernel.kinematics(tree, c, q, u, udot, want_points, flat_out)
+    if bad:
+        check_finite_result([res[k] for k in FIELDS if res[k] is not None], q, u, udot)
+    shape = lambda a, k: None if a is None else a.reshape(batch + (a.shape[1],) + a.shape[2:])  # noqa: E731
+    arrays = {k: (buffers[k] if buffers and k in buffers else shape(res[k], k)) for k in FIELDS}
+    pk = None
+    if want_points:
+        p = res["points"]
+        idx = list(chosen)
+
+        def take(a):
+            if a is None:
+                return None
+            a = a.reshape(batch + a.shape[1:])
+            return np.ascontiguousarray(a[..., idx, :] if a.ndim == len(batch) + 2 else a[..., idx, :, :])
+
+        pk = PointKinematics(tuple(tree.points[i].name for i in chosen), take(p["position"]), take(p["velocity"]),
+                             take(p["acceleration"]), take(p["V"]), take(p["Vdot"]))
+    return TreeKinematics(**arrays, points=pk, case=c, bodies=tree.body_names,
+                          buffers=frozenset(buffers or ()))
 
 
 def _motion(P, Pdot, u, udot):

@@ -313,11 +313,12 @@ class Tree:
 
     @cached_property
     def path_dofs(self) -> tuple:
-        """Per body, the speeds that move it: its own and its ancestors', ascending."""
+        """Per body, the speeds that move it: its own and its ancestors' (none past a free joint), ascending."""
         out = []
         for b, body in enumerate(self.bodies):
             own = [self.dofadr[k] + i for k in self.body_joints[b] for i in range(self.joints[k][1].nv)]
-            inherited = [] if body.parent < 0 else list(out[body.parent])
+            free = any(j.type == "free" for j in body.joints)
+            inherited = [] if body.parent < 0 or free else list(out[body.parent])
             out.append(tuple(sorted(inherited + own)))
         return tuple(out)
 

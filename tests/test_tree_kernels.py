@@ -1,0 +1,71 @@
+"""The fused tree kernel (relacc.kernels.tree) against the reference walk (relacc.core.tree.walk).
+
+Both evaluate the same sums in a different order (the kernel merges a joint's two lever moves and skips
+zero levers), so they agree to rounding: within the tree error model's tolerance on the terms' magnitude.
+"""
+
+import numpy as np
+import pytest
+
+import relacc
+from relacc.core.tree import convert, random_states
+from relacc.core.tree.scales import tree_scales
+from relacc.engines.mujoco_tree import read_tree
+from relacc.errors import InputError
+from relacc.fixtures.shipped import models_dir
+from tests.test_tree import _assert_bodies, _tree_file
+
+FIELDS = ("position", "velocity", "acceleration", "omega", "alpha", "V", "Vdot", "Omega", "Omegadot")
+
+
+@pytest.mark.parametrize("seed", [0, 3, 7, 11])
+@pytest.mark.parametrize("case", [1, 2, 3])
+def test_the_kernel_is_the_reference_walk(tmp_path, seed, case):
+    """Random trees (ball-then-slide stacks included) in every case: every field and every point."""
+    tree = read_tree(_tree_file(tmp_path, seed, 4 + seed))
+    st = random_states(tree, 2, 70, seed)  # 70 states: a partial last block of the parallel loop
+    q, u, udot = convert(tree, st.q, st.u, st.udot, source=2, target=case)
+    fast = relacc.tree_kinematics(tree, case, q, u, udot, backend="fast")
+    ref = relacc.tree_kinematics(tree, case, q, u, udot, backend="reference")
+    sc = tree_scales(tree, case, q, u, udot)
+    for name in FIELDS:
+        _assert_bodies(tree, getattr(fast, name), getattr(ref, name), sc.of(name), f"case {case} {name}", seed)
+    np.testing.assert_allclose(fast.rotation, ref.rotation, rtol=0, atol=64 * 2.2e-16 * max(tree.depth))
+
+
+def test_points_and_out_buffers():
+    """The chain's points on both paths; out= buffers written in place, returned writable, reused."""
+    tree = relacc.Tree.from_file(models_dir() / "two_body.xml")
+    st = random_states(tree, 2, 40, 1)
+    fast = relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, points="all")
+    ref = relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, points="all", backend="reference")
+    assert fast.points.names == ref.points.names == ("B1_origin", "Q2", "G2")
+    for name in ("position", "velocity", "acceleration", "V", "Vdot"):
+        np.testing.assert_allclose(getattr(fast.points, name), getattr(ref.points, name), rtol=0, atol=1e-14)
+    g2 = relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, points=["G2"])
+    np.testing.assert_array_equal(g2.points.position[:, 0], fast.points.position[:, 2])
+    out = {"V": np.zeros((40, 2, 3, 12)), "position": np.zeros((40, 2, 3))}
+    k = relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, out=out)
+    assert k.V is out["V"] and k.position is out["position"] and out["V"].flags.writeable
+    np.testing.assert_array_equal(out["V"], fast.V)
+    assert not k.Vdot.flags.writeable  # relacc's own arrays are read-only
+    relacc.tree_kinematics(tree, 2, st.q[::-1].copy(), st.u[::-1].copy(), st.udot[::-1].copy(), out=out)
+    np.testing.assert_array_equal(out["V"], fast.V[::-1])
+    with pytest.raises(InputError, match=r"out V: expected a writable C-contiguous float64 array of shape "
+                                         r"\(40, 2, 3, 12\)"):
+        relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, out={"V": np.zeros((40, 2, 3, 11))})
+    with pytest.raises(InputError, match="expected a dict with keys among"):
+        relacc.tree_kinematics(tree, 2, st.q, st.u, out={"speeds": np.zeros(3)})
+    with pytest.raises(InputError, match="need udot"):
+        relacc.tree_kinematics(tree, 2, st.q, st.u, out={"acceleration": np.zeros((40, 2, 3))})
+
+
+def test_batches_broadcast_and_overflow_is_reported():
+    tree = relacc.Tree.from_chain(relacc.fixtures.load().chain)
+    st = random_states(tree, 2, 6, 2)
+    k = relacc.tree_kinematics(tree, 2, st.q.reshape(2, 3, 14), st.u[0], st.udot.reshape(2, 3, 12))
+    assert k.V.shape == (2, 3, 2, 3, 12)
+    one = relacc.tree_kinematics(tree, 2, st.q[4], st.u[0], st.udot[4], backend="reference")
+    np.testing.assert_allclose(k.acceleration[1, 1], one.acceleration, rtol=0, atol=1e-13)
+    with pytest.raises(InputError, match="overflowed float64"):
+        relacc.tree_kinematics(tree, 2, st.q[0], st.u[0] * 1e200, st.udot[0])
