@@ -96,7 +96,16 @@ def _harness(args):
                    progress=_progress(args))
 
 
+def _is_robot(args) -> bool:
+    """Whether ``--model`` names an MJCF or URDF file (checked as a tree) rather than a chain TOML."""
+    from pathlib import Path
+
+    return args.model is not None and Path(args.model).suffix.lower() in (".xml", ".urdf")
+
+
 def cmd_check(args) -> int:
+    if _is_robot(args):
+        return _check_tree(args)
     harness = _harness(args)
     if args.scheduler:
         from relacc.cluster.sweeps import check
@@ -129,6 +138,37 @@ def cmd_check(args) -> int:
     return 0 if report.passed else 1
 
 
+def _check_tree(args) -> int:
+    from relacc.validation.treecheck import check_tree
+
+    if args.scheduler:
+        raise InputError("--scheduler runs the chain's sweeps; for a model file, run relacc check --model FILE here "
+                         "or relacc compare FILE... --scheduler")
+    states = 20 if args.states == 1000 else args.states  # each state is a full dynamics evaluation per engine
+    report = check_tree(args.model, engines=args.engines, cases=args.cases, n_states=states, seed=args.seed,
+                        progress=_progress(args))
+    if args.json:
+        print(json.dumps(report.as_dict(), indent=2))
+        return 0 if report.passed else 1
+    print(f"relacc check {report.model}: relacc's tree (read through MuJoCo's compiler) against each engine, "
+          f"{report.n_states} random states and the reference configuration, seed {report.seed}; normalized error "
+          "= max|x - x_engine| / magnitude of the terms, in MuJoCo's coordinates through each case's speed map")
+    for name, why in report.not_loaded.items():
+        print(f"  {name}: not loaded: {why}")
+    header = f"{'case':4s}  {'engine':9s}  {'quantity':22s}  {'max':>9s}  {'tolerance':>9s}  {'max/eps':>9s}  result"
+    print(header)
+    print("-" * len(header))
+    for r in report.rows:
+        err = "undefined" if r.max_error == float("inf") else f"{r.max_error:9.2e}"
+        ratio = "" if r.max_error == float("inf") else f"{r.max_error / EPS:9.3g}"
+        print(f"{r.case:<4d}  {r.engine:9s}  {r.quantity:22s}  {err:>9s}  {r.tolerance:9.2e}  {ratio:>9s}  "
+              f"{'pass' if r.passed else 'FAIL'}")
+    bad, n = sum(not r.passed for r in report.rows), len(report.rows)
+    print(f"\nall {n} comparisons agree" if not bad else f"\n{bad} of {n} comparisons DISAGREE "
+          "(relacc compare FILE says why)")
+    return 0 if report.passed else 1
+
+
 def cmd_errata(args) -> int:
     from relacc.validation.errata import errata
 
@@ -152,8 +192,17 @@ def cmd_grade(args) -> int:
     from relacc.testing.grade import check_formula, load_function
 
     fn = load_function(args.function)
-    grade = check_formula(fn, quantity=args.quantity, case=args.case, n=args.states, seed=args.seed,
-                          chain=fixtures.load(args.model).chain)
+    if _is_robot(args) or args.body is not None:
+        if not _is_robot(args) or args.body is None:
+            raise InputError("--body NAME goes with --model FILE.xml|FILE.urdf (a model's body); without them "
+                             "relacc grades the note's G2 on the chain")
+        grade = check_formula(fn, quantity=args.quantity, case=args.case, n=args.states, seed=args.seed,
+                              model=args.model, body=args.body)
+    else:
+        if args.quantity not in ("position", "velocity", "acceleration", "V", "Vdot"):
+            raise InputError(f"--quantity {args.quantity} is a model's body quantity: give --model FILE and --body")
+        grade = check_formula(fn, quantity=args.quantity, case=args.case, n=args.states, seed=args.seed,
+                              chain=fixtures.load(args.model).chain)
     print(json.dumps(grade.as_dict(), indent=2) if args.json else grade.text())
     return 0 if grade.ok else 1
 

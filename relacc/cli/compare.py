@@ -96,6 +96,9 @@ def text(result) -> str:
                      f"{r['max_error']:9.3g} ({r['max_error'] / EPS:.3g} eps; ")
             lines.append(f"  {quantity:22s} {engine:9s} {error}tolerance {r['tolerance']:.3g})  {verdict}"
                          + (f": {r['cause']}" if r["cause"] else ""))
+    if data["referee"]:
+        lines.append("referee (MuJoCo, the engines and relacc's tree, pairwise):")
+        lines += [f"  {v['verdict']}" for v in data["referee"]]
     lines.append("every engine sees the same robot and the dynamics agree" if data["agree"] else
                  "the engines DISAGREE (exit 1)")
     return "\n".join(lines)

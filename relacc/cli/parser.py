@@ -106,9 +106,9 @@ def _sub(sub, name, help_, description, examples):
                           formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
-def _model(p):
+def _model(p, files="a chain TOML"):
     p.add_argument("--model", metavar="PATH", default=None,
-                   help="the chain's TOML source (default: the shipped two_body.toml; never read from the "
+                   help=f"the model file ({files}; default: the shipped two_body.toml, never read from the "
                         "working directory)")
 
 
@@ -186,7 +186,7 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar=",".join(ENGINE_NAMES), help="comma-separated engines (default: every one installed)")
     _json(p)
     _quiet(p)
-    _model(p)
+    _model(p, "a chain TOML, or an MJCF .xml or URDF .urdf model")
     _scheduler(p, "the sweep (tasks of at least 100,000 states)")
 
     p = _sub(sub, "errata", "evaluate every printed formula of the note against the engines",
@@ -209,15 +209,21 @@ def build_parser() -> argparse.ArgumentParser:
              "When it is wrong: which generalized-speed columns disagree, and which of the note's known slips "
              "reproduce it. MODULE is a dotted module or a path to a .py file.",
              ["relacc grade examples/student_correct.py:acceleration --quantity acceleration --case 1",
-              "relacc grade mypkg.kinematics:v_g2 --quantity velocity --case 2 --json"])
+              "relacc grade mypkg.kinematics:v_g2 --quantity velocity --case 2 --json",
+              "relacc grade examples/student_arm.py:velocity --model examples/three_link_arm.xml --body forearm "
+              "--quantity velocity --case 2"])
     p.add_argument("function", metavar="MODULE:FUNCTION", help="the formula to grade")
-    p.add_argument("--quantity", required=True, choices=("position", "velocity", "acceleration", "V", "Vdot"),
-                   help="what the function returns")
+    p.add_argument("--quantity", required=True, choices=("position", "velocity", "acceleration", "omega", "alpha",
+                                                          "V", "Vdot", "Omega", "Omegadot"),
+                   help="what the function returns (omega, alpha, Omega, Omegadot: a model's body, with --body)")
+    p.add_argument("--body", metavar="NAME", default=None,
+                   help="with --model FILE.xml|FILE.urdf: the body whose quantity fn(tree, q, u, udot) returns, at "
+                        "its mass centre")
     p.add_argument("--case", required=True, type=_case, metavar="{1,2,3}", help="the case of its q and u")
     _states(p, 200, "ordinary states, and as many hard ones")
     _seed(p)
     _json(p, "ok, worst_error, columns, matches, seed")
-    _model(p)
+    _model(p, "a chain TOML, or an MJCF .xml or URDF .urdf model")
 
     p = _sub(sub, "fixtures", "write a chain's engine model files (and export them with their conventions)",
              "Render the MJCF and URDF files of a chain from its TOML source, beside it, all or nothing; each file "

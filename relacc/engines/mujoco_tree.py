@@ -96,3 +96,57 @@ def read_tree(path) -> Tree:
     if model.nbody < 2:
         raise ModelError(f"{path}: MuJoCo reads no body besides the world in it: there is nothing to evaluate")
     return tree_of(model, spec.modelname or path.stem, str(path), fused)
+
+
+def model_for(tree):
+    """The compiled ``MjModel`` a tree was read from (its source file; a chain TOML's generated MJCF).
+
+    Raises:
+        EngineError: a tree built in Python, which MuJoCo has never read.
+    """
+    from relacc.errors import EngineError
+
+    source = Path(tree.source) if tree.source != "python" else None
+    if source is not None and source.suffix.lower() == ".toml":
+        from relacc.fixtures import load
+
+        source = load(source).path("two_body.xml")
+    if source is None or not source.is_file():
+        raise EngineError(f"tree {tree.name!r} was built in Python: MuJoCo has no model of it (read it from a file "
+                          "to compare with MuJoCo)")
+    with captured_warnings():
+        model, _ = compile_spec(load_spec(source), source)
+    return model
+
+
+def evaluate(tree, q, u, udot) -> dict:
+    """MuJoCo's own numbers for every body at states ``q (n, nq)``, ``u``, ``udot (n, nv)`` (MuJoCo's, case 2).
+
+    ``position`` (``xipos``), ``velocity``, ``omega`` (``mj_jac`` at the mass centre times ``u``), ``V``, ``Omega``
+    (``mj_jac``), ``acceleration``, ``alpha`` (MuJoCo's acceleration routine ``mj_rnePostConstraint`` at zero
+    gravity: ``cacc`` moved to the mass centre, made classical by ``omega x v``); fixed-frame components,
+    ``(n, nb, 3)`` and ``(n, nb, 3, nv)``.
+    """
+    m = model_for(tree)
+    d = mujoco.MjData(m)
+    n, nb = len(q), m.nbody - 1
+    out = {k: np.zeros((n, nb, 3)) for k in ("position", "velocity", "omega", "acceleration", "alpha")}
+    out.update({k: np.zeros((n, nb, 3, m.nv)) for k in ("V", "Omega")})
+    m.opt.gravity[:] = 0.0
+    for i in range(n):
+        d.qpos[:], d.qvel[:], d.qacc[:] = q[i], u[i], udot[i]
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        mujoco.mj_comVel(m, d)
+        mujoco.mj_rnePostConstraint(m, d)
+        for b in range(1, m.nbody):
+            J, Jr = out["V"][i, b - 1], out["Omega"][i, b - 1]
+            mujoco.mj_jac(m, d, J, Jr, d.xipos[b], b)
+            r = d.xipos[b] - d.subtree_com[m.body_rootid[b]]
+            w, alpha = d.cvel[b, :3], d.cacc[b, :3]
+            out["position"][i, b - 1] = d.xipos[b]
+            out["velocity"][i, b - 1], out["omega"][i, b - 1] = J @ u[i], Jr @ u[i]
+            out["alpha"][i, b - 1] = alpha
+            out["acceleration"][i, b - 1] = (d.cacc[b, 3:] - np.cross(r, alpha)
+                                             + np.cross(w, d.cvel[b, 3:] - np.cross(r, w)))
+    return out

@@ -69,7 +69,20 @@ def assert_agrees(actual, expected, *, scale=None, what: str = "", tolerance: fl
         return errors
     ratio = np.where(np.isfinite(errors), errors / np.broadcast_to(tol, errors.shape), np.inf)
     if not np.all(np.isfinite(act)):
-        ratio = np.where(np.all(np.isfinite(act.reshape(act.shape[0], -1)), axis=1), ratio, np.inf)
+        finite = np.all(np.isfinite(act.reshape(errors.shape + (-1,))), axis=-1)
+        ratio = np.where(finite, ratio, np.inf)
+    labels = expected.labels if isinstance(expected, Expected) else ()
+    if labels:  # a model's bodies: judge (state, body) pairs, name the body
+        flat = ratio.reshape(-1)
+        i, body = np.unravel_index(int(np.argmax(flat)), ratio.shape)
+        diff = np.abs(act[i, body] - ref[i, body])
+        row = int(np.unravel_index(np.nanargmax(np.where(np.isnan(diff), np.inf, diff)), diff.shape)[0])
+        tol_i = float(np.broadcast_to(tol, errors.shape)[i, body])
+        label = what or expected.quantity
+        raise AssertionError(f"{label} against {expected.source}: normalized error {float(errors[i, body]):.3g} "
+                             f"({float(errors[i, body]) / EPS:.3g} eps) > tolerance {tol_i:.3g} ({tol_i / EPS:.3g} "
+                             f"eps) at state {int(i)} of seed {expected.seed!r}, body {labels[body]}, component "
+                             f"{COMPONENTS[row]}")
     i = int(np.argmax(ratio))
     diff = np.abs(act[i] - ref[i])
     row = int(np.unravel_index(np.nanargmax(np.where(np.isnan(diff), np.inf, diff)), diff.shape)[0])

@@ -65,22 +65,27 @@ class Grade:
     seed: int
     n_states: int
     sources: tuple = field(default=())
+    body: str | None = None
+    """A model's body (then ``columns`` names joints, and there are no printed slips to match), or None: G2."""
 
     def as_dict(self) -> dict:
         """``relacc grade --json``."""
         return {"ok": self.ok, "worst_error": self.worst_error, "columns": list(self.columns),
                 "matches": list(self.matches), "seed": self.seed, "quantity": self.quantity, "case": self.case,
                 "worst_source": self.worst_source, "worst_state": self.worst_state, "n_states": self.n_states,
-                "sources": list(self.sources)}
+                "sources": list(self.sources), "body": self.body}
 
     def text(self) -> str:
         """The human-readable verdict."""
-        head = (f"{self.quantity} for case {self.case}: {'right' if self.ok else 'WRONG'} on {self.n_states} states "
+        what = self.quantity if self.body is None else f"{self.quantity} of body {self.body}"
+        head = (f"{what} for case {self.case}: {'right' if self.ok else 'WRONG'} on {self.n_states} states "
                 f"(seed {self.seed}; ordinary and hard), against {', '.join(self.sources)}; worst normalized error "
                 f"{self.worst_error:.3g} ({self.worst_source}, state {self.worst_state})")
         if self.ok:
             return head
         cols = ", ".join(self.columns) if self.columns else "none found by the probes"
+        if self.body is not None:
+            return f"{head}\njoints whose speeds show it: {cols}"
         slips = ", ".join(self.matches) if self.matches else "none of the note's known slips"
         return f"{head}\ncolumns that disagree: {cols}\nreproduced by: {slips}"
 
@@ -165,8 +170,12 @@ def _matches(mine, chain, case, quantity, s: States, tol) -> tuple:
     return tuple(out)
 
 
-def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain=None, engines=None) -> Grade:
+def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain=None, engines=None, model=None,
+                  body=None) -> Grade:
     """Grade ``fn(chain, q, u, udot)`` for one quantity and case (module docstring).
+
+    With ``model`` (an MJCF, URDF or chain TOML path, or a relacc.Tree) and ``body`` (a body's name), grade
+    ``fn(tree, q, u, udot)`` for that body instead: :func:`relacc.testing.grade_tree.grade_body`.
 
     Args:
         quantity: ``position``, ``velocity``, ``acceleration``, ``V`` or ``Vdot``.
@@ -178,6 +187,14 @@ def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain
         CallError: ``fn`` cannot be called as a formula (it raised, or returned the wrong shape).
         InputError: an unknown quantity or case, a bad n or seed.
     """
+    if model is not None or body is not None:
+        if model is None or body is None:
+            raise InputError("grading a model's body needs both model= and body=")
+        if chain is not None:
+            raise InputError("give chain= (the note's G2) or model= and body= (a model's body), not both")
+        from relacc.testing.grade_tree import grade_body
+
+        return grade_body(fn, model=model, body=body, quantity=quantity, case=case, n=n, seed=seed, engines=engines)
     if quantity not in QUANTITIES:
         raise InputError(f"unknown quantity {quantity!r}: accepted are {', '.join(QUANTITIES)}")
     c = int(as_case(case))

@@ -33,16 +33,28 @@ def relacc_chain():
 
 @pytest.fixture(scope="session")
 def relacc_states():
-    """``relacc_states(case=1, n=200, seed=0, hard=False)``: seeded states of a case (hard: the catalogue's)."""
+    """``relacc_states(case=1, n=200, seed=0, hard=False, model=None)``: seeded states of a case (hard: the
+    catalogue's); with ``model`` (an MJCF, URDF or chain TOML path, or a relacc.Tree), that model's states.
+
+    Arguments are checked as :func:`relacc.testing.states` checks them (no float ``n``, no boolean seed), and the
+    states are cached per session read-only: a test that changes them works on a copy (``s.q.copy()``)."""
+    from relacc.core.cases import as_case, check_int
+    from relacc.errors import InputError
     from relacc.testing import states
 
     cache = {}
 
-    def make(case=1, n=200, seed=0, hard=False):
-        key = (int(case), int(n), int(seed), bool(hard))
+    def make(case=1, n=200, seed=0, hard=False, model=None):
+        if not isinstance(hard, bool):
+            raise InputError(f"hard: expected True or False, got {hard!r}")
+        key = (int(as_case(case)), check_int("n", n, minimum=1), check_int("seed", seed, minimum=0), hard,
+               id(model) if hasattr(model, "bodies") else (None if model is None else str(model)))
         if key not in cache:
-            cache[key] = states(case, n, seed, hard=hard)
-        return cache[key]
+            s = states(case, n, seed, hard=hard, model=model)
+            for name in ("q", "u", "udot"):
+                getattr(s, name).setflags(write=False)
+            cache[key] = (s, model)  # keep a tree alive: its id stays unique
+        return cache[key][0]
 
     return make
 

@@ -23,8 +23,11 @@ from relacc.core.tolerances import rounding_tolerance
 from relacc.errors import InputError
 
 
-def states(case, n: int = 200, seed: int = 0, hard: bool = False) -> States:
+def states(case, n: int = 200, seed: int = 0, hard: bool = False, model=None):
     """``n`` seeded states of a case, ``numpy.random.default_rng(seed)``-reproducible.
+
+    With ``model`` (an MJCF, URDF or chain TOML path, or a :class:`relacc.Tree`), the states of that model's
+    tree: :func:`relacc.testing.trees.model_states`, a :class:`relacc.testing.trees.ModelStates`.
 
     Args:
         hard: draw from the hard-case catalogue (:mod:`relacc.validation.hardcases`) instead: gimbal
@@ -40,6 +43,15 @@ def states(case, n: int = 200, seed: int = 0, hard: bool = False) -> States:
     c = int(as_case(case))
     n = check_int("n", n, minimum=1)
     seed = check_int("seed", seed, minimum=0)
+    if not isinstance(hard, (bool, np.bool_)):
+        raise InputError(f"hard: expected True or False, got {hard!r}")
+    from relacc.limits import require_memory
+
+    require_memory(8.0 * n * 60, f"{n} states", "ask for fewer states")
+    if model is not None:
+        from relacc.testing.trees import model_states
+
+        return model_states(model, c, n, seed, hard=bool(hard))
     if not hard:
         return random_states(c, n, seed)
     from relacc.validation.hardcases import catalogue, states_for
@@ -64,6 +76,7 @@ class Expected:
         scale: ``(n,)`` magnitude of the terms of each state (:func:`relacc.core.scales.term_scales`).
         bound: ``(n,)`` the reference's own accuracy bound (normalized), e.g. an engine far from the origin.
         seed: the states' seed; source: who computed the values (``mujoco/quaternion``, ``relacc``).
+        labels: for a model's bodies, their names (the ``nb`` axis after the states); empty for the chain's G2.
     """
 
     quantity: str
@@ -73,6 +86,7 @@ class Expected:
     bound: np.ndarray = field(repr=False)
     seed: object
     source: str
+    labels: tuple = ()
 
     def __array__(self, dtype=None, copy=None):
         return np.asarray(self.values, dtype=dtype)
@@ -116,6 +130,13 @@ def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain
     Raises:
         EngineError: unknown or uninstalled engine, or a route that does not apply.
     """
+    from relacc.testing.trees import ModelStates, truth_of
+
+    if isinstance(s, ModelStates):  # a model's states: relacc's tree or MuJoCo, every body
+        return truth_of(s, engine)
+    if not isinstance(s, States):
+        raise InputError(f"states: expected the states of relacc.testing.states (or relacc_states), got "
+                         f"{type(s).__name__}")
     from relacc.fixtures import load
 
     fixture = load()

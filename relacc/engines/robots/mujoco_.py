@@ -166,3 +166,34 @@ class MujocoRobot(Robot):
             Jdv[i] = jdot @ v
             acc[i] = J[i] @ a + Jdv[i]
         return LinkKinematics(pos, J, Jdv, acc)
+
+    def rne_kinematics(self, q, v, a, links) -> LinkKinematics:
+        """As :meth:`kinematics`, but ``J_dot v`` and the classical acceleration from MuJoCo's acceleration routine
+        (``mj_rnePostConstraint``'s ``cacc``, at zero gravity, made classical at the centre of mass) instead of
+        ``mj_jacDot``: MuJoCo's other reading of the same quantity."""
+        m, d = self.model, self._at(q, v)
+        base = self.kinematics(q, v, a, links)
+        names = {self.body_name(b): b for b in self.groups}
+        gravity = m.opt.gravity.copy()
+        out = []
+        try:
+            m.opt.gravity[:] = 0.0
+            for rates in (np.zeros(m.nv), a):
+                d.qacc[:] = rates
+                mujoco.mj_rnePostConstraint(m, d)
+                acc = np.zeros((len(links), 3))
+                for i, name in enumerate(links):
+                    b = names[name]
+                    total = 0.0
+                    for c in self.groups[b]:
+                        r = d.xipos[c] - d.subtree_com[m.body_rootid[c]]
+                        w, alpha = d.cvel[c, :3], d.cacc[c, :3]
+                        lin = d.cacc[c, 3:] - np.cross(r, alpha) + np.cross(w, d.cvel[c, 3:] - np.cross(r, w))
+                        acc[i] += m.body_mass[c] * lin
+                        total += m.body_mass[c]
+                    acc[i] /= total
+                out.append(acc)
+        finally:
+            m.opt.gravity[:] = gravity
+        return LinkKinematics(base.position, base.J, out[0], out[1])
+

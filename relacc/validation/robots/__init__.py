@@ -23,12 +23,14 @@ from pathlib import Path
 
 import numpy as np
 
+from relacc.core.tolerances import robot_tolerance
 from relacc.engines import installed
 from relacc.engines.robots import robot_class
 from relacc.errors import EngineError, ModelError
 from relacc.validation.robots.agreement import QUANTITIES, random_states
 from relacc.validation.robots.agreement import compare as compare_dynamics
 from relacc.validation.robots.audit import Item, Scales, explain, merge
+from relacc.validation.robots.tree import TreeRobot
 
 URDF_CAUSE = "the URDF (Pinocchio's input) and the MJCF (MuJoCo's) describe this element differently"
 
@@ -59,8 +61,10 @@ class RobotComparison:
     Attributes:
         model, urdf: the files. engines: ``{name: EngineReport}``, MuJoCo first.
         audit: :class:`relacc.validation.robots.audit.Item` rows, one per difference over the engines.
-        dynamics: ``{quantity: {engine: {"max_error", "tolerance", "ok", "state", "cause"}}}``.
+        dynamics: ``{quantity: {engine: {"max_error", "tolerance", "ok", "state", "cause"}}}``; relacc's own tree
+            appears as the evaluators ``relacc (case 1)``, ``relacc (case 2)``, ``relacc (case 3)``.
         n_states, seed: the random states (plus the reference configuration, state 0).
+        referee: one :class:`Verdict` per quantity with a disagreement: who is the odd one out.
     """
 
     model: str
@@ -70,6 +74,7 @@ class RobotComparison:
     dynamics: dict = field(default_factory=dict)
     n_states: int = 0
     seed: int = 0
+    referee: list = field(default_factory=list)
 
     @property
     def agree(self) -> bool:
@@ -90,7 +95,7 @@ class RobotComparison:
                                               for e, r in rows.items()}}
         return {"model": self.model, "urdf": self.urdf, "engines": {k: e.as_json() for k, e in self.engines.items()},
                 "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
-                "seed": self.seed, "agree": self.agree}
+                "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree}
 
 
 def _finite(x: float) -> float | None:
@@ -103,7 +108,12 @@ def _readings(engine: str, attribute: str):
     return getattr(importlib.import_module(f"relacc.engines.robots.{engine}_"), attribute)
 
 
-def _load(engine, path, reference, urdf):
+def load_robot(engine, path, reference, urdf=None):
+    """``path`` in one engine, matched to MuJoCo's reading ``reference`` (Pinocchio: from ``urdf`` when given).
+
+    Raises:
+        ModelError: the engine cannot read the file. EngineError: an unknown or missing engine.
+    """
     cls = robot_class(engine)
     return cls(path, reference, urdf) if engine == "pinocchio" else cls(path, reference)
 
@@ -137,7 +147,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     robots = []
     for name in names:
         try:
-            robot = _load(name, model, reference, urdf)
+            robot = load_robot(name, model, reference, urdf)
         except ModelError as exc:
             reports[name] = EngineReport(name, False, error=str(exc))
             continue
@@ -162,8 +172,122 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
             if from_urdf and items and row["cause"].startswith("not explained"):
                 row["cause"] = "the URDF and the MJCF describe the robot differently (see the audit)"
             dynamics[quantity][robot.engine] = row
+    tree_rows = {}
+    for case in (1, 2, 3) if reference.model.nbody > 1 else ():  # relacc's own evaluation, in each case
+        evaluator = TreeRobot(reference, case)
+        for quantity, row in compare_dynamics(reference, evaluator, states).items():
+            row["cause"] = "" if row["ok"] else _mujoco_cause(quantity, reference, evaluator, states)
+            dynamics[quantity][evaluator.engine] = row
+            tree_rows.setdefault(quantity, {})[case] = row
+    verdicts = _referee(reference, robots, states, dynamics) if reference.model.nbody > 1 else []
     return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
-                           {q: r for q, r in dynamics.items() if r}, n_states, seed)
+                           {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The referee on one quantity: MuJoCo and relacc's tree are two independent evaluations of the same reading;
+    each other engine stands with one, both or neither.
+
+    ``odd_ones_out``: the evaluators a majority disagrees with (empty on an even split); ``agreeing``: the side
+    that agrees; ``split``: the two sides when they are equally many; ``pairs``: ``"a|b"`` to the worst normalized
+    error over the tolerance (a pair agrees at <= 1)."""
+
+    quantity: str
+    odd_ones_out: tuple
+    agreeing: tuple
+    split: tuple
+    pairs: dict
+
+    def sentence(self) -> str:
+        join = lambda names: ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]  # noqa: E731
+        if self.split:
+            return f"{self.quantity}: an even split, {join(self.split[0])} against {join(self.split[1])}"
+        odd = ", ".join(self.odd_ones_out)
+        return f"{self.quantity}: the odd one{'s' if len(self.odd_ones_out) > 1 else ''} out: {odd}; " \
+               f"{join(self.agreeing)} agree"
+
+    def as_json(self) -> dict:
+        return {"quantity": self.quantity, "odd_ones_out": list(self.odd_ones_out), "agreeing": list(self.agreeing),
+                "split": [list(side) for side in self.split], "pairs": {k: _finite(v) for k, v in self.pairs.items()},
+                "verdict": self.sentence()}
+
+
+def _referee(reference, robots, states, dynamics) -> list:
+    """A :class:`Verdict` for each quantity on which evaluators disagree.
+
+    Each engine is compared with MuJoCo (the rows already computed) and with relacc's tree (here, relacc's tree as
+    the reference). If MuJoCo and relacc agree, the engines that disagree with them are the odd ones out. If they
+    differ, the engines take sides: the side with more evaluators agrees, the other is odd; equal sides are a split.
+    """
+    tree = TreeRobot(reference, 2)
+    against_tree = {robot.engine: compare_dynamics(tree, robot, states) for robot in robots}
+    verdicts = []
+    for quantity, rows in dynamics.items():
+        if all(r["ok"] for r in rows.values()) or tree.engine not in rows:
+            continue
+        ratio = lambda row: row["max_error"] / row["tolerance"]  # noqa: E731
+        pairs = {f"mujoco|{tree.engine}": ratio(rows[tree.engine])}
+        sides = {"mujoco": ["mujoco"], "relacc": [tree.engine]}
+        others = []
+        for engine, table in against_tree.items():
+            if engine not in rows or quantity not in table:
+                continue
+            pairs[f"mujoco|{engine}"], pairs[f"{engine}|{tree.engine}"] = ratio(rows[engine]), ratio(table[quantity])
+            with_mujoco, with_tree = rows[engine]["ok"], table[quantity]["ok"]
+            if with_mujoco and not with_tree:
+                sides["mujoco"].append(engine)
+            elif with_tree and not with_mujoco:
+                sides["relacc"].append(engine)
+            elif not (with_mujoco or with_tree):
+                others.append(engine)
+        if rows[tree.engine]["ok"]:  # MuJoCo and relacc agree: every engine that does not is odd
+            odd = tuple(e for e in against_tree if e in rows and not rows[e]["ok"])
+            verdicts.append(Verdict(quantity, odd, tuple(n for n in ["mujoco", *against_tree, tree.engine]
+                                                         if n not in odd and (n in rows or n == "mujoco")), (), pairs))
+            continue
+        m, t = sides["mujoco"], sides["relacc"]
+        if len(m) == len(t):
+            verdicts.append(Verdict(quantity, tuple(others), (), (tuple(m), tuple(t)), pairs))
+        else:
+            win, lose = (m, t) if len(m) > len(t) else (t, m)
+            verdicts.append(Verdict(quantity, tuple(lose) + tuple(others), tuple(win), (), pairs))
+    return verdicts
+
+
+MUJOCO_JACDOT = ("MuJoCo's mj_jacDot takes a ball joint's columns from the velocity of its whole body, so a slide "
+                 "after a ball on the same body adds v_slide x omega_ball to J_dot v (relacc's finding): MuJoCo's own "
+                 "acceleration routine (mj_rnePostConstraint) agrees with relacc's tree")
+
+
+def _mujoco_cause(quantity, reference, evaluator, states) -> str:
+    """Why relacc's tree and MuJoCo differ, reproduced: MuJoCo's other reading of the quantity agrees with relacc."""
+    if quantity in ("J_dot v", "classical acceleration"):
+        from relacc.validation.robots.agreement import shared_links
+
+        links = shared_links(reference.structure, evaluator.structure, 0.0)
+        tol = robot_tolerance(len(reference.structure.links))
+        worst = 0.0
+        for q, v, a in zip(states.q, states.v, states.a):
+            mine = evaluator.kinematics(q, v, a, links)
+            theirs = reference.rne_kinematics(q, v, a, links)
+            scale = np.abs(mine.J).max(initial=0) * (np.abs(a).max(initial=0) + np.abs(v).max(initial=0) ** 2)
+            for x, y in ((mine.Jdot_v, theirs.Jdot_v), (mine.acceleration, theirs.acceleration)):
+                worst = max(worst, float(np.abs(x - y).max(initial=0)) / max(scale, np.finfo(float).tiny))
+        if worst <= tol:
+            return MUJOCO_JACDOT if _ball_then_slide(reference.model) else (
+                "MuJoCo's mj_jacDot differs from its own acceleration routine (mj_rnePostConstraint), which agrees "
+                "with relacc's tree")
+    return "not explained: relacc's tree and MuJoCo differ on MuJoCo's own reading of the model"
+
+
+def _ball_then_slide(model) -> bool:
+    """Whether a body of the model has a slide after a ball (MuJoCo's joint types 1 ball, 2 slide)."""
+    for b in range(1, model.nbody):
+        kinds = [int(model.jnt_type[j]) for j in range(model.body_jntadr[b], model.body_jntadr[b] + model.body_jntnum[b])]
+        if 1 in kinds and 2 in kinds[kinds.index(1) + 1:]:
+            return True
+    return False
 
 
 EXPLAINED = 1e-6
@@ -208,4 +332,4 @@ def _dynamics_cause(quantity, before, reference, robot, explained, applied, read
         f" (the audit's causes were applied: {'; '.join(texts)})" if texts else "")
 
 
-__all__ = ["OTHERS", "EngineReport", "Item", "RobotComparison", "compare"]
+__all__ = ["OTHERS", "EngineReport", "Item", "RobotComparison", "Verdict", "compare", "load_robot"]

@@ -1,0 +1,142 @@
+"""States and truth for any model (an MJCF, a URDF, a chain TOML or a :class:`relacc.Tree`), for others' tests.
+
+:func:`model_states` draws seeded states of a case (ordinary or hard); :func:`model_truth` evaluates every body
+with relacc's tree (the reference) or with MuJoCo (its own numbers, in the quantities MuJoCo has for the case)
+and returns :class:`relacc.testing.Expected` quantities of shape ``(n, nb, ...)`` whose scales and bounds are
+relacc's error model for trees (:mod:`relacc.core.tree.scales`), per body.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from relacc.core.cases import as_case, check_int
+from relacc.core.tolerances import rounding_tolerance
+from relacc.core.tree import Tree, TreeStates, convert, random_states, tree_kinematics
+from relacc.core.tree.coordinates import rotations
+from relacc.core.tree.scales import tree_scales, tree_tolerance
+from relacc.errors import EngineError, InputError
+
+TREE_QUANTITIES = ("position", "velocity", "acceleration", "omega", "alpha", "V", "Vdot", "Omega", "Omegadot")
+"""Per-body quantities of :class:`relacc.TreeKinematics` a test or a grade may ask for."""
+
+PHYSICAL = ("position", "velocity", "acceleration", "omega", "alpha")
+"""The quantities that do not depend on the choice of speeds (MuJoCo's in every case)."""
+
+
+def as_tree(model) -> Tree:
+    """A :class:`relacc.Tree` from a tree, or from a model file read with :meth:`relacc.Tree.from_file`."""
+    if isinstance(model, Tree):
+        return model
+    if isinstance(model, (str, bytes)) or hasattr(model, "__fspath__"):
+        return Tree.from_file(model)
+    raise InputError(f"model: expected a relacc.Tree or a path to an MJCF, URDF or chain TOML, got {model!r:.80}")
+
+
+@dataclass(frozen=True, eq=False)
+class ModelStates:
+    """Seeded states of a model's tree: ``q (n, nq)``, ``u``, ``udot (n, nv)`` of ``case``; ``seed``; ``tree``.
+
+    Arrays are read-only: a test that wants to change them copies them first."""
+
+    tree: Tree = field(repr=False)
+    case: int
+    q: np.ndarray = field(repr=False)
+    u: np.ndarray = field(repr=False)
+    udot: np.ndarray = field(repr=False)
+    seed: object
+
+    def __post_init__(self):
+        for name in ("q", "u", "udot"):
+            getattr(self, name).setflags(write=False)
+
+    def __len__(self) -> int:
+        return len(self.q)
+
+
+def model_states(model, case=2, n: int = 200, seed: int = 0, hard: bool = False) -> ModelStates:
+    """``n`` seeded states of a model's tree in a case (``numpy.random.default_rng(seed)``).
+
+    ``hard``: in turn, a free root 1e6 m from the origin, speeds and rates 1e3 times larger, and (case 3) every
+    ball and free joint 1e-3 rad from gimbal lock; ordinary otherwise.
+    """
+    tree = as_tree(model)
+    c = int(as_case(case))
+    n, seed = check_int("n", n, minimum=1), check_int("seed", seed, minimum=0)
+    s: TreeStates = random_states(tree, 2, n, seed)
+    q, u, udot = s.q.copy(), s.u.copy(), s.udot.copy()
+    if hard:
+        kind = np.arange(n) % 3
+        free = [a for (_, j), a in zip(tree.joints, tree.qadr(2)) if j.type == "free"]
+        for a in free:
+            q[kind == 0, a:a + 3] += 1e6
+        u[kind == 1] *= 1e3
+        udot[kind == 1] *= 1e6
+    if c != 2:
+        q, u, udot = convert(tree, q, u, udot, source=2, target=c)
+    if hard and c == 3:  # case 3's own hard states: 1e-3 rad from the lock, the rates as drawn
+        for _, _, a, _ in rotations(tree, 3):
+            q[2::3, a + 1] = np.pi / 2 - 1e-3
+    return ModelStates(tree, c, q, u, udot, ["hard", seed] if hard else seed)
+
+
+def model_truth(s: ModelStates, engine: str = "relacc", quantities=TREE_QUANTITIES) -> dict:
+    """``{quantity: Expected}`` of every body, by relacc's tree or by MuJoCo; see :func:`truth_of`."""
+    return _truth(s, engine, tuple(quantities))
+
+
+def _truth(s: ModelStates, engine: str, quantities: tuple) -> dict:
+    """``{quantity: Expected}`` of every body, by relacc's tree or by MuJoCo.
+
+    MuJoCo gives the quantities it has for the case: ``position``, ``velocity``, ``acceleration``, ``omega``,
+    ``alpha`` in every case (states converted to its coordinates, case 2), and ``V``, ``Omega`` (``mj_jac``) in
+    case 2. Each Expected's ``bound`` is the tree tolerance beyond ``c eps``: ``c eps (depth - 1)`` per body.
+
+    Raises:
+        EngineError: an engine other than ``relacc`` and ``mujoco``.
+    """
+    from relacc.testing.truth import Expected
+
+    tree, c = s.tree, int(s.case)
+    sc = tree_scales(tree, c, s.q, s.u, s.udot)
+    bound = np.broadcast_to(tree_tolerance(tree) - rounding_tolerance(), (len(s), tree.nb))
+    if engine == "relacc":
+        k = tree_kinematics(tree, c, s.q, s.u, s.udot)
+        values = {name: getattr(k, name) for name in quantities}
+    elif engine == "mujoco":
+        from relacc.engines.mujoco_tree import evaluate
+
+        q2, u2, ud2 = convert(tree, s.q, s.u, s.udot, source=c, target=2)
+        ref = evaluate(tree, q2, u2, ud2)
+        values = {name: ref[name] for name in quantities if name in PHYSICAL or (c == 2 and name in ("V", "Omega"))}
+    else:
+        raise EngineError(f"truth for a model: engine {engine!r} not available; accepted are relacc and mujoco")
+    return {name: Expected(name, c, v, sc.of(name), bound, s.seed, engine, tree.body_names)
+            for name, v in values.items()}
+
+
+@dataclass(frozen=True, eq=False)
+class ModelTruth:
+    """An evaluator's kinematics of every body of a model for a batch of states; each quantity an Expected."""
+
+    source: str
+    states: ModelStates = field(repr=False)
+    quantities: dict = field(repr=False)
+
+    def of(self, quantity: str):
+        if quantity not in self.quantities:
+            have = ", ".join(self.quantities)
+            raise InputError(f"{self.source} gives no {quantity!r} for case {self.states.case}; it gives {have}")
+        return self.quantities[quantity]
+
+    def __getattr__(self, name):
+        if name in TREE_QUANTITIES:
+            return self.of(name)
+        raise AttributeError(name)
+
+
+def truth_of(s: ModelStates, engine: str = "relacc") -> ModelTruth:
+    """:func:`model_truth` as a :class:`ModelTruth` (``truth.velocity``, ``truth.of("V")``)."""
+    return ModelTruth(engine, s, model_truth(s, engine))

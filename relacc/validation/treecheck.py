@@ -1,0 +1,98 @@
+"""``relacc check --model robot.xml``: relacc's tree of any MJCF or URDF against every engine, in all three cases.
+
+relacc reads the file through MuJoCo's compiler (:class:`relacc.validation.robots.tree.TreeRobot`) and is the
+reference here: each engine (MuJoCo itself, and Pinocchio and Drake through their parsers and speed maps, as
+``relacc compare`` loads them) is compared with relacc's evaluation in case 1, 2 and 3 on the same seeded
+states (the reference configuration and random ones), quantity by quantity: the mass matrix, bias and gravity
+forces, forward dynamics, and each link's centre of mass, its Jacobian, ``J_dot v`` and classical acceleration.
+Tolerances are :func:`relacc.core.tolerances.robot_tolerance`. Why an engine differs (its reading of the
+file, its algorithms) is ``relacc compare``'s job; this check says where.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from relacc.engines import installed
+from relacc.errors import ModelError
+from relacc.validation.robots import OTHERS
+from relacc.validation.robots.agreement import compare as compare_dynamics
+from relacc.validation.robots.agreement import random_states
+from relacc.validation.robots.tree import TreeRobot
+
+
+@dataclass(frozen=True)
+class Row:
+    """One case x engine x quantity: the worst normalized error over the states, its tolerance, the worst state."""
+
+    case: int
+    engine: str
+    quantity: str
+    max_error: float
+    tolerance: float
+    state: int
+
+    @property
+    def passed(self) -> bool:
+        return self.max_error <= self.tolerance
+
+    def as_dict(self) -> dict:
+        finite = self.max_error if self.max_error < float("inf") else None
+        return {"case": self.case, "engine": self.engine, "quantity": self.quantity, "max_error": finite,
+                "tolerance": self.tolerance, "state": self.state, "passed": self.passed}
+
+
+@dataclass(frozen=True)
+class TreeCheck:
+    """The result of :func:`check_tree`: ``rows``, the engines that could not load the file (``{name: message}``)."""
+
+    model: str
+    n_states: int
+    seed: int
+    rows: list = field(default_factory=list)
+    not_loaded: dict = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.rows) and all(r.passed for r in self.rows)
+
+    def as_dict(self) -> dict:
+        return {"model": self.model, "states": self.n_states, "seed": self.seed, "passed": self.passed,
+                "not_loaded": self.not_loaded, "comparisons": [r.as_dict() for r in self.rows]}
+
+
+def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed: int = 0, progress=None) -> TreeCheck:
+    """relacc's tree of ``model`` against each engine in each case (see the module docstring).
+
+    Args:
+        engines: among ``mujoco``, ``pinocchio``, ``drake`` (default: those installed).
+
+    Raises:
+        ModelError: MuJoCo cannot read the file (relacc reads it through MuJoCo's compiler).
+    """
+    from relacc.engines.robots.mujoco_ import MujocoRobot
+    from relacc.validation.robots import load_robot
+
+    reference = MujocoRobot(model)
+    if reference.model.nbody < 2:
+        raise ModelError(f"{model}: MuJoCo reads no body besides the world in it: there is nothing to check")
+    names = [e for e in ("mujoco",) + OTHERS if installed(e)] if engines is None else list(engines)
+    robots, not_loaded = [], {}
+    for name in names:
+        if name == "mujoco":
+            robots.append(reference)
+            continue
+        try:
+            robots.append(load_robot(name, model, reference))
+        except ModelError as exc:
+            not_loaded[name] = str(exc)
+    states = random_states(reference, n_states, seed)
+    rows = []
+    for case in cases:
+        tree = TreeRobot(reference, case)
+        for robot in robots:
+            if progress:
+                progress(f"case {case}: {robot.engine}")
+            for quantity, r in compare_dynamics(tree, robot, states).items():
+                rows.append(Row(int(case), robot.engine, quantity, r["max_error"], r["tolerance"], r["state"]))
+    return TreeCheck(str(model), n_states, seed, rows, not_loaded)

@@ -1,0 +1,42 @@
+"""relacc's own tree as an evaluator in ``relacc compare``: rows in the three cases, and the referee."""
+
+from pathlib import Path
+
+import gymnasium
+
+from relacc.validation.robots import MUJOCO_JACDOT, compare
+
+ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+
+BALL_THEN_SLIDE = """<mujoco model="ball_then_slide"><compiler angle="radian"/><worldbody>
+  <body name="a" pos="0 0 1"><freejoint name="root"/><inertial pos="0.1 0 0" mass="2" diaginertia=".1 .2 .25"/>
+    <body name="b"><joint name="ball" type="ball"/><joint name="slide" type="slide" axis="0 0 1"/>
+      <inertial pos="0.2 0.1 0" mass="1" diaginertia=".05 .06 .07"/></body></body>
+</worldbody></mujoco>"""
+
+
+def test_relacc_evaluates_every_quantity_in_every_case():
+    """On the free-root ant every engine agrees; relacc's tree is there in cases 1-3 and agrees with MuJoCo."""
+    result = compare(ASSETS / "ant.xml", n_states=4, seed=3)
+    data = result.as_json()
+    for quantity, row in data["dynamics"].items():
+        for case in (1, 2, 3):
+            r = row["engines"][f"relacc (case {case})"]
+            assert r["ok"], (quantity, case, r)
+    assert data["referee"] == [] and result.exit_code == 0
+
+
+def test_the_referee_names_mujoco_when_relacc_and_the_engines_agree(tmp_path):
+    """A ball then a slide on one body: MuJoCo's mj_jacDot is off; relacc's tree, Pinocchio and Drake agree on the
+    classical acceleration, so the referee names MuJoCo; relacc's rows carry the reproduced cause."""
+    path = tmp_path / "ball_then_slide.xml"
+    path.write_text(BALL_THEN_SLIDE)
+    data = compare(path, n_states=4, seed=1).as_json()
+    row = data["dynamics"]["classical acceleration"]["engines"]
+    for case in (1, 2, 3):
+        assert not row[f"relacc (case {case})"]["ok"]
+        assert row[f"relacc (case {case})"]["cause"] == MUJOCO_JACDOT
+    verdict = {v["quantity"]: v for v in data["referee"]}["classical acceleration"]
+    assert verdict["odd_ones_out"] == ["mujoco"]
+    assert set(verdict["agreeing"]) == {"relacc (case 2)", "pinocchio", "drake"}
+    assert data["dynamics"]["forward dynamics"]["ok"]  # MuJoCo's dynamics use the right rates

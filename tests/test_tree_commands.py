@@ -1,0 +1,93 @@
+"""Commands and testing tools on any model: check --model, grade --model --body, the plugin's model=."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import gymnasium
+import numpy as np
+import pytest
+
+import relacc
+from relacc.errors import InputError
+from relacc.testing import assert_agrees, check_formula, states, truth
+
+ROOT = Path(__file__).resolve().parents[1]
+ARM = ROOT / "examples" / "three_link_arm.xml"
+ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+
+
+def _relacc(*argv, cwd=None):
+    return subprocess.run([sys.executable, "-m", "relacc", *argv], capture_output=True, text=True, cwd=cwd,
+                          timeout=600)
+
+
+def test_check_takes_a_model_file(tmp_path):
+    """relacc check --model FILE.xml: relacc's tree against every engine in all three cases (hopper: Pinocchio's
+    composite J_dot v is the one known difference, exit 1); JSON names every comparison."""
+    out = _relacc("check", "--model", str(ASSETS / "hopper.xml"), "--states", "4", "--json", "--quiet", cwd=tmp_path)
+    assert out.returncode == 1, out.stderr
+    data = json.loads(out.stdout)
+    failed = {(r["engine"], r["quantity"]) for r in data["comparisons"] if not r["passed"]}
+    assert failed == {("pinocchio", "J_dot v")}
+    assert {r["case"] for r in data["comparisons"]} == {1, 2, 3}
+    assert {r["engine"] for r in data["comparisons"]} == {"mujoco", "pinocchio", "drake"}
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_check_on_ant_agrees_in_every_case(tmp_path):
+    out = _relacc("check", "--model", str(ASSETS / "ant.xml"), "--states", "3", "--cases", "1,3", "--quiet",
+                  cwd=tmp_path)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "all 48 comparisons agree" in out.stdout
+
+
+def test_grade_a_students_arm():
+    """The example's correct formulas pass; its slip is wrong, with the two joints whose speeds show it."""
+    from relacc.testing.grade import load_function
+
+    module = str(ROOT / "examples" / "student_arm.py")
+    for fn, q in (("position", "position"), ("velocity", "velocity"), ("acceleration", "acceleration")):
+        g = check_formula(load_function(f"{module}:{fn}"), model=ARM, body="forearm", quantity=q, case=2, n=30)
+        assert g.ok, g.text()
+    g = check_formula(load_function(f"{module}:acceleration_slip"), model=ARM, body="forearm",
+                      quantity="acceleration", case=2, n=30)
+    assert not g.ok and g.columns == ("shoulder_yaw", "elbow") and g.body == "forearm"
+    assert "joints whose speeds show it: shoulder_yaw, elbow" in g.text()
+
+
+def test_grade_checks_its_arguments(tmp_path):
+    out = _relacc("grade", f"{ROOT / 'examples' / 'student_arm.py'}:velocity", "--model", str(ARM),
+                  "--quantity", "velocity", "--case", "2", cwd=tmp_path)
+    assert out.returncode == 2 and "--body NAME goes with --model" in out.stderr
+    out = _relacc("grade", f"{ROOT / 'examples' / 'student_arm.py'}:velocity", "--model", str(ARM), "--body", "elbow",
+                  "--quantity", "velocity", "--case", "2", cwd=tmp_path)
+    assert out.returncode == 2 and "no body 'elbow'" in out.stderr
+
+
+def test_states_and_truth_of_a_model():
+    """relacc_states / relacc_truth with model=: MuJoCo's truth against relacc's, per body, and a planted error
+    named by body and component."""
+    s = states(case=3, n=25, seed=4, model=ARM)
+    mujoco, mine = truth(s, engine="mujoco"), truth(s, engine="relacc")
+    for q in ("position", "velocity", "acceleration", "omega", "alpha"):
+        assert_agrees(mine.of(q).values, mujoco.of(q))
+    bad = np.array(mine.velocity.values)
+    bad[7, 2, 1] += 1e-8
+    with pytest.raises(AssertionError, match=r"at state 7 of seed 4, body hand, component y"):
+        assert_agrees(bad, mujoco.velocity)
+    with pytest.raises(InputError, match="mujoco gives no 'V' for case 3"):
+        mujoco.of("V")
+    with pytest.raises(ValueError):
+        s.q[0, 0] = 1.0  # read-only: copy to change
+
+
+def test_hard_states_of_a_model_include_gimbal_lock():
+    s = states(case=3, n=9, seed=0, hard=True, model=ASSETS / "ant.xml")
+    tree = s.tree
+    root = tree.qadr(3)[0]
+    assert np.all(np.abs(s.q[2::3, root + 4] - (np.pi / 2 - 1e-3)) <= 1e-15)
+    assert np.all(np.abs(s.q[0::3, root:root + 3]) >= 1e6 - 10)
+    k = relacc.tree_kinematics(tree, 3, s.q, s.u, s.udot)
+    assert np.all(np.isfinite(k.acceleration))
