@@ -284,7 +284,8 @@ def _mujoco_cause(quantity, reference, evaluator, states) -> str:
 def _ball_then_slide(model) -> bool:
     """Whether a body of the model has a slide after a ball (MuJoCo's joint types 1 ball, 2 slide)."""
     for b in range(1, model.nbody):
-        kinds = [int(model.jnt_type[j]) for j in range(model.body_jntadr[b], model.body_jntadr[b] + model.body_jntnum[b])]
+        first = int(model.body_jntadr[b])
+        kinds = [int(model.jnt_type[j]) for j in range(first, first + int(model.body_jntnum[b]))]
         if 1 in kinds and 2 in kinds[kinds.index(1) + 1:]:
             return True
     return False
