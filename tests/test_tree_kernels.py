@@ -69,3 +69,60 @@ def test_batches_broadcast_and_overflow_is_reported():
     np.testing.assert_allclose(k.acceleration[1, 1], one.acceleration, rtol=0, atol=1e-13)
     with pytest.raises(InputError, match="overflowed float64"):
         relacc.tree_kinematics(tree, 2, st.q[0], st.u[0] * 1e200, st.udot[0])
+
+
+ARMATURE = """<mujoco model="armature"><compiler angle="radian"/><option gravity="0.5 -0.2 -9.81"/><worldbody>
+  <body name="a" pos="0 0 1"><joint name="root" type="free" armature="0.2"/>
+    <inertial pos="0.1 0 0" mass="2" diaginertia=".1 .2 .25"/>
+    <body name="b" pos="0.2 0.1 0" quat="0.9 0.1 0.3 0.2"><joint name="ball" type="ball" pos="0.05 0 0" armature="0.3"/>
+      <joint name="slide" type="slide" axis="0 0 1" armature="0.1"/>
+      <inertial pos="0.2 0.1 0" mass="1" diaginertia=".05 .06 .07"/>
+      <body name="c" pos="0.3 0 0"><joint name="h" type="hinge" axis="0 1 0" armature="0.05"/>
+        <inertial pos="0.1 0 0" mass="0.5" diaginertia=".01 .02 .025"/></body></body></body>
+</worldbody></mujoco>"""
+
+
+def _dynamics_scale(tree, case, q, u, acc):
+    """The perturbation bound's scale of a solve: ||M^-1|| (||M|| |udot| + |terms of f|) per state."""
+    d = relacc.tree_dynamics(tree, case, q, u)
+    out = []
+    for M, f, a in zip(np.asarray(d.M), np.asarray(d.f), acc):
+        out.append(np.linalg.norm(np.linalg.inv(M), 2) * (np.linalg.norm(M, 2) * np.abs(a).max() + np.abs(f).max()))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("seed", [0, 3, 7, 11])
+def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed):
+    """Forward dynamics by composite inertias and L^T D L against Kane's equations solved by Cholesky, every case,
+    within the perturbation bound of a solve (``||M^-1|| (||M|| |udot| + |f|) c eps depth``)."""
+    path = _tree_file(tmp_path, seed, 4 + seed) if seed else tmp_path / "armature.xml"
+    if not seed:
+        path.write_text(ARMATURE)
+    tree = read_tree(path)
+    st = random_states(tree, 2, 40, seed)
+    tau = np.random.default_rng(seed).standard_normal((40, tree.nv))
+    for case in (1, 2, 3):
+        q, u, _ = convert(tree, st.q, st.u, source=2, target=case)
+        fast = relacc.tree_accelerations(tree, case, q, u, tau=tau, backend="fast")
+        ref = relacc.tree_accelerations(tree, case, q, u, tau=tau, backend="reference")
+        bound = _dynamics_scale(tree, case, q, u, ref) * 64 * 2.2e-16 * max(tree.depth)
+        err = np.abs(fast - ref).max(axis=1)
+        assert np.all(err <= bound), f"case {case}: worst {np.max(err / bound):.3g} of the bound (seed {seed})"
+
+
+def test_the_dynamics_kernel_says_what_is_wrong():
+    tree = relacc.Tree("t", [relacc.Body("a", joints=[relacc.Joint.hinge("spin", (0, 0, 1))]),
+                             relacc.Body("b", parent="a", pos=(1, 0, 0), joints=[relacc.Joint.hinge("h", (0, 1, 0))],
+                                         mass=1.0, com=(0.5, 0, 0), inertia=np.eye(3) * 0.1)])
+    relacc.tree_accelerations(tree, 2, [[0.1, 0.2]], [[1.0, 2.0]])
+    empty = relacc.Tree("empty", [relacc.Body("a", joints=[relacc.Joint.hinge("spin", (0, 0, 1))])])
+    with pytest.raises(relacc.SingularityError, match="no inertia moves with spin"):
+        relacc.tree_accelerations(empty, 2, np.zeros((3, 1)), np.ones((3, 1)))
+    with pytest.raises(InputError, match=r"non-finite value nan at index \(1, 0\)"):
+        relacc.tree_accelerations(tree, 2, [[0.1, 0.2], [np.nan, 0.0]], [[1.0, 2.0], [0.0, 0.0]])
+    out = np.empty((2, 2))
+    res = relacc.tree_accelerations(tree, 2, [[0.1, 0.2], [0.3, 0.1]], [[1.0, 2.0], [0.0, 0.0]], out=out)
+    assert res is out
+    with pytest.raises(InputError, match="backend 'fast' applies gravity only"):
+        relacc.tree_accelerations(tree, 2, [0.1, 0.2], [1.0, 2.0], backend="fast",
+                                  effects=relacc.TreeEffects(joints={"h": relacc.JointEffect(damping=1.0)}))

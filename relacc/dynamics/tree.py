@@ -147,11 +147,15 @@ def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
     return TreeDynamics(M, f, c)
 
 
-def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0):
+def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backend="auto", out=None):
     """``udot`` with ``M udot = f + tau``: forward dynamics of a tree in a case's speeds.
 
     Args:
         tau: ``(..., nv)`` generalized forces conjugate to ``u`` (N or N m), default zero.
+        backend: ``"auto"`` (the compiled kernel of :mod:`relacc.kernels.tree_dynamics` unless ``effects`` name
+            joints or bodies, which the reference path applies), ``"fast"`` or ``"reference"`` (Kane's
+            equations of :func:`tree_dynamics`, solved by Cholesky); the two agree to rounding.
+        out: a writable C-contiguous float64 ``(..., nv)`` array to write into (fast backend), returned.
         (the others as in :func:`tree_dynamics`)
 
     Returns:
@@ -163,6 +167,15 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0):
     """
     from relacc.core.tree.coordinates import check_u
 
+    if backend not in ("auto", "fast", "reference"):
+        raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
+    simple = effects is None or (isinstance(effects, TreeEffects) and not effects.joints and not effects.bodies)
+    if backend == "fast" and not simple:
+        raise InputError("backend 'fast' applies gravity only: joint and body effects take backend 'reference'")
+    if backend == "fast" or (backend == "auto" and simple):
+        return _fast(tree, case, q, u, tau, effects, out)
+    if out is not None:
+        raise InputError("out= is for the fast backend")
     d = tree_dynamics(tree, case, q, u, effects=effects, t=t)
     rhs = np.array(d.f)
     if tau is not None:
@@ -170,6 +183,44 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0):
     if d.case == 3:
         check_invertible(tree, np.asarray(q, dtype=float))
     return solve(tree, d.M, rhs)
+
+
+def _fast(tree, case, q, u, tau, effects, out):
+    """The compiled kernel's answer, with every check of the reference path."""
+    from relacc.core.kinematics import check_out
+    from relacc.core.tree.coordinates import check_u
+    from relacc.kernels import tree_dynamics as kernel
+
+    c, q, u, _, batch = inputs(tree, case, q, u, values=False)
+    tau = np.zeros(batch + (tree.nv,)) if tau is None else check_u(tree, "tau", tau)
+    if c == 3:
+        check_invertible(tree, np.real(q))
+    try:
+        batch = np.broadcast_shapes(batch, tau.shape[:-1])
+    except ValueError:
+        raise InputError(f"tau's batch shape {tau.shape[:-1]} does not broadcast with the states' {batch}") from None
+    out = check_out(out, batch + (tree.nv,), "out")
+    gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
+    n = int(np.prod(batch))
+    flat_out = None if out is None else out.reshape(n, tree.nv)
+    res, bad_in, singular = kernel.accelerations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv),
+                                                 flat(tau, batch, tree.nv), np.asarray(gravity, dtype=float),
+                                                 flat_out)
+    if bad_in:
+        inputs(tree, c, q, u)  # raises, naming the bad entry
+    bad = np.flatnonzero(~np.all(np.isfinite(res), axis=1))
+    if bad.size:  # a non-positive pivot (NaN rows) or an overflow: the reference path says which, or answers
+        qs, us, ts = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), flat(tau, batch, tree.nv)
+        d = tree_dynamics(tree, c, qs[bad], us[bad], effects=effects)
+        res[bad] = solve(tree, d.M, np.array(d.f) + ts[bad])  # raises SingularityError naming the speeds
+        from relacc.core.kinematics import check_finite_result
+
+        check_finite_result((res,), q, u)
+    if out is not None:
+        return out
+    res = res.reshape(batch + (tree.nv,))
+    res.setflags(write=False)
+    return res
 
 
 def solve(tree, M, rhs):

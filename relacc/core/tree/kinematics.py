@@ -96,15 +96,17 @@ def _point_set(tree, points):
     return tuple(out)
 
 
-def inputs(tree, case, q, u, udot=None, *, need_udot=False):
-    """The checks every tree entry point shares: ``(case, q, u, udot, batch)``, all checked and broadcast."""
+def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True):
+    """The checks every tree entry point shares: ``(case, q, u, udot, batch)``, all checked and broadcast.
+
+    ``values=False``: types and shapes only (a compiled kernel checks the values and reports what it finds)."""
     if not isinstance(tree, Tree):
         raise InputError(f"tree: expected a relacc.Tree (Tree.from_file, Tree.from_chain), got {type(tree).__name__}")
     c = int(as_case(case))
-    q = check_q(tree, c, q)
-    u = check_u(tree, f"u for case {c}", u)
+    q = check_q(tree, c, q, values)
+    u = check_u(tree, f"u for case {c}", u, values)
     if udot is not None or need_udot:
-        udot = check_u(tree, f"udot for case {c}", udot)
+        udot = check_u(tree, f"udot for case {c}", udot, values)
     shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
     try:
         batch = np.broadcast_shapes(*shapes)
