@@ -25,7 +25,20 @@ import numpy as np
 
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
-from relacc.kernels.tree import BALL, FREE, HINGE, SLIDE, _angular, _axis_rotation, _cross, _mm, _mv, _rot, _row, arrays_of
+from relacc.kernels.tree import (
+    BALL,
+    FREE,
+    HINGE,
+    SLIDE,
+    _angular,
+    _axis_rotation,
+    _cross,
+    _mm,
+    _mv,
+    _rot,
+    _row,
+    arrays_of,
+)
 
 BLOCK = 64
 """States per parallel task."""
