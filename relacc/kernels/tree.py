@@ -92,7 +92,7 @@ def arrays_of(tree) -> TreeArrays:
 
 
 @jitable
-def _rot(case, q, i, a):
+def rotation9(case, q, i, a):
     """The rotation (row-major 9-tuple) of a quaternion (cases 1-2) or 1-2-3 angles (case 3) at ``q[i, a:]``."""
     if case == 3:
         c1, s1 = math.cos(q[i, a]), math.sin(q[i, a])
@@ -107,7 +107,7 @@ def _rot(case, q, i, a):
 
 
 @jitable
-def _axis_rotation(x, y, z, angle):
+def axis_rotation(x, y, z, angle):
     """The rotation by ``angle`` about the unit axis ``(x, y, z)``, through its quaternion (as the walk and MuJoCo)."""
     h = 0.5 * angle
     s = math.sin(h)
@@ -118,12 +118,12 @@ def _axis_rotation(x, y, z, angle):
 
 
 @jitable(inline=True)
-def _row(R, b):
+def row9(R, b):
     return (R[b, 0], R[b, 1], R[b, 2], R[b, 3], R[b, 4], R[b, 5], R[b, 6], R[b, 7], R[b, 8])
 
 
 @jitable(inline=True)
-def _mm(A, B):
+def mm9(A, B):
     """``A B`` of row-major 9-tuples."""
     return (A[0] * B[0] + A[1] * B[3] + A[2] * B[6], A[0] * B[1] + A[1] * B[4] + A[2] * B[7],
             A[0] * B[2] + A[1] * B[5] + A[2] * B[8], A[3] * B[0] + A[4] * B[3] + A[5] * B[6],
@@ -133,13 +133,13 @@ def _mm(A, B):
 
 
 @jitable(inline=True)
-def _mv(R, x0, x1, x2):
+def mv9(R, x0, x1, x2):
     return (R[0] * x0 + R[1] * x1 + R[2] * x2, R[3] * x0 + R[4] * x1 + R[5] * x2,
             R[6] * x0 + R[7] * x1 + R[8] * x2)
 
 
 @jitable(inline=True)
-def _cross(a0, a1, a2, b0, b1, b2):
+def cross3(a0, a1, a2, b0, b1, b2):
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
@@ -189,7 +189,7 @@ def _set_block(Om, Omd, V, Vd, b, d, m, A, Ad):
 
 
 @jitable
-def _angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
+def angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
     """A ball's or free joint's partial angular velocities ``A``, their rate ``Ad`` (row-major 9-tuples) and
     ``A u_j``, as :func:`relacc.core.tree.walk.angular_map`; ``Rb``, ``wb``: the frame it turns from, ``Rp``, ``wp``:
     its body's parent, ``Ra``: the frame after it."""
@@ -200,12 +200,12 @@ def _angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
         W = (1.0, 0.0, s2, 0.0, c1, -s1 * c2, 0.0, s1, c1 * c2)
         Wd = (0.0, 0.0, c2 * u1, 0.0, -s1 * u0, -c1 * c2 * u0 + s1 * s2 * u1, 0.0, c1 * u0,
               -s1 * c2 * u0 - c1 * s2 * u1)
-        A, Ad0 = _mm(Rb, W), _mm(Rb, Wd)
+        A, Ad0 = mm9(Rb, W), mm9(Rb, Wd)
         w0, w1, w2 = wb
     elif case == 2:
         A = Ra
         Ad0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-        x0, x1, x2 = _mv(Ra, u0, u1, u2)
+        x0, x1, x2 = mv9(Ra, u0, u1, u2)
         w0, w1, w2 = wb[0] + x0, wb[1] + x1, wb[2] + x2  # the frame after the joint
     elif kind == FREE:
         eye = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
@@ -216,12 +216,12 @@ def _angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
         Ad0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         w0, w1, w2 = wp
     # Ad = Ad0 + [w~] A, column by column
-    c00, c10, c20 = _cross(w0, w1, w2, A[0], A[3], A[6])
-    c01, c11, c21 = _cross(w0, w1, w2, A[1], A[4], A[7])
-    c02, c12, c22 = _cross(w0, w1, w2, A[2], A[5], A[8])
+    c00, c10, c20 = cross3(w0, w1, w2, A[0], A[3], A[6])
+    c01, c11, c21 = cross3(w0, w1, w2, A[1], A[4], A[7])
+    c02, c12, c22 = cross3(w0, w1, w2, A[2], A[5], A[8])
     Ad = (Ad0[0] + c00, Ad0[1] + c01, Ad0[2] + c02, Ad0[3] + c10, Ad0[4] + c11, Ad0[5] + c12,
           Ad0[6] + c20, Ad0[7] + c21, Ad0[8] + c22)
-    return A, Ad, _mv(A, u0, u1, u2)
+    return A, Ad, mv9(A, u0, u1, u2)
 
 
 @jitable
@@ -236,7 +236,7 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
         js = T.jstart[b]
         if T.jnum[b] == 1 and T.jtype[js] == FREE:
             a, d = qadr[js], T.dofadr[js]
-            Ra = _rot(case, q, i, a + 3)
+            Ra = rotation9(case, q, i, a + 3)
             for k in range(3):
                 o[b, k] = q[i, a + k]
             for k in range(9):
@@ -246,7 +246,7 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
                 for k in range(3):
                     V[b, k, c] = 1.0 if c - d == k else 0.0
                     Om[b, k, c], Vd[b, k, c], Omd[b, k, c] = 0.0, 0.0, 0.0
-            A, Ad, wj = _angular(case, FREE, q, u, i, a + 3, d + 3, eye, (0.0, 0.0, 0.0), eye, (0.0, 0.0, 0.0), Ra)
+            A, Ad, wj = angular(case, FREE, q, u, i, a + 3, d + 3, eye, (0.0, 0.0, 0.0), eye, (0.0, 0.0, 0.0), Ra)
             for jj in range(3):
                 for ii in range(3):
                     Om[b, ii, d + 3 + jj] = A[3 * ii + jj]
@@ -260,29 +260,29 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
             for k in range(9):
                 R[b, k] = T.bR[b, k]
         else:
-            Rp = _row(R, p)
-            r0, r1, r2 = _mv(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
+            Rp = row9(R, p)
+            r0, r1, r2 = mv9(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
             wp0, wp1, wp2 = w[p, 0], w[p, 1], w[p, 2]
-            d0, d1, d2 = _cross(wp0, wp1, wp2, r0, r1, r2)
+            d0, d1, d2 = cross3(wp0, wp1, wp2, r0, r1, r2)
             _moved_copy(V, Om, Vd, Omd, p, b, cols, c0, c0 + T.path_ptr[p + 1] - T.path_ptr[p], r0, r1, r2,
                         d0, d1, d2)
             o[b, 0], o[b, 1], o[b, 2] = o[p, 0] + r0, o[p, 1] + r1, o[p, 2] + r2
-            Rn = _mm(Rp, _row(T.bR, b))
+            Rn = mm9(Rp, row9(T.bR, b))
             for k in range(9):
                 R[b, k] = Rn[k]
             w[b, 0], w[b, 1], w[b, 2] = wp0, wp1, wp2
         for k in range(js, js + T.jnum[b]):
             kind, a, d, at = T.jtype[k], qadr[k], T.dofadr[k], c0 + T.jcols[k]
-            Rb = _row(R, b)
+            Rb = row9(R, b)
             wb0, wb1, wb2 = w[b, 0], w[b, 1], w[b, 2]
             if kind == SLIDE:
-                e0, e1, e2 = _mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
                 s = q[i, a] - T.jref[k]
                 r0, r1, r2 = e0 * s, e1 * s, e2 * s
                 sd = u[i, d]
-                d0, d1, d2 = _cross(wb0, wb1, wb2, r0, r1, r2)
+                d0, d1, d2 = cross3(wb0, wb1, wb2, r0, r1, r2)
                 _move(V, Om, Vd, Omd, b, cols, c0, at, r0, r1, r2, d0 + e0 * sd, d1 + e1 * sd, d2 + e2 * sd)
-                f0, f1, f2 = _cross(wb0, wb1, wb2, e0, e1, e2)
+                f0, f1, f2 = cross3(wb0, wb1, wb2, e0, e1, e2)
                 V[b, 0, d], V[b, 1, d], V[b, 2, d] = e0, e1, e2
                 Vd[b, 0, d], Vd[b, 1, d], Vd[b, 2, d] = f0, f1, f2
                 for ii in range(3):
@@ -290,12 +290,12 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
                 o[b, 0], o[b, 1], o[b, 2] = o[b, 0] + r0, o[b, 1] + r1, o[b, 2] + r2
                 continue
             jx, jy, jz = T.jpos[k, 0], T.jpos[k, 1], T.jpos[k, 2]
-            r0, r1, r2 = _mv(Rb, jx, jy, jz)
-            da0, da1, da2 = _cross(wb0, wb1, wb2, r0, r1, r2)
+            r0, r1, r2 = mv9(Rb, jx, jy, jz)
+            da0, da1, da2 = cross3(wb0, wb1, wb2, r0, r1, r2)
             if kind == HINGE:
-                e0, e1, e2 = _mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
-                Rn = _mm(Rb, _axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
-                f0, f1, f2 = _cross(wb0, wb1, wb2, e0, e1, e2)
+                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                Rn = mm9(Rb, axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
+                f0, f1, f2 = cross3(wb0, wb1, wb2, e0, e1, e2)
                 Om[b, 0, d], Om[b, 1, d], Om[b, 2, d] = e0, e1, e2
                 Omd[b, 0, d], Omd[b, 1, d], Omd[b, 2, d] = f0, f1, f2
                 for ii in range(3):
@@ -304,11 +304,11 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
                 n0, n1, n2 = wb0 + e0 * ud, wb1 + e1 * ud, wb2 + e2 * ud
                 nd = 1
             else:  # ball
-                Rn = _mm(Rb, _rot(case, q, i, a))
+                Rn = mm9(Rb, rotation9(case, q, i, a))
                 pp = T.parent[b]
-                Rp = _row(R, pp) if pp >= 0 else eye
+                Rp = row9(R, pp) if pp >= 0 else eye
                 wp = (w[pp, 0], w[pp, 1], w[pp, 2]) if pp >= 0 else (0.0, 0.0, 0.0)
-                A, Ad, wj = _angular(case, BALL, q, u, i, a, d, Rb, (wb0, wb1, wb2), Rp, wp, Rn)
+                A, Ad, wj = angular(case, BALL, q, u, i, a, d, Rb, (wb0, wb1, wb2), Rp, wp, Rn)
                 _set_block(Om, Omd, V, Vd, b, d, 3, A, Ad)
                 n0, n1, n2 = wb0 + wj[0], wb1 + wj[1], wb2 + wj[2]
                 nd = 3
@@ -318,8 +318,8 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
             if jx != 0.0 or jy != 0.0 or jz != 0.0:
                 # out to the anchor in the old frame, back to the origin in the turned one: the earlier columns'
                 # Omega is the same for both moves, so they make one; the joint's own columns take the second
-                t0, t1, t2 = _mv(Rn, -jx, -jy, -jz)
-                e0, e1, e2 = _cross(n0, n1, n2, t0, t1, t2)
+                t0, t1, t2 = mv9(Rn, -jx, -jy, -jz)
+                e0, e1, e2 = cross3(n0, n1, n2, t0, t1, t2)
                 _move(V, Om, Vd, Omd, b, cols, c0, at, r0 + t0, r1 + t1, r2 + t2, da0 + e0, da1 + e1, da2 + e2)
                 _move(V, Om, Vd, Omd, b, cols, at, at + nd, t0, t1, t2, e0, e1, e2)
                 o[b, 0], o[b, 1], o[b, 2] = o[b, 0] + r0 + t0, o[b, 1] + r1 + t1, o[b, 2] + r2 + t2
@@ -347,8 +347,8 @@ def point_out(T, b, px, py, pz, o, R, w, V, Om, Vd, Omd, u, ud, i, with_acc, j, 
             acc[i, j, k] = 0.0
         pos[i, j, 0], pos[i, j, 1], pos[i, j, 2] = px, py, pz
         return 0
-    r0, r1, r2 = _mv(_row(R, b), px, py, pz)
-    d0, d1, d2 = _cross(w[b, 0], w[b, 1], w[b, 2], r0, r1, r2)
+    r0, r1, r2 = mv9(row9(R, b), px, py, pz)
+    d0, d1, d2 = cross3(w[b, 0], w[b, 1], w[b, 2], r0, r1, r2)
     v0, v1, v2, a0, a1, a2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     for t in range(T.path_ptr[b], T.path_ptr[b + 1]):
         c = T.path_idx[t]
@@ -428,7 +428,7 @@ if HAVE_NUMBA:
         return bad
 
 
-def _readonly(a):
+def readonly(a):
     """A read-only view: inputs reach the compiled loops with one type, so one specialization serves every caller."""
     v = a.view()
     v.setflags(write=False)
@@ -457,7 +457,7 @@ def kinematics(tree, case: int, q, u, udot, points: bool, out=None):
            for k, t in body.items()}
     pts = {k: np.empty((n, npt) + t) for k, t in (("position", (3,)), ("velocity", (3,)), ("acceleration", (3,)),
                                                   ("V", (3, nv)), ("Vdot", (3, nv)))}
-    q, u, ud = (_readonly(a) for a in (q, u, udot if with_acc else np.zeros((n, nv))))
+    q, u, ud = (readonly(a) for a in (q, u, udot if with_acc else np.zeros((n, nv))))
     bad = _kinematics_loop(int(case), q, u, ud, with_acc, T,
                            T.qadr3 if case == 3 else T.qadr, *res.values(), npt > 0, *pts.values())
     if not with_acc:

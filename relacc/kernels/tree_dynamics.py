@@ -30,14 +30,14 @@ from relacc.kernels.tree import (
     FREE,
     HINGE,
     SLIDE,
-    _angular,
-    _axis_rotation,
-    _cross,
-    _mm,
-    _mv,
-    _rot,
-    _row,
+    angular,
     arrays_of,
+    axis_rotation,
+    cross3,
+    mm9,
+    mv9,
+    rotation9,
+    row9,
 )
 
 BLOCK = 64
@@ -117,8 +117,8 @@ def _state(case, q, u, i, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
         js, jn = T.jstart[b], T.jnum[b]
         if jn == 1 and T.jtype[js] == FREE:
             a, d = qadr[js], T.dofadr[js]
-            Ra = _rot(case, q, i, a + 3)
-            Am, Ad, wj = _angular(case, FREE, q, u, i, a + 3, d + 3, eye, zero3, eye, zero3, Ra)
+            Ra = rotation9(case, q, i, a + 3)
+            Am, Ad, wj = angular(case, FREE, q, u, i, a + 3, d + 3, eye, zero3, eye, zero3, Ra)
             pd0, pd1, pd2 = u[i, d], u[i, d + 1], u[i, d + 2]
             for k in range(3):
                 S[d + k, 0], S[d + k, 1], S[d + k, 2] = 0.0, 0.0, 0.0
@@ -130,8 +130,8 @@ def _state(case, q, u, i, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
                 R[b, k] = Ra[k]
             o[b, 0], o[b, 1], o[b, 2] = 0.0, 0.0, 0.0
             w0, w1, w2 = wj
-            aw = _mv(Ad, u[i, d + 3], u[i, d + 4], u[i, d + 5])
-            c0, c1, c2 = _cross(pd0, pd1, pd2, w0, w1, w2)  # S_dot's linear part: p_dot x A
+            aw = mv9(Ad, u[i, d + 3], u[i, d + 4], u[i, d + 5])
+            c0, c1, c2 = cross3(pd0, pd1, pd2, w0, w1, w2)  # S_dot's linear part: p_dot x A
             V[b, 0], V[b, 1], V[b, 2], V[b, 3], V[b, 4], V[b, 5] = w0, w1, w2, pd0, pd1, pd2
             A[b, 0], A[b, 1], A[b, 2] = aw
             A[b, 3], A[b, 4], A[b, 5] = c0 - g[0], c1 - g[1], c2 - g[2]
@@ -145,10 +145,10 @@ def _state(case, q, u, i, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
             A[b, 0], A[b, 1], A[b, 2] = 0.0, 0.0, 0.0
             A[b, 3], A[b, 4], A[b, 5] = -g[0], -g[1], -g[2]
         else:
-            Rp = _row(R, p)
-            r0, r1, r2 = _mv(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
+            Rp = row9(R, p)
+            r0, r1, r2 = mv9(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
             o[b, 0], o[b, 1], o[b, 2] = o[p, 0] + r0, o[p, 1] + r1, o[p, 2] + r2
-            Rn = _mm(Rp, _row(T.bR, b))
+            Rn = mm9(Rp, row9(T.bR, b))
             for k in range(9):
                 R[b, k] = Rn[k]
             for k in range(6):
@@ -156,69 +156,69 @@ def _state(case, q, u, i, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
                 A[b, k] = A[p, k]
         for k in range(js, js + jn):
             kind, a, d = T.jtype[k], qadr[k], T.dofadr[k]
-            Rb = _row(R, b)
+            Rb = row9(R, b)
             w0, w1, w2 = V[b, 0], V[b, 1], V[b, 2]
             if kind == SLIDE:
-                e0, e1, e2 = _mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
                 s = q[i, a] - T.jref[k]
                 ud = u[i, d]
                 S[d, 0], S[d, 1], S[d, 2], S[d, 3], S[d, 4], S[d, 5] = 0.0, 0.0, 0.0, e0, e1, e2
-                x0, x1, x2 = _cross(w0, w1, w2, e0, e1, e2)
+                x0, x1, x2 = cross3(w0, w1, w2, e0, e1, e2)
                 V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + e0 * ud, V[b, 4] + e1 * ud, V[b, 5] + e2 * ud
                 A[b, 3], A[b, 4], A[b, 5] = A[b, 3] + x0 * ud, A[b, 4] + x1 * ud, A[b, 5] + x2 * ud
                 o[b, 0], o[b, 1], o[b, 2] = o[b, 0] + e0 * s, o[b, 1] + e1 * s, o[b, 2] + e2 * s
                 continue
             jx, jy, jz = T.jpos[k, 0], T.jpos[k, 1], T.jpos[k, 2]
-            t0, t1, t2 = _mv(Rb, jx, jy, jz)
+            t0, t1, t2 = mv9(Rb, jx, jy, jz)
             ra0, ra1, ra2 = o[b, 0] + t0, o[b, 1] + t1, o[b, 2] + t2  # the anchor, from O
-            c0, c1, c2 = _cross(w0, w1, w2, ra0, ra1, ra2)
+            c0, c1, c2 = cross3(w0, w1, w2, ra0, ra1, ra2)
             va0, va1, va2 = V[b, 3] + c0, V[b, 4] + c1, V[b, 5] + c2  # the anchor's velocity
             if kind == HINGE:
-                e0, e1, e2 = _mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
-                Rn = _mm(Rb, _axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
-                m0, m1, m2 = _cross(ra0, ra1, ra2, e0, e1, e2)
+                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                Rn = mm9(Rb, axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
+                m0, m1, m2 = cross3(ra0, ra1, ra2, e0, e1, e2)
                 S[d, 0], S[d, 1], S[d, 2], S[d, 3], S[d, 4], S[d, 5] = e0, e1, e2, m0, m1, m2
-                ed0, ed1, ed2 = _cross(w0, w1, w2, e0, e1, e2)  # the axis' rate
-                n0, n1, n2 = _cross(va0, va1, va2, e0, e1, e2)
-                h0, h1, h2 = _cross(ra0, ra1, ra2, ed0, ed1, ed2)
+                ed0, ed1, ed2 = cross3(w0, w1, w2, e0, e1, e2)  # the axis' rate
+                n0, n1, n2 = cross3(va0, va1, va2, e0, e1, e2)
+                h0, h1, h2 = cross3(ra0, ra1, ra2, ed0, ed1, ed2)
                 ud = u[i, d]
                 V[b, 0], V[b, 1], V[b, 2] = w0 + e0 * ud, w1 + e1 * ud, w2 + e2 * ud
                 V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + m0 * ud, V[b, 4] + m1 * ud, V[b, 5] + m2 * ud
                 A[b, 0], A[b, 1], A[b, 2] = A[b, 0] + ed0 * ud, A[b, 1] + ed1 * ud, A[b, 2] + ed2 * ud
                 A[b, 3], A[b, 4], A[b, 5] = A[b, 3] + (n0 + h0) * ud, A[b, 4] + (n1 + h1) * ud, A[b, 5] + (n2 + h2) * ud
             else:  # ball
-                Rn = _mm(Rb, _rot(case, q, i, a))
+                Rn = mm9(Rb, rotation9(case, q, i, a))
                 pp = T.parent[b]
-                Rp = _row(R, pp) if pp >= 0 else eye
+                Rp = row9(R, pp) if pp >= 0 else eye
                 wp = (V[pp, 0], V[pp, 1], V[pp, 2]) if pp >= 0 else zero3
-                Am, Ad, wj = _angular(case, BALL, q, u, i, a, d, Rb, (w0, w1, w2), Rp, wp, Rn)
+                Am, Ad, wj = angular(case, BALL, q, u, i, a, d, Rb, (w0, w1, w2), Rp, wp, Rn)
                 for c in range(3):
                     a0, a1, a2 = Am[c], Am[3 + c], Am[6 + c]
-                    m0, m1, m2 = _cross(ra0, ra1, ra2, a0, a1, a2)
+                    m0, m1, m2 = cross3(ra0, ra1, ra2, a0, a1, a2)
                     S[d + c, 0], S[d + c, 1], S[d + c, 2], S[d + c, 3], S[d + c, 4], S[d + c, 5] = \
                         a0, a1, a2, m0, m1, m2
                 x0, x1, x2 = wj
-                ad0, ad1, ad2 = _mv(Ad, u[i, d], u[i, d + 1], u[i, d + 2])
-                m0, m1, m2 = _cross(ra0, ra1, ra2, x0, x1, x2)
-                n0, n1, n2 = _cross(va0, va1, va2, x0, x1, x2)
-                h0, h1, h2 = _cross(ra0, ra1, ra2, ad0, ad1, ad2)
+                ad0, ad1, ad2 = mv9(Ad, u[i, d], u[i, d + 1], u[i, d + 2])
+                m0, m1, m2 = cross3(ra0, ra1, ra2, x0, x1, x2)
+                n0, n1, n2 = cross3(va0, va1, va2, x0, x1, x2)
+                h0, h1, h2 = cross3(ra0, ra1, ra2, ad0, ad1, ad2)
                 V[b, 0], V[b, 1], V[b, 2] = w0 + x0, w1 + x1, w2 + x2
                 V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + m0, V[b, 4] + m1, V[b, 5] + m2
                 A[b, 0], A[b, 1], A[b, 2] = A[b, 0] + ad0, A[b, 1] + ad1, A[b, 2] + ad2
                 A[b, 3], A[b, 4], A[b, 5] = A[b, 3] + n0 + h0, A[b, 4] + n1 + h1, A[b, 5] + n2 + h2
             for c in range(9):
                 R[b, c] = Rn[c]
-            b0, b1, b2 = _mv(Rn, -jx, -jy, -jz)
+            b0, b1, b2 = mv9(Rn, -jx, -jy, -jz)
             o[b, 0], o[b, 1], o[b, 2] = ra0 + b0, ra1 + b1, ra2 + b2
     # each body's spatial inertia about O (m, m c, I_O) and its force f = I a + v x* I v
     for b in range(nb):
-        Rb = _row(R, b)
+        Rb = row9(R, b)
         m = mass[b]
-        rc = _mv(Rb, com[b, 0], com[b, 1], com[b, 2])
+        rc = mv9(Rb, com[b, 0], com[b, 1], com[b, 2])
         r0, r1, r2 = o[b, 0] + rc[0], o[b, 1] + rc[1], o[b, 2] + rc[2]
         J = (inertia[b, 0], inertia[b, 1], inertia[b, 2], inertia[b, 3], inertia[b, 4], inertia[b, 5],
              inertia[b, 6], inertia[b, 7], inertia[b, 8])
-        RJ = _mm(Rb, J)
+        RJ = mm9(Rb, J)
         Iw = (RJ[0] * Rb[0] + RJ[1] * Rb[1] + RJ[2] * Rb[2], RJ[0] * Rb[3] + RJ[1] * Rb[4] + RJ[2] * Rb[5],
               RJ[0] * Rb[6] + RJ[1] * Rb[7] + RJ[2] * Rb[8], RJ[3] * Rb[3] + RJ[4] * Rb[4] + RJ[5] * Rb[5],
               RJ[3] * Rb[6] + RJ[4] * Rb[7] + RJ[5] * Rb[8], RJ[6] * Rb[6] + RJ[7] * Rb[7] + RJ[8] * Rb[8])
@@ -233,9 +233,9 @@ def _state(case, q, u, i, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
         Ic[b, 9] = Iw[5] + m * (rr - r2 * r2)
         L0, L1, L2, p0, p1, p2 = _apply(Ic, b, V[b, 0], V[b, 1], V[b, 2], V[b, 3], V[b, 4], V[b, 5])
         F0, F1, F2, G0, G1, G2 = _apply(Ic, b, A[b, 0], A[b, 1], A[b, 2], A[b, 3], A[b, 4], A[b, 5])
-        x0, x1, x2 = _cross(V[b, 0], V[b, 1], V[b, 2], L0, L1, L2)
-        y0, y1, y2 = _cross(V[b, 3], V[b, 4], V[b, 5], p0, p1, p2)
-        z0, z1, z2 = _cross(V[b, 0], V[b, 1], V[b, 2], p0, p1, p2)
+        x0, x1, x2 = cross3(V[b, 0], V[b, 1], V[b, 2], L0, L1, L2)
+        y0, y1, y2 = cross3(V[b, 3], V[b, 4], V[b, 5], p0, p1, p2)
+        z0, z1, z2 = cross3(V[b, 0], V[b, 1], V[b, 2], p0, p1, p2)
         f[b, 0], f[b, 1], f[b, 2] = F0 + x0 + y0, F1 + x1 + y1, F2 + x2 + y2
         f[b, 3], f[b, 4], f[b, 5] = G0 + z0, G1 + z1, G2 + z2
     for b in range(nb - 1, -1, -1):  # composite inertias and subtree forces (not across free joints)
@@ -266,8 +266,8 @@ def _apply(Ic, b, w0, w1, w2, v0, v1, v2):
     """A spatial inertia about O on a motion ``(w, v)``: ``(I_O w + m c x v, m v + w x m c)``."""
     m, h0, h1, h2 = Ic[b, 0], Ic[b, 1], Ic[b, 2], Ic[b, 3]
     xx, xy, xz, yy, yz, zz = Ic[b, 4], Ic[b, 5], Ic[b, 6], Ic[b, 7], Ic[b, 8], Ic[b, 9]
-    c0, c1, c2 = _cross(h0, h1, h2, v0, v1, v2)
-    d0, d1, d2 = _cross(w0, w1, w2, h0, h1, h2)
+    c0, c1, c2 = cross3(h0, h1, h2, v0, v1, v2)
+    d0, d1, d2 = cross3(w0, w1, w2, h0, h1, h2)
     return (xx * w0 + xy * w1 + xz * w2 + c0, xy * w0 + yy * w1 + yz * w2 + c1, xz * w0 + yz * w1 + zz * w2 + c2,
             m * v0 + d0, m * v1 + d1, m * v2 + d2)
 
@@ -314,21 +314,21 @@ def _joint_B(case, q, u, i, T, qadr, k, R, V, tmp):
         if T.jstart[x] <= k < T.jstart[x] + T.jnum[x]:
             b = x
     kind, a, d = T.jtype[k], qadr[k], T.dofadr[k]
-    Ra = _row(R, b)  # a ball or free joint is its body's last rotation: the body's orientation
+    Ra = row9(R, b)  # a ball or free joint is its body's last rotation: the body's orientation
     w0, w1, w2 = V[b, 0], V[b, 1], V[b, 2]
     if kind == FREE:
         a, d = a + 3, d + 3
         Rb, wb = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0)
         Rp, wp = Rb, wb
     else:  # a ball is its body's last rotation (MuJoCo allows only slides after it): R_after is the body's
-        Q = _rot(case, q, i, a)
-        Rb = _mm(Ra, (Q[0], Q[3], Q[6], Q[1], Q[4], Q[7], Q[2], Q[5], Q[8]))  # the frame it turns from
+        Q = rotation9(case, q, i, a)
+        Rb = mm9(Ra, (Q[0], Q[3], Q[6], Q[1], Q[4], Q[7], Q[2], Q[5], Q[8]))  # the frame it turns from
         pp = T.parent[b]
-        Rp = _row(R, pp) if pp >= 0 else (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+        Rp = row9(R, pp) if pp >= 0 else (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
         wp = (V[pp, 0], V[pp, 1], V[pp, 2]) if pp >= 0 else (0.0, 0.0, 0.0)
-        _, _, wj = _angular(case, BALL, q, u, i, a, d, Rb, (0.0, 0.0, 0.0), Rp, wp, Ra)  # A u: A needs no w
+        _, _, wj = angular(case, BALL, q, u, i, a, d, Rb, (0.0, 0.0, 0.0), Rp, wp, Ra)  # A u: A needs no w
         wb = (w0 - wj[0], w1 - wj[1], w2 - wj[2])
-    Am, Ad, _ = _angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra)
+    Am, Ad, _ = angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra)
     for r in range(3):
         for c in range(3):
             s, t = 0.0, 0.0
@@ -338,8 +338,8 @@ def _joint_B(case, q, u, i, T, qadr, k, R, V, tmp):
             tmp[3 * r + c] = s
             tmp[9 + 3 * r + c] = t
     for c in range(3):  # B_dot -= R_after^T [w_after~] A: column c of A crossed by w_after, in R_after's comps
-        y0, y1, y2 = _cross(w0, w1, w2, Am[c], Am[3 + c], Am[6 + c])
-        z = _mv((Ra[0], Ra[3], Ra[6], Ra[1], Ra[4], Ra[7], Ra[2], Ra[5], Ra[8]), y0, y1, y2)
+        y0, y1, y2 = cross3(w0, w1, w2, Am[c], Am[3 + c], Am[6 + c])
+        z = mv9((Ra[0], Ra[3], Ra[6], Ra[1], Ra[4], Ra[7], Ra[2], Ra[5], Ra[8]), y0, y1, y2)
         tmp[9 + c] -= z[0]
         tmp[12 + c] -= z[1]
         tmp[15 + c] -= z[2]
@@ -416,16 +416,10 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None):
     mass, com, inertia, arm, free = inertia_arrays(tree)
     n = q.shape[0]
     out = np.empty((n, tree.nv)) if out is None else out
-    ro = lambda a: _ro(np.ascontiguousarray(a, dtype=np.float64))  # noqa: E731
+    ro = lambda a: readonly(np.ascontiguousarray(a, dtype=np.float64))  # noqa: E731
     bad_in, singular = _accelerations_loop(int(case), ro(q), ro(u), ro(tau), T, T.qadr3 if case == 3 else T.qadr,
                                            anc, depth, mass, com, inertia, arm, free, ro(gravity), out)
     return out, int(bad_in), int(singular)
-
-
-def _ro(a):
-    v = a.view()
-    v.setflags(write=False)
-    return v
 
 
 _PATHS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()

@@ -90,7 +90,7 @@ class Grade:
         return f"{head}\ncolumns that disagree: {cols}\nreproduced by: {slips}"
 
 
-def _evaluate(fn, chain, case, q, u, udot, shape):
+def evaluate_user(fn, chain, case, q, u, udot, shape):
     """The user's values for a batch, ``(n,) + shape``; batched when ``fn`` takes batches."""
     name = getattr(fn, "__name__", repr(fn))
 
@@ -128,7 +128,7 @@ def _column_diagnosis(fn, chain, case, quantity, s: States, tol, shape) -> tuple
         return ()
 
     def disagrees(u, ud, part=Ellipsis):
-        mine = _evaluate(fn, chain, case, s.q, u, ud, shape)
+        mine = evaluate_user(fn, chain, case, s.q, u, ud, shape)
         ref = getattr(g2_kinematics(chain, case, s.q, u, ud), quantity)
         scale = term_scales(chain, case, s.q, u, ud).of(quantity)
         return bool(np.any(normalized_error(mine[part], ref[part], scale) > tol))
@@ -211,7 +211,7 @@ def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain
     s = States(ordinary.case, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
                seed)
     shape = (3,) if quantity in ("position", "velocity", "acceleration") else (3, 12)
-    mine = _evaluate(fn, chain, c, s.q, s.u, s.udot, shape)
+    mine = evaluate_user(fn, chain, c, s.q, s.u, s.udot, shape)
     tol = rounding_tolerance()
     worst = (-1.0, "", 0, 0.0)
     sources = []

@@ -35,7 +35,7 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     Raises:
         CallError: ``fn`` cannot be called as a formula. InputError: an unknown body, quantity or case.
     """
-    from relacc.testing.grade import CallError, Grade, _evaluate
+    from relacc.testing.grade import CallError, Grade, evaluate_user
 
     if quantity not in TREE_QUANTITIES:
         raise InputError(f"unknown quantity {quantity!r} for a model's body: accepted are {', '.join(TREE_QUANTITIES)}")
@@ -49,7 +49,7 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     s = ModelStates(tree, c, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
                     seed)
     shape = (3,) if quantity in PHYSICAL else (3, tree.nv)
-    mine = _evaluate(fn, tree, c, s.q, s.u, s.udot, shape)
+    mine = evaluate_user(fn, tree, c, s.q, s.u, s.udot, shape)
     tol = rounding_tolerance()
     worst, sources = (-1.0, "", 0, 0.0), []
     for engine in ("relacc",) + tuple(("mujoco",) if engines is None else engines):
@@ -72,10 +72,10 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
 
 def _columns(fn, tree, c, b, quantity, s, tol, shape) -> tuple:
     """The joints whose speeds show the disagreement with relacc's tree."""
-    from relacc.testing.grade import _evaluate
+    from relacc.testing.grade import evaluate_user
 
     def disagrees(u, ud, cols=None):
-        mine = _evaluate(fn, tree, c, s.q, u, ud, shape)
+        mine = evaluate_user(fn, tree, c, s.q, u, ud, shape)
         ref = getattr(tree_kinematics(tree, c, s.q, u, ud), quantity)[:, b]
         scale = tree_scales(tree, c, s.q, u, ud).of(quantity)[:, b]
         if cols is not None:
