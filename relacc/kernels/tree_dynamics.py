@@ -36,6 +36,7 @@ from relacc.kernels.tree import (
     cross3,
     mm9,
     mv9,
+    readonly,
     rotation9,
     row9,
 )
