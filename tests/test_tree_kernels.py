@@ -91,10 +91,14 @@ def _dynamics_scale(tree, case, q, u, acc):
     return np.array(out)
 
 
+@pytest.mark.parametrize("algorithm", ["crba", "aba"])
 @pytest.mark.parametrize("seed", [0, 3, 7, 11])
-def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed):
-    """Forward dynamics by composite inertias and L^T D L against Kane's equations solved by Cholesky, every case,
-    within the perturbation bound of a solve (``||M^-1|| (||M|| |udot| + |f|) c eps depth``)."""
+def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed, algorithm):
+    """Forward dynamics by composite inertias and L^T D L, and by the articulated-body algorithm, against Kane's
+    equations solved by Cholesky, every case, within the perturbation bound of a solve
+    (``||M^-1|| (||M|| |udot| + |f|) c eps depth``)."""
+    from relacc.kernels import tree_dynamics
+
     path = _tree_file(tmp_path, seed, 4 + seed) if seed else tmp_path / "armature.xml"
     if not seed:
         path.write_text(ARMATURE)
@@ -103,7 +107,7 @@ def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed):
     tau = np.random.default_rng(seed).standard_normal((40, tree.nv))
     for case in (1, 2, 3):
         q, u, _ = convert(tree, st.q, st.u, source=2, target=case)
-        fast = relacc.tree_accelerations(tree, case, q, u, tau=tau, backend="fast")
+        fast = tree_dynamics.accelerations(tree, case, q, u, tau, tree.gravity, algorithm=algorithm)[0]
         ref = relacc.tree_accelerations(tree, case, q, u, tau=tau, backend="reference")
         bound = _dynamics_scale(tree, case, q, u, ref) * 64 * 2.2e-16 * max(tree.depth)
         err = np.abs(fast - ref).max(axis=1)
@@ -126,3 +130,20 @@ def test_the_dynamics_kernel_says_what_is_wrong():
     with pytest.raises(InputError, match="backend 'fast' applies gravity only"):
         relacc.tree_accelerations(tree, 2, [0.1, 0.2], [1.0, 2.0], backend="fast",
                                   effects=relacc.TreeEffects(joints={"h": relacc.JointEffect(damping=1.0)}))
+
+
+def test_the_dynamics_kernel_picks_its_algorithm(tmp_path):
+    """Composite inertias for shallow trees, the articulated-body algorithm for deep chains; both the fast path."""
+    from relacc.kernels import tree_dynamics
+    from relacc.tradeoff.trees import chain_mjcf
+
+    assert tree_dynamics.method(relacc.Tree.from_chain(relacc.fixtures.load().chain)) == "crba"
+    path = tmp_path / "chain.xml"
+    path.write_text(chain_mjcf(40, "ball"))
+    deep = read_tree(path)
+    assert tree_dynamics.method(deep) == "aba"
+    st = random_states(deep, 2, 5, 1)
+    np.testing.assert_allclose(relacc.tree_accelerations(deep, 2, st.q, st.u),
+                               relacc.tree_accelerations(deep, 2, st.q, st.u, backend="reference"), rtol=0,
+                               atol=_dynamics_scale(deep, 2, st.q, st.u, np.zeros((5, deep.nv))).max() * 64 * 2.2e-16
+                               * max(deep.depth))

@@ -150,3 +150,29 @@ def evaluate(tree, q, u, udot) -> dict:
             out["acceleration"][i, b - 1] = (d.cacc[b, 3:] - np.cross(r, alpha)
                                              + np.cross(w, d.cvel[b, 3:] - np.cross(r, w)))
     return out
+
+
+def jacobian_loop(tree, q, u):
+    """The benchmarks' MuJoCo anchor: a closure looping over the states with ``mj_kinematics``, ``mj_comPos``,
+    ``mj_comVel``, then ``mj_jac`` and ``mj_jacDot`` at every body's mass centre, stored into ``(n, nb, 3, nv)``
+    arrays (translational and rotational), as a user collecting every body's would."""
+    m = model_for(tree)
+    d = mujoco.MjData(m)
+    n, nb = len(q), m.nbody - 1
+    J, Jr, Jd, Jrd = (np.empty((n, nb, 3, m.nv)) for _ in range(4))
+
+    def run():
+        for i in range(n):
+            d.qpos[:], d.qvel[:] = q[i], u[i]
+            mujoco.mj_kinematics(m, d)
+            mujoco.mj_comPos(m, d)
+            mujoco.mj_comVel(m, d)
+            for b in range(1, m.nbody):
+                mujoco.mj_jac(m, d, J[i, b - 1], Jr[i, b - 1], d.xipos[b], b)
+                mujoco.mj_jacDot(m, d, Jd[i, b - 1], Jrd[i, b - 1], d.xipos[b], b)
+
+    return run
+
+
+def version() -> str:
+    return mujoco.__version__

@@ -428,11 +428,11 @@ if HAVE_NUMBA:
         return bad
 
 
-def readonly(a):
-    """A read-only view: inputs reach the compiled loops with one type, so one specialization serves every caller."""
-    v = a.view()
-    v.setflags(write=False)
-    return v
+def writable(a):
+    """``a`` as a writable C-contiguous float64 array (a copy only when it is not one already): inputs reach the
+    compiled loops with one type, so one specialization serves every caller. (Not read-only views: numba's loops
+    over read-only arrays measured 1.7x slower.) The kernels never write their inputs."""
+    return np.require(a, np.float64, ["C", "W"])
 
 
 def kinematics(tree, case: int, q, u, udot, points: bool, out=None):
@@ -457,7 +457,7 @@ def kinematics(tree, case: int, q, u, udot, points: bool, out=None):
            for k, t in body.items()}
     pts = {k: np.empty((n, npt) + t) for k, t in (("position", (3,)), ("velocity", (3,)), ("acceleration", (3,)),
                                                   ("V", (3, nv)), ("Vdot", (3, nv)))}
-    q, u, ud = (readonly(a) for a in (q, u, udot if with_acc else np.zeros((n, nv))))
+    q, u, ud = (writable(a) for a in (q, u, udot if with_acc else np.zeros((n, nv))))
     bad = _kinematics_loop(int(case), q, u, ud, with_acc, T,
                            T.qadr3 if case == 3 else T.qadr, *res.values(), npt > 0, *pts.values())
     if not with_acc:

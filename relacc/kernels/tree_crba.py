@@ -1,0 +1,173 @@
+"""Forward dynamics of a tree by composite rigid bodies and ``L^T D L``, compiled: O(n d^2) per state.
+
+On the spatial pass of :mod:`relacc.kernels.tree_spatial`: each body's spatial acceleration from velocity products
+and gravity (``a_b = a_parent + sum_k c_k``, ``-g`` at a root) and its force ``f = I a + v x* I v``; composites
+summed leaves to root (not across free joints); ``M_ij = S_j^T Ic_b S_i`` for ``j`` on ``i``'s path, the bias
+``S_i^T fc_b``; then ``M = L^T D L`` on the speeds' paths (MuJoCo's ``mj_factorM``: no fill-in on a tree) and its
+solve. The factorization's ``sum_k d_k^2`` makes this the faster algorithm for shallow trees (``d`` the speeds on a
+path) and the articulated-body algorithm (:mod:`relacc.kernels.tree_aba`) for deep ones.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
+from relacc.kernels.tree import BALL, FREE, HINGE, SLIDE
+from relacc.kernels.tree_spatial import bad_inputs, forward, joint_B, sym_mv
+
+BLOCK = 64
+"""States per parallel task."""
+
+
+def dof_paths(tree):
+    """``(anc (nv, D), depth (nv,))``: each speed's earlier speeds on its path, in order (an earlier speed's path is
+    a prefix of a later one's), and their number; ``D`` the longest (at least 1). A free joint starts a path."""
+    parents = np.full(tree.nv, -1, np.int64)
+    last_of = {}
+    for b, body in enumerate(tree.bodies):
+        prev = last_of.get(body.parent, -1) if body.parent >= 0 else -1
+        for k in tree.body_joints[b]:
+            j, d = tree.joints[k][1], tree.dofadr[k]
+            if j.type == "free":
+                prev = -1
+            for i in range(j.nv):
+                parents[d + i], prev = prev, d + i
+        last_of[b] = prev
+    paths = []
+    for k in range(tree.nv):
+        chain, i = [], parents[k]
+        while i >= 0:
+            chain.append(i)
+            i = parents[i]
+        paths.append(chain[::-1])
+    anc = np.full((tree.nv, max([len(p) for p in paths] + [1])), -1, np.int64)
+    for k, p in enumerate(paths):
+        anc[k, :len(p)] = p
+    return anc, np.array([len(p) for p in paths], np.int64)
+
+
+@jitable
+def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x, tmp):
+    """``M`` (path rows: ``M[k, t]`` with speed ``anc[k, t]``, the diagonal at ``M[k, depth[k]]``) and
+    ``x = tau - bias`` of state ``i``, after :func:`relacc.kernels.tree_spatial.forward`."""
+    nb = T.parent.shape[0]
+    for b in range(nb):
+        p = T.parent[b]
+        if p >= 0 and not free[b]:
+            for k in range(6):
+                A[b, k] = A[p, k]
+        else:
+            A[b, 0], A[b, 1], A[b, 2], A[b, 3], A[b, 4], A[b, 5] = 0.0, 0.0, 0.0, -g[0], -g[1], -g[2]
+        for k in range(T.jstart[b], T.jstart[b] + T.jnum[b]):
+            for c in range(6):
+                A[b, c] += C[k, c]
+        fa = sym_mv(IA, b, A, b)
+        for c in range(6):
+            f[b, c] = fa[c] + pA[b, c]
+    for b in range(nb - 1, -1, -1):  # composite inertias and subtree forces (not across free joints)
+        p = T.parent[b]
+        if p >= 0 and not free[b]:
+            for k in range(21):
+                IA[p, k] += IA[b, k]
+            for k in range(6):
+                f[p, k] += f[b, k]
+    for b in range(nb):
+        for k in range(T.jstart[b], T.jstart[b] + T.jnum[b]):
+            d = T.dofadr[k]
+            nd = 6 if T.jtype[k] == FREE else (3 if T.jtype[k] == BALL else 1)
+            for c in range(d, d + nd):
+                F = sym_mv(IA, b, S, c)
+                dc = depth[c]
+                M[c, dc] = S[c, 0] * F[0] + S[c, 1] * F[1] + S[c, 2] * F[2] + S[c, 3] * F[3] + S[c, 4] * F[4] \
+                    + S[c, 5] * F[5] + arm[c]
+                x[c] = tau[i, c] - (S[c, 0] * f[b, 0] + S[c, 1] * f[b, 1] + S[c, 2] * f[b, 2] + S[c, 3] * f[b, 3]
+                                    + S[c, 4] * f[b, 4] + S[c, 5] * f[b, 5])
+                for t in range(dc):
+                    j = anc[c, t]
+                    M[c, t] = S[j, 0] * F[0] + S[j, 1] * F[1] + S[j, 2] * F[2] + S[j, 3] * F[3] + S[j, 4] * F[4] \
+                        + S[j, 5] * F[5]
+            kind = T.jtype[k]
+            if case != 2 and (kind == BALL or kind == FREE):
+                at = d + (3 if kind == FREE else 0)
+                if arm[at] != 0.0 or arm[at + 1] != 0.0 or arm[at + 2] != 0.0:
+                    _rotational_armature(case, q, u, i, T, qadr, k, b, at, depth, arm, R, V, M, x, tmp)
+
+
+@jitable
+def _rotational_armature(case, q, u, i, T, qadr, k, b, at, depth, arm, R, V, M, x, tmp):
+    """In cases 1 and 3 a ball's or free joint's rotational armature is ``B^T D B`` (not diagonal) and adds
+    ``-B^T D B_dot u`` to the forces (:mod:`relacc.dynamics.tree`): undo the diagonal, add those."""
+    joint_B(case, q, u, i, T, qadr, k, b, R, V, tmp, 0)
+    for r in range(3):
+        M[at + r, depth[at + r]] -= arm[at + r]
+        for c in range(r + 1):
+            s = 0.0
+            for y in range(3):
+                s += tmp[3 * y + r] * arm[at + y] * tmp[3 * y + c]
+            M[at + r, depth[at + r] - (r - c)] += s  # the block's speeds follow each other on the path
+        s = 0.0
+        for y in range(3):
+            bd = tmp[9 + 3 * y] * u[i, at] + tmp[10 + 3 * y] * u[i, at + 1] + tmp[11 + 3 * y] * u[i, at + 2]
+            s += tmp[3 * y + r] * arm[at + y] * bd
+        x[at + r] -= s
+
+
+@jitable
+def factor_solve(M, x, anc, depth):
+    """``x = M^-1 x`` through ``M = L^T D L`` on the speeds' paths, in place; each update a contiguous loop (an
+    earlier speed's path is a prefix of a later one's). Returns 1 when a pivot is not positive, else 0."""
+    nv = x.shape[0]
+    for k in range(nv - 1, -1, -1):
+        dk = depth[k]
+        piv = M[k, dk]
+        if not piv > 0.0:
+            return 1
+        for t in range(dk - 1, -1, -1):
+            i = anc[k, t]
+            s = M[k, t] / piv
+            for r in range(t + 1):  # row i's entries: its path is anc[k, :t], its diagonal at t
+                M[i, r] -= s * M[k, r]
+            M[k, t] = s
+    for k in range(nv - 1, -1, -1):
+        xk = x[k]
+        for t in range(depth[k]):
+            x[anc[k, t]] -= M[k, t] * xk
+    for k in range(nv):
+        x[k] /= M[k, depth[k]]
+    for k in range(nv):
+        s = x[k]
+        for t in range(depth[k]):
+            s -= M[k, t] * x[anc[k, t]]
+        x[k] = s
+    return 0
+
+
+if HAVE_NUMBA:
+
+    @numba.njit(parallel=True, cache=True)
+    def crba_loop(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
+                  out):  # pragma: no cover - compiled
+        n, nv, nb, nj = q.shape[0], u.shape[1], T.parent.shape[0], T.jtype.shape[0]
+        bad_in, singular = 0, 0
+        for blk in numba.prange((n + BLOCK - 1) // BLOCK):
+            S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
+            V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
+            A, f = np.empty((nb, 6)), np.empty((nb, 6))
+            M, x, tmp = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18)
+            nbi, nsg = 0, 0
+            for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
+                nbi += bad_inputs(case, q, u, i, T, qadr)
+                forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
+                mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x,
+                            tmp)
+                failed = factor_solve(M, x, anc, depth)
+                for c in range(nv):
+                    out[i, c] = np.nan if failed else x[c]
+                nsg += failed
+            bad_in += nbi
+            singular += nsg
+        return bad_in, singular
+
+
+__all__ = ["HINGE", "SLIDE", "crba_loop", "dof_paths", "factor_solve", "mass_matrix"]

@@ -1,0 +1,314 @@
+"""The spatial pass shared by the compiled tree dynamics (:mod:`~relacc.kernels.tree_aba`, :mod:`~.tree_crba`).
+
+Spatial vectors ``(omega, v_O)`` about a point ``O`` fixed in space where each independent subtree's root is at
+this instant (the root's origin: levers stay relative, no digits are lost far from the world origin); in one frame
+fixed in space, no transform is needed between a parent and its child. A speed's column is ``S = [a; r x a]`` for a
+rotation about ``a`` through ``r`` (``a`` a column of the case's partial angular velocities ``A``: the note's choice
+of speeds enters here and nowhere else), ``[0; e]`` for a translation; a joint's velocity-product acceleration is
+``c = S_dot u_j``, from ``A_dot`` and the anchor's velocity. Each body's spatial inertia about ``O`` is packed as the
+upper triangle of a symmetric 6x6 (:data:`SYM`), its bias force is ``v x* I v``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
+from relacc.kernels.jit import jitable
+from relacc.kernels.tree import (
+    BALL,
+    FREE,
+    HINGE,
+    SLIDE,
+    angular,
+    axis_rotation,
+    cross3,
+    mm9,
+    mv9,
+    rotation9,
+    row9,
+)
+
+
+def inertia_arrays(tree):
+    """``(mass (nb,), com (nb, 3), inertia (nb, 9) body components, armature (nv,), free (nb,) bool)``."""
+    arm = np.concatenate([j.armature for _, j in tree.joints]) if tree.joints else np.zeros(0)
+    return (np.array([b.mass for b in tree.bodies]), np.array([b.com for b in tree.bodies]).reshape(-1, 3),
+            np.array([b.inertia.reshape(9) for b in tree.bodies]).reshape(-1, 9), np.ascontiguousarray(arm),
+            np.array([any(j.type == "free" for j in b.joints) for b in tree.bodies]))
+
+
+@jitable
+def bad_inputs(case, q, u, i, T, qadr):
+    """The number of non-finite inputs and non-unit quaternions of state ``i``."""
+    bad = 0
+    for k in range(q.shape[1]):
+        bad += 0 if (q[i, k] - q[i, k]) == 0.0 else 1
+    for k in range(u.shape[1]):
+        bad += 0 if (u[i, k] - u[i, k]) == 0.0 else 1
+    if case != 3:
+        for k in range(T.jtype.shape[0]):
+            if T.jtype[k] == BALL or T.jtype[k] == FREE:
+                a = qadr[k] + (3 if T.jtype[k] == FREE else 0)
+                n2 = q[i, a] ** 2 + q[i, a + 1] ** 2 + q[i, a + 2] ** 2 + q[i, a + 3] ** 2
+                bad += 0 if abs(n2 - 1.0) <= QUATERNION_NORM_TOLERANCE else 1
+    return bad
+
+
+@jitable
+def forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA):
+    """State ``i``, root to leaves: every speed's column ``S (nv, 6)``, every joint's ``c = S_dot u_j`` (``C (nj,
+    6)``), every body's origin from ``O`` (``o``), orientation ``R``, spatial velocity ``V (nb, 6)``, spatial inertia
+    ``IA (nb, 21)`` (packed upper triangle) and bias force ``pA = v x* I v``."""
+    nb = T.parent.shape[0]
+    eye = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    zero3 = (0.0, 0.0, 0.0)
+    for b in range(nb):
+        p = T.parent[b]
+        js, jn = T.jstart[b], T.jnum[b]
+        if jn == 1 and T.jtype[js] == FREE:
+            a, d = qadr[js], T.dofadr[js]
+            Ra = rotation9(case, q, i, a + 3)
+            Am, Ad, wj = angular(case, FREE, q, u, i, a + 3, d + 3, eye, zero3, eye, zero3, Ra)
+            pd0, pd1, pd2 = u[i, d], u[i, d + 1], u[i, d + 2]
+            for k in range(3):
+                S[d + k, 0], S[d + k, 1], S[d + k, 2] = 0.0, 0.0, 0.0
+                S[d + k, 3], S[d + k, 4], S[d + k, 5] = 1.0 if k == 0 else 0.0, 1.0 if k == 1 else 0.0, \
+                    1.0 if k == 2 else 0.0
+                S[d + 3 + k, 0], S[d + 3 + k, 1], S[d + 3 + k, 2] = Am[k], Am[3 + k], Am[6 + k]
+                S[d + 3 + k, 3], S[d + 3 + k, 4], S[d + 3 + k, 5] = 0.0, 0.0, 0.0  # r = 0: O is the origin
+            for k in range(9):
+                R[b, k] = Ra[k]
+            o[b, 0], o[b, 1], o[b, 2] = 0.0, 0.0, 0.0
+            w0, w1, w2 = wj
+            aw = mv9(Ad, u[i, d + 3], u[i, d + 4], u[i, d + 5])
+            c0, c1, c2 = cross3(pd0, pd1, pd2, w0, w1, w2)  # S_dot's linear part: p_dot x A
+            V[b, 0], V[b, 1], V[b, 2], V[b, 3], V[b, 4], V[b, 5] = w0, w1, w2, pd0, pd1, pd2
+            C[js, 0], C[js, 1], C[js, 2] = aw
+            C[js, 3], C[js, 4], C[js, 5] = c0, c1, c2
+            body_inertia(b, mass, com, inertia, o, R, V, IA, pA)
+            continue
+        if p < 0:
+            o[b, 0], o[b, 1], o[b, 2] = 0.0, 0.0, 0.0  # O: where the body is placed
+            for k in range(9):
+                R[b, k] = T.bR[b, k]
+            for k in range(6):
+                V[b, k] = 0.0
+        else:
+            Rp = row9(R, p)
+            r0, r1, r2 = mv9(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
+            o[b, 0], o[b, 1], o[b, 2] = o[p, 0] + r0, o[p, 1] + r1, o[p, 2] + r2
+            Rn = mm9(Rp, row9(T.bR, b))
+            for k in range(9):
+                R[b, k] = Rn[k]
+            for k in range(6):
+                V[b, k] = V[p, k]
+        for k in range(js, js + jn):
+            kind, a, d = T.jtype[k], qadr[k], T.dofadr[k]
+            Rb = row9(R, b)
+            w0, w1, w2 = V[b, 0], V[b, 1], V[b, 2]
+            if kind == SLIDE:
+                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                s = q[i, a] - T.jref[k]
+                ud = u[i, d]
+                S[d, 0], S[d, 1], S[d, 2], S[d, 3], S[d, 4], S[d, 5] = 0.0, 0.0, 0.0, e0, e1, e2
+                x0, x1, x2 = cross3(w0, w1, w2, e0, e1, e2)
+                V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + e0 * ud, V[b, 4] + e1 * ud, V[b, 5] + e2 * ud
+                C[k, 0], C[k, 1], C[k, 2], C[k, 3], C[k, 4], C[k, 5] = 0.0, 0.0, 0.0, x0 * ud, x1 * ud, x2 * ud
+                o[b, 0], o[b, 1], o[b, 2] = o[b, 0] + e0 * s, o[b, 1] + e1 * s, o[b, 2] + e2 * s
+                continue
+            jx, jy, jz = T.jpos[k, 0], T.jpos[k, 1], T.jpos[k, 2]
+            t0, t1, t2 = mv9(Rb, jx, jy, jz)
+            ra0, ra1, ra2 = o[b, 0] + t0, o[b, 1] + t1, o[b, 2] + t2  # the anchor, from O
+            c0, c1, c2 = cross3(w0, w1, w2, ra0, ra1, ra2)
+            va0, va1, va2 = V[b, 3] + c0, V[b, 4] + c1, V[b, 5] + c2  # the anchor's velocity
+            if kind == HINGE:
+                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                Rn = mm9(Rb, axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
+                m0, m1, m2 = cross3(ra0, ra1, ra2, e0, e1, e2)
+                S[d, 0], S[d, 1], S[d, 2], S[d, 3], S[d, 4], S[d, 5] = e0, e1, e2, m0, m1, m2
+                ed0, ed1, ed2 = cross3(w0, w1, w2, e0, e1, e2)  # the axis' rate
+                n0, n1, n2 = cross3(va0, va1, va2, e0, e1, e2)
+                h0, h1, h2 = cross3(ra0, ra1, ra2, ed0, ed1, ed2)
+                ud = u[i, d]
+                V[b, 0], V[b, 1], V[b, 2] = w0 + e0 * ud, w1 + e1 * ud, w2 + e2 * ud
+                V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + m0 * ud, V[b, 4] + m1 * ud, V[b, 5] + m2 * ud
+                C[k, 0], C[k, 1], C[k, 2] = ed0 * ud, ed1 * ud, ed2 * ud
+                C[k, 3], C[k, 4], C[k, 5] = (n0 + h0) * ud, (n1 + h1) * ud, (n2 + h2) * ud
+            else:  # ball
+                Rn = mm9(Rb, rotation9(case, q, i, a))
+                pp = T.parent[b]
+                Rp = row9(R, pp) if pp >= 0 else eye
+                wp = (V[pp, 0], V[pp, 1], V[pp, 2]) if pp >= 0 else zero3
+                Am, Ad, wj = angular(case, BALL, q, u, i, a, d, Rb, (w0, w1, w2), Rp, wp, Rn)
+                for c in range(3):
+                    a0, a1, a2 = Am[c], Am[3 + c], Am[6 + c]
+                    m0, m1, m2 = cross3(ra0, ra1, ra2, a0, a1, a2)
+                    S[d + c, 0], S[d + c, 1], S[d + c, 2], S[d + c, 3], S[d + c, 4], S[d + c, 5] = \
+                        a0, a1, a2, m0, m1, m2
+                x0, x1, x2 = wj
+                ad0, ad1, ad2 = mv9(Ad, u[i, d], u[i, d + 1], u[i, d + 2])
+                m0, m1, m2 = cross3(ra0, ra1, ra2, x0, x1, x2)
+                n0, n1, n2 = cross3(va0, va1, va2, x0, x1, x2)
+                h0, h1, h2 = cross3(ra0, ra1, ra2, ad0, ad1, ad2)
+                V[b, 0], V[b, 1], V[b, 2] = w0 + x0, w1 + x1, w2 + x2
+                V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + m0, V[b, 4] + m1, V[b, 5] + m2
+                C[k, 0], C[k, 1], C[k, 2] = ad0, ad1, ad2
+                C[k, 3], C[k, 4], C[k, 5] = n0 + h0, n1 + h1, n2 + h2
+            for c in range(9):
+                R[b, c] = Rn[c]
+            b0, b1, b2 = mv9(Rn, -jx, -jy, -jz)
+            o[b, 0], o[b, 1], o[b, 2] = ra0 + b0, ra1 + b1, ra2 + b2
+        body_inertia(b, mass, com, inertia, o, R, V, IA, pA)
+
+
+# the packed upper triangle of a symmetric 6x6 matrix: SYM[r, c] is the index of entry (r, c)
+SYM = np.array([[0, 1, 2, 3, 4, 5], [1, 6, 7, 8, 9, 10], [2, 7, 11, 12, 13, 14], [3, 8, 12, 15, 16, 17],
+                [4, 9, 13, 16, 18, 19], [5, 10, 14, 17, 19, 20]], dtype=np.int64)
+
+
+@jitable
+def body_inertia(b, mass, com, inertia, o, R, V, IA, pA):
+    """Body ``b``'s spatial inertia about ``O`` into ``IA[b]`` (packed) and its bias force ``v x* I v`` into ``pA[b]``.
+
+    ``I = [[I_O, [h~]], [[h~]^T, m 1]]`` with ``h = m c`` (``c`` the mass centre from ``O``) and
+    ``I_O = I_c + m (|c|^2 1 - c c^T)``: ``I (w, v) = (I_O w + h x v, m v + w x h)``."""
+    Rb = row9(R, b)
+    m = mass[b]
+    rc = mv9(Rb, com[b, 0], com[b, 1], com[b, 2])
+    r0, r1, r2 = o[b, 0] + rc[0], o[b, 1] + rc[1], o[b, 2] + rc[2]
+    J = (inertia[b, 0], inertia[b, 1], inertia[b, 2], inertia[b, 3], inertia[b, 4], inertia[b, 5], inertia[b, 6],
+         inertia[b, 7], inertia[b, 8])
+    RJ = mm9(Rb, J)
+    xx = RJ[0] * Rb[0] + RJ[1] * Rb[1] + RJ[2] * Rb[2]
+    xy = RJ[0] * Rb[3] + RJ[1] * Rb[4] + RJ[2] * Rb[5]
+    xz = RJ[0] * Rb[6] + RJ[1] * Rb[7] + RJ[2] * Rb[8]
+    yy = RJ[3] * Rb[3] + RJ[4] * Rb[4] + RJ[5] * Rb[5]
+    yz = RJ[3] * Rb[6] + RJ[4] * Rb[7] + RJ[5] * Rb[8]
+    zz = RJ[6] * Rb[6] + RJ[7] * Rb[7] + RJ[8] * Rb[8]
+    rr = r0 * r0 + r1 * r1 + r2 * r2
+    xx, yy, zz = xx + m * (rr - r0 * r0), yy + m * (rr - r1 * r1), zz + m * (rr - r2 * r2)
+    xy, xz, yz = xy - m * r0 * r1, xz - m * r0 * r2, yz - m * r1 * r2
+    h0, h1, h2 = m * r0, m * r1, m * r2
+    # rows of I: [xx xy xz | 0 -h2 h1], [. yy yz | h2 0 -h0], [. . zz | -h1 h0 0], [. . . | m 0 0] ...
+    IA[b, 0], IA[b, 1], IA[b, 2], IA[b, 3], IA[b, 4], IA[b, 5] = xx, xy, xz, 0.0, -h2, h1
+    IA[b, 6], IA[b, 7], IA[b, 8], IA[b, 9], IA[b, 10] = yy, yz, h2, 0.0, -h0
+    IA[b, 11], IA[b, 12], IA[b, 13], IA[b, 14] = zz, -h1, h0, 0.0
+    IA[b, 15], IA[b, 16], IA[b, 17], IA[b, 18], IA[b, 19], IA[b, 20] = m, 0.0, 0.0, m, 0.0, m
+    w0, w1, w2, v0, v1, v2 = V[b, 0], V[b, 1], V[b, 2], V[b, 3], V[b, 4], V[b, 5]
+    c0, c1, c2 = cross3(h0, h1, h2, v0, v1, v2)
+    d0, d1, d2 = cross3(w0, w1, w2, h0, h1, h2)
+    L0, L1, L2 = xx * w0 + xy * w1 + xz * w2 + c0, xy * w0 + yy * w1 + yz * w2 + c1, xz * w0 + yz * w1 + zz * w2 + c2
+    p0, p1, p2 = m * v0 + d0, m * v1 + d1, m * v2 + d2
+    x0, x1, x2 = cross3(w0, w1, w2, L0, L1, L2)
+    y0, y1, y2 = cross3(v0, v1, v2, p0, p1, p2)
+    z0, z1, z2 = cross3(w0, w1, w2, p0, p1, p2)
+    pA[b, 0], pA[b, 1], pA[b, 2], pA[b, 3], pA[b, 4], pA[b, 5] = x0 + y0, x1 + y1, x2 + y2, z0, z1, z2
+
+
+@jitable(inline=True)
+def sym_mv(P, b, x, j):
+    """``P[b] x[j]`` for a packed symmetric 6x6 ``P[b]`` (a 6-tuple; indexed, never sliced)."""
+    x0, x1, x2, x3, x4, x5 = x[j, 0], x[j, 1], x[j, 2], x[j, 3], x[j, 4], x[j, 5]
+    return (P[b, 0] * x0 + P[b, 1] * x1 + P[b, 2] * x2 + P[b, 3] * x3 + P[b, 4] * x4 + P[b, 5] * x5,
+            P[b, 1] * x0 + P[b, 6] * x1 + P[b, 7] * x2 + P[b, 8] * x3 + P[b, 9] * x4 + P[b, 10] * x5,
+            P[b, 2] * x0 + P[b, 7] * x1 + P[b, 11] * x2 + P[b, 12] * x3 + P[b, 13] * x4 + P[b, 14] * x5,
+            P[b, 3] * x0 + P[b, 8] * x1 + P[b, 12] * x2 + P[b, 15] * x3 + P[b, 16] * x4 + P[b, 17] * x5,
+            P[b, 4] * x0 + P[b, 9] * x1 + P[b, 13] * x2 + P[b, 16] * x3 + P[b, 18] * x4 + P[b, 19] * x5,
+            P[b, 5] * x0 + P[b, 10] * x1 + P[b, 14] * x2 + P[b, 17] * x3 + P[b, 19] * x4 + P[b, 20] * x5)
+
+
+@jitable
+def spd_inverse(D, n, out, slot):
+    """``out[slot]`` (n x n, row-major) = ``D^-1`` for a symmetric positive definite ``D`` (row-major, n <= 6), by
+    Cholesky; ``D`` is overwritten. Returns 1 when a pivot is not positive, else 0."""
+    for j in range(n):
+        s = D[j * n + j]
+        for k in range(j):
+            s -= D[j * n + k] * D[j * n + k]
+        if not s > 0.0:
+            return 1
+        s = np.sqrt(s)
+        D[j * n + j] = s
+        for r in range(j + 1, n):
+            t = D[r * n + j]
+            for k in range(j):
+                t -= D[r * n + k] * D[j * n + k]
+            D[r * n + j] = t / s
+    for c in range(n):  # solve L L^T x = e_c
+        for r in range(n):
+            t = 1.0 if r == c else 0.0
+            for x in range(r):
+                t -= D[r * n + x] * out[slot, x * n + c]
+            out[slot, r * n + c] = t / D[r * n + r]
+        for r in range(n - 1, -1, -1):
+            t = out[slot, r * n + c]
+            for x in range(r + 1, n):
+                t -= D[x * n + r] * out[slot, x * n + c]
+            out[slot, r * n + c] = t / D[r * n + r]
+    return 0
+
+
+@jitable
+def joint_B(case, q, u, i, T, qadr, k, b, R, V, tmp, at):
+    """``B`` (``tmp[at:at+9]``) and ``B_dot`` (``tmp[at+9:at+18]``), row-major, of joint ``k``'s rotation (body
+    ``b``): a ball's or free joint's MuJoCo speeds are ``B u`` of the case's, ``B = R_after^T A``,
+    ``B_dot = R_after^T (A_dot - [w~] A)`` with ``w`` the frame after it (a ball is its body's last rotation: MuJoCo
+    allows only slides after it)."""
+    kind, a, d = T.jtype[k], qadr[k], T.dofadr[k]
+    Ra = row9(R, b)
+    w0, w1, w2 = V[b, 0], V[b, 1], V[b, 2]
+    eye, zero = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0)
+    if kind == FREE:
+        a, d = a + 3, d + 3
+        Rb, wb, Rp, wp = eye, zero, eye, zero
+    else:
+        Q = rotation9(case, q, i, a)
+        Rb = mm9(Ra, (Q[0], Q[3], Q[6], Q[1], Q[4], Q[7], Q[2], Q[5], Q[8]))  # the frame it turns from
+        pp = T.parent[b]
+        Rp = row9(R, pp) if pp >= 0 else eye
+        wp = (V[pp, 0], V[pp, 1], V[pp, 2]) if pp >= 0 else zero
+        _, _, wj = angular(case, BALL, q, u, i, a, d, Rb, zero, Rp, wp, Ra)  # A u: A needs no w
+        wb = (w0 - wj[0], w1 - wj[1], w2 - wj[2])
+    Am, Ad, _ = angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra)
+    for r in range(3):
+        for c in range(3):
+            s, t = 0.0, 0.0
+            for x in range(3):
+                s += Ra[3 * x + r] * Am[3 * x + c]
+                t += Ra[3 * x + r] * Ad[3 * x + c]
+            tmp[at + 3 * r + c] = s
+            tmp[at + 9 + 3 * r + c] = t
+    for c in range(3):  # B_dot -= R_after^T [w_after~] A, column by column
+        y0, y1, y2 = cross3(w0, w1, w2, Am[c], Am[3 + c], Am[6 + c])
+        z = mv9((Ra[0], Ra[3], Ra[6], Ra[1], Ra[4], Ra[7], Ra[2], Ra[5], Ra[8]), y0, y1, y2)
+        tmp[at + 9 + c] -= z[0]
+        tmp[at + 12 + c] -= z[1]
+        tmp[at + 15 + c] -= z[2]
+
+
+@jitable(inline=True)
+def rank_one(IA, b, U0, U1, U2, U3, U4, U5, Di):
+    """``IA[b] -= U U^T / D`` on the packed upper triangle, written out (21 entries)."""
+    V0, V1, V2, V3, V4, V5 = U0 * Di, U1 * Di, U2 * Di, U3 * Di, U4 * Di, U5 * Di
+    IA[b, 0] -= V0 * U0
+    IA[b, 1] -= V0 * U1
+    IA[b, 2] -= V0 * U2
+    IA[b, 3] -= V0 * U3
+    IA[b, 4] -= V0 * U4
+    IA[b, 5] -= V0 * U5
+    IA[b, 6] -= V1 * U1
+    IA[b, 7] -= V1 * U2
+    IA[b, 8] -= V1 * U3
+    IA[b, 9] -= V1 * U4
+    IA[b, 10] -= V1 * U5
+    IA[b, 11] -= V2 * U2
+    IA[b, 12] -= V2 * U3
+    IA[b, 13] -= V2 * U4
+    IA[b, 14] -= V2 * U5
+    IA[b, 15] -= V3 * U3
+    IA[b, 16] -= V3 * U4
+    IA[b, 17] -= V3 * U5
+    IA[b, 18] -= V4 * U4
+    IA[b, 19] -= V4 * U5
+    IA[b, 20] -= V5 * U5

@@ -1,0 +1,192 @@
+"""relacc's tree kernels against the engines users would otherwise pick, on real models and long chains.
+
+* ``dynamics``: forward dynamics with the file's gravity. relacc: :func:`relacc.tree_accelerations` (compiled,
+  ``out=``), per case; Pinocchio: ``pin.abaInParallel`` on its own reading of the same file (a ``ModelPool``,
+  inputs in its column-major layout), the same states. Microseconds per state, 1 thread and every core.
+* ``kinematics``: every body's mass-centre position, velocity, classical acceleration, ``V``, ``Vdot``, ``Omega``,
+  ``Omegadot``. relacc: :func:`relacc.tree_kinematics` with ``out=`` (the steady state) and on fresh memory (the
+  first call's); Pinocchio: ``computeJointJacobiansTimeVariation`` and the frame getters per body in a loop;
+  MuJoCo: ``mj_jac`` and ``mj_jacDot`` per body in a loop. Microseconds per state.
+* ``scaling``: relacc's kinematics and dynamics on chains of 2 to 60 bodies, one hinge (or one ball) per body
+  after a free root: the cost against the number of bodies and of speeds.
+
+Models: gymnasium's ``ant.xml`` and ``humanoid.xml`` and a 30-link chain (:func:`chain_mjcf`). Every figure is the
+median and the minimum of ``repeats`` timings after warm-ups (:func:`relacc.tradeoff.throughput.wall_times`).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+import relacc
+from relacc.core.tree import random_states
+from relacc.kernels.jit import threads as numba_threads
+from relacc.tradeoff.throughput import machine, wall_times
+
+
+def chain_mjcf(n_bodies: int, joint: str = "hinge") -> str:
+    """An MJCF chain: a free root, then ``n_bodies - 1`` bodies each 0.2 m on, each on one ``joint`` (hinges about
+    alternating y and z axes, or balls), with off-axis mass centres and unequal principal moments."""
+    lines = ['<mujoco model="chain"><compiler angle="radian"/><option gravity="0 0 -9.81"/><worldbody>',
+             '<body name="b0" pos="0 0 1"><freejoint name="root"/>'
+             '<inertial pos="0.1 0.01 0" mass="1" diaginertia="0.01 0.02 0.025"/>']
+    for k in range(1, n_bodies):
+        kind = f'type="hinge" axis="{"0 1 0" if k % 2 else "0 0 1"}"' if joint == "hinge" else 'type="ball"'
+        lines.append(f'<body name="b{k}" pos="0.2 0 0"><joint name="j{k}" {kind}/>'
+                     '<inertial pos="0.1 0.01 0" mass="0.5" diaginertia="0.005 0.01 0.012"/>')
+    lines.append("</body>" * n_bodies + "</worldbody></mujoco>")
+    return "\n".join(lines)
+
+
+def gymnasium_models() -> dict:
+    """``{"ant": path, "humanoid": path}`` of gymnasium's MuJoCo assets (gymnasium is the test extra)."""
+    import gymnasium
+
+    assets = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+    return {name: assets / f"{name}.xml" for name in ("ant", "humanoid")}
+
+
+def thread_counts() -> tuple[int, ...]:
+    cores = os.cpu_count() or 1
+    return (1,) if cores == 1 else (1, cores)
+
+
+def _row(section, model, who, threads, seconds, n, **extra):
+    median, best = seconds
+    return {"section": section, "model": model, "who": who, "threads": threads, "value": 1e6 * median / n,
+            "value_best": 1e6 * best / n, "unit": "us/state", **extra}
+
+
+def _outputs(tree, n):
+    shapes = {"position": (3,), "velocity": (3,), "acceleration": (3,), "omega": (3,), "alpha": (3,),
+              "rotation": (3, 3), "V": (3, tree.nv), "Vdot": (3, tree.nv), "Omega": (3, tree.nv),
+              "Omegadot": (3, tree.nv)}
+    return {k: np.zeros((n, tree.nb) + s) for k, s in shapes.items()}
+
+
+def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
+    """The dynamics and kinematics rows of one model file (see the module docstring)."""
+    from relacc.core.tree import convert
+    from relacc.engines.mujoco_tree import jacobian_loop
+    from relacc.engines.pinocchio_tree import aba_in_parallel
+    from relacc.engines.pinocchio_tree import jacobian_loop as pin_loop
+    from relacc.engines.pinocchio_tree import states as pin_states
+    from relacc.engines.robots.mujoco_ import MujocoRobot
+    from relacc.engines.robots.pinocchio_ import PinocchioRobot
+
+    tree = relacc.Tree.from_file(path)
+    st = random_states(tree, 2, n_states, seed)
+    rows = []
+    acc = np.empty((n_states, tree.nv))
+    for case in (1, 2, 3):
+        q, u, _ = convert(tree, st.q, st.u, source=2, target=case)
+        for t in thread_counts():
+            with numba_threads(t):
+                secs = wall_times(lambda: relacc.tree_accelerations(tree, case, q, u, out=acc), repeats)
+            rows.append(_row("dynamics", name, "relacc tree_accelerations", t, secs, n_states, case=case))
+    if anchors:
+        reference = MujocoRobot(path)
+        robot = PinocchioRobot(path, reference)
+        qe, ve = pin_states(robot, st.q, st.u)
+        for t in thread_counts():
+            secs = wall_times(aba_in_parallel(robot, t, qe, ve), repeats)
+            rows.append(_row("dynamics", name, "pinocchio abaInParallel", t, secs, n_states, case=None))
+    small = max(200, n_states // 20)  # the loops run from Python: fewer states, the same per-state figure
+    out = _outputs(tree, n_states)
+    for t in thread_counts():
+        with numba_threads(t):
+            secs = wall_times(lambda: relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, out=out), repeats)
+        rows.append(_row("kinematics", name, "relacc tree_kinematics out=", t, secs, n_states, case=2))
+    fresh = []
+    for _ in range(3):  # new output arrays on every call: fresh pages each time
+        import time
+
+        start = time.perf_counter()
+        relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot)
+        fresh.append(time.perf_counter() - start)
+    rows.append(_row("kinematics", name, "relacc tree_kinematics (new outputs)", thread_counts()[-1],
+                     (float(np.median(fresh)), float(np.min(fresh))), n_states, case=2))
+    if anchors:
+        ae = np.asfortranarray(np.zeros_like(ve[:, :small]))
+        secs = wall_times(pin_loop(robot, np.asfortranarray(qe[:, :small]), np.asfortranarray(ve[:, :small]), ae),
+                          max(3, repeats // 2), warmups=1)
+        rows.append(_row("kinematics", name, "pinocchio jacobians loop", 1, secs, small, case=None))
+        secs = wall_times(jacobian_loop(tree, st.q[:small], st.u[:small]), max(3, repeats // 2), warmups=1)
+        rows.append(_row("kinematics", name, "mujoco mj_jac/mj_jacDot loop", 1, secs, small, case=None))
+    return rows
+
+
+def scaling_rows(sizes, n_states, repeats, seed) -> list:
+    """relacc's kinematics (case 2, ``out=``) and dynamics (case 2) on hinge and ball chains of ``sizes`` bodies."""
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for joint in ("hinge", "ball"):
+            for nb in sizes:
+                path = Path(tmp) / f"chain_{joint}_{nb}.xml"
+                path.write_text(chain_mjcf(nb, joint))
+                tree = relacc.Tree.from_file(path)
+                st = random_states(tree, 2, n_states, seed)
+                out, acc = _outputs(tree, n_states), np.empty((n_states, tree.nv))
+                secs = wall_times(lambda: relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, out=out), repeats)
+                rows.append(_row("scaling", f"{joint} chain", "relacc tree_kinematics out=", thread_counts()[-1],
+                                 secs, n_states, bodies=nb, speeds=tree.nv))
+                secs = wall_times(lambda: relacc.tree_accelerations(tree, 2, st.q, st.u, out=acc), repeats)
+                rows.append(_row("scaling", f"{joint} chain", "relacc tree_accelerations", thread_counts()[-1],
+                                 secs, n_states, bodies=nb, speeds=tree.nv))
+    return rows
+
+
+def run(n_states: int = 20_000, repeats: int = 7, seed: int = 0, sizes=(2, 5, 10, 20, 30, 45, 60),
+        scaling_states: int = 5000) -> dict:
+    """Every section; ``{"machine": ..., "rows": [...], "ratios": {...}}``."""
+    info = machine()
+    rows = []
+    for name, path in gymnasium_models().items():
+        rows += model_rows(name, path, n_states, repeats, seed)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "chain30.xml"
+        path.write_text(chain_mjcf(30))
+        rows += model_rows("chain30", path, n_states, repeats, seed)
+    rows += scaling_rows(sizes, scaling_states, max(3, repeats // 2), seed)
+    return {"machine": info, "n_states": n_states, "repeats": repeats, "rows": rows, "ratios": ratios(rows)}
+
+
+def ratios(rows) -> dict:
+    """Each anchor's time over relacc's, per model, at every core: ``{model: {what: (median ratio, best ratio)}}``."""
+    t = thread_counts()[-1]
+    out = {}
+    for model in sorted({r["model"] for r in rows if r["section"] != "scaling"}):
+        pick = {(r["who"], r["threads"], r.get("case")): r for r in rows if r["model"] == model}
+        slowest = max((r for r in rows if r["model"] == model and r["who"] == "relacc tree_accelerations"
+                       and r["threads"] == t), key=lambda r: r["value"])
+        mine_k = pick[("relacc tree_kinematics out=", t, 2)]
+        entry = {}
+        if ("pinocchio abaInParallel", t, None) in pick:
+            aba = pick[("pinocchio abaInParallel", t, None)]
+            entry["dynamics vs abaInParallel"] = (aba["value"] / slowest["value"], aba["value_best"] /
+                                                  slowest["value_best"])
+        for who in ("pinocchio jacobians loop", "mujoco mj_jac/mj_jacDot loop"):
+            if (who, 1, None) in pick:
+                r = pick[(who, 1, None)]
+                entry[f"kinematics vs {who}"] = (r["value"] / mine_k["value"], r["value_best"] / mine_k["value_best"])
+        out[model] = entry
+    return out
+
+
+def print_table(result) -> None:
+    m = result["machine"]
+    print(f"relacc trees benchmark: {m['cpu']}, {m['logical_cpus']} logical CPUs, {m['date']}, relacc "
+          f"{m['relacc']} ({m['relacc_commit']}); {result['n_states']} states, median (best) of {result['repeats']}")
+    print(f"{'section':10s}  {'model':12s}  {'who':38s}  {'threads':>7s}  {'case':>4s}  {'us/state':>9s}  {'best':>9s}")
+    for r in result["rows"]:
+        model = r["model"] if r["section"] != "scaling" else f"{r['model']} {r['bodies']}"
+        case = "" if r.get("case") is None else str(r["case"])
+        print(f"{r['section']:10s}  {model:12s}  {r['who']:38s}  {r['threads']:7d}  {case:>4s}  {r['value']:9.3f}  "
+              f"{r['value_best']:9.3f}")
+    for model, entry in result["ratios"].items():
+        for what, (med, best) in entry.items():
+            print(f"{model}: {what}: {med:.2f}x (on best times {best:.2f}x)")
