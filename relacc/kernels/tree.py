@@ -106,7 +106,7 @@ def rotation9(case, q, i, a):
             2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
 
 
-@jitable
+@jitable(inline=True)
 def axis_rotation(x, y, z, angle):
     """The rotation by ``angle`` about the unit axis ``(x, y, z)``, through its quaternion (as the walk and MuJoCo)."""
     h = 0.5 * angle
@@ -192,8 +192,12 @@ def _set_block(Om, Omd, V, Vd, b, d, m, A, Ad):
 def angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
     """A ball's or free joint's partial angular velocities ``A``, their rate ``Ad`` (row-major 9-tuples) and
     ``A u_j``, as :func:`relacc.core.tree.walk.angular_map`; ``Rb``, ``wb``: the frame it turns from, ``Rp``, ``wp``:
-    its body's parent, ``Ra``: the frame after it."""
+    its body's parent (a free joint's callers pass the world: identity and zero, so that case 1 gives ``A = I``),
+    ``Ra``: the frame after it. (Every variable is bound before the branches: numba inlines it.)"""
     u0, u1, u2 = u[i, d], u[i, d + 1], u[i, d + 2]
+    A = Rp  # case 1: the parent body's components (a free joint: fixed components)
+    Ad0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    w0, w1, w2 = wp[0], wp[1], wp[2]
     if case == 3:
         c1, s1 = math.cos(q[i, a]), math.sin(q[i, a])
         c2, s2 = math.cos(q[i, a + 1]), math.sin(q[i, a + 1])
@@ -201,20 +205,11 @@ def angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
         Wd = (0.0, 0.0, c2 * u1, 0.0, -s1 * u0, -c1 * c2 * u0 + s1 * s2 * u1, 0.0, c1 * u0,
               -s1 * c2 * u0 - c1 * s2 * u1)
         A, Ad0 = mm9(Rb, W), mm9(Rb, Wd)
-        w0, w1, w2 = wb
+        w0, w1, w2 = wb[0], wb[1], wb[2]
     elif case == 2:
         A = Ra
-        Ad0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         x0, x1, x2 = mv9(Ra, u0, u1, u2)
         w0, w1, w2 = wb[0] + x0, wb[1] + x1, wb[2] + x2  # the frame after the joint
-    elif kind == FREE:
-        eye = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
-        zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-        return eye, zero, (u0, u1, u2)
-    else:
-        A = Rp
-        Ad0 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-        w0, w1, w2 = wp
     # Ad = Ad0 + [w~] A, column by column
     c00, c10, c20 = cross3(w0, w1, w2, A[0], A[3], A[6])
     c01, c11, c21 = cross3(w0, w1, w2, A[1], A[4], A[7])
@@ -405,26 +400,36 @@ def body_out(T, b, o, R, w, V, Om, Vd, Omd, u, ud, i, with_acc, pos, vel, acc, o
 
 if HAVE_NUMBA:
 
+    @numba.njit(cache=True)
+    def _kinematics_block(case, q, u, ud, with_acc, T, qadr, pos, vel, acc, omega, alpha, rot, V, Vd, Om, Omd,
+                          with_points, ppos, pvel, pacc, PV, PVd, start, stop):  # pragma: no cover - compiled
+        """States ``start .. stop - 1``; the count of non-finite results (a plain compiled function under a thin
+        parallel loop: numba compiles big ``prange`` bodies slowly, and caches them worse, numba/numba#8085)."""
+        nv, nb = u.shape[1], T.parent.shape[0]
+        o, R, w = np.empty((nb, 3)), np.empty((nb, 9)), np.empty((nb, 3))
+        sV, sOm, sVd, sOmd = (np.zeros((nb, 3, nv)), np.zeros((nb, 3, nv)), np.zeros((nb, 3, nv)),
+                              np.zeros((nb, 3, nv)))
+        bad = 0
+        for i in range(start, stop):
+            walk_state(case, q, u, i, T, qadr, o, R, w, sV, sOm, sVd, sOmd)
+            for b in range(nb):
+                bad += body_out(T, b, o, R, w, sV, sOm, sVd, sOmd, u, ud, i, with_acc, pos, vel, acc, omega, alpha,
+                                rot, V, Vd, Om, Omd)
+            if with_points:
+                for j in range(T.pbody.shape[0]):
+                    bad += point_out(T, T.pbody[j], T.ppos[j, 0], T.ppos[j, 1], T.ppos[j, 2], o, R, w, sV, sOm, sVd,
+                                     sOmd, u, ud, i, with_acc, j, ppos, pvel, pacc, PV, PVd)
+        return bad
+
     @numba.njit(parallel=True, cache=True)
     def _kinematics_loop(case, q, u, ud, with_acc, T, qadr, pos, vel, acc, omega, alpha, rot, V, Vd, Om, Omd,
                          with_points, ppos, pvel, pacc, PV, PVd):  # pragma: no cover - compiled
-        n, nv, nb = q.shape[0], u.shape[1], T.parent.shape[0]
+        n = q.shape[0]
         bad = 0
         for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            o, R, w = np.empty((nb, 3)), np.empty((nb, 9)), np.empty((nb, 3))
-            sV, sOm, sVd, sOmd = (np.zeros((nb, 3, nv)), np.zeros((nb, 3, nv)), np.zeros((nb, 3, nv)),
-                                  np.zeros((nb, 3, nv)))
-            nbad = 0
-            for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
-                walk_state(case, q, u, i, T, qadr, o, R, w, sV, sOm, sVd, sOmd)
-                for b in range(nb):
-                    nbad += body_out(T, b, o, R, w, sV, sOm, sVd, sOmd, u, ud, i, with_acc, pos, vel, acc, omega,
-                                     alpha, rot, V, Vd, Om, Omd)
-                if with_points:
-                    for j in range(T.pbody.shape[0]):
-                        nbad += point_out(T, T.pbody[j], T.ppos[j, 0], T.ppos[j, 1], T.ppos[j, 2], o, R, w, sV, sOm,
-                                          sVd, sOmd, u, ud, i, with_acc, j, ppos, pvel, pacc, PV, PVd)
-            bad += nbad
+            bad += _kinematics_block(case, q, u, ud, with_acc, T, qadr, pos, vel, acc, omega, alpha, rot, V, Vd, Om,
+                                     Omd, with_points, ppos, pvel, pacc, PV, PVd, blk * BLOCK,
+                                     min(n, (blk + 1) * BLOCK))
         return bad
 
 

@@ -164,26 +164,35 @@ def _accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out):
 
 if HAVE_NUMBA:
 
+    @numba.njit(cache=True)
+    def aba_block(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out, start,
+                  stop):  # pragma: no cover - compiled
+        """States ``start .. stop - 1``; ``(bad inputs, singular states)`` (a plain compiled function under a thin
+        parallel loop: numba compiles big ``prange`` bodies slowly, and caches them worse, numba/numba#8085)."""
+        nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
+        S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
+        V, IA, pA, acc = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6))
+        U, uu, Dinv, tmp = np.empty((nv, 6)), np.empty(nv), np.empty((max(nj, 1), 36)), np.empty(60)
+        bad_in, singular = 0, 0
+        for i in range(start, stop):
+            bad_in += bad_inputs(case, q, u, i, T, qadr)
+            forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
+            failed = _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp)
+            if failed:
+                for c in range(nv):
+                    out[i, c] = np.nan
+            else:
+                _accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
+            singular += failed
+        return bad_in, singular
+
     @numba.njit(parallel=True, cache=True)
-    def aba_loop(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g,
-                            out):  # pragma: no cover - compiled
-        n, nv, nb, nj = q.shape[0], u.shape[1], T.parent.shape[0], T.jtype.shape[0]
+    def aba_loop(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out):  # pragma: no cover - compiled
+        n = q.shape[0]
         bad_in, singular = 0, 0
         for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
-            V, IA, pA, acc = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6))
-            U, uu, Dinv, tmp = np.empty((nv, 6)), np.empty(nv), np.empty((max(nj, 1), 36)), np.empty(60)
-            nbi, nsg = 0, 0
-            for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
-                nbi += bad_inputs(case, q, u, i, T, qadr)
-                forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
-                failed = _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp)
-                if failed:
-                    for c in range(nv):
-                        out[i, c] = np.nan
-                else:
-                    _accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
-                nsg += failed
-            bad_in += nbi
-            singular += nsg
+            b, s = aba_block(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out, blk * BLOCK,
+                             min(n, (blk + 1) * BLOCK))
+            bad_in += b
+            singular += s
         return bad_in, singular

@@ -145,28 +145,37 @@ def factor_solve(M, x, anc, depth):
 
 if HAVE_NUMBA:
 
+    @numba.njit(cache=True)
+    def crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, start,
+                   stop):  # pragma: no cover - compiled
+        """States ``start .. stop - 1``; ``(bad inputs, singular states)``. A plain compiled function: numba's
+        cached ``parallel=True`` code runs slower than fresh (numba/numba#8085), so the parallel loop stays thin."""
+        nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
+        S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
+        V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
+        A, f = np.empty((nb, 6)), np.empty((nb, 6))
+        M, x, tmp = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18)
+        bad_in, singular = 0, 0
+        for i in range(start, stop):
+            bad_in += bad_inputs(case, q, u, i, T, qadr)
+            forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
+            mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x, tmp)
+            failed = factor_solve(M, x, anc, depth)
+            for c in range(nv):
+                out[i, c] = np.nan if failed else x[c]
+            singular += failed
+        return bad_in, singular
+
     @numba.njit(parallel=True, cache=True)
     def crba_loop(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
                   out):  # pragma: no cover - compiled
-        n, nv, nb, nj = q.shape[0], u.shape[1], T.parent.shape[0], T.jtype.shape[0]
+        n = q.shape[0]
         bad_in, singular = 0, 0
         for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
-            V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
-            A, f = np.empty((nb, 6)), np.empty((nb, 6))
-            M, x, tmp = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18)
-            nbi, nsg = 0, 0
-            for i in range(blk * BLOCK, min(n, (blk + 1) * BLOCK)):
-                nbi += bad_inputs(case, q, u, i, T, qadr)
-                forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
-                mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x,
-                            tmp)
-                failed = factor_solve(M, x, anc, depth)
-                for c in range(nv):
-                    out[i, c] = np.nan if failed else x[c]
-                nsg += failed
-            bad_in += nbi
-            singular += nsg
+            b, s = crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out,
+                              blk * BLOCK, min(n, (blk + 1) * BLOCK))
+            bad_in += b
+            singular += s
         return bad_in, singular
 
 

@@ -167,7 +167,7 @@ SYM = np.array([[0, 1, 2, 3, 4, 5], [1, 6, 7, 8, 9, 10], [2, 7, 11, 12, 13, 14],
                 [4, 9, 13, 16, 18, 19], [5, 10, 14, 17, 19, 20]], dtype=np.int64)
 
 
-@jitable
+@jitable(inline=True)
 def body_inertia(b, mass, com, inertia, o, R, V, IA, pA):
     """Body ``b``'s spatial inertia about ``O`` into ``IA[b]`` (packed) and its bias force ``v x* I v`` into ``pA[b]``.
 
