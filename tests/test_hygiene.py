@@ -1,0 +1,91 @@
+"""The house rules, checked: tolerances that say both parts, package rules, true docs, no trace in the user's directory."""
+
+import ast
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from relacc.cli.parser import build_parser, subcommands
+
+ROOT = Path(__file__).resolve().parents[1]
+CLOSE = {"allclose", "isclose", "assert_allclose"}
+
+
+def loose_tolerances(source: str, name: str = "<source>") -> list[str]:
+    """``file:line`` of every ``allclose``/``isclose``/``assert_allclose`` call without ``rtol=`` (numpy's default
+    hides a relative 1e-5 or 1e-7) and every ``approx`` call with neither ``abs=`` nor ``rel=`` (pytest's default is a
+    relative 1e-6)."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+        keys = {k.arg for k in node.keywords}
+        if (func in CLOSE and "rtol" not in keys) or (func == "approx" and not keys & {"abs", "rel"}):
+            bad.append(f"{name}:{node.lineno}")
+    return bad
+
+
+def test_every_tolerance_states_both_parts():
+    bad = [b for path in sorted((ROOT / "tests").glob("*.py")) for b in loose_tolerances(path.read_text(), path.name)]
+    assert bad == []
+
+
+def test_the_tolerance_lint_catches_a_planted_one():
+    assert loose_tolerances("import numpy as np\nassert np.allclose(a, b, atol=1e-14)\n") == ["<source>:2"]
+    assert loose_tolerances("x == pytest.approx(1.0)\n") == ["<source>:1"]
+    assert loose_tolerances("np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)\n") == []
+
+
+def test_every_package_docstring_states_its_rule():
+    missing = []
+    for init in sorted((ROOT / "relacc").glob("*/__init__.py")):
+        doc = ast.get_docstring(ast.parse(init.read_text())) or ""
+        if not re.search(r"\brule\b", doc, re.IGNORECASE):
+            missing.append(init.parent.name)
+    assert missing == []
+
+
+def test_every_subcommand_is_in_the_readme_command_table():
+    readme = (ROOT / "README.md").read_text()
+    table = readme[readme.index("## Commands"):]
+    table = table[:table.index("\n\n", table.index("| command |"))]
+    missing = [name for name in subcommands(build_parser()) if f"`relacc {name}" not in table]
+    assert missing == []
+
+
+def test_every_doc_is_linked_from_the_readme():
+    readme = (ROOT / "README.md").read_text()
+    missing = [p.name for p in sorted((ROOT / "docs").glob("*.md")) if f"docs/{p.name}" not in readme]
+    assert missing == []
+
+
+COMMANDS = [
+    ["eval", "--case", "1", "--q", "0,0,0,1,0,0,0,0,0,0,1,0,0,0", "--u", "0,0,0,0,0,0,0,0,0,0,0,0"],
+    ["check", "--states", "20", "--quiet"],
+    ["errata", "--states", "20"],
+    ["simulate", "tumbling", "--duration", "0.02"],
+    ["fixtures", "--check"],
+    ["compare", "MODELS/two_body.xml", "--states", "2"],
+    ["compare", "MODELS/two_body_euler.urdf", "--states", "2"],
+    ["check", "--model", "MODELS/two_body.xml", "--states", "2", "--quiet"],
+    ["grade", "ROOT/examples/student_correct.py:velocity", "--quantity", "velocity", "--case", "1", "--states", "5"],
+    ["report", "--quick", "--out", "ELSEWHERE/report.html"],
+]
+
+
+@pytest.mark.parametrize("argv", COMMANDS, ids=lambda a: " ".join(a[:2]))
+def test_every_command_leaves_the_working_directory_empty(tmp_path, argv):
+    """Run from an empty directory, every command writes only where it is told (MuJoCo's log included)."""
+    work, elsewhere = tmp_path / "work", tmp_path / "elsewhere"
+    work.mkdir()
+    elsewhere.mkdir()
+    argv = [a.replace("MODELS", str(ROOT / "models")).replace("ROOT", str(ROOT)).replace("ELSEWHERE", str(elsewhere))
+            for a in argv]
+    out = subprocess.run([sys.executable, "-m", "relacc", *argv], capture_output=True, text=True, cwd=work,
+                         timeout=600)
+    assert out.returncode in (0, 1), out.stderr[-2000:]
+    assert list(work.iterdir()) == []
