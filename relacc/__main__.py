@@ -1,7 +1,5 @@
 """``python -m relacc``: the command line."""
 
-import sys
+from relacc.cli import entry
 
-from relacc.cli import main
-
-sys.exit(main())
+entry()

@@ -53,6 +53,7 @@ def write_bytes(path, data: bytes) -> Path:
     """
     path = Path(path)
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)  # --out creates its parents, in every command
         tmp = _stage(path, data)
     except OSError as exc:
         raise _os_error(path, exc) from None
@@ -195,11 +196,18 @@ def check_output_file(path, what: str = "--out") -> Path:
         InputError: ``path`` is a directory, its parent is a file or is not
             writable, or the parent cannot be created.
     """
-    path = Path(path)
+    path = _named(path, what, "a file name such as reports/page.html")
     if path.is_dir():
         raise InputError(f"{what} {path}: is a directory; give a file name such as {path / 'agreement.html'}")
     _check_parent(path, what)
     return path
+
+
+def _named(path, what: str, example: str) -> Path:
+    """``path`` as a Path; an empty one (which would mean the working directory) is refused."""
+    if path is None or not str(path).strip():
+        raise InputError(f"{what}: empty; give {example} (relacc writes only where it is told)")
+    return Path(path)
 
 
 def check_new_directory(path, what: str = "--out") -> Path:
@@ -211,7 +219,7 @@ def check_new_directory(path, what: str = "--out") -> Path:
     Raises:
         InputError: ``path`` is an existing file, its parent is a file, or it is not writable.
     """
-    path = Path(path)
+    path = _named(path, what, "a directory name such as runs/")
     if path.exists() and not path.is_dir():
         raise InputError(f"{what} {path}: is an existing file; give a directory (new or existing)")
     if path.is_dir():
@@ -244,6 +252,26 @@ def make_directory(path) -> Path:
     except OSError as exc:
         raise OutputError(f"{path}: cannot create the directory ({exc.strerror or exc})") from None
     return path
+
+
+@contextlib.contextmanager
+def new_directory(path):
+    """Create ``path`` (and its parents) for the block; if the block fails or is interrupted, the directories it
+    created are removed again when they are still empty (nothing left behind but what was written completely)."""
+    path = Path(path)
+    created = []
+    for p in [path, *path.parents]:
+        if p.exists():
+            break
+        created.append(p)
+    make_directory(path)
+    try:
+        yield path
+    except BaseException:
+        for p in created:  # deepest first
+            with contextlib.suppress(OSError):
+                p.rmdir()  # only an empty directory goes
+        raise
 
 
 @contextlib.contextmanager

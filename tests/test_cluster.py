@@ -189,7 +189,7 @@ def test_workers_without_relacc_are_one_line(cluster, capsys, tmp_path):
 
 
 @pytest.mark.parametrize("address,message", [
-    ("tcp://127.0.0.1:9", "no scheduler with a worker answered"),
+    ("tcp://127.0.0.1:9", "cannot connect (Connection refused)"),
     ("local:zero", "local:N needs a whole number"),
     ("http://example", "accepted are local"),
 ])

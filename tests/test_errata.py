@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from relacc.core.note.equations import BY_ID, IDS
+from relacc.core.note.equations import IDS
 from relacc.validation.check import Harness
 from relacc.validation.errata import STATUSES, errata
 
@@ -29,18 +29,24 @@ def test_every_corrected_form_agrees_with_both_engines(items):
         assert e.agrees, f"{e.id}: corrected error {e.corrected_error:.3g} > {e.tolerance:.3g}"
 
 
-def test_statuses_match_the_registry(items):
-    """ok where printed equals corrected; wrong/ambiguous where the printed form differs; eq11 missing."""
+EXPECTED = {"eq11": "missing", "eq4": "ambiguous", "case3-partials": "ambiguous", "case3-rates": "ambiguous",
+            "eq9.2": "wrong", "case2-a.2": "wrong"}
+"""The note's statuses as read by hand from the note (docs/errata.md gives each reason); every other id is ``ok``.
+Written out here rather than read from the registry under test, so a registry that changes a status fails."""
+
+
+def test_statuses_are_the_ones_read_from_the_note(items):
+    """ok where the printed form agrees with the engines; wrong/ambiguous where it is off by far more than
+    rounding; eq11 missing (announced, not printed)."""
+    assert {e.id: e.status for e in items} == {i: EXPECTED.get(i, "ok") for i in IDS}
     for e in items:
-        eq = BY_ID[e.id]
         assert e.status in STATUSES
-        if eq.kind == "missing":
-            assert e.status == "missing" and e.printed_error is None
-        elif eq.differs:
-            assert e.status == ("ambiguous" if eq.kind == "ambiguous" else "wrong")
-            assert e.printed_error > 1e3 * e.tolerance
+        if e.status == "missing":
+            assert e.printed_error is None
+        elif e.status in ("wrong", "ambiguous"):
+            assert e.printed_error > 1e3 * e.tolerance, e.id
         else:
-            assert e.status == "ok"
+            assert e.printed_error <= e.tolerance, e.id
 
 
 def test_json_has_exactly_the_documented_keys(items):

@@ -116,14 +116,7 @@ def test_a_full_disk_is_one_line_and_keeps_the_previous_file(tmp_path, monkeypat
         target = disk / "big.txt"
         target.write_bytes(OLD)
         if not mounted:  # not root: inject the error the kernel would give
-            real = os.fdopen
-
-            def full(fd, *a, **kw):
-                fh = real(fd, *a, **kw)
-                fh.write = lambda data: (_ for _ in ()).throw(OSError(28, "No space left on device"))
-                return fh
-
-            monkeypatch.setattr(os, "fdopen", full)
+            _full_disk(monkeypatch)
         with pytest.raises(OutputError, match=r"big\.txt: cannot write the file \(No space left on device\)"):
             files.write_text(target, "x" * 200_000)
         assert target.read_bytes() == OLD and _leftovers(disk) == []
@@ -132,16 +125,35 @@ def test_a_full_disk_is_one_line_and_keeps_the_previous_file(tmp_path, monkeypat
         assert sorted(p.name for p in disk.iterdir()) == ["big.txt"]
 
 
-def test_cli_on_a_full_disk_is_one_line_exit_2(tmp_path):
-    """`relacc simulate --out` on a disk too small for its CSVs: exit 2, one line, nothing left (root: real tmpfs)."""
+def _full_disk(monkeypatch):
+    """Not root: every file relacc opens for writing fails as a full disk would (ENOSPC on write)."""
+    real = os.fdopen
+
+    def full(fd, *a, **kw):
+        fh = real(fd, *a, **kw)
+        fh.write = lambda data: (_ for _ in ()).throw(OSError(28, "No space left on device"))
+        return fh
+
+    monkeypatch.setattr(os, "fdopen", full)
+
+
+def test_cli_on_a_full_disk_is_one_line_exit_2(tmp_path, monkeypatch, capsys):
+    """`relacc simulate --out` on a disk too small for its CSVs: exit 2, one line, nothing left (root: a real 64 kB
+    tmpfs, in a subprocess; otherwise the kernel's ENOSPC injected into the command run in-process)."""
     disk = tmp_path / "disk"
+    argv = ["simulate", "tumbling", "--quiet", "--out", str(disk)]
     with _small_disk(disk, "64k") as mounted:
-        if not mounted:
-            pytest.fail("this test needs root to mount a tmpfs; the injected-error variant above covers the rest")
-        out = subprocess.run([sys.executable, "-m", "relacc", "simulate", "tumbling", "--quiet", "--out", str(disk)],
-                             capture_output=True, text=True, cwd=tmp_path, timeout=600)
-        assert out.returncode == 2, out.stderr
-        assert out.stderr.count("\n") == 1 and "No space left" in out.stderr and "Traceback" not in out.stderr
+        if mounted:
+            out = subprocess.run([sys.executable, "-m", "relacc", *argv], capture_output=True, text=True,
+                                 cwd=tmp_path, timeout=600)
+            code, err = out.returncode, out.stderr
+        else:
+            from relacc.cli import main
+
+            _full_disk(monkeypatch)
+            code, err = main(argv), capsys.readouterr().err
+        assert code == 2, err
+        assert err.count("\n") == 1 and "No space left" in err and "Traceback" not in err
         assert list(disk.iterdir()) == []
 
 

@@ -55,8 +55,8 @@ def test_pinocchio_reads_the_toml_masses_and_inertias(fixture):
             frame = model.frames[model.getFrameId(name)]
             inert = model.inertias[frame.parentJoint]
             assert inert.mass == pytest.approx(mass, rel=1e-15)
-            assert np.allclose(inert.lever, com, atol=1e-15)
-            assert np.allclose(inert.inertia, inertia, atol=1e-15)
+            assert np.allclose(inert.lever, com, rtol=0, atol=1e-15)
+            assert np.allclose(inert.inertia, inertia, rtol=0, atol=1e-15)
 
 
 def test_every_mjcf_element_is_named(fixture):

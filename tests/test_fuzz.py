@@ -219,6 +219,8 @@ COMMANDS = {
     "grade": (["examples/student_correct.py:V", "--quantity", "V", "--case", "1", "--states", "3"],
               ["--quantity", "--case", "--states", "--seed", "--model", "FUNCTION"]),
     "export": (["--out", "exported"], ["--q2", "--m2", "--model"]),
+    "compare": (["models/two_body.xml", "--states", "2", "--engines", "pinocchio"],
+                ["--states", "--seed", "--engines", "--out", "--urdf", "MODEL"]),
 }
 """Each command: valid, cheap arguments, and the arguments fuzzed one at a time."""
 
@@ -235,16 +237,17 @@ def test_every_command_turns_malformed_input_into_one_line_and_exit_2(tmp_path_f
     (tmp / "a_file").write_text("x")
     if flag in JUNK_VALUES:
         value = data.draw(st.sampled_from(JUNK_VALUES[flag]), label="value")
-    elif flag in ("--model", "STATE", "SCENE"):
+    elif flag in ("--model", "STATE", "SCENE", "MODEL", "--urdf"):
         value = data.draw(st.sampled_from([str(tmp / name) for name in ("junk", "junk.toml", "junk.json",
                                                                           "missing.toml", "missing")] + [str(tmp)]),
                           label="path")
     else:  # --out: a path that cannot be written
-        value = data.draw(st.sampled_from([str(tmp / "a_file" / "sub"), str(tmp) if command == "report"
+        value = data.draw(st.sampled_from([str(tmp / "a_file" / "sub"), str(tmp) if command in ("report", "compare")
                                            else str(tmp / "a_file")]), label="out")
-    base = [str(REPO / b) if b.startswith("examples/") else str(tmp / b) if b == "exported" else b for b in base]
+    base = [str(REPO / b) if b.startswith(("examples/", "models/")) else str(tmp / b) if b == "exported" else b
+            for b in base]
     argv = ["fixtures" if command == "export" else command] + base
-    if flag in ("STATE", "SCENE", "FUNCTION"):
+    if flag in ("STATE", "SCENE", "FUNCTION", "MODEL"):
         argv = [command, value] + (["--json"] if command == "eval" else base[1:])
     elif flag in argv:
         argv[argv.index(flag) + 1] = value

@@ -6,6 +6,6 @@ subcommand that needs it, so that ``relacc --help`` loads nothing heavy.
 Every :class:`relacc.RelaccError` becomes one line on stderr and exit 2.
 """
 
-from relacc.cli.main import main
+from relacc.cli.main import entry, main
 
-__all__ = ["main"]
+__all__ = ["entry", "main"]

@@ -14,14 +14,21 @@ import numpy as np
 import relacc
 from relacc import files, fixtures
 from relacc.cli.compare import cmd_compare  # noqa: E402,F401  (dispatched by name from main)
+from relacc.cli.progress import bar, end_line
+from relacc.cli.progress import line as progress_line
 from relacc.core.conventions import CASE_NAMES, CONVENTIONS, COORDINATES, QUANTITIES, SPEEDS
 from relacc.core.tolerances import EPS
 from relacc.errors import InputError
 
 
 def _numbers(text: str, name: str) -> list[float]:
+    import re
+
+    fields = re.split(r"\s*,\s*|\s+", text.strip())
+    if "" in fields:
+        raise InputError(f"--{name}: an empty field in {text!r}; give numbers separated by commas or spaces")
     try:
-        return [float(x) for x in text.replace(",", " ").split()]
+        return [float(x) for x in fields]
     except ValueError:
         raise InputError(f"--{name}: expected numbers separated by commas or spaces, got {text!r}") from None
 
@@ -32,6 +39,9 @@ def _state_from_args(args) -> dict:
         state, _ = files.read_document(args.state, json.loads, "JSON", what="state file")
         if not isinstance(state, dict):
             raise InputError(f"{args.state}: expected a JSON object with case, q, u (and udot)")
+        unknown = sorted(set(state) - {"case", "q", "u", "udot", "variant"})
+        if unknown:
+            raise InputError(f"{args.state}: unknown keys {unknown}; accepted are case, q, u, udot and variant")
     for key in ("case", "q", "u", "udot", "variant"):
         value = getattr(args, key, None)
         if value is not None:
@@ -110,7 +120,7 @@ def cmd_check(args) -> int:
     if args.scheduler:
         from relacc.cluster.sweeps import check
 
-        report = check(args.scheduler, harness, cases=args.cases, progress=None if args.quiet else _bar)
+        report = check(args.scheduler, harness, cases=args.cases, progress=None if args.quiet else bar)
     else:
         report = harness.check(cases=args.cases)
     if args.json:
@@ -189,6 +199,16 @@ def cmd_errata(args) -> int:
 
 
 def cmd_grade(args) -> int:
+    import contextlib
+
+    # the user's module and function may print: that goes to stderr, so that stdout stays relacc's (and --json JSON)
+    with contextlib.redirect_stdout(sys.stderr):
+        grade = _grade(args)
+    print(json.dumps(grade.as_dict(), indent=2) if args.json else grade.text())
+    return 0 if grade.ok else 1
+
+
+def _grade(args):
     from relacc.testing.grade import check_formula, load_function
 
     fn = load_function(args.function)
@@ -203,8 +223,7 @@ def cmd_grade(args) -> int:
             raise InputError(f"--quantity {args.quantity} is a model's body quantity: give --model FILE and --body")
         grade = check_formula(fn, quantity=args.quantity, case=args.case, n=args.states, seed=args.seed,
                               chain=fixtures.load(args.model).chain)
-    print(json.dumps(grade.as_dict(), indent=2) if args.json else grade.text())
-    return 0 if grade.ok else 1
+    return grade
 
 
 def cmd_fixtures(args) -> int:
@@ -225,6 +244,12 @@ def cmd_fixtures(args) -> int:
         return 0
     if args.check:
         raise InputError("--check compares the files beside --model; it does not go with --out")
+    import re
+
+    if "name" in changes and not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.-]*", changes["name"]):
+        raise InputError(f"--name {changes['name']!r}: a chain's name starts with a letter or _ and holds letters, "
+                         "digits, _, . and - (it names the model in every engine file)")
+    files.check_new_directory(args.out)
     from relacc.core.chain import TwoBodyChain
     from relacc.fixtures.export import export
     from relacc.fixtures.model import Fixture
@@ -249,7 +274,16 @@ def cmd_simulate(args) -> int:
     from relacc.fixtures.shipped import scene_path
     from relacc.simulate import scenes
 
-    if args.out:
+    if args.ensemble is None:
+        given = [flag for flag, value in (("--spread", args.spread), ("--seed", args.seed),
+                                          ("--scheduler", args.scheduler)) if value is not None]
+        if given:
+            raise InputError(f"{', '.join(given)} {'goes' if len(given) == 1 else 'go'} with --ensemble N (the "
+                             "perturbed members); a single run of the scene has no random state")
+    else:
+        args.spread = 0.05 if args.spread is None else args.spread
+        args.seed = 0 if args.seed is None else args.seed
+    if args.out is not None:
         files.check_new_directory(args.out)
     scene = scenes.load(scene_path(args.scene))
     changes = {k: v for k, v in (("dt", args.dt), ("integrator", args.integrator), ("duration", args.duration))
@@ -266,14 +300,12 @@ def cmd_simulate(args) -> int:
         if args.quiet or now - start < 2.0 or now - last[0] < 0.2:
             return
         last[0] = now
-        bar = "#" * int(30 * fraction)
-        print(f"\r  {engine:9s} [{bar:30s}] {100 * fraction:5.1f} %", end="", file=sys.stderr, flush=True)
+        progress_line(engine, fraction)
 
     if args.ensemble is not None:
         return _ensemble(scene, args)
     result = simulate.run(scene, progress=progress, keep=False, out=args.out)
-    if _time.perf_counter() - start >= 2.0 and not args.quiet:
-        print(file=sys.stderr)
+    end_line()
     if args.json:
         print(json.dumps(result.summary(), indent=2))
         return 0
@@ -287,7 +319,7 @@ def _ensemble(scene, args) -> int:
     """``relacc simulate --ensemble N``: every engine's steps per second and its members' G2 differences."""
     from relacc.simulate.members import run_members
 
-    if args.out:
+    if args.out is not None:
         raise InputError("--out writes one run's CSVs; it does not go with --ensemble")
 
     def say(name):
@@ -298,7 +330,7 @@ def _ensemble(scene, args) -> int:
         from relacc.cluster.sweeps import ensemble_members
 
         part = ensemble_members(args.scheduler, scene, args.ensemble, args.spread, args.seed,
-                                progress=None if args.quiet else _bar)
+                                progress=None if args.quiet else bar)
     else:
         part = run_members(scene, 0, args.ensemble, args.spread, args.seed, progress=say)
     summary = part.summary(scene, args.spread, args.seed)
@@ -315,12 +347,6 @@ def _ensemble(scene, args) -> int:
     for k, v in summary["largest_g2_position_difference"].items():
         print(f"  {k:20s} max {v['max']:.3e} (member {v['worst_member']}), median {v['median']:.3e}")
     return 0
-
-
-def _bar(done: int, total: int) -> None:
-    """A progress bar on stderr driven by finished cluster tasks."""
-    print(f"\r  [{'#' * int(30 * done / total):30s}] {done}/{total} tasks", end="\n" if done == total else "",
-          file=sys.stderr, flush=True)
 
 
 def cmd_tradeoff(args) -> int:

@@ -12,7 +12,7 @@ def cmd_compare(args) -> int:
     from relacc.validation.robots import compare
 
     out = None
-    if args.out:
+    if args.out is not None:
         from relacc import files
 
         if len(args.model) > 1:
@@ -37,11 +37,11 @@ def _many(args) -> int:
     from relacc.errors import RelaccError
 
     if args.scheduler:
-        from relacc.cli.commands import _bar
+        from relacc.cli.progress import bar
         from relacc.cluster.sweeps import compare_models
 
         results = compare_models(args.scheduler, args.model, urdf=args.urdf, engines=args.engines,
-                                 n_states=args.states, seed=args.seed, progress=_bar)
+                                 n_states=args.states, seed=args.seed, progress=bar)
     else:
         from relacc.validation.robots import compare
 
@@ -52,7 +52,7 @@ def _many(args) -> int:
                                                seed=args.seed)))
             except RelaccError as exc:
                 results.append((model, exc))
-    if args.out:
+    if args.out is not None:
         from relacc.report.robot import write
 
         _, only = results[0]

@@ -29,6 +29,7 @@ def main(argv=None) -> int:
         return exc.code if isinstance(exc.code, int) else 2
     from relacc import files
     from relacc.cli import commands
+    from relacc.cli.progress import end_line
     from relacc.errors import RelaccError
 
     name = f"relacc {args.command}"
@@ -37,6 +38,7 @@ def main(argv=None) -> int:
             warnings.simplefilter("error", RuntimeWarning)
             return getattr(commands, f"cmd_{args.command}")(args)
     except RelaccError as exc:
+        end_line()
         print(f"{name}: error: {exc}", file=sys.stderr)
         return 2
     except RuntimeWarning as exc:
@@ -47,6 +49,7 @@ def main(argv=None) -> int:
         print(f"{name}: error: not enough memory for this request; ask for fewer states", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        end_line()
         print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
         return 130
     except BrokenPipeError:
@@ -55,5 +58,19 @@ def main(argv=None) -> int:
         return 141
 
 
+def entry() -> None:
+    """The ``relacc`` console command: :func:`main`, then exit with its code.
+
+    After an error or an interrupt relacc has said what happened in one line; what libraries still print while
+    the process winds down (Dask's own handlers closing a cluster that was still starting) is not the user's
+    news, so stderr is closed to them before exiting."""
+    code = main()
+    if code in (2, 130):
+        sys.stderr.flush()
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stderr.fileno())
+    sys.exit(code)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    entry()

@@ -67,6 +67,9 @@ def _choices_list(name: str, allowed):
         if not items or bad:
             raise argparse.ArgumentTypeError(f"unknown {name.lstrip('-')} {bad or [text]}: accepted are a "
                                              f"comma-separated subset of {','.join(allowed)}")
+        twice = sorted({x for x in items if items.count(x) > 1})
+        if twice:
+            raise argparse.ArgumentTypeError(f"{name} names {', '.join(twice)} twice; name each once")
         return items
 
     return convert
@@ -112,8 +115,8 @@ def _model(p, files="a chain TOML"):
                         "working directory)")
 
 
-def _seed(p):
-    p.add_argument("--seed", type=_int_in(0, MAX_SEED), default=0,
+def _seed(p, default=0):
+    p.add_argument("--seed", type=_int_in(0, MAX_SEED), default=default,
                    help="seed of every random state, an integer >= 0 (default 0)")
 
 
@@ -260,9 +263,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ensemble", type=_int_in(1, 10**7), metavar="N",
                    help="run N members from perturbed initial states (member 0: the scene's own) on every engine's "
                         "batched API, and report steps per second and the largest G2 difference per member")
-    p.add_argument("--spread", type=_positive_float(), default=0.05,
-                   help="size of the perturbations (m, rad, m/s, rad/s; default 0.05)")
-    _seed(p)
+    p.add_argument("--spread", type=_positive_float(), default=None,
+                   help="with --ensemble: size of the perturbations (m, rad, m/s, rad/s; default 0.05)")
+    _seed(p, default=None)
     _quiet(p)
     _scheduler(p, "an --ensemble (one task per 1,024 members)")
 

@@ -14,6 +14,10 @@ the same seed gives the same answer, the same maxima, worst states and verdicts,
   and cancels everything on Ctrl-C.
 
 Users: :mod:`relacc.cluster.sweeps` (``check``, ``compare`` over many models, ensembles).
+
+Layer rule: imports Dask and the layers below the report (core, kernels, dynamics, fixtures,
+:mod:`relacc.engines`, simulate, validation), never the report or the CLI, and never an engine's
+own package: engines are reached through their adapters, on the workers.
 """
 
 from __future__ import annotations
@@ -39,18 +43,72 @@ class ClusterError(RelaccError):
     """A scheduler that cannot be reached, workers without relacc or at another version, a malformed address."""
 
 
+def max_local_workers() -> int:
+    """The most worker processes ``local:N`` starts: four per core (more only slows this machine down)."""
+    return 4 * (os.cpu_count() or 1)
+
+
 def parse_address(address: str) -> tuple[str, int | None]:
-    """``("local", N or None)`` or ``("tcp", None)``; raises :class:`ClusterError` naming what is accepted."""
+    """``("local", N or None)`` or ``("tcp", None)``; raises :class:`ClusterError` naming what is accepted.
+
+    ``local:N``: 1 <= N <= :func:`max_local_workers`. ``tcp://host:port`` or ``tls://host:port``: a host (a name,
+    an IPv4 address or a bracketed IPv6 one) and a port from 1 to 65535.
+    """
+    from urllib.parse import urlsplit
+
     text = str(address).strip()
+    accepted = ("accepted are local, local:N (N worker processes here) and tcp://host:port (a running "
+                "`dask scheduler`)")
     if text == "local" or text.startswith("local:"):
         n = text.partition(":")[2]
-        if n and not (n.isdigit() and int(n) >= 1):
-            raise ClusterError(f"--scheduler {text!r}: local:N needs a whole number of workers >= 1")
+        if n and not (n.isdigit() and 1 <= int(n) <= max_local_workers()):
+            raise ClusterError(f"--scheduler {text!r}: local:N needs a whole number of workers from 1 to "
+                               f"{max_local_workers()} (four per core here)")
         return "local", int(n) if n else None
-    if text.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
+    if text.startswith(("tcp://", "tls://")):
+        try:
+            parts = urlsplit(text)
+            port = parts.port
+        except ValueError as exc:
+            raise ClusterError(f"--scheduler {text!r}: not a host and port ({exc}); {accepted}") from None
+        if not parts.hostname or port is None or not 1 <= port <= 65535 or parts.path not in ("", "/"):
+            raise ClusterError(f"--scheduler {text!r}: give a host and a port, tcp://host:port; {accepted}")
         return "tcp", None
-    raise ClusterError(f"--scheduler {text!r}: accepted are local, local:N (N worker processes here) and "
-                       "tcp://host:port (a running `dask scheduler`)")
+    if text.startswith(("inproc://", "ucx://")):
+        raise ClusterError(f"--scheduler {text!r}: relacc reaches a scheduler over tcp:// (or tls://); {accepted}")
+    raise ClusterError(f"--scheduler {text!r}: {accepted}")
+
+
+def probe(address: str, timeout: float) -> None:
+    """Check that a Dask scheduler answers at a ``tcp://`` address before Dask's client tries it.
+
+    A scheduler speaks first on a new connection: its handshake, an 8-byte frame length (a few hundred bytes)
+    and the frames. Something else on the port (an HTTP server waits for a request; another service sends other
+    bytes) would make the client wait past any timeout or read its bytes as a huge length. Raises
+    :class:`ClusterError` within ``timeout`` seconds naming what happened.
+    """
+    import socket
+    import struct
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(address)
+    try:
+        with socket.create_connection((parts.hostname, parts.port), timeout=timeout) as sock:
+            head = b""
+            while len(head) < 8:
+                chunk = sock.recv(8 - len(head))
+                if not chunk:
+                    break
+                head += chunk
+    except socket.timeout:
+        raise ClusterError(f"--scheduler {address}: nothing answered as a Dask scheduler does within {timeout:g} s "
+                           "(no connection, or something else listens there)") from None
+    except OSError as exc:
+        raise ClusterError(f"--scheduler {address}: cannot connect ({exc.strerror or exc})") from None
+    size = struct.unpack("<Q", head)[0] if len(head) == 8 else 0
+    if not 0 < size < 2**24:
+        raise ClusterError(f"--scheduler {address}: what listens there is not a Dask scheduler (it answered "
+                           f"{head!r:.40})")
 
 
 def _worker_versions():  # runs on every worker
@@ -83,10 +141,14 @@ def connect(address: str, timeout: float | None = None):
                                                        silence_logs=logging.CRITICAL))
             target = cluster
         else:
+            if address.startswith("tcp://"):
+                probe(address, timeout)
             target = address
         try:
             client = stack.enter_context(Client(target, timeout=f"{timeout}s"))
             client.wait_for_workers(1, timeout=timeout)
+        except MemoryError:  # Dask read something that is not its protocol as a frame length
+            raise ClusterError(f"--scheduler {address}: what answers there does not speak Dask's protocol") from None
         except (OSError, TimeoutError) as exc:
             raise ClusterError(f"--scheduler {address}: no scheduler with a worker answered within {timeout:g} s "
                                f"({type(exc).__name__}: {' '.join(str(exc).split()) or 'timed out'})") from None

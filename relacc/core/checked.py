@@ -16,10 +16,23 @@ from relacc.core import rotations
 from relacc.core.cases import as_numbers, quaternion_norm_deviation
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.errors import InputError
+from relacc.limits import require_memory
+
+WORK = 64
+"""Floats of output and temporaries per input row that the building blocks need at most (a 3x3 matrix and its
+intermediate products): the budget checked against the memory available before any work."""
+
+
+def _numbers(name, value, length, what):
+    """``as_numbers`` in the order that allocates nothing large unchecked: shape, then cost, then values."""
+    arr = as_numbers(name, value, length, what, values=False)
+    rows = arr.size // length
+    require_memory(8.0 * WORK * rows, f"{name}: {rows} rows", "pass fewer at a time")
+    return as_numbers(name, arr, length, what)
 
 
 def _unit_quaternion(name, value):
-    quat = as_numbers(name, value, 4, "unit quaternions (w, x, y, z)")
+    quat = _numbers(name, value, 4, "unit quaternions (w, x, y, z)")
     dev = quaternion_norm_deviation(quat)
     if np.any(dev > QUATERNION_NORM_TOLERANCE):
         idx = np.unravel_index(np.argmax(dev), dev.shape) if dev.ndim else ()
@@ -31,14 +44,16 @@ def _unit_quaternion(name, value):
 
 def _broadcast(name, *arrays):
     try:
-        np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
     except ValueError:
         raise InputError(f"{name}: batch shapes {[a.shape[:-1] for a in arrays]} do not broadcast") from None
+    rows = float(np.prod(batch, dtype=float))
+    require_memory(8.0 * WORK * rows, f"{name}: {int(rows)} rows, broadcast", "pass fewer at a time")
 
 
 def tilde(v):
     """Skew-symmetric ``[v~]`` ``(..., 3, 3)`` of ``v`` ``(..., 3)`` (:func:`relacc.core.rotations.tilde`), checked."""
-    return rotations.tilde(as_numbers("v", v, 3, "3-vectors"))
+    return rotations.tilde(_numbers("v", v, 3, "3-vectors"))
 
 
 def matrix_from_quaternion(quat):
@@ -51,7 +66,7 @@ def matrix_from_quaternion(quat):
 
 def matrix_from_123(theta):
     """``Rx(theta1) Ry(theta2) Rz(theta3)`` ``(..., 3, 3)`` of 1-2-3 angles ``(..., 3)`` in rad, checked."""
-    return rotations.matrix_from_123(as_numbers("theta", theta, 3, "1-2-3 angles in rad"))
+    return rotations.matrix_from_123(_numbers("theta", theta, 3, "1-2-3 angles in rad"))
 
 
 def omega_partials_123(theta):
@@ -59,25 +74,25 @@ def omega_partials_123(theta):
 
     Maps angle rates to the angular velocity in the reference frame's components.
     """
-    return rotations.omega_partials_123(as_numbers("theta", theta, 3, "1-2-3 angles in rad"))
+    return rotations.omega_partials_123(_numbers("theta", theta, 3, "1-2-3 angles in rad"))
 
 
 def omega_partials_123_dot(theta, theta_dot):
     """Time derivative ``(..., 3, 3)`` (1/s) of :func:`omega_partials_123`, checked."""
-    theta = as_numbers("theta", theta, 3, "1-2-3 angles in rad")
-    theta_dot = as_numbers("theta_dot", theta_dot, 3, "1-2-3 angle rates in rad/s")
+    theta = _numbers("theta", theta, 3, "1-2-3 angles in rad")
+    theta_dot = _numbers("theta_dot", theta_dot, 3, "1-2-3 angle rates in rad/s")
     _broadcast("theta, theta_dot", theta, theta_dot)
     return rotations.omega_partials_123_dot(theta, theta_dot)
 
 
 def quaternion_exp(phi):
     """Unit quaternion ``(..., 4)`` (w first) of the rotation vector ``phi`` ``(..., 3)`` in rad, checked."""
-    return rotations.quaternion_exp(as_numbers("phi", phi, 3, "rotation vectors in rad"))
+    return rotations.quaternion_exp(_numbers("phi", phi, 3, "rotation vectors in rad"))
 
 
 def quaternion_from_123(theta):
     """Unit quaternion ``(..., 4)`` (w first) of ``Rx Ry Rz`` for 1-2-3 angles ``(..., 3)`` in rad, checked."""
-    return rotations.quaternion_from_123(as_numbers("theta", theta, 3, "1-2-3 angles in rad"))
+    return rotations.quaternion_from_123(_numbers("theta", theta, 3, "1-2-3 angles in rad"))
 
 
 def quaternion_multiply(p, q):

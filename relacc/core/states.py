@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from relacc.core.cases import Case, as_case
+from relacc.core.cases import Case, as_case, check_int
 
 
 @dataclass(frozen=True)
@@ -45,6 +45,7 @@ def random_states(case, n: int, seed) -> States:
     speeds ``N(0, 1)`` in m/s and rad/s, their rates ``N(0, 1)``.
     """
     c = as_case(case)
+    n = check_int("n", n, minimum=0)
     rng = np.random.default_rng(seed)
     s1 = rng.normal(size=(n, 3))
     s2 = 0.2 * rng.normal(size=(n, 3))

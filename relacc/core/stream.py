@@ -54,6 +54,8 @@ def iter_g2_kinematics(chain, case, q, u, udot=None, *, chunk_size: int = CHUNK_
     """
     as_case(case)
     chunk_size = check_int("chunk_size", chunk_size, minimum=1)
+    # lists and tuples (as everywhere arrays are accepted); arrays and memmaps stay as they are, read chunk by chunk
+    q, u, udot = (np.asarray(a) if isinstance(a, (list, tuple)) else a for a in (q, u, udot))
     arrays = [a for a in (q, u, udot) if a is not None]
     if any(np.ndim(a) != 2 for a in arrays):
         raise InputError("q, u and udot must each have one batch axis: shapes (N, nq) and (N, 12)")

@@ -63,8 +63,13 @@ class BodyPartials:
 
 
 def body_partials(chain: TwoBodyChain, case, q, u) -> BodyPartials:
-    """Partial velocity and angular velocity matrices of G1, G2, B1, B2 (see the module docstring)."""
+    """Partial velocity and angular velocity matrices of G1, G2, B1, B2 (see the module docstring).
+
+    Raises:
+        InputError: bad shapes or values of ``q``, ``u`` (lists and tuples are accepted).
+    """
     c = as_case(case)
+    q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
     cfg = configuration(chain, c, q)
     k = g2_kinematics(chain, c, q, u)
     W, Wd = body_speed_map(c, q, u)
@@ -106,6 +111,7 @@ def generalized_forces(chain, case, q, u, effects: Effects, bp: BodyPartials | N
     Each absent effect is skipped, not computed as zero.
     """
     c = as_case(case)
+    q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
     bp = bp if bp is not None else body_partials(chain, c, q, u)
     batch = bp.V2.shape[:-2]
     Q = np.zeros(batch + (12,), dtype=np.result_type(bp.V2, q, u))

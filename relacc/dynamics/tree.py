@@ -23,10 +23,10 @@ from relacc.core.rotations import quaternion_from_123, tilde
 from relacc.core.so3 import SO3
 from relacc.core.tree.coordinates import check_invertible, rotations
 from relacc.core.tree.kinematics import flat, inputs
+from relacc.core.tree.model import Tree
 from relacc.core.tree.walk import mv, walk
 from relacc.dynamics.tree_effects import NO_EFFECTS, TreeEffects
 from relacc.errors import InputError, SingularityError
-from relacc.limits import require_memory
 
 
 @dataclass(frozen=True, eq=False)
@@ -135,10 +135,9 @@ def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
     Returns:
         :class:`TreeDynamics`.
     """
-    c, q, u, _, batch = inputs(tree, case, q, u)
-    n = int(np.prod(batch))
-    require_memory(8.0 * n * (tree.nv * tree.nv + 4 * tree.nb * 3 * tree.nv * 3), f"Kane's equations of {n} states",
-                   "pass fewer states at a time")
+    nb, nv = (tree.nb, tree.nv) if isinstance(tree, Tree) else (0, 0)
+    c, q, u, _, batch = inputs(tree, case, q, u, bytes_per_state=8.0 * (nv * nv + 4 * nb * 3 * nv * 3),
+                               what="Kane's equations of")
     tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
     M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
     M, f = M.reshape(batch + (tree.nv, tree.nv)), f.reshape(batch + (tree.nv,))
@@ -165,8 +164,6 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
         SingularityError: ``M`` is singular (speeds that move no inertia, named) or case 3 is within
             the gimbal-lock limit at a joint (named).
     """
-    from relacc.core.tree.coordinates import check_u
-
     if backend not in ("auto", "fast", "reference"):
         raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
     simple = effects is None or (isinstance(effects, TreeEffects) and not effects.joints and not effects.bodies)
@@ -176,29 +173,50 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
         return _fast(tree, case, q, u, tau, effects, out)
     if out is not None:
         raise InputError("out= is for the fast backend")
+    _, q, u, _, batch = inputs(tree, case, q, u, values=False)
+    tau, _ = _tau(tree, tau, batch, q.shape[-1])
     d = tree_dynamics(tree, case, q, u, effects=effects, t=t)
     rhs = np.array(d.f)
     if tau is not None:
-        rhs = rhs + check_u(tree, "tau", tau)
+        rhs = rhs + tau
     if d.case == 3:
         check_invertible(tree, np.asarray(q, dtype=float))
     return solve(tree, d.M, rhs)
 
 
-def _fast(tree, case, q, u, tau, effects, out):
-    """The compiled kernel's answer, with every check of the reference path."""
-    from relacc.core.kinematics import check_out
+def _tau(tree, tau, batch, nq):
+    """``(tau, batch)``: the applied generalized forces checked (shape, then their batch's cost against the memory
+    available, then values) and the batch they broadcast to with the states'; ``tau`` None stays None."""
     from relacc.core.tree.coordinates import check_u
-    from relacc.kernels import tree_dynamics as kernel
+    from relacc.limits import require_memory
 
-    c, q, u, _, batch = inputs(tree, case, q, u, values=False)
-    tau = np.zeros(batch + (tree.nv,)) if tau is None else check_u(tree, "tau", tau)
-    if c == 3:
-        check_invertible(tree, np.real(q))
+    if tau is None:
+        return None, batch
+    tau = check_u(tree, "tau", tau, values=False)
     try:
         batch = np.broadcast_shapes(batch, tau.shape[:-1])
     except ValueError:
         raise InputError(f"tau's batch shape {tau.shape[:-1]} does not broadcast with the states' {batch}") from None
+    n = float(np.prod(batch, dtype=float))
+    require_memory(8.0 * n * (nq + 5 * tree.nv), f"forward dynamics of {int(n)} states of {tree.name!r}",
+                   "pass fewer states at a time")
+    return check_u(tree, "tau", tau), batch
+
+
+def _fast(tree, case, q, u, tau, effects, out):
+    """The compiled kernel's answer, with every check of the reference path."""
+    from relacc.core.kinematics import check_out
+    from relacc.kernels import tree_dynamics as kernel
+
+    nv = tree.nv if isinstance(tree, Tree) else 0
+    # the kernel's outputs and its per-state work: a few rows of nv (the factorization lives per thread)
+    c, q, u, _, batch = inputs(tree, case, q, u, values=False, bytes_per_state=8.0 * 4 * nv,
+                               what="forward dynamics of")
+    tau, batch = _tau(tree, tau, batch, q.shape[-1])
+    if tau is None:
+        tau = np.zeros(batch + (tree.nv,))
+    if c == 3:
+        check_invertible(tree, np.real(q))
     out = check_out(out, batch + (tree.nv,), "out")
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
     n = int(np.prod(batch))

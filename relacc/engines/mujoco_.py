@@ -41,6 +41,7 @@ set to zero and reads the classical acceleration directly.
 from __future__ import annotations
 
 import contextlib
+import time
 
 import mujoco
 import numpy as np
@@ -105,6 +106,27 @@ def full_inertia(m, d, dst):
         mujoco.mj_fullM(m, dst, d.qM)
     else:
         mujoco.mj_fullM(m, d, dst)
+
+
+UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQVEL", "mjWARN_BADQPOS")
+"""MuJoCo's warnings that a simulation became unstable (NaN, inf or a huge value in qacc, qvel or qpos)."""
+
+
+def unstable_count(d) -> int:
+    """How many instability warnings MuJoCo has counted on ``d`` so far."""
+    return sum(int(d.warning[getattr(mujoco.mjtWarning, w)].number) for w in UNSTABLE)
+
+
+def check_stable(d, seen: int) -> None:
+    """Raise :class:`relacc.IntegrationError` when MuJoCo counted an instability since ``seen``: its state may
+    still be finite (huge), or reset to qpos0 where auto-reset is on; either way the run has diverged."""
+    if unstable_count(d) > seen:
+        from relacc.errors import IntegrationError
+
+        stats = [(getattr(mujoco.mjtWarning, w), d.warning[getattr(mujoco.mjtWarning, w)]) for w in UNSTABLE]
+        said = [" ".join(mujoco.mju_warningText(kind, int(s.lastinfo)).split()) for kind, s in stats if s.number]
+        raise IntegrationError(f"the integration diverged: MuJoCo reports {'; '.join(said)}; reduce the step or use "
+                               "an implicit integrator")
 
 
 class _Route:
@@ -264,40 +286,70 @@ class MujocoEngine(Engine):
 
         def advance(x, v, k):
             d.qpos[:], d.qvel[:] = x, v
+            seen = unstable_count(d)
             for _ in range(k):
                 mujoco.mj_step(m, d)
+            check_stable(d, seen)
             return d.qpos.copy(), d.qvel.copy()
 
-        xfrc = d.xfrc_applied.ravel().copy()[None, None]
-        spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
         work = [mujoco.MjData(m)]
 
         def record(x, v, gaps):
-            X, V = np.empty((len(gaps), m.nq)), np.empty((len(gaps), m.nv))
-            state = np.zeros((1, mujoco.mj_stateSize(m, spec)))
-            state[0, 1:1 + m.nq], state[0, 1 + m.nq:1 + m.nq + m.nv] = x, v
-            ends = np.cumsum(gaps)
-            j = 0
-            while j < len(gaps):
-                if gaps[j] == 0:  # a record of the state as it is
-                    X[j], V[j] = state[0, 1:1 + m.nq], state[0, 1 + m.nq:1 + m.nq + m.nv]
-                    j += 1
-                    continue
-                base = ends[j - 1] if j else 0
-                k = j
-                while k + 1 < len(gaps) and ends[k + 1] - base <= self.ROLLOUT_STEPS:
-                    k += 1
-                out, _ = rollout.rollout(m, work, state, xfrc, control_spec=mujoco.mjtState.mjSTATE_XFRC_APPLIED,
-                                         nstep=int(ends[k] - base))
-                rows = ends[j:k + 1] - base - 1
-                X[j:k + 1], V[j:k + 1] = out[0, rows, 1:1 + m.nq], out[0, rows, 1 + m.nq:1 + m.nq + m.nv]
-                finite = np.all(np.isfinite(X[j:k + 1]), axis=1) & np.all(np.isfinite(V[j:k + 1]), axis=1)
-                if not finite.all():
-                    return X, V, j + int(np.argmin(finite))
-                state, j = out[:, -1], k + 1
-            return X, V, len(gaps)
+            X, V, first_bad, _ = self.rollout(np.asarray(x)[None], np.asarray(v)[None], np.cumsum(gaps), work)
+            return X[0], V[0], int(first_bad[0])
 
         return Stepper(advance, record)
+
+    def work_data(self, threads: int) -> list:
+        """``threads`` fresh ``MjData`` of the quaternion route's model, for :meth:`rollout`'s threads."""
+        m = self.routes["quaternion"].model
+        return [mujoco.MjData(m) for _ in range(max(1, int(threads)))]
+
+    def rollout(self, qpos, qvel, ends, work):
+        """Records of ``n`` runs from ``qpos (n, nq)``, ``qvel (n, nv)`` after ``ends[j]`` steps each (ascending; a 0
+        records the state as it is), by ``mujoco.rollout`` on the threads of the ``MjData`` list ``work``, in calls
+        of at most :attr:`ROLLOUT_STEPS` steps, under the model as :meth:`stepper` configured it.
+
+        Returns:
+            ``(X (n, m, nq), V (n, m, nv), first_bad (n,), seconds)``: ``first_bad[i]`` the first record of run ``i``
+            that is not finite (``m`` when none is), ``seconds`` the time inside ``mujoco.rollout``.
+
+        Raises:
+            IntegrationError: MuJoCo counted an instability (a huge or non-finite acceleration) during a call.
+        """
+        m = self.routes["quaternion"].model
+        xfrc = self.routes["quaternion"].data.xfrc_applied.ravel().copy()[None, None]  # the scene's loads
+        spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+        n, nq, nv, count = len(qpos), m.nq, m.nv, len(ends)
+        X, V = np.empty((n, count, nq)), np.empty((n, count, nv))
+        state = np.zeros((n, mujoco.mj_stateSize(m, spec)))
+        state[:, 1:1 + nq], state[:, 1 + nq:1 + nq + nv] = qpos, qvel
+        first_bad, seconds, j = np.full(n, count), 0.0, 0
+        while j < count:
+            if ends[j] == (ends[j - 1] if j else 0):  # a record of the state as it is
+                X[:, j], V[:, j] = state[:, 1:1 + nq], state[:, 1 + nq:1 + nq + nv]
+                j += 1
+                continue
+            base = ends[j - 1] if j else 0
+            k = j
+            while k + 1 < count and ends[k + 1] - base <= self.ROLLOUT_STEPS:
+                k += 1
+            seen = sum(unstable_count(w) for w in work)
+            start = time.perf_counter()
+            out, _ = rollout.rollout(m, work, state, xfrc, control_spec=mujoco.mjtState.mjSTATE_XFRC_APPLIED,
+                                     nstep=int(ends[k] - base))
+            seconds += time.perf_counter() - start
+            if sum(unstable_count(w) for w in work) > seen:
+                check_stable(next(w for w in work if unstable_count(w)), 0)
+            rows = ends[j:k + 1] - base - 1
+            X[:, j:k + 1], V[:, j:k + 1] = out[:, rows, 1:1 + nq], out[:, rows, 1 + nq:1 + nq + nv]
+            finite = np.all(np.isfinite(X[:, j:k + 1]), axis=2) & np.all(np.isfinite(V[:, j:k + 1]), axis=2)
+            bad = ~finite.all(axis=1)
+            first_bad[bad] = np.minimum(first_bad[bad], j + np.argmin(finite[bad], axis=1))
+            if bad.all():
+                break
+            state, j = out[:, -1], k + 1
+        return X, V, first_bad, seconds
 
     def body_state(self, q, v):
         return np.array(q, dtype=float), np.array(v, dtype=float)  # qpos, qvel are Case 2's q and u

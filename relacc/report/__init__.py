@@ -4,6 +4,9 @@ A report is a list of sections. Each section is one module in
 :mod:`relacc.report.sections` with ``ID``, ``TITLE`` and ``build(ctx) -> dict``
 (plain data), plus one template ``templates/sections/<ID>.html.j2``. Adding a
 section is adding those two files and listing the module in ``SECTIONS``.
+
+Layer rule: sections read the layers below (validation, tradeoff, simulate, the core) and return plain
+data; only the templates render it (Jinja2, autoescaped). Never the CLI, never an engine's own package.
 """
 
 from __future__ import annotations

@@ -145,39 +145,16 @@ def _observed(engine_name, engine, scene, Q, V, steps, seconds, threads):
 
 
 def _mujoco(scene, q0, u0, steps, threads, name):
-    import mujoco
-    from mujoco import rollout
-
     from relacc.engines import load_engine
 
     engine = load_engine("mujoco", scene.fixture)
     engine.stepper(scene.effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
-    model, data0 = engine.routes["quaternion"].model, engine.routes["quaternion"].data
     qpos, qvel = _engine_states(engine, scene, q0, u0)
-    n, m = len(q0), len(steps)
-    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
-    state = np.zeros((n, mujoco.mj_stateSize(model, spec)))
-    state[:, 1:1 + model.nq], state[:, 1 + model.nq:1 + model.nq + model.nv] = qpos, qvel
-    xfrc = data0.xfrc_applied.ravel().copy()[None, None]  # the scene's forces and torques, every step
-    datas = [mujoco.MjData(model) for _ in range(threads)]
-    Q, V = np.empty((n, m, model.nq)), np.empty((n, m, model.nv))
-    Q[:, 0], V[:, 0] = qpos, qvel
-    seconds, j, nq, nv = 0.0, 1, model.nq, model.nv
-    while j < m:  # one rollout call per block of records spanning at most ROLLOUT_STEPS steps
-        k = j
-        while k + 1 < m and steps[k + 1] - steps[j - 1] <= engine.ROLLOUT_STEPS:
-            k += 1
-        nstep = int(steps[k] - steps[j - 1])
-        start = time.perf_counter()
-        out, _ = rollout.rollout(model, datas, state, xfrc, control_spec=mujoco.mjtState.mjSTATE_XFRC_APPLIED,
-                                 nstep=nstep)
-        seconds += time.perf_counter() - start
-        rows = steps[j:k + 1] - steps[j - 1] - 1  # the state after that many steps is out[:, steps - 1]
-        Q[:, j:k + 1], V[:, j:k + 1] = out[:, rows, 1:1 + nq], out[:, rows, 1 + nq:1 + nq + nv]
-        if not (np.all(np.isfinite(Q[:, j:k + 1])) and np.all(np.isfinite(V[:, j:k + 1]))):
-            finite = np.all(np.isfinite(Q[:, j:k + 1]), axis=2) & np.all(np.isfinite(V[:, j:k + 1]), axis=2)
-            _check_done(np.where(finite.all(axis=1), m, j + np.argmin(finite, axis=1)), m, steps, scene, "mujoco")
-        state, j = out[:, -1], k + 1
+    try:
+        Q, V, first_bad, seconds = engine.rollout(qpos, qvel, np.asarray(steps), engine.work_data(threads))
+    except IntegrationError as exc:
+        raise IntegrationError(f"mujoco: {exc} (dt = {scene.dt} s)") from None
+    _check_done(first_bad, len(steps), steps, scene, "mujoco")
     return _observed("mujoco", engine, scene, Q, V, steps, seconds, threads)
 
 

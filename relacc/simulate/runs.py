@@ -192,9 +192,8 @@ def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=Non
     note_at = set(np.unique(np.linspace(0, len(steps) - 1, NOTE_CHECK_STATES).astype(int)).tolist())
     note_states, pairs = [], {}
     paths = [Path(out) / f"{scene.name}-{n}.csv" for n in names] if out is not None else []
-    if out is not None:
-        files.make_directory(out)
-    with files.streams(paths) if paths else contextlib.nullcontext({}) as handles:
+    with files.new_directory(out) if out is not None else contextlib.nullcontext(), \
+            files.streams(paths) if paths else contextlib.nullcontext({}) as handles:
         writers = {n: _csv_writer(handles[p], scene, runs[n].track) for n, p in zip(names, paths)}
         for start in range(0, len(steps), RECORD_BLOCK):
             chunk = steps[start:start + RECORD_BLOCK]

@@ -7,6 +7,7 @@ import numpy as np
 from relacc.core.cases import U_BLOCKS
 from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
 from relacc.errors import InputError
+from relacc.limits import require_memory
 
 SPEED_NAMES = {
     1: ("s1_dot", "omega_B1", "s2'_dot", "omega_hat_B2"),
@@ -50,11 +51,17 @@ def assert_agrees(actual, expected, *, scale=None, what: str = "", tolerance: fl
 
     ref = expected.values if isinstance(expected, Expected) else np.asarray(expected)
     act = np.asarray(actual)
+    for label, arr in (("actual", act), ("expected", ref)):
+        if arr.dtype.kind not in "iufc" or arr.dtype.kind == "b":
+            raise InputError(f"{what or label}: expected numbers, got {arr.dtype} values")
     if act.shape != ref.shape:
         if act.shape == ref.shape[1:] and ref.shape[0] == 1:
             act = act[None]
         else:
             raise InputError(f"{what or 'actual'}: shape {act.shape} differs from the expected {ref.shape}")
+    if ref.ndim == 1 or (ref.ndim == 2 and ref.shape[-1] == 12):  # one state: (3,) or V's (3, 12)
+        act, ref = act[None], ref[None]
+    require_memory(8.0 * 6 * act.size, f"{what or 'actual'}: {act.size} values", "compare fewer states at a time")
     if scale is None:
         if isinstance(expected, Expected):
             scale = expected.scale

@@ -70,7 +70,8 @@ class Grade:
 
     def as_dict(self) -> dict:
         """``relacc grade --json``."""
-        return {"ok": self.ok, "worst_error": self.worst_error, "columns": list(self.columns),
+        worst = self.worst_error if np.isfinite(self.worst_error) else None  # strict JSON has no Infinity or NaN
+        return {"ok": self.ok, "worst_error": worst, "columns": list(self.columns),
                 "matches": list(self.matches), "seed": self.seed, "quantity": self.quantity, "case": self.case,
                 "worst_source": self.worst_source, "worst_state": self.worst_state, "n_states": self.n_states,
                 "sources": list(self.sources), "body": self.body}
@@ -91,23 +92,46 @@ class Grade:
 
 
 def evaluate_user(fn, chain, case, q, u, udot, shape):
-    """The user's values for a batch, ``(n,) + shape``; batched when ``fn`` takes batches."""
+    """The user's values for a batch, ``(n,) + shape``; batched when ``fn`` takes batches.
+
+    The function gets copies of every state: whatever it writes into its arguments never reaches relacc's own
+    states or truth. Its result must be real numbers: a complex one is refused, not cut to its real part.
+
+    Raises:
+        CallError: it raised (or called ``sys.exit``), or returned the wrong shape, complex or non-numeric values.
+    """
     name = getattr(fn, "__name__", repr(fn))
 
-    def call(*args):
+    def result(value, what):
+        arr = np.asarray(value)
+        if arr.dtype.kind == "c":
+            raise CallError(f"{name} returned complex numbers for {what}; return real numbers (relacc does not drop "
+                            "an imaginary part)")
+        if arr.dtype.kind not in "iufb" or arr.dtype.kind == "b":
+            raise CallError(f"{name} returned {arr.dtype} values for {what}; expected real numbers")
+        return arr.astype(float)
+
+    def call(*args, what="one state"):
         try:
-            return np.asarray(fn(chain, *args), dtype=float)
+            return result(fn(chain, *(np.array(a) for a in args)), what)
+        except CallError:
+            raise
+        except SystemExit as exc:  # the user's code ends the process: report it, do not exit
+            raise CallError(f"{name} called sys.exit({exc.code!r}) (called as {name}(chain, q, u, udot) with "
+                            f"{what} of case {case})") from None
         except Exception as exc:  # the user's code: any failure is reported, in one line
             raise CallError(f"{name} raised {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
-                            f" (called as {name}(chain, q, u, udot) with one state of case {case})") from None
+                            f" (called as {name}(chain, q, u, udot) with {what} of case {case})") from None
 
     first = call(q[0], u[0], udot[0])
     if first.shape != shape:
         raise CallError(f"{name} returned shape {first.shape} for one state; expected {shape} (see relacc grade "
                         "--help for the conventions)")
     try:
-        batch = np.asarray(fn(chain, q, u, udot), dtype=float)
-    except Exception:
+        batch = call(q, u, udot, what="a batch")
+    except CallError as exc:
+        if "complex" in str(exc) or "sys.exit" in str(exc):
+            raise
         batch = None
     if batch is not None and batch.shape == (len(q),) + shape:
         return batch
@@ -260,6 +284,8 @@ def load_function(spec: str):
             module = importlib.import_module(module_name)
     except CallError:
         raise
+    except SystemExit as exc:  # the user's module ends the process on import: report it, do not exit
+        raise CallError(f"{module_name}: calls sys.exit({exc.code!r}) when imported") from None
     except Exception as exc:  # the user's module: any failure to import is reported in one line
         raise CallError(f"{module_name}: cannot be imported ({type(exc).__name__}: {exc})") from None
     fn = getattr(module, func, None)

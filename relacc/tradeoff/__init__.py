@@ -4,6 +4,10 @@
   formulas, finite differences, Richardson, complex step and the engines.
 * :mod:`relacc.tradeoff.integrators`: trajectories by each engine's
   integrators over a sweep of step or tolerance.
+* :mod:`relacc.tradeoff.trees`: relacc's tree kernels against the engines' fastest batched calls.
+
+Layer rule: imports the core, kernels, dynamics, fixtures, simulate, validation and the engines'
+adapters (:mod:`relacc.engines`), never an engine's own package, the report or the CLI.
 """
 
 from __future__ import annotations

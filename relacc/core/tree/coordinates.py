@@ -83,7 +83,8 @@ def check_invertible(tree, q3):
     """
     for k, _, a, _ in rotations(tree, 3):
         theta2 = np.real(q3[..., a + 1])
-        cond = condition_123(theta2)
+        with np.errstate(invalid="ignore"):  # a non-finite angle is judged (and named) by the value checks
+            cond = np.where(np.isfinite(theta2), condition_123(theta2), 0.0)
         if np.any(cond > MAX_CONDITION):
             idx = np.unravel_index(np.argmax(cond), cond.shape) if cond.ndim else ()
             t = float(theta2[idx])

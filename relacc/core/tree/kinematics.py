@@ -96,22 +96,39 @@ def _point_set(tree, points):
     return tuple(out)
 
 
-def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True):
-    """The checks every tree entry point shares: ``(case, q, u, udot, batch)``, all checked and broadcast.
-
-    ``values=False``: types and shapes only (a compiled kernel checks the values and reports what it finds)."""
+def check_tree(tree) -> None:
+    """InputError unless ``tree`` is a :class:`relacc.Tree`."""
     if not isinstance(tree, Tree):
         raise InputError(f"tree: expected a relacc.Tree (Tree.from_file, Tree.from_chain), got {type(tree).__name__}")
+
+
+def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_per_state=0.0, what="evaluating"):
+    """The checks every tree entry point shares: ``(case, q, u, udot, batch)``, all checked and broadcast.
+
+    In order, so that nothing large is allocated before it is known to fit: types and shapes; then the batch's
+    cost, ``bytes_per_state`` times its states, against the memory available (:func:`relacc.limits.require_memory`,
+    refused with the estimate); then, with ``values``, the values (finite, unit quaternions). ``values=False``:
+    a compiled kernel checks the values and reports what it finds."""
+    check_tree(tree)
     c = int(as_case(case))
-    q = check_q(tree, c, q, values)
-    u = check_u(tree, f"u for case {c}", u, values)
+    q = check_q(tree, c, q, values=False)
+    u = check_u(tree, f"u for case {c}", u, values=False)
     if udot is not None or need_udot:
-        udot = check_u(tree, f"udot for case {c}", udot, values)
+        udot = check_u(tree, f"udot for case {c}", udot, values=False)
     shapes = [q.shape[:-1], u.shape[:-1]] + ([udot.shape[:-1]] if udot is not None else [])
     try:
         batch = np.broadcast_shapes(*shapes)
     except ValueError:
         raise InputError(f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes") from None
+    n = float(np.prod(batch, dtype=float))
+    # every entry point copies its inputs once, C-contiguous, besides what it computes
+    require_memory(n * (bytes_per_state + 8.0 * (q.shape[-1] + 3 * tree.nv)),
+                   f"{what} {int(n)} states of {tree.name!r}", "pass fewer states at a time")
+    if values:
+        check_q(tree, c, q)
+        check_u(tree, f"u for case {c}", u)
+        if udot is not None:
+            check_u(tree, f"udot for case {c}", udot)
     return c, q, u, udot, batch
 
 
@@ -145,8 +162,11 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None, backend="auto",
         InputError: a bad tree, shape, value (non-finite, non-unit quaternion) or point name.
         CaseError: an unknown case.
     """
-    c, q, u, udot, batch = inputs(tree, case, q, u, udot)
+    check_tree(tree)
     chosen = _point_set(tree, points)
+    fast_guess = backend == "fast" or backend == "auto"
+    per_state = (tree.nb + len(chosen)) * 3 * tree.nv * 4 + (tree.nb + 4) * 3 * tree.nv * (4 if fast_guess else 12)
+    c, q, u, udot, batch = inputs(tree, case, q, u, udot, bytes_per_state=8.0 * per_state)
     if backend not in BACKENDS:
         raise InputError(f"unknown backend {backend!r}: accepted are {', '.join(BACKENDS)}")
     real = all(a is None or a.dtype.kind != "c" for a in (q, u, udot))
@@ -156,8 +176,6 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None, backend="auto",
     if out is not None and not fast:
         raise InputError("out= is for the fast backend (real inputs)")
     n = int(np.prod(batch))
-    per_state = (tree.nb + len(chosen)) * 3 * tree.nv * 4 + (tree.nb + 4) * 3 * tree.nv * (4 if fast else 12)
-    require_memory(8.0 * n * per_state, f"evaluating {n} states of {tree.name!r}", "pass fewer states at a time")
     qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
     udf = None if udot is None else flat(udot, batch, tree.nv)
     if fast:

@@ -14,8 +14,9 @@ order, and each adapter converts its engine's conventions once, in its own modul
 An engine whose speeds differ (Pinocchio: a free joint's linear velocity in body components; Drake:
 a free joint's angular velocity in world components, a ball's in the parent's) maps them by a speed
 map ``v_e = T(q) v``: its mass matrix is ``T^T M_e T``, its bias ``T^T (b_e + M_e T_dot v)``, its
-accelerations ``a = T^-1 (a_e - T_dot v)``, its Jacobians ``J_e T``: the note's partial velocity
-matrices for the three choices of speeds, at robot scale.
+accelerations ``a = T^-1 (a_e - T_dot v)``, its Jacobians ``J_e T``. A free joint's speeds are the
+note's case 2 in MuJoCo and case 1 (reordered) in Drake; Pinocchio's are neither (the body's spatial
+velocity).
 
 Every adapter exposes :class:`Robot`: its structure at the reference configuration
 (:class:`Structure`), and the dynamics and the links' centre-of-mass kinematics at a state, all in

@@ -8,7 +8,7 @@ same robot) and Drake (its MJCF parser) are compared with it:
    the model in MuJoCo the engine's way;
 2. the **dynamics** (:mod:`relacc.validation.robots.agreement`) at the reference configuration and at
    random states, over the speeds both engines have, in MuJoCo's coordinates through each engine's
-   speed map (free joints: the three choices of speeds of relacc's note, at robot scale). A
+   speed map (a free joint's speeds: the note's case 2 in MuJoCo, case 1 in Drake, neither in Pinocchio). A
    disagreement gets a cause when the audit's causes, or a known difference in the engine's
    algorithms, make it disappear.
 

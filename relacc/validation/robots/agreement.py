@@ -54,7 +54,11 @@ def random_states(reference, n: int, seed: int) -> States:
     quaternion; ball, a random unit quaternion; hinge and slide, uniform in their range when limited,
     else hinge in ``[-pi, pi]`` and slide within the model's size. Speeds and their rates: standard normals.
     """
+    from relacc.limits import require_memory
+
     m, rng = reference.model, np.random.default_rng(seed)
+    require_memory(8.0 * (n + 1) * (m.nq + 2 * m.nv + 8), f"{n} random states of {reference.path.name}",
+                   "ask for fewer states (--states)")
     size = max([np.linalg.norm(link.com) for link in reference.structure.links] + [1.0])
     q = np.repeat(reference.reference()[None], n + 1, axis=0)
     v, a = np.zeros((n + 1, m.nv)), np.zeros((n + 1, m.nv))
