@@ -272,12 +272,11 @@ def test_a_singular_mass_matrix_is_named_not_a_traceback(tmp_path, capsys):
     written null in strict JSON and "undefined" on the page, with the joint named, and the run exits 1."""
     import numpy as np
 
-    from relacc.engines.robots.drake_ import DrakeRobot
-    from relacc.engines.robots.mujoco_ import MujocoRobot
+    from relacc.engines import load
 
     path = other_model("mujoco", "testdata/model.xml")
-    reference = MujocoRobot(path)
-    M = DrakeRobot(path, reference).dynamics(reference.model.qpos0, np.zeros(reference.model.nv)).M
+    reference = load("mujoco", path)
+    M = load("drake", path, reference.reference).dynamics(reference.model.qpos0, np.zeros(reference.model.nv)).M
     assert np.linalg.matrix_rank(M) < M.shape[0]  # the independent fact: Drake's own M is singular
     assert main(["compare", str(path), "--states", "3", "--json", "--out", str(tmp_path / "page.html")]) == 1
     row = strict(capsys.readouterr().out)["dynamics"]["forward dynamics"]["engines"]["drake"]
@@ -287,7 +286,7 @@ def test_a_singular_mass_matrix_is_named_not_a_traceback(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("package,inside,message", [
-    ("mujoco", "testdata/msh.xml", "no body found"),
+    ("mujoco", "testdata/msh.xml", "MuJoCo reads no body besides the world"),
     ("pydrake", "share/drake/examples/acrobot/Acrobot.urdf", "URDF joint parent or child missing"),
     ("pydrake", "share/drake/examples/pendulum/Pendulum.urdf", "inertia must have positive eigenvalues"),
 ])
@@ -369,12 +368,12 @@ def test_speed_maps_are_the_engines_velocities_along_mujocos_motion(name):
     import pinocchio as pin
 
     from relacc.core.tolerances import central_difference_bound
-    from relacc.engines.robots import robot_class
+    from relacc.engines import load
     from relacc.validation.robots.agreement import random_states
 
     path = models_dir() / name if name == "two_body.xml" else gym_assets() / name
-    reference = robot_class("mujoco")(path)
-    engines = [robot_class("pinocchio")(path, reference), robot_class("drake")(path, reference)]
+    reference = load("mujoco", path)
+    engines = [load("pinocchio", path, reference.reference), load("drake", path, reference.reference)]
     states, h = random_states(reference, 4, seed=11), 1e-5
     m = reference.model
     for q, v in zip(states.q[1:], states.v[1:]):
@@ -385,12 +384,12 @@ def test_speed_maps_are_the_engines_velocities_along_mujocos_motion(name):
             moved.append(x)
         for robot in engines:
             T, _ = robot.speed_map(q, v)
-            expected = T @ v[robot.dofs]
-            plus, minus = robot.engine_q(moved[0]), robot.engine_q(moved[1])
+            expected = T[0] @ v[robot.dofs]
+            plus, minus = robot.engine_q(moved[0])[0], robot.engine_q(moved[1])[0]
             if robot.engine == "pinocchio":
                 measured = pin.difference(robot.model, minus, plus) / (2 * h)
             else:
-                robot.plant.SetPositions(robot.context, robot.engine_q(q))
+                robot.plant.SetPositions(robot.context, robot.engine_q(q)[0])
                 measured = robot.plant.MapQDotToVelocity(robot.context, (plus - minus) / (2 * h))
             bound = central_difference_bound(h, (1 + np.abs(v).max()) ** 3, np.abs(plus).max() + 1)
             assert np.abs(measured - expected).max() <= bound, (robot.engine, np.abs(measured - expected).max(), bound)

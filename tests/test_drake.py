@@ -85,7 +85,8 @@ def test_drakes_jdot_from_autodiff_equals_its_bias(drake, case):
         for i in range(len(s)):
             r.plant.SetPositions(r.context, x.q[i])
             r.plant.SetVelocities(r.context, x.v[i])
-            bias[i] = r.plant.CalcBiasTranslationalAcceleration(r.context, JacobianWrtVariable.kV, r.g2, np.zeros(3),
+            bias[i] = r.plant.CalcBiasTranslationalAcceleration(r.context, JacobianWrtVariable.kV,
+                                                                r.plant.GetFrameByName("G2"), np.zeros(3),
                                                                 r.plant.world_frame(), r.plant.world_frame())[:, 0]
         scale = np.linalg.norm(pts.J_dot, axis=(1, 2)) * np.linalg.norm(x.v, axis=1)
         assert_agree(np.einsum("nij,nj->ni", pts.J_dot, x.v), bias, scale, what=f"{route} J_dot v", seed=s.seed)

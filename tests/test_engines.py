@@ -41,7 +41,7 @@ def test_round_trip_note_engine_note(engines, engine, case):
 def test_split_pinocchio_model_matches_loaded(engines):
     """The composite-free model gives the loaded model's frames, velocities, accelerations, J and M."""
     e = engines["pinocchio"]
-    loaded, split = e.loaded, e.routes["quaternion"].model
+    loaded, split = e.routes["quaternion"].composite_model, e.routes["quaternion"].model
     assert (loaded.nq, loaded.nv) == (split.nq, split.nv)
     dl, ds = loaded.createData(), split.createData()
     rng = np.random.default_rng(seed_for(1, 21))
@@ -67,7 +67,8 @@ def test_split_pinocchio_model_matches_loaded(engines):
 def test_split_model_time_variation_matches_classical_acceleration(engines):
     """On the rebuilt model, J a + Jdot v is Pinocchio's own classical acceleration of G2."""
     r = engines["pinocchio"].routes["quaternion"]
-    m, d, f = r.model, r.data, r.frame
+    m, d = r.model, r.data
+    f = m.getFrameId("G2")
     rng = np.random.default_rng(seed_for(1, 22))
     for _ in range(50):
         q = pin.randomConfiguration(m, -np.ones(m.nq), np.ones(m.nq))

@@ -92,3 +92,12 @@ def test_every_command_leaves_the_working_directory_empty(tmp_path, argv):
     if out.returncode == 2:  # refused: one line, never a traceback
         assert len(out.stderr.strip().splitlines()) == 1, out.stderr[-2000:]
     assert list(work.iterdir()) == []
+
+
+def test_every_package_reaches_the_wheel():
+    """pyproject.toml lists its packages by hand (relacc.models lives outside relacc/): every package is there."""
+    import tomllib
+
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    found = {".".join(p.parent.relative_to(ROOT).parts) for p in (ROOT / "relacc").rglob("__init__.py")}
+    assert found - listed == set()

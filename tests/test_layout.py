@@ -29,8 +29,13 @@ LAYERS = {
     "report": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation", "tradeoff"},
     "testing": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "validation"},
     "cluster": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation"},
+    "cli": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation", "tradeoff",
+                   "report", "testing", "cluster"},
 }
 """Which layers each layer may import (besides itself). ``cli`` and ``relacc/__init__`` may import any."""
+
+ENGINE_PACKAGES = {"mujoco": "mujoco_", "pinocchio": "pinocchio_", "pydrake": "drake_"}
+"""Each engine's Python package and the one adapter package of ``relacc.engines`` that may import it."""
 
 LAZY_ONLY = {("core", "kernels"), ("relacc.core.tree.model", "engines"), ("relacc.core.tree.model", "fixtures")}
 """Imports allowed inside functions only: the core loads the kernels at the first batched call; one reader,
@@ -78,7 +83,7 @@ def test_layers_import_downward_only():
     bad = []
     for name, path in modules.items():
         here = _layer(name)
-        if here in ("cli", "relacc", "models", "recorded") or here not in LAYERS:
+        if here in ("relacc", "models", "recorded") or here not in LAYERS:
             continue
         for target, at_top in _imports(name, path):
             there = _layer(_resolve(target, modules))
@@ -169,3 +174,60 @@ def test_common_flags_mean_the_same_everywhere():
     for flag, texts in seen.items():
         assert len(set(texts.values())) == 1, (flag, texts)
     assert set(seen["--model"]) >= {"eval", "check", "errata", "fixtures", "report", "tradeoff"}
+
+
+def engine_imports(name: str, source: str) -> list[str]:
+    """Imports of an engine package (``import mujoco``, ``from pydrake.x import y``, anywhere in the module) outside
+    that engine's own adapter package, and imports of an adapter's modules from outside ``relacc.engines``."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        targets = []
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            targets = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+        for target in targets:
+            top = target.split(".")[0]
+            if top in ENGINE_PACKAGES and not name.startswith(f"relacc.engines.{ENGINE_PACKAGES[top]}"):
+                bad.append(f"{name}:{node.lineno} imports {target}")
+            adapter = [a for a in ENGINE_PACKAGES.values() if target.startswith(f"relacc.engines.{a}")]
+            if adapter and not name.startswith("relacc.engines"):
+                bad.append(f"{name}:{node.lineno} imports the adapter module {target}")
+    return sorted(set(bad))
+
+
+def private_imports(name: str, source: str) -> list[str]:
+    """``from relacc.x import _y`` across modules (dunder names like ``__version__`` are public)."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("relacc"):
+            for alias in node.names:
+                if alias.name.startswith("_") and not alias.name.startswith("__") and node.module != name:
+                    bad.append(f"{name}:{node.lineno} imports {node.module}.{alias.name}")
+    return bad
+
+
+def test_engine_packages_are_imported_only_by_their_adapter():
+    """``mujoco``, ``pinocchio`` and ``pydrake`` appear only in their own adapter package under relacc/engines/, and
+    nothing outside relacc/engines/ reaches an adapter but through the registry (``relacc.engines.load``)."""
+    bad = [b for name, path in _modules() for b in engine_imports(name, path.read_text())]
+    assert bad == []
+
+
+def test_no_private_name_is_imported_across_modules():
+    bad = [b for name, path in _modules() for b in private_imports(name, path.read_text())]
+    assert bad == []
+
+
+def test_the_layout_checks_catch_planted_imports():
+    """The two checks above fail on a planted ``import mujoco`` in simulate/ and a planted private import."""
+    assert engine_imports("relacc.simulate.runs", "def f():\n    import mujoco\n") == [
+        "relacc.simulate.runs:2 imports mujoco"]
+    assert engine_imports("relacc.simulate.runs", "from relacc.engines.mujoco_.run import rollout\n") == [
+        "relacc.simulate.runs:1 imports the adapter module relacc.engines.mujoco_.run",
+        "relacc.simulate.runs:1 imports the adapter module relacc.engines.mujoco_.run.rollout"]
+    assert engine_imports("relacc.engines.pinocchio_.model", "import pydrake\n") == [
+        "relacc.engines.pinocchio_.model:1 imports pydrake"]
+    assert engine_imports("relacc.engines.mujoco_.run", "import mujoco\n") == []
+    assert private_imports("relacc.simulate.runs", "from relacc.engines.base import _helper\n") == [
+        "relacc.simulate.runs:1 imports relacc.engines.base._helper"]

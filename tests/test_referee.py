@@ -5,9 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from relacc.engines import load_engine
-from relacc.engines.drake_ import DrakeEngine
-from relacc.engines.pinocchio_ import PinocchioEngine
+from relacc.engines import chain, load_engine
+from relacc.engines.chain import ChainEngine
 from relacc.validation.check import Harness
 from relacc.validation.referee import judge, referee
 
@@ -21,7 +20,7 @@ def mujoco(fixture):
 
 def test_pinocchio_composite_joint_is_the_odd_one_out(fixture, mujoco):
     """With the split-joint workaround off, Pinocchio's Vdot fails, and the referee names Pinocchio alone."""
-    engines = {"pinocchio": PinocchioEngine(fixture, split=False), "mujoco": mujoco,
+    engines = {"pinocchio": load_engine("pinocchio", fixture, split=False), "mujoco": mujoco,
                "drake": load_engine("drake", fixture)}
     report = Harness(fixture, engines=engines, n_states=200, seed=SEED).check()
     assert {(c.engine, c.quantity) for c in report.failures} == {("pinocchio", "Vdot")}
@@ -33,19 +32,20 @@ def test_pinocchio_composite_joint_is_the_odd_one_out(fixture, mujoco):
     assert as_json["odd_one_out"] == "pinocchio" and "odd one out is pinocchio" in as_json["verdict"]
 
 
-class _Faulty(DrakeEngine):
-    """Drake with a planted fault: G2's acceleration off by one part in a million."""
+class _Faulty(ChainEngine):
+    """Drake with a planted fault: G2's acceleration off by one part in a million (other engines unchanged)."""
 
-    def points(self, route, q, v, a):
-        pts = super().points(route, q, v, a)
-        if pts.acceleration is not None:
+    def points(self, route, q, v, a, *, jdot=True):
+        pts = super().points(route, q, v, a, jdot=jdot)
+        if pts.acceleration is not None and self.name == "drake":
             pts.acceleration[:] *= 1 + 1e-6
         return pts
 
 
 def test_a_planted_fault_is_named(fixture, mujoco):
     """A fault planted in Drake's acceleration fails check, and the referee names Drake, not the others."""
-    engines = {"pinocchio": load_engine("pinocchio", fixture), "mujoco": mujoco, "drake": _Faulty(fixture)}
+    engines = {"pinocchio": load_engine("pinocchio", fixture), "mujoco": mujoco,
+               "drake": _Faulty("drake", load_engine("drake", fixture).routes)}
     h = Harness(fixture, engines=engines, n_states=100, seed=SEED)
     report = h.check()
     assert {(c.engine, c.quantity) for c in report.failures} == {("drake", "acceleration")}
@@ -69,9 +69,8 @@ def test_no_single_odd_one_out_is_said_so():
 def test_check_prints_the_referee(capsys, fixture, monkeypatch):
     """`relacc check` prints one referee line per failed comparison, and --json carries the verdicts."""
     from relacc.cli import main
-    from relacc.engines import drake_
 
-    monkeypatch.setattr(drake_, "DrakeEngine", _Faulty)
+    monkeypatch.setattr(chain, "ChainEngine", _Faulty)
     assert main(["check", "--states", "50", "--cases", "1", "--quiet", "--model", str(fixture.source)]) == 1
     out = capsys.readouterr().out
     assert "referee: case 1 acceleration (quaternion route): the odd one out is drake" in out

@@ -17,7 +17,7 @@ import relacc
 from relacc.core.tolerances import EPS, ROUNDING_FACTOR
 from relacc.core.tree import convert, random_states, reference_q
 from relacc.core.tree.scales import tree_scales, tree_tolerance
-from relacc.engines.mujoco_tree import read_tree, tree_of
+from relacc.engines.mujoco_.spec import read_tree, tree_of
 from tests.trees import jacdot_exact, mujoco_reference, random_mjcf
 
 MODELS = Path(relacc.__file__).resolve().parents[1] / "models"

@@ -10,7 +10,7 @@ import pytest
 import relacc
 from relacc.core.tree import convert, random_states
 from relacc.core.tree.scales import tree_scales
-from relacc.engines.mujoco_tree import read_tree
+from relacc.engines.mujoco_.spec import read_tree
 from relacc.errors import InputError
 from relacc.fixtures.shipped import models_dir
 from tests.test_tree import _assert_bodies, _tree_file

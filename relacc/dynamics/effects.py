@@ -135,6 +135,32 @@ class Effects:
         keep = (name, "spring_rest") if name == "spring_stiffness" else (name,)
         return Effects(**{k: getattr(self, k) for k in keep})
 
+    def for_tree(self):
+        """The same effects on the chain's tree (:meth:`relacc.Tree.from_chain`, ``models/two_body.xml``), by joint
+        and body name, for the engines' adapters: the slides ``s2_x``, ``s2_y``, ``s2_z`` get the spring and
+        damper per axis, the ball ``B2_ball`` its damping (a torque ``-c omega_hat`` on B2 and its reaction on B1,
+        the ball's generalized force), ``B2`` the force at G2 (its mass centre) and its torque, ``B1`` its torque;
+        gravity off is zero gravity (not the model file's)."""
+        from relacc.dynamics.tree_effects import BodyLoad, JointEffect, TreeEffects
+
+        joints = {}
+        for k, axis in enumerate("xyz"):
+            stiffness = 0.0 if self.spring_stiffness is None else float(self.spring_stiffness[k])
+            damping = 0.0 if self.spring_damping is None else float(self.spring_damping[k])
+            if stiffness or damping:
+                rest = 0.0 if self.spring_rest is None else float(self.spring_rest[k])
+                joints[f"s2_{axis}"] = JointEffect(stiffness, damping, rest)
+        if self.ball_damping:
+            joints["B2_ball"] = JointEffect(damping=self.ball_damping)
+        bodies = {}
+        zero = np.zeros(3)
+        if self.force_G2 is not None or self.torque_B2 is not None:
+            bodies["B2"] = BodyLoad(zero if self.force_G2 is None else self.force_G2,
+                                    zero if self.torque_B2 is None else self.torque_B2)
+        if self.torque_B1 is not None:
+            bodies["B1"] = BodyLoad(zero, self.torque_B1)
+        return TreeEffects(zero if self.gravity is None else self.gravity, joints, bodies)
+
     def describe(self) -> dict:
         """Plain data: each active effect and its value."""
         out = {}

@@ -1,48 +1,28 @@
-"""Fixed-step integrators on configuration manifolds: RKMK4 and semi-implicit Euler.
+"""Fixed-step integrators on configuration manifolds: RKMK4 and semi-implicit Euler, written once.
 
 A *space* describes a configuration manifold with two operations:
 
 * ``integrate(x, delta)``: move ``x`` by the tangent vector ``delta``;
-* ``dexpinv(delta, w)``: the local-coordinate rate ``d(delta)/dt`` whose
-  configuration ``integrate(x0, delta)`` has velocity ``w`` (tangent at the
-  moved point); for SO(3) in body coordinates this is the inverse right
-  Jacobian ``J_r^-1(delta) w``.
+* ``dexpinv(x0, delta, w)``: the local-coordinate rate ``d(delta)/dt`` whose configuration
+  ``integrate(x0, delta)`` has velocity ``w`` (tangent at the moved point); for SO(3) in body coordinates this is
+  the inverse right Jacobian ``J_r^-1(delta) w`` (:func:`relacc.core.so3.jr_inv`).
 
-The state is a configuration ``x`` and a velocity vector ``v`` in R^n;
-``derivs(x, v)`` returns the tangent velocity of ``x`` and ``dv/dt``. RKMK4 (Runge-Kutta-Munthe-Kaas) runs the classical
-RK4 tableau on the local coordinates ``delta`` around each step's start, so it
-keeps order 4 on the manifold and the quaternions stay unit without
-normalization.
+The state is a configuration ``x`` and a velocity vector ``v``; ``derivs(x, v, t)`` returns the tangent velocity of
+``x`` and ``dv/dt`` at time ``t``. Both may be one state or a batch of rows: :func:`rkmk4_step` and
+:func:`euler_step` use only vector arithmetic, so relacc's trees, Pinocchio's single runs and its batched ensembles
+(``abaInParallel`` per stage) all step through the same code. RKMK4 (Runge-Kutta-Munthe-Kaas) runs the classical
+RK4 tableau on the local coordinates ``delta`` around each step's start, so it keeps order 4 on the manifold and
+quaternions stay unit without normalization. relacc's compiled chain integrators
+(:mod:`relacc.kernels.dynamics`) run the same tableau in compiled loops.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.rotations import tilde
-
-
-def so3_dexpinv_body(phi, w):
-    """``J_r^-1(phi) w``: rate of ``phi`` for ``R = R0 Exp(phi)`` with body angular velocity ``w``.
-
-    ``J_r^-1 = I + 1/2 [phi~] + beta [phi~]^2``, ``beta = 1/theta^2 - (1 + cos theta) / (2 theta sin theta)``,
-    with the series ``beta = 1/12 + theta^2/720 + theta^4/30240`` below theta = 1e-2.
-
-    Args:
-        phi: ``(3,)`` rotation vector (rad). w: ``(3,)`` body angular velocity (rad/s).
-    """
-    theta2 = float(phi @ phi)
-    if theta2 < 1e-4:
-        beta = 1 / 12 + theta2 / 720 + theta2 * theta2 / 30240
-    else:
-        th = np.sqrt(theta2)
-        beta = 1 / theta2 - (1 + np.cos(th)) / (2 * th * np.sin(th))
-    P = tilde(phi)
-    return w + 0.5 * (P @ w) + beta * (P @ (P @ w))
-
 
 class CaseSpace:
-    """The configuration space of a case's coordinates.
+    """The configuration space of a chain case's coordinates.
 
     Cases 1-2: ``R^3 x SO(3) x R^3 x SO(3)`` with tangent vectors
     ``[ds1, phi_B1 (body), ds2', phi_B2/B1 (body of B2)]``, quaternions
@@ -62,37 +42,84 @@ class CaseSpace:
 
         return move_one(int(self.case), np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(delta, dtype=float))
 
-    def dexpinv(self, delta, w):
+    def dexpinv(self, q0, delta, w):
         """The rate of the local coordinates ``delta`` whose move has velocity ``w`` (identity in case 3)."""
         from relacc.kernels.dynamics import dexp_one
 
         return dexp_one(int(self.case), np.ascontiguousarray(delta, dtype=float), np.ascontiguousarray(w, dtype=float))
 
 
-def rkmk4_step(space, x, v, h, derivs):
-    """One RKMK4 step of size ``h`` (s). Returns the new ``(x, v)``."""
-    w1, a1 = derivs(x, v)
+class TreeSpace:
+    """The configuration space of a tree's case-``c`` coordinates, on one state or a batch of rows.
+
+    Tangent vectors are case-2 speeds (MuJoCo's): hinge and slide rates, a free joint's origin velocity (parent
+    components) and, for balls and free joints, body angular velocities. Cases 1-2 move quaternions as
+    ``quat (x) Exp(phi)`` (body rotation vector ``phi``, rate :func:`relacc.core.so3.jr_inv`); case 3 moves angles by
+    the tangent vector itself (its speeds are the angles' rates).
+    """
+
+    def __init__(self, tree, case):
+        from relacc.core.tree.coordinates import rotations
+
+        self.tree, self.case = tree, int(case)
+        self.quats = [(a, d) for _, kind, a, d in rotations(tree, 2)] if self.case != 3 else []
+
+    def integrate(self, q, delta):
+        from relacc.core.so3 import SO3
+
+        out = np.array(q, dtype=float)
+        if self.case == 3:
+            return out + delta
+        one = out.ndim == 1
+        out, delta = np.atleast_2d(out), np.atleast_2d(delta)
+        moved = np.zeros(out.shape[1], dtype=bool)
+        for a, d in self.quats:
+            out[:, a:a + 4] = (SO3(out[:, a:a + 4]) @ SO3.exp(delta[:, d:d + 3])).wxyz
+            moved[a:a + 4] = True
+        lin = np.flatnonzero(~moved)
+        out[:, lin] += delta[:, self._lin_speeds()]
+        return out[0] if one else out
+
+    def _lin_speeds(self):
+        """The speeds that move the coordinates outside quaternions, in the coordinates' order."""
+        ang = {d + i for _, d in self.quats for i in range(3)}
+        return [i for i in range(self.tree.nv) if i not in ang]
+
+    def dexpinv(self, q0, delta, w):
+        from relacc.core.so3 import jr_inv
+
+        if self.case == 3:
+            return w
+        out = np.array(w, dtype=float)
+        for _, d in self.quats:
+            out[..., d:d + 3] = jr_inv(delta[..., d:d + 3], w[..., d:d + 3])
+        return out
+
+
+def rkmk4_step(space, x, v, h, derivs, t=0.0):
+    """One RKMK4 step of size ``h`` (s) from time ``t``. Returns the new ``(x, v)``."""
+    w1, a1 = derivs(x, v, t)
     d2 = 0.5 * h * w1
     x2, v2 = space.integrate(x, d2), v + 0.5 * h * a1
-    w2, a2 = derivs(x2, v2)
-    k2 = space.dexpinv(d2, w2)
+    w2, a2 = derivs(x2, v2, t + 0.5 * h)
+    k2 = space.dexpinv(x, d2, w2)
     d3 = 0.5 * h * k2
     x3, v3 = space.integrate(x, d3), v + 0.5 * h * a2
-    w3, a3 = derivs(x3, v3)
-    k3 = space.dexpinv(d3, w3)
+    w3, a3 = derivs(x3, v3, t + 0.5 * h)
+    k3 = space.dexpinv(x, d3, w3)
     d4 = h * k3
     x4, v4 = space.integrate(x, d4), v + h * a3
-    w4, a4 = derivs(x4, v4)
-    k4 = space.dexpinv(d4, w4)
+    w4, a4 = derivs(x4, v4, t + h)
+    k4 = space.dexpinv(x, d4, w4)
     delta = h / 6 * (w1 + 2 * k2 + 2 * k3 + k4)
     return space.integrate(x, delta), v + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
 
 
-def euler_step(space, x, v, h, derivs):
+def euler_step(space, x, v, h, derivs, t=0.0):
     """One semi-implicit (symplectic) Euler step: ``v += h a(x, v)``, then ``x`` moves with the new ``v``."""
-    _, a = derivs(x, v)
+    _, a = derivs(x, v, t)
     v_new = v + h * a
-    w, _ = derivs(x, v_new)
+    w, _ = derivs(x, v_new, t)
     return space.integrate(x, h * w), v_new
 
 
@@ -156,15 +183,13 @@ def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: fl
     x, v, t, nfev, first = x0, np.asarray(v0, dtype=float), 0.0, 0, None
     n = np.asarray(v0).size
     while t < duration * (1 - 1e-14):
-        if hasattr(space, "at"):
-            space.at(x)
         base = x
 
-        def rhs(_, y, base=base):
+        def rhs(time, y, base=base):
             delta, w = y[:n], y[n:]
             xs = space.integrate(base, delta)
-            tangent, a = derivs(xs, w)
-            return np.concatenate([space.dexpinv(delta, tangent), a])
+            tangent, a = derivs(xs, w, time)
+            return np.concatenate([space.dexpinv(base, delta, tangent), a])
 
         def chart(_, y):
             return max_chart - max((np.linalg.norm(y[r]) for r in rotations), default=0.0)

@@ -45,13 +45,12 @@ class TreeDynamics:
     case: int
 
 
-def _speed_map(case, kind, jf):
+def _speed_map(case, kind, jf, n):
     """``(B, B_dot)``: a ball's or free joint's MuJoCo (case 2) angular speeds are ``B u`` of the case's."""
-    Ra = jf.R_after
-    RaT = np.swapaxes(Ra, -1, -2)
     if case == 2:
-        eye = np.broadcast_to(np.eye(3), Ra.shape)
+        eye = np.broadcast_to(np.eye(3), (n, 3, 3))
         return eye, np.zeros_like(eye)
+    RaT = np.swapaxes(jf.R_after, -1, -2)
     return RaT @ jf.A, RaT @ jf.A_dot - RaT @ tilde(jf.w_after) @ jf.A
 
 
@@ -93,28 +92,32 @@ def equations(tree, case, q, u, effects=None, t=0.0):
     return M, f
 
 
-def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
-    """Armature, springs and dampers: terms on case-2 speeds, mapped to the case's through ``[B]``."""
+def _joint_terms(tree, case, q, u, joints, joint_effects, M, f, armature=True):
+    """Armature (unless ``armature`` is False), springs and dampers: terms on case-2 speeds, mapped to the case's
+    through ``[B]``; ``joints`` (the walk's joint frames) may be None in case 2."""
     effect_at = {k: (eff, rest) for k, eff, rest in joint_effects}
     rot = {k: (kind, a, d) for k, kind, a, d in rotations(tree, case)}
     for k, ((_, j), a, d) in enumerate(zip(tree.joints, tree.qadr(case), tree.dofadr)):
         eff, rest = effect_at.get(k, (None, None))
-        if not (np.any(j.armature) or eff is not None):
+        arm_all = j.armature if armature else np.zeros_like(j.armature)
+        if not (np.any(arm_all) or eff is not None):
             continue
         lin = 3 if j.type == "free" else (1 if j.type in ("hinge", "slide") else 0)
         for i in range(lin):  # hinge, slide, a free joint's translation: case-2 speeds in every case
-            M[:, d + i, d + i] += j.armature[i]
+            if arm_all[i]:
+                M[:, d + i, d + i] += arm_all[i]
             if eff is not None:
                 spring = eff.stiffness * (q[:, a + i] - rest) if j.type != "free" else 0.0
                 f[:, d + i] -= spring + eff.damping * u[:, d + i]
         if k not in rot:
             continue
         kind, qa, da = rot[k]
-        B, B_dot = _speed_map(case, kind, joints[k])
+        B, B_dot = _speed_map(case, kind, None if joints is None else joints[k], q.shape[0])
         u2 = mv(B, u[:, da:da + 3])
-        arm = j.armature[lin:lin + 3]
-        blk = (slice(None), slice(da, da + 3), slice(da, da + 3))
-        M[blk] += np.swapaxes(B, -1, -2) @ (arm[:, None] * B)
+        arm = arm_all[lin:lin + 3]
+        if np.any(arm):
+            blk = (slice(None), slice(da, da + 3), slice(da, da + 3))
+            M[blk] += np.swapaxes(B, -1, -2) @ (arm[:, None] * B)
         tau2 = -arm * mv(B_dot, u[:, da:da + 3])
         if eff is not None:
             tau2 = tau2 - eff.damping * u2
@@ -122,6 +125,16 @@ def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
                 tau2 = tau2 - eff.stiffness * (SO3(np.broadcast_to(rest, (q.shape[0], 4))).inverse()
                                                @ SO3(_ball_quaternion(case, q, qa))).log()
         f[:, da:da + 3] += mv(np.swapaxes(B, -1, -2), tau2)
+
+
+def joint_forces(tree, q, v, effects) -> np.ndarray:
+    """``(n, nv)`` the generalized forces of ``effects``' joint springs and dampers alone at case-2 states
+    ``q (n, nq)``, ``v (n, nv)`` (MuJoCo's ``qpos``, ``qvel``): what MuJoCo's passive force gives for them (N, N m
+    per speed)."""
+    _, joint_effects, _ = effects.resolve(tree)
+    f = np.zeros((q.shape[0], tree.nv))
+    _joint_terms(tree, 2, q, v, None, joint_effects, np.zeros((0, tree.nv, tree.nv)), f, armature=False)
+    return f
 
 
 def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:

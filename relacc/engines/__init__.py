@@ -1,13 +1,19 @@
-"""Engine adapters: one module per engine behind one interface (:class:`Engine`).
+"""Engine adapters: one package per engine behind one interface (:class:`relacc.engines.base.Adapter`).
 
+* :mod:`relacc.engines.mujoco_` -- MuJoCo (imports only ``mujoco``): its reading of a model file is the reference
+  every other adapter is matched to, and relacc's tree of it;
 * :mod:`relacc.engines.pinocchio_` -- Pinocchio (imports only ``pinocchio``);
-* :mod:`relacc.engines.mujoco_` -- MuJoCo (imports only ``mujoco``);
 * :mod:`relacc.engines.drake_` -- Drake (imports only ``pydrake``).
 
-Each adapter converts its engine's conventions locally and documents them
-beside the code. Layer rule: adapters import the core, the dynamics, the
-fixtures and their own engine; nothing imports an adapter but through
-:func:`load_engine`, which imports it when it is asked for.
+An adapter is one model in one engine (a model file, or relacc's tree where the engine's parser would read it
+otherwise) and serves the chain and any robot alike: loading, speed maps to relacc's coordinates, batched dynamics
+and points, a stepper. :mod:`relacc.engines.base` states the interface and does, once for every engine, what is
+engine-free (speed maps, the equations in relacc's speeds); :mod:`relacc.engines.chain` is the note's chain on the
+adapters (G2 is a point of its model).
+
+Layer rule: adapters import the core, the dynamics, the fixtures and their own engine, and only their own;
+nothing outside ``engines/`` imports an engine package or an adapter's module: everything goes through
+:func:`load` and :func:`load_engine`, which import an adapter when it is asked for.
 """
 
 from __future__ import annotations
@@ -15,21 +21,20 @@ from __future__ import annotations
 import importlib
 import importlib.util
 
-from relacc.engines.base import ROUTES, Engine
+from relacc.engines.base import Adapter
+from relacc.engines.chain import ROUTES, ChainEngine
 from relacc.errors import EngineError
-from relacc.fixtures import Fixture, load
 
 ENGINES = ("pinocchio", "mujoco", "drake")
 """Engine names, in report order."""
 
-_MODULES = {"pinocchio": ("relacc.engines.pinocchio_", "PinocchioEngine", "pinocchio", "pin"),
-            "mujoco": ("relacc.engines.mujoco_", "MujocoEngine", "mujoco", "mujoco"),
-            "drake": ("relacc.engines.drake_", "DrakeEngine", "pydrake", "drake")}
+_PACKAGES = {"pinocchio": ("pinocchio", "pin"), "mujoco": ("mujoco", "mujoco"), "drake": ("pydrake", "drake")}
+"""Each engine's Python package and its pip name."""
 
 
 def installed(name: str) -> bool:
     """Whether an engine's Python package is installed (found without importing it)."""
-    return importlib.util.find_spec(_MODULES[name][2]) is not None
+    return importlib.util.find_spec(_PACKAGES[name][0]) is not None
 
 
 def available() -> tuple[str, ...]:
@@ -37,20 +42,56 @@ def available() -> tuple[str, ...]:
     return tuple(name for name in ENGINES if installed(name))
 
 
-def load_engine(name: str, fixture: Fixture | None = None) -> Engine:
-    """Load an engine adapter with a fixture (default: the shipped ``two_body.toml``).
+def adapter_module(name: str):
+    """The adapter package of an engine (imports the engine).
+
+    Raises:
+        EngineError: an unknown engine, or one not installed here.
+    """
+    if name not in _PACKAGES:
+        raise EngineError(f"unknown engine {name!r}: accepted are {', '.join(ENGINES)}")
+    if not installed(name):
+        raise EngineError(f"engine {name} is not installed here (pip install {_PACKAGES[name][1]}); installed: "
+                          f"{', '.join(available()) or 'none'}")
+    return importlib.import_module(f"relacc.engines.{name}_")
+
+
+def readings(name: str) -> tuple[tuple, tuple]:
+    """``(MJCF_READINGS, ENGINE_READINGS)`` of an engine: how its parser reads a model differently from MuJoCo (as
+    changes to MuJoCo's spec) and the known differences in its algorithms (MuJoCo, the reference: none)."""
+    if name == "mujoco":
+        return (), ()
+    module = importlib.import_module(f"{adapter_module(name).__name__}.readings")
+    return module.MJCF_READINGS, module.ENGINE_READINGS
+
+
+def load(name: str, path, reference=None, **options) -> Adapter:
+    """The one loader: model file ``path`` in engine ``name``, matched to ``reference`` (a :class:`relacc.Tree`;
+    default: MuJoCo's reading of the same file). Options by engine: Pinocchio ``urdf=``, ``split=``; Drake
+    ``build=`` (the plant of ``reference`` itself).
+
+    Raises:
+        EngineError: an unknown or missing engine. ModelError: the engine cannot read the file.
+    """
+    module = adapter_module(name)
+    if reference is None and name != "mujoco":
+        reference = load("mujoco", path).reference
+    return module.load(path, reference, **options)
+
+
+def load_engine(name: str, fixture=None, **options) -> ChainEngine:
+    """The note's chain (``fixture``; default the shipped ``two_body.toml``) in one engine, both routes.
 
     Raises:
         EngineError: unknown engine name, or an engine not installed here.
         FixtureError: unreadable or stale model files.
     """
-    if name not in _MODULES:
-        raise EngineError(f"unknown engine {name!r}: accepted are {', '.join(ENGINES)}")
-    module, cls, package, pip_name = _MODULES[name]
-    if not installed(name):
-        raise EngineError(f"engine {name} is not installed here (pip install {pip_name}); installed: "
-                          f"{', '.join(available()) or 'none'}")
-    return getattr(importlib.import_module(module), cls)(fixture if fixture is not None else load())
+    from relacc.engines.chain import chain_engine
+    from relacc.fixtures import load as load_fixture
+
+    adapter_module(name)
+    return chain_engine(name, fixture if fixture is not None else load_fixture(), **options)
 
 
-__all__ = ["ENGINES", "ROUTES", "Engine", "available", "installed", "load_engine"]
+__all__ = ["ENGINES", "ROUTES", "Adapter", "ChainEngine", "adapter_module", "available", "installed", "load",
+           "load_engine", "readings"]

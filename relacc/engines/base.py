@@ -1,119 +1,204 @@
-"""The interface every engine adapter implements.
+"""The one interface of an engine adapter, and everything adapters share (engine-free).
 
-An adapter evaluates G2's position, velocity, classical acceleration, V and
-Vdot for a case's state with an established engine and returns the core's
-:class:`relacc.G2Kinematics`, all in fixed-frame components.
+An **adapter** is one model in one engine: a model file read by the engine's own parser (or, where that parser
+would read the model otherwise, a model the engine builds from relacc's tree), matched joint by joint to the
+*reference*: relacc's tree of the same model as MuJoCo's compiler reads it (:class:`relacc.Tree`). Everything an
+adapter answers, it answers in the reference's coordinates, the tree's case 2 (MuJoCo's own ``qpos``/``qvel``):
 
-Two routes:
+* free joint: ``q = [p (3), quat (4)]``, ``p`` the body frame's origin in its parent (world: m), ``quat`` its
+  orientation ``(w, x, y, z)``; ``v = [p_dot (3, parent components), omega (3, body components)]``;
+* ball joint: ``q`` the child's orientation in its parent ``(w, x, y, z)``; ``v`` its angular velocity relative to
+  the parent, child components (rad/s);
+* hinge, slide: one angle (rad) or displacement (m) and its rate (MuJoCo's ``ref`` included).
 
-* ``"quaternion"`` (cases 1, 2, 3): the MJCF fixture ``two_body.xml``. The
-  case's state goes to the body speeds of :mod:`relacc.core.speeds`
-  (``nu = [W] u``), then to the engine's own velocity vector
-  ``v_e = [P(q)] nu`` by the adapter's documented map ``P``. With
-  ``[E] = [P][W]`` (``v_e = [E] u``) and ``[E_dot] = [P_dot][W] + [P][W_dot]``,
-  ``V = [J][E]``, ``Vdot = [J_dot][E] + [J][E_dot]``, and the engine is handed
-  ``a_e = [E] udot + [E_dot] u``.
-* ``"euler"`` (case 3 only): the Euler-angle fixtures, whose joint positions
-  and velocities *are* the case-3 ``q`` and ``u``: no mapping at all.
+An engine whose coordinates differ converts them once, in its adapter, joint by joint (:class:`Match`): its
+positions from the reference's (:meth:`Adapter.q_block`, and back, :meth:`Adapter.q_back`) and its speeds by a
+speed map ``v_e = T(q) v`` with rate ``T_dot(q, v)`` (:meth:`Adapter.v_block`). Here, once for every engine:
+``M = T^T M_e T``, ``bias = T^T (b_e + M_e T_dot v)``, ``a = T^-1 (a_e - T_dot v)``, ``J = J_e T``,
+``J_dot v = J_dot_e v_e + J_e T_dot v``; a point's classical acceleration needs no map.
 
-Each adapter computes the acceleration by the engine's own acceleration
-routine, independently of its Jacobian time variation.
+Each adapter implements, in its engine's own coordinates and batched over states: :meth:`Adapter.equations`
+(``M_e``, ``f_e`` under exactly the given effects), :meth:`Adapter.forward`, :meth:`Adapter.points` (named points
+and links' mass centres: position, Jacobian, its rate, classical acceleration) and :meth:`Adapter.stepper`.
 """
 
 from __future__ import annotations
 
 import abc
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.core.cases import Case, as_case, check_q, check_u
-from relacc.core.kinematics import G2Kinematics, check_finite_result
-from relacc.core.note.common import mv
-from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion
-from relacc.core.scales import global_condition, offset_error
-from relacc.core.speeds import body_speed_map, check_invertible, quaternion_coordinates
-from relacc.core.tolerances import rounding_tolerance
 from relacc.errors import EngineError
 
-ROUTES = ("quaternion", "euler")
+JOINT_TYPES = ("free", "ball", "slide", "hinge")
+"""Joint types in the common description (MuJoCo's names)."""
+
+NQ = {"free": 7, "ball": 4, "slide": 1, "hinge": 1, "floating": 7}
+NV = {"free": 6, "ball": 3, "slide": 1, "hinge": 1, "floating": 6}
 
 
 @dataclass(frozen=True)
-class EngineInput:
-    """A batch of states in an engine's own coordinates.
+class Joint:
+    """One joint as an engine sees it, at the reference configuration.
 
     Attributes:
-        q: ``(n, nq_e)`` engine positions. v: ``(n, nv_e)`` velocities.
-        a: ``(n, nv_e)`` accelerations (None without udot).
-        E: ``(n, nv_e, 12)``, ``v_e = [E] u``. E_dot: ``(n, nv_e, 12)`` its rate.
+        name: the reference joint's name. type: one of :data:`JOINT_TYPES`. body: the body it moves.
+        axis: ``(3,)`` unit axis in world components (hinge, slide), else None.
+        anchor: ``(3,)`` the joint's position in world (m); a hinge's, the point of its axis nearest the origin.
+        armature, damping: ``(nv,)`` per degree of freedom (kg m^2 or kg; N m s/rad or N s/m).
     """
 
-    q: np.ndarray
-    v: np.ndarray
-    a: np.ndarray | None
-    E: np.ndarray
-    E_dot: np.ndarray
+    name: str
+    type: str
+    body: str
+    axis: np.ndarray | None = field(repr=False)
+    anchor: np.ndarray | None = field(repr=False)
+    armature: np.ndarray = field(repr=False)
+    damping: np.ndarray = field(repr=False)
 
 
 @dataclass(frozen=True)
-class PointKinematics:
-    """What the engine computes for G2 over a batch, in its own velocity coordinates.
+class Link:
+    """A rigid group of bodies (a moving body and the bodies welded to it), at the reference configuration.
 
     Attributes:
-        position: ``(n, 3)`` G2 in world (= fixed frame R) components, m.
-        J: ``(n, 3, nv_e)`` translational Jacobian of G2, world components.
-        J_dot: ``(n, 3, nv_e)`` its time derivative along the motion.
-        acceleration: ``(n, 3)`` classical acceleration of G2, world components,
-            from the engine's acceleration routine (None without ``a``).
+        name: its moving body's name. bodies: every body in it.
+        mass: kg. com: ``(3,)`` centre of mass in world (m).
+        inertia: ``(3, 3)`` about the centre of mass, world components (kg m^2).
+    """
+
+    name: str
+    bodies: tuple[str, ...]
+    mass: float
+    com: np.ndarray = field(repr=False)
+    inertia: np.ndarray = field(repr=False)
+
+
+@dataclass(frozen=True)
+class Structure:
+    """What an engine made of a model file: joints and links at the reference configuration, gravity, mass.
+
+    Attributes:
+        nq, nv: the engine's own counts. joints: in the reference's order, those the engine has.
+        links: one per moving body it has. gravity: ``(3,)`` m/s^2, world. total_mass: kg, every body.
+        bodies: every body name it has (world excluded).
+    """
+
+    nq: int
+    nv: int
+    joints: tuple[Joint, ...]
+    links: tuple[Link, ...]
+    gravity: np.ndarray = field(repr=False)
+    total_mass: float
+    bodies: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Points:
+    """Points at a batch of states: ``(n, P, ...)``, world components.
+
+    Attributes:
+        position: ``(n, P, 3)`` m. J: ``(n, P, 3, nv)`` the point's velocity Jacobian (m/s per unit speed).
+        Jdot: ``(n, P, 3, nv)`` its time derivative along the motion, or None where not asked for.
+        Jdot_v: ``(n, P, 3)`` ``J_dot v`` (m/s^2). acceleration: ``(n, P, 3)`` classical acceleration
+            (m/s^2) at the given speed rates, by the engine's own acceleration routine; None without rates.
     """
 
     position: np.ndarray
     J: np.ndarray
-    J_dot: np.ndarray
+    Jdot: np.ndarray | None
+    Jdot_v: np.ndarray
     acceleration: np.ndarray | None
 
 
-class Engine(abc.ABC):
-    """An engine loaded with the chain's fixtures.
+@dataclass(frozen=True)
+class Dynamics:
+    """Rigid-body dynamics at one state over the shared speeds, reference coordinates.
 
-    Subclasses set ``name`` (and ``global_coordinates``, the quantities the
-    engine forms from differences of world positions) and implement the
-    abstract methods, each converting the engine's conventions locally:
-
-    * :attr:`version`;
-    * :meth:`engine_input`, :meth:`note_coordinates`: the coordinate map of a
-      route and its inverse;
-    * :meth:`points`: G2's position, Jacobian, its rate and classical
-      acceleration for a batch, in the engine's own velocity coordinates;
-    * :meth:`dynamics`, :meth:`forward_dynamics`: the engine's ``M``, ``f``
-      and accelerations under exactly the given effects;
-    * :meth:`stepper`: its fixed-step integrator for :mod:`relacc.dynamics.steps`;
-    * :meth:`body_state`: engine coordinates back to Case 2's ``(q14, nu)``.
-
-    Everything else (:meth:`g2_kinematics`, :meth:`equations_of_motion`,
-    :meth:`simulate`, :meth:`bound`, ...) is built on these here.
+    ``M a + bias = tau``: M ``(n, n)``; bias ``(n,)`` (Coriolis, centrifugal and gravity);
+    gravity ``(n,)`` the gravity part alone (``bias`` at zero speeds); forward ``(n,)`` the
+    accelerations at zero ``tau`` (no passive force, actuator or constraint), None where the engine has speeds
+    the reference lacks. Units per speed: kg m^2 or kg; N m or N; rad/s^2 or m/s^2.
     """
 
-    name: str = ""
+    M: np.ndarray
+    bias: np.ndarray
+    gravity: np.ndarray
+    forward: np.ndarray | None
+
+
+@dataclass(frozen=True)
+class Match:
+    """Where some of the reference's joints sit in an engine's coordinates.
+
+    ``kind``: the reference joint's type, or ``floating`` for three slides along the parent's axes then a ball
+    (one engine joint, a floating joint relative to the parent). ``joints``: reference joint indices; ``ref_q``,
+    ``ref_v``: their positions and speeds in the reference; ``q``, ``v``: the engine's, all index tuples.
+    """
+
+    kind: str
+    joints: tuple
+    ref_q: tuple
+    ref_v: tuple
+    q: tuple
+    v: tuple
+
+
+def combine(parts) -> tuple[float, np.ndarray, np.ndarray]:
+    """``(mass, com, inertia about com)`` of rigid parts ``(mass, com (3,), inertia about own com (3, 3))``.
+
+    All in one frame's components; the parallel-axis theorem moves each part to the common centre.
+    """
+    parts = list(parts)
+    mass = float(sum(m for m, _, _ in parts))
+    if mass <= 0:
+        return mass, np.zeros(3), np.zeros((3, 3))
+    com = sum(m * np.asarray(c, dtype=float) for m, c, _ in parts) / mass
+    inertia = np.zeros((3, 3))
+    for m, c, I in parts:
+        d = np.asarray(c, dtype=float) - com
+        inertia += np.asarray(I, dtype=float) + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return mass, com, inertia
+
+
+def com(link: str) -> tuple[str, str]:
+    """The point spec of a link's centre of mass (by the engine's own inertias), for :meth:`Adapter.points`."""
+    return ("com", link)
+
+
+def body(name: str) -> tuple[str, str]:
+    """The point spec of one body's mass centre (a body, not its link), for :meth:`Adapter.points`."""
+    return ("body", name)
+
+
+def point(name: str) -> tuple[str, str]:
+    """The point spec of a named point of the model (a MuJoCo site; a frame of that name elsewhere)."""
+    return ("point", name)
+
+
+class Adapter(abc.ABC):
+    """One model in one engine, matched to the reference (see the module docstring).
+
+    Attributes:
+        engine: its name. reference: the :class:`relacc.Tree` it is matched to. source: the file it read.
+        structure: :class:`Structure`. matches: :class:`Match` per reference joint it has.
+        warnings: its parser's messages. nq_e, nv_e: its own counts.
+        global_coordinates: quantities it forms from differences of world positions (their accuracy follows
+            :func:`relacc.core.scales.global_condition`).
+    """
+
+    engine: str = ""
     global_coordinates: frozenset = frozenset()
-    """Quantities the engine forms from differences of world positions; their
-    accuracy follows :func:`relacc.core.scales.global_condition`."""
 
-    def lost_offset(self, route: str) -> float:
-        """Metres by which the compiled model misplaces G2 (0 unless an engine rounds the model)."""
-        return 0.0
+    def __init__(self, reference, matches, nq_e: int, nv_e: int, source=None, warnings=()):
+        self.reference, self.matches, self.nq_e, self.nv_e = reference, tuple(matches), int(nq_e), int(nv_e)
+        self.source, self.warnings = source, list(warnings)
+        self.dofs = np.array(sorted(i for m in self.matches for i in m.ref_v), dtype=int)
+        self.qdofs = np.array(sorted(i for m in self.matches for i in m.ref_q), dtype=int)
+        self.extra_dofs = self.nv_e - len(self.dofs)
 
-    def bound(self, route: str, quantity: str, chain, case, q, u, udot=None):
-        """Per-state bound on the normalized error of ``quantity`` against the core.
-
-        ``c eps condition + offset``: the condition is
-        :func:`relacc.core.scales.global_condition` for the quantities in
-        ``global_coordinates`` (else 1), the offset
-        :func:`relacc.core.scales.offset_error` of :meth:`lost_offset`.
-        """
-        cond = global_condition(quantity, chain, case, q, u, udot) if quantity in self.global_coordinates else 1.0
-        return rounding_tolerance() * cond + offset_error(self.lost_offset(route), quantity, chain, case, q, u, udot)
+    # --- what each engine implements -------------------------------------------------------------------------
 
     @property
     @abc.abstractmethod
@@ -121,230 +206,182 @@ class Engine(abc.ABC):
         """The engine's version string."""
 
     @abc.abstractmethod
-    def engine_input(self, route: str, case: Case, q, u, udot) -> EngineInput:
-        """Map a batch of a case's states to the engine's coordinates."""
+    def default_q(self) -> np.ndarray:
+        """``(nq_e,)`` the engine's positions of joints the reference lacks (and the starting point of the rest)."""
+
+    def q_block(self, match: Match, x) -> np.ndarray:
+        """The engine's positions ``(n, len(match.q))`` of one match from the reference's ``x (n, len(ref_q))``."""
+        return x
+
+    def q_back(self, match: Match, xe) -> np.ndarray:
+        """The inverse of :meth:`q_block`."""
+        return xe
+
+    def v_block(self, match: Match, x, w) -> tuple[np.ndarray, np.ndarray]:
+        """``(T, T_dot)`` ``(n, len(match.v), len(ref_v))``: the match's engine speeds ``T w`` from the reference's
+        positions ``x`` and speeds ``w`` (default: the same speeds)."""
+        n, k = len(x), len(match.ref_v)
+        return np.broadcast_to(np.eye(k), (n, k, k)), np.zeros((n, k, k))
 
     @abc.abstractmethod
-    def note_coordinates(self, route: str, case: Case, q_e) -> np.ndarray:
-        """Inverse of the coordinate map: engine positions ``(n, nq_e)`` to the case's ``q``."""
-
-    def note_state(self, route: str, case, x: EngineInput):
-        """Inverse of :meth:`engine_input`: ``(q, u, udot)`` of the case from engine coordinates.
-
-        ``u = [E]^-1 v_e`` and ``udot = [E]^-1 (a_e - [E_dot] u)``. For case 3 on
-        the quaternion route this goes through :func:`relacc.core.rotations.angles_123_from_matrix`,
-        ill-conditioned near gimbal lock; it serves round-trip tests, not comparisons.
-
-        Raises:
-            SingularityError: case 3 within ``MAX_CONDITION`` of gimbal lock.
-        """
-        c = as_case(case)
-        q = self.note_coordinates(route, c, x.q)
-        check_invertible(c, q)
-        u = np.linalg.solve(x.E, x.v[..., None])[..., 0]
-        udot = None if x.a is None else np.linalg.solve(x.E, (x.a - mv(x.E_dot, u))[..., None])[..., 0]
-        return q, u, udot
+    def equations(self, qe, ve, effects=None, t=0.0) -> tuple[np.ndarray, np.ndarray]:
+        """``(M_e (n, nv_e, nv_e), f_e (n, nv_e))``: ``M_e vdot_e = f_e`` with ``f_e`` the generalized forces of
+        exactly ``effects`` (a :class:`relacc.dynamics.tree_effects.TreeEffects`; None: the model's own gravity
+        as the engine read it, nothing else) minus the Coriolis and centrifugal terms, at time ``t`` (s)."""
 
     @abc.abstractmethod
-    def dynamics(self, q, v, effects):
-        """Engine equations ``M_e vdot_e = f_e`` on the quaternion route, for a batch.
-
-        Args:
-            q, v: ``(n, nq_e)``, ``(n, nv_e)`` engine coordinates.
-            effects: :class:`relacc.dynamics.effects.Effects`, the only effects applied.
-
-        Returns:
-            ``M_e`` ``(n, nv_e, nv_e)`` and ``f_e`` ``(n, nv_e)``: generalized
-            forces of the effects minus the bias forces, in engine coordinates.
-        """
+    def forward(self, qe, ve, effects=None, t=0.0) -> np.ndarray:
+        """``(n, nv_e)`` the engine's forward dynamics under exactly ``effects`` (as :meth:`equations`)."""
 
     @abc.abstractmethod
-    def forward_dynamics(self, q, v, effects):
-        """Engine accelerations ``vdot_e`` ``(n, nv_e)`` at ``(q, v)`` under exactly ``effects`` (quaternion route)."""
+    def points(self, qe, ve, ae, specs, *, jdot: bool = False) -> Points:
+        """:class:`Points` of ``specs`` (:func:`point`, :func:`com`) at engine states ``qe (n, nq_e)``,
+        ``ve (n, nv_e)``, rates ``ae`` (or None); ``jdot``: also the Jacobian's rate as a matrix."""
 
     @abc.abstractmethod
     def stepper(self, effects, dt: float, integrator: str, accuracy: float | None = None):
-        """The engine's integrator under exactly ``effects``, a :class:`relacc.dynamics.steps.Stepper`.
-
-        Its ``advance(x, v, k)`` takes ``k`` steps of ``dt`` seconds from engine
-        coordinates ``(x, v)`` (:mod:`relacc.dynamics.steps`). ``accuracy``: the target of
-        an error-controlled integrator (its largest step ``dt``); None for
-        fixed steps, the only kind most engines have.
+        """The engine's integrator under exactly ``effects``, a :class:`relacc.dynamics.steps.Stepper` in engine
+        coordinates; ``accuracy``: an error-controlled integrator's target (None: fixed steps).
 
         Raises:
             EngineError: an integrator the engine lacks, or an accuracy it cannot honour.
         """
 
-    def simulate(self, q, v, effects, dt: float, n_steps: int, integrator: str, record_every: int = 1,
-                 progress=None, accuracy: float | None = None):
-        """Integrate from engine coordinates ``(q, v)`` for ``n_steps`` steps of ``dt`` seconds.
+    def load_forces(self, qe, effects, t=0.0) -> np.ndarray:
+        """``(n, nv_e)`` the generalized forces of ``effects``' body loads (engines that configure their model to
+        apply them, like MuJoCo, leave this zero)."""
+        return np.zeros((len(qe), self.nv_e))
 
-        Through the one step loop, :func:`relacc.dynamics.steps.collect`.
+    def generalized_forces(self, qe, ve, effects, t=0.0) -> np.ndarray:
+        """``(n, nv_e)`` the generalized forces of ``effects``' joint springs, dampers and body loads at time ``t``
+        (gravity excepted: it is the engine's gravity field). Joints' are relacc's (MuJoCo's passive force,
+        :func:`relacc.dynamics.tree.joint_forces`) on the reference's speeds, mapped to the engine's by ``T^-T``
+        (the same power); loads are the engine's own (:meth:`load_forces`)."""
+        qe = np.atleast_2d(qe)
+        tau = np.zeros((len(qe), self.nv_e))
+        if effects is None:
+            return tau
+        if effects.joints:
+            from relacc.dynamics.tree import joint_forces
 
-        Returns:
-            ``(t, Q, V)``: times ``(m,)`` (s) and engine states ``(m, nq_e)``,
-            ``(m, nv_e)`` every ``record_every`` steps and at the last step,
-            the initial state first.
-
-        Raises:
-            IntegrationError: the run diverged. EngineError: unknown integrator.
-        """
-        from relacc.dynamics.steps import collect
-
-        return collect(self.stepper(effects, dt, integrator, accuracy), q, v, dt, n_steps, record_every,
-                       who=self.name, integrator=integrator, progress=progress)
-
-    @abc.abstractmethod
-    def body_state(self, q, v):
-        """Engine coordinates ``(n, nq_e)``, ``(n, nv_e)`` to Case 2's ``(q14, nu)`` (quaternion route)."""
-
-    @staticmethod
-    def fixed_step_only(name: str, accuracy) -> None:
-        """Refuse an error-controlled run for an engine that has fixed-step integrators only."""
-        if accuracy is not None:
-            raise EngineError(f"{name} has fixed-step integrators only; drop the accuracy (got {accuracy})")
+            q, v = self.from_engine(qe, ve)
+            T, _ = self.speed_map(q, v)
+            tau += np.linalg.solve(np.swapaxes(T, 1, 2), joint_forces(self.reference, q, v, effects)[..., None])[..., 0]
+        if effects.bodies:
+            tau += self.load_forces(qe, effects, t)
+        return tau
 
     def applied(self, effects) -> dict:
-        """What the engine is told to apply for ``effects``, as plain data for reports.
+        """What the engine is told to apply for ``effects``, as plain data for reports."""
+        return {"effects": describe(effects)}
 
-        Default: gravity through the model and every other effect as a
-        generalized force; adapters that switch features off say which.
-        """
-        g = "0 (off)" if effects.gravity is None else str(effects.gravity.tolist())
-        forces = [n for n in effects.active() if n != "gravity"]
-        return {"model.gravity": g, "generalized forces": forces or "none"}
+    def energy(self, qe, ve, effects) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(kinetic, gravity, spring)`` energies ``(n,)`` J of engine states: relacc's formulas
+        (:mod:`relacc.dynamics.tree_energy`) at the states mapped back to the reference's coordinates."""
+        from relacc.dynamics.tree_energy import tree_energy
 
-    def energy_terms(self, chain, q, v, effects):
-        """``(kinetic, gravity, spring)`` energies, J, ``(n,)`` each, of a batch of engine states.
+        q, v = self.from_engine(qe, ve)
+        return tree_energy(self.reference, q, v, effects)
 
-        Default: relacc's formulas (:func:`relacc.dynamics.energy_terms`) at the
-        engine's state mapped to Case 2 (:meth:`body_state`).
-        """
-        from relacc.dynamics import energy_terms
+    def momenta(self, qe, ve) -> tuple[np.ndarray, np.ndarray]:
+        """Linear (kg m/s) and angular (kg m^2/s, about the world origin) momenta ``(n, 3)`` of engine states."""
+        from relacc.dynamics.tree_energy import tree_momenta
 
-        q14, nu = self.body_state(q, v)
-        return energy_terms(chain, 2, q14, nu, effects)
+        q, v = self.from_engine(qe, ve)
+        return tree_momenta(self.reference, q, v)
 
-    def momenta(self, chain, q, v):
-        """Linear (kg m/s) and angular (kg m^2/s, about R's origin) momenta ``(n, 3)``, fixed components."""
-        from relacc.dynamics import momenta
+    def lost_offset(self, name: str) -> float:
+        """Metres by which the engine's model misplaces the named point (0 unless an engine rounds the model)."""
+        return 0.0
 
-        q14, nu = self.body_state(q, v)
-        return momenta(chain, 2, q14, nu)
+    # --- built here, once for every engine ------------------------------------------------------------------
 
-    def initial_state(self, case, q, u):
-        """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates on the quaternion route.
+    def engine_q(self, q) -> np.ndarray:
+        """``(n, nq_e)`` the engine's positions of reference positions ``q (n, nq)``."""
+        q = np.atleast_2d(np.asarray(q, dtype=float))
+        qe = np.repeat(self.default_q()[None], len(q), axis=0)
+        for m in self.matches:
+            qe[:, list(m.q)] = self.q_block(m, q[:, list(m.ref_q)])
+        return qe
 
-        Returns:
-            ``(q_e (nq_e,), v_e (nv_e,))``, the engine's own units and frames.
-        """
-        x = self.engine_input("quaternion", as_case(case), np.asarray(q)[None], np.asarray(u)[None], None)
-        return x.q[0], x.v[0]
+    def speed_map(self, q, v) -> tuple[np.ndarray, np.ndarray]:
+        """``(T, T_dot)`` ``(n, nv_e, len(dofs))``: the engine's speeds from the shared reference speeds,
+        ``v_e = T v[dofs]``, and the map's rate along ``v``."""
+        q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
+        n = len(q)
+        column = {d: i for i, d in enumerate(self.dofs)}
+        T, Td = np.zeros((n, self.nv_e, len(self.dofs))), np.zeros((n, self.nv_e, len(self.dofs)))
+        for m in self.matches:
+            Tm, Tdm = self.v_block(m, q[:, list(m.ref_q)], v[:, list(m.ref_v)])
+            rows, cols = np.array(m.v)[:, None], np.array([column[d] for d in m.ref_v])[None, :]
+            T[:, rows, cols], Td[:, rows, cols] = Tm, Tdm
+        return T, Td
 
-    def equations_of_motion(self, case, q, u, effects):
-        """The engine's ``(M, f)`` mapped to a case's speeds: ``E^T M_e E`` and ``E^T (f_e - M_e E_dot u)``.
+    def to_engine(self, q, v, a=None):
+        """``(qe, ve, ae, T, T_dot)``: reference states ``(n, nq)``, ``(n, nv)`` (rates ``a`` or None) in the engine's
+        coordinates, speeds the engine lacks dropped, and the speed map."""
+        q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
+        T, Td = self.speed_map(q, v)
+        vs = v[:, self.dofs]
+        ve = np.einsum("nij,nj->ni", T, vs)
+        ae = None if a is None else (np.einsum("nij,nj->ni", T, np.atleast_2d(a)[:, self.dofs])
+                                     + np.einsum("nij,nj->ni", Td, vs))
+        return np.ascontiguousarray(self.engine_q(q)), ve, ae, T, Td
 
-        With ``v_e = E u``, ``vdot_e = E udot + E_dot u``; quaternion route.
-        """
-        c = as_case(case)
-        q = check_q(c, q)
-        u = check_u(f"u for case {int(c)}", u)
-        x = self.engine_input("quaternion", c, np.atleast_2d(q), np.atleast_2d(u), None)
-        Me, fe = self.dynamics(np.ascontiguousarray(x.q), np.ascontiguousarray(x.v), effects)
-        M = np.swapaxes(x.E, -1, -2) @ Me @ x.E
-        f = np.einsum("nji,nj->ni", x.E, fe - np.einsum("nij,njk,nk->ni", Me, x.E_dot, np.atleast_2d(u)))
-        return M.reshape(q.shape[:-1] + (12, 12)), f.reshape(q.shape[:-1] + (12,))
-
-    @abc.abstractmethod
-    def points(self, route: str, q, v, a) -> PointKinematics:
-        """Evaluate G2 for a batch ``(n, nq_e)``, ``(n, nv_e)`` in engine coordinates.
-
-        One tight loop over the states with the engine's model and data
-        reused; results go straight into preallocated arrays.
-        """
-
-    def g2_kinematics(self, case, q, u, udot=None, *, route="quaternion") -> G2Kinematics:
-        """G2's kinematics by this engine, in the core's conventions.
-
-        Args:
-            case: 1, 2 or 3. q: ``(..., 14)`` or ``(..., 12)``; u, udot: ``(..., 12)``.
-            route: ``"quaternion"`` (any case) or ``"euler"`` (case 3 only).
-
-        Returns:
-            :class:`relacc.G2Kinematics`, fixed-frame components, classical
-            acceleration; ``variant`` names the engine and route.
+    def from_engine(self, qe, ve) -> tuple[np.ndarray, np.ndarray]:
+        """Engine states back to the reference's ``(q (n, nq), v (n, nv))``; every reference speed must be shared.
 
         Raises:
-            EngineError: unknown route or the euler route for cases 1-2.
-            InputError: as :func:`relacc.g2_kinematics`.
+            EngineError: the engine lacks some of the reference's joints.
         """
-        c = as_case(case)
-        if route not in ROUTES:
-            raise EngineError(f"unknown route {route!r}: accepted are {', '.join(ROUTES)}")
-        if route == "euler" and c is not Case.ANGLE_RATES:
-            raise EngineError(f"the euler route takes case 3 states only, got case {int(c)}")
-        q = check_q(c, q)
-        u = check_u(f"u for case {int(c)}", u)
-        udot = None if udot is None else check_u(f"udot for case {int(c)}", udot)
-        batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1], () if udot is None else udot.shape[:-1])
-        q = np.broadcast_to(q, batch + q.shape[-1:]).reshape(-1, q.shape[-1])
-        u = np.broadcast_to(u, batch + (12,)).reshape(-1, 12)
-        udot = None if udot is None else np.broadcast_to(udot, batch + (12,)).reshape(-1, 12)
-        x = self.engine_input(route, c, q, u, udot)
-        p = self.points(route, np.ascontiguousarray(x.q), np.ascontiguousarray(x.v),
-                        None if x.a is None else np.ascontiguousarray(x.a))
-        pos, acc = p.position, p.acceleration
-        V = p.J @ x.E
-        Vdot = p.J_dot @ x.E + p.J @ x.E_dot
-        check_finite_result((pos, V, Vdot, acc), q, u, udot)
-        shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
-        return G2Kinematics(
-            position=shape(pos, (3,)),
-            velocity=shape(np.einsum("nij,nj->ni", V, u), (3,)),
-            acceleration=None if udot is None else shape(acc, (3,)),
-            V=shape(V, (3, 12)),
-            Vdot=shape(Vdot, (3, 12)),
-            case=c,
-            variant=f"{self.name}:{route}",
-        )
+        if len(self.dofs) != self.reference.nv:
+            raise EngineError(f"{self.engine} lacks some of the reference's joints: its states do not map back")
+        qe, ve = np.atleast_2d(np.asarray(qe, dtype=float)), np.atleast_2d(np.asarray(ve, dtype=float))
+        q = np.zeros((len(qe), self.reference.nq(2)))
+        for m in self.matches:
+            q[:, list(m.ref_q)] = self.q_back(m, qe[:, list(m.q)])
+        T, _ = self.speed_map(q, np.zeros((len(q), self.reference.nv)))
+        v = np.zeros((len(q), self.reference.nv))
+        v[:, self.dofs] = np.linalg.solve(T, ve[..., None])[..., 0]
+        return q, v
+
+    def dynamics(self, q, v) -> Dynamics:
+        """:class:`Dynamics` at one reference state ``q (nq,)``, ``v (nv,)`` (speeds the engine lacks: zero), the
+        model's own gravity as the engine read it and nothing else."""
+        qe, ve, _, T, Td = self.to_engine(q, v)
+        Me, fe = self.equations(qe, ve)
+        _, ge = self.equations(qe, np.zeros_like(ve))
+        T, Tdv = T[0], Td[0] @ np.asarray(v, dtype=float)[self.dofs]
+        M, be = T.T @ Me[0] @ T, -fe[0]
+        forward = None
+        if self.extra_dofs == 0:
+            forward = np.linalg.solve(T, self.forward(qe, ve)[0] - Tdv)
+        return Dynamics(M, T.T @ (be + Me[0] @ Tdv), T.T @ -ge[0], forward)
+
+    def kinematics(self, q, v, a, links) -> Points:
+        """Each named link's centre of mass at one reference state (rates ``a``), over the shared speeds:
+        ``(L, ...)`` arrays (:class:`Points` without the batch axis), ``J_dot v`` included."""
+        qe, ve, ae, T, Td = self.to_engine(q, v, a)
+        p = self.points(qe, ve, ae, [com(name) for name in links])
+        Tdv = Td[0] @ np.asarray(v, dtype=float)[self.dofs]
+        J = p.J[0]
+        return Points(p.position[0], J @ T[0], None, p.Jdot_v[0] + J @ Tdv, p.acceleration[0])
 
 
-def quaternion_route_input(case: Case, q, u, udot, P, P_dot, engine_q) -> EngineInput:
-    """Build an :class:`EngineInput` from body speeds and an engine's map ``P``.
-
-    Args:
-        P, P_dot: functions ``(q14, nu) -> (n, nv_e, 12)`` giving the engine
-            velocity map on top of the body speeds and its rate.
-        engine_q: function ``q14 -> (n, nq_e)`` engine positions.
-    """
-    q14 = quaternion_coordinates(case, q)
-    W, W_dot = body_speed_map(case, q, u)
-    nu = mv(W, u)
-    Pm, Pd = P(q14, nu), P_dot(q14, nu)
-    E = Pm @ W
-    E_dot = Pd @ W + Pm @ W_dot
-    v = mv(E, u)
-    a = None if udot is None else mv(E, udot) + mv(E_dot, u)
-    return EngineInput(q=engine_q(q14), v=v, a=a, E=E, E_dot=E_dot)
+def describe(effects) -> dict:
+    """Plain data of a :class:`relacc.dynamics.tree_effects.TreeEffects` (None: the model's own gravity)."""
+    if effects is None:
+        return {"gravity": "the model's own"}
+    out = {"gravity": "the model's own" if effects.gravity is None else effects.gravity.tolist()}
+    if effects.joints:
+        out["joints"] = {k: {"stiffness": e.stiffness, "damping": e.damping} for k, e in effects.joints.items()}
+    if effects.bodies:
+        out["bodies"] = {k: {"force": b.force.tolist(), "torque": b.torque.tolist(), "frequency": b.frequency}
+                         for k, b in effects.bodies.items()}
+    return out
 
 
-def note_from_quaternions(case: Case, q14) -> np.ndarray:
-    """Quaternion coordinates ``(n, 14)`` back to the case's ``q`` (angles for case 3)."""
-    if case is not Case.ANGLE_RATES:
-        return q14
-    return np.concatenate(
-        [
-            q14[:, 0:3],
-            angles_123_from_matrix(matrix_from_quaternion(q14[:, 3:7])),
-            q14[:, 7:10],
-            angles_123_from_matrix(matrix_from_quaternion(q14[:, 10:14])),
-        ],
-        1,
-    )
-
-
-def identity_input(q, u, udot) -> EngineInput:
-    """The euler route: engine coordinates are the case-3 ``q``, ``u``, ``udot`` themselves."""
-    n = q.shape[0]
-    E = np.broadcast_to(np.eye(12), (n, 12, 12))
-    return EngineInput(q=q, v=u, a=udot, E=E, E_dot=np.zeros((n, 12, 12)))
+def fixed_step_only(name: str, accuracy) -> None:
+    """Refuse an error-controlled run for an engine that has fixed-step integrators only."""
+    if accuracy is not None:
+        raise EngineError(f"{name} has fixed-step integrators only; drop the accuracy (got {accuracy})")

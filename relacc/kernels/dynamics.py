@@ -527,7 +527,8 @@ class Rates:
     def __init__(self, chain, case, effects):
         self.case, self.cp, self.ep = int(case), chain_params(chain), effect_params(effects)
 
-    def __call__(self, q, u):
+    def __call__(self, q, u, t=0.0):
+        """The chain's effects are constant: ``t`` (s) is accepted and unused."""
         from relacc.errors import IntegrationError
 
         with np.errstate(all="ignore"):

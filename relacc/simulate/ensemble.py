@@ -138,7 +138,8 @@ def _observed(engine_name, engine, scene, Q, V, steps, seconds, threads):
     """G2 at every record of an engine's ensemble, by the engine itself (its own forward dynamics)."""
     n, m = Q.shape[:2]
     flat_q, flat_v = Q.reshape(n * m, -1), V.reshape(n * m, -1)
-    pts = engine.points("quaternion", flat_q, flat_v, engine.forward_dynamics(flat_q, flat_v, scene.effects))
+    pts = engine.points("quaternion", flat_q, flat_v, engine.forward_dynamics(flat_q, flat_v, scene.effects),
+                        jdot=False)
     velocity = np.einsum("nij,nj->ni", pts.J, flat_v)
     return Ensemble(engine_name, steps * scene.dt, Q, V, pts.position.reshape(n, m, 3), velocity.reshape(n, m, 3),
                     pts.acceleration.reshape(n, m, 3), seconds, n * int(steps[-1]), threads)
@@ -151,7 +152,8 @@ def _mujoco(scene, q0, u0, steps, threads, name):
     engine.stepper(scene.effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
     qpos, qvel = _engine_states(engine, scene, q0, u0)
     try:
-        Q, V, first_bad, seconds = engine.rollout(qpos, qvel, np.asarray(steps), engine.work_data(threads))
+        Q, V, first_bad, seconds = engine.adapter.rollout(qpos, qvel, np.asarray(steps),
+                                                          engine.adapter.work_data(threads))
     except IntegrationError as exc:
         raise IntegrationError(f"mujoco: {exc} (dt = {scene.dt} s)") from None
     _check_done(first_bad, len(steps), steps, scene, "mujoco")
@@ -159,59 +161,26 @@ def _mujoco(scene, q0, u0, steps, threads, name):
 
 
 def _pinocchio(scene, q0, u0, steps, threads, name):
-    import pinocchio as pin
-
+    """RKMK4 on Pinocchio's manifold for every member at once: the adapter's stepper on a batch of rows, its
+    accelerations from ``pin.abaInParallel`` at every stage."""
     from relacc.engines import load_engine
 
-    if scene.integrator != "rk4":  # the batched path is RKMK4 (relacc.dynamics.integrate.rkmk4_step's tableau)
+    if scene.integrator != "rk4":  # the batched path is RKMK4 (relacc.dynamics.integrate.rkmk4_step)
         return _one_by_one(scene, q0, u0, steps, threads, name)
     engine = load_engine("pinocchio", scene.fixture)
-    x0, v0 = _engine_states(engine, scene, q0, u0)
+    x, v = _engine_states(engine, scene, q0, u0)
+    stepper = engine.adapter.stepper(scene.effects.for_tree(), scene.dt, "rk4", threads=threads)
     n, m = len(q0), len(steps)
-    dt, eff = scene.dt, scene.effects
-    Q, V = np.empty((n, m, x0.shape[1])), np.empty((n, m, v0.shape[1]))
-    Q[:, 0], V[:, 0] = x0, v0
-    x, v = x0.copy(), v0.copy()
+    Q, V = np.empty((n, m, x.shape[1])), np.empty((n, m, v.shape[1]))
+    Q[:, 0], V[:, 0] = x, v
     seconds = 0.0
-    with engine.ode(eff) as (space, _):
-        model = space.model
-        pool = pin.ModelPool(model, threads)
-        res = np.zeros((model.nv, n), order="F")
-
-        def accel(xs, vs):
-            tau = np.array([engine.generalized_forces(xs[i], vs[i], eff) for i in range(n)]).T
-            pin.abaInParallel(threads, pool, np.asfortranarray(xs.T), np.asfortranarray(vs.T), np.asfortranarray(tau),
-                              res)
-            return res.T.copy()
-
-        def move(xs, ds):
-            return np.array([pin.integrate(model, xs[i], ds[i]) for i in range(n)])
-
-        def dexpinv(base, ds, ws):
-            return np.array([np.linalg.solve(pin.dIntegrate(model, base[i], ds[i], pin.ArgumentPosition.ARG1), ws[i])
-                             if np.any(ds[i]) else ws[i] for i in range(n)])
-
-        for j, gap in enumerate(_gaps(steps)[1:], start=1):
-            start = time.perf_counter()
-            for _ in range(int(gap)):
-                a1 = accel(x, v)
-                d2 = 0.5 * dt * v
-                x2, v2 = move(x, d2), v + 0.5 * dt * a1
-                a2 = accel(x2, v2)
-                k2 = dexpinv(x, d2, v2)
-                d3 = 0.5 * dt * k2
-                x3, v3 = move(x, d3), v + 0.5 * dt * a2
-                a3 = accel(x3, v3)
-                k3 = dexpinv(x, d3, v3)
-                d4 = dt * k3
-                x4, v4 = move(x, d4), v + dt * a3
-                a4 = accel(x4, v4)
-                k4 = dexpinv(x, d4, v4)
-                x, v = move(x, dt / 6 * (v + 2 * k2 + 2 * k3 + k4)), v + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
-            seconds += time.perf_counter() - start
-            Q[:, j], V[:, j] = x, v
-            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-                _check_done(np.where(np.all(np.isfinite(x), axis=1), m, j), m, steps, scene, "pinocchio")
+    for j, gap in enumerate(_gaps(steps)[1:], start=1):
+        start = time.perf_counter()
+        x, v = stepper.advance(x, v, int(gap))
+        seconds += time.perf_counter() - start
+        Q[:, j], V[:, j] = x, v
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            _check_done(np.where(np.all(np.isfinite(x), axis=1), m, j), m, steps, scene, "pinocchio")
     return _observed("pinocchio", engine, scene, Q, V, steps, seconds, threads)
 
 

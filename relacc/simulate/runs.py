@@ -3,7 +3,7 @@
 * relacc integrates Kane's equations (:mod:`relacc.dynamics`) in the scene's
   own coordinates (quaternions on SO(3) by RKMK4 for cases 1-2, angles for
   case 3); each engine integrates with its own stepper
-  (:meth:`relacc.engines.base.Engine.stepper`); all through the one step loop
+  (:meth:`relacc.engines.base.Adapter.stepper`); all through the one step loop
   (:mod:`relacc.dynamics.steps`), so every run records ``t = 0``, every
   ``record_every``-th step and ``t = duration``.
 * At every record: G2's position, velocity and classical acceleration (fixed
@@ -118,7 +118,7 @@ def _observe_engine(engine, scene: Scene):
     chain, eff = scene.fixture.chain, scene.effects
 
     def observe(Q, V):
-        pts = engine.points("quaternion", Q, V, engine.forward_dynamics(Q, V, eff))
+        pts = engine.points("quaternion", Q, V, engine.forward_dynamics(Q, V, eff), jdot=False)
         T, g, s = engine.energy_terms(chain, Q, V, eff)
         p, H = engine.momenta(chain, Q, V)
         return {"position": pts.position, "velocity": np.einsum("nij,nj->ni", pts.J, V),
@@ -259,7 +259,7 @@ def _note_check(scene: Scene, states, engines: dict) -> dict:
     for name, engine in engines.items():
         x = engine.engine_input("quaternion", as_case(case), Q, U, None)
         A = engine.forward_dynamics(x.q, x.v, eff)
-        pts = engine.points("quaternion", x.q, x.v, A)
+        pts = engine.points("quaternion", x.q, x.v, A, jdot=False)
         out[name] = {"error": float(np.max(normalized_error(pts.acceleration, note, scale))), "bound": bound}
     return out
 

@@ -106,15 +106,34 @@ def _truth(s: ModelStates, engine: str, quantities: tuple) -> dict:
         k = tree_kinematics(tree, c, s.q, s.u, s.udot)
         values = {name: getattr(k, name) for name in quantities}
     elif engine == "mujoco":
-        from relacc.engines.mujoco_tree import evaluate
-
         q2, u2, ud2 = convert(tree, s.q, s.u, s.udot, source=c, target=2)
-        ref = evaluate(tree, q2, u2, ud2)
+        ref = mujoco_of(tree).body_motion(q2, u2, ud2)
         values = {name: ref[name] for name in quantities if name in PHYSICAL or (c == 2 and name in ("V", "Omega"))}
     else:
         raise EngineError(f"truth for a model: engine {engine!r} not available; accepted are relacc and mujoco")
     return {name: Expected(name, c, v, sc.of(name), bound, s.seed, engine, tree.body_names)
             for name, v in values.items()}
+
+
+def mujoco_of(tree):
+    """MuJoCo's adapter of the file a tree was read from (a chain TOML's generated MJCF).
+
+    Raises:
+        EngineError: a tree built in Python, which MuJoCo has never read.
+    """
+    from pathlib import Path
+
+    from relacc.engines import load
+
+    source = Path(tree.source) if tree.source != "python" else None
+    if source is not None and source.suffix.lower() == ".toml":
+        from relacc.fixtures import load as load_fixture
+
+        source = load_fixture(source).path("two_body.xml")
+    if source is None or not source.is_file():
+        raise EngineError(f"tree {tree.name!r} was built in Python: MuJoCo has no model of it (read it from a file "
+                          "to compare with MuJoCo)")
+    return load("mujoco", source)
 
 
 @dataclass(frozen=True, eq=False)

@@ -32,10 +32,7 @@ import os
 import time
 from pathlib import Path
 
-import mujoco
 import numpy as np
-import pinocchio as pin
-from mujoco import rollout
 
 import relacc
 from relacc.core.states import random_states
@@ -82,7 +79,6 @@ def dynamics_rows(fixture, n_states: int, repeats: int, seed: int) -> list[dict]
     """Forward dynamics, ns per state: relacc per case and ``pin.abaInParallel``, at each thread count."""
     chain, rows = fixture.chain, []
     pin_engine = load_engine("pinocchio", fixture)
-    model = pin_engine.routes["quaternion"].model
     for case in (1, 2, 3):
         s = random_states(case, n_states, [seed, case])
         out = np.empty((n_states, 12))
@@ -92,16 +88,10 @@ def dynamics_rows(fixture, n_states: int, repeats: int, seed: int) -> list[dict]
             rows.append(_row("dynamics", "relacc", t, secs, n_states * 1e-9, "ns/state", case=case))
     s = random_states(1, n_states, [seed, 1])
     x = pin_engine.engine_input("quaternion", relacc.Case(1), s.q, s.u, None)
-    q, v = np.asfortranarray(x.q.T), np.asfortranarray(x.v.T)
-    tau, res = np.zeros((model.nv, n_states), order="F"), np.zeros((model.nv, n_states), order="F")
-    model.gravity.linear[:] = GRAVITY.gravity
-    try:
-        for t in thread_counts():
-            pool = pin.ModelPool(model, t)
-            secs = wall_times(lambda: pin.abaInParallel(t, pool, q, v, tau, res), repeats, warmups=2)
-            rows.append(_row("dynamics", "pinocchio abaInParallel", t, secs, n_states * 1e-9, "ns/state", case=None))
-    finally:
-        model.gravity.setZero()
+    for t in thread_counts():
+        loop = pin_engine.adapter.aba_in_parallel(t, x.q.T, x.v.T, gravity=GRAVITY.gravity)
+        secs = wall_times(loop, repeats, warmups=2)
+        rows.append(_row("dynamics", "pinocchio abaInParallel", t, secs, n_states * 1e-9, "ns/state", case=None))
     return rows
 
 
@@ -123,34 +113,21 @@ def step_rows(scene: Scene, n_steps: int, repeats: int) -> list[dict]:
                          n_steps * 1e-6, "us/step"))
     engine = load_engine("mujoco", scene.fixture)
     engine.stepper(scene.effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
-    model, data = engine.routes["quaternion"].model, engine.routes["quaternion"].data
     qpos, qvel = _mujoco_states(engine, scene, q0[None], u0[None])
-
-    def mujoco_python():
-        data.qpos[:], data.qvel[:], data.time = qpos[0], qvel[0], 0.0
-        for _ in range(n_steps):
-            mujoco.mj_step(model, data)
-
-    rows.append(_row("step", "mujoco mj_step per call", 1, wall_times(mujoco_python, repeats), n_steps * 1e-6,
+    rows.append(_row("step", "mujoco mj_step per call", 1,
+                     wall_times(engine.adapter.step_loop(qpos[0], qvel[0], n_steps), repeats), n_steps * 1e-6,
                      "us/step"))
-    state, out = _rollout_buffers(model, qpos, qvel, n_steps)
-    with rollout.Rollout(nthread=1) as r:
-        secs = wall_times(lambda: r.rollout([model], [data], state, nstep=n_steps, skip_checks=True, state=out),
-                          repeats)
-    rows.append(_row("step", "mujoco rollout", 1, secs, n_steps * 1e-6, "us/step"))
+    loop = engine.adapter.rollout_loop(qpos, qvel, n_steps, 1)
+    try:
+        rows.append(_row("step", "mujoco rollout", 1, wall_times(loop, repeats), n_steps * 1e-6, "us/step"))
+    finally:
+        loop.close()
     return rows
 
 
 def _mujoco_states(engine, scene, q0, u0):
     x = engine.engine_input("quaternion", relacc.Case(scene.case), q0, u0, None)
     return np.ascontiguousarray(x.q), np.ascontiguousarray(x.v)
-
-
-def _rollout_buffers(model, qpos, qvel, n_steps):
-    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
-    state = np.zeros((len(qpos), mujoco.mj_stateSize(model, spec)))
-    state[:, 1:1 + model.nq], state[:, 1 + model.nq:1 + model.nq + model.nv] = qpos, qvel
-    return state, np.empty((len(qpos), n_steps, state.shape[1]))
 
 
 def ensemble_rows(scene: Scene, members: int, repeats: int, seed: int) -> list[dict]:
@@ -166,15 +143,13 @@ def ensemble_rows(scene: Scene, members: int, repeats: int, seed: int) -> list[d
                          steps=steps))
     engine = load_engine("mujoco", scene.fixture)
     engine.stepper(scene.effects, scene.dt, scene.integrator)
-    model = engine.routes["quaternion"].model
     qpos, qvel = _mujoco_states(engine, scene, q0, u0)
-    state, out = _rollout_buffers(model, qpos, qvel, n_steps)
     for t in thread_counts():
-        datas = [mujoco.MjData(model) for _ in range(t)]
-        models = [model] * members  # skip_checks wants one model per member
-        with rollout.Rollout(nthread=t) as r:
-            secs = wall_times(lambda: r.rollout(models, datas, state, nstep=n_steps, skip_checks=True, state=out),
-                              repeats, warmups=1)
+        loop = engine.adapter.rollout_loop(qpos, qvel, n_steps, t)
+        try:
+            secs = wall_times(loop, repeats, warmups=1)
+        finally:
+            loop.close()
         rows.append(_row("ensemble", "mujoco rollout", t, secs, 1.0, "s", members=members, steps=steps))
     for row in rows:  # steps per second from the median and the minimum seconds
         row["value"], row["value_best"], row["unit"] = steps / row["value"], steps / row["value_best"], "steps/s"

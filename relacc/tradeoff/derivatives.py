@@ -18,7 +18,8 @@ from relacc.core.derivatives import advance, along_motion
 from relacc.core.scales import term_scales
 from relacc.core.states import random_states
 from relacc.core.tolerances import EPS, normalized_error
-from relacc.tradeoff.throughput import drake_loop, mujoco_loop, pinocchio_loop, wall_times
+from relacc.engines.chain import G2
+from relacc.tradeoff.throughput import wall_times
 
 STEPS = tuple(10.0 ** -k for k in np.arange(1, 14.5, 0.5))
 """Finite-difference steps h (s), 1e-1 down to 3e-15, every half decade."""
@@ -82,10 +83,7 @@ def sweep(chain, n_states: int = 200, seed: int = 0, repeats: int = 3, engines=N
         for name, engine in (engines or {}).items():
             route = "euler" if case == 3 else "quaternion"
             x = engine.engine_input(route, relacc.Case(case), s.q, s.u, s.udot)
-            r = engine.routes[route]
-            loop = (pinocchio_loop(r.model, r.data, r.frame, x.q, x.v, x.a, False) if name == "pinocchio"
-                    else drake_loop(r, x.q, x.v, x.a) if name == "drake"
-                    else mujoco_loop(r.model, r.data, r.site, r.body, x.q, x.v, x.a, False))
+            loop = engine.routes[route].point_loop(x.q, x.v, x.a, G2, False)
             _, sec = _timed(loop, n, repeats)
             row(name, None, loop.acc.copy(), sec)
     return rows

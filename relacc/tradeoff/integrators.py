@@ -59,9 +59,9 @@ def _adaptive(name, engine, scene, method, rtol):
     if name == "drake":  # Drake's own error control, its largest step the whole run
         _, X, V = engine.simulate(x0, v0, eff, scene.duration, 1, method, accuracy=rtol)
         return X[-1], V[-1], None
-    with engine.ode(eff) as (space, derivs):
-        return solve_on_space(space, x0, v0, derivs, scene.duration, method, rtol, rtol * 1e-2,
-                              (slice(3, 6), slice(9, 12)))
+    adapter = engine.adapter
+    return solve_on_space(adapter.space(), x0, v0, adapter.derivs(eff.for_tree()), scene.duration, method, rtol,
+                          rtol * 1e-2, (slice(3, 6), slice(9, 12)))
 
 
 def _fixed(name, engine, scene, integrator, dt):

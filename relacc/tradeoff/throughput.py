@@ -36,18 +36,15 @@ import sys
 import time
 from pathlib import Path
 
-import mujoco
 import numpy as np
-import pinocchio as pin
 
 import relacc
 from relacc.core.states import random_states
-from relacc.engines import load_engine
+from relacc.engines import adapter_module, load_engine
+from relacc.engines.chain import G2
 from relacc.fixtures import load
 from relacc.kernels import kinematics as fast
 from relacc.kernels.jit import threads
-
-LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
 def cpu_model() -> str:
@@ -83,8 +80,7 @@ def machine() -> dict:
         "numpy": np.__version__,
         "numba": fast.numba.__version__ if fast.HAVE_NUMBA else None,
         "relacc_backend": fast.BACKEND,
-        "pinocchio": pin.__version__,
-        "mujoco": mujoco.__version__,
+        **{name: adapter_module(name).version() for name in ("pinocchio", "mujoco")},
         "relacc": relacc.__version__,
         "relacc_commit": source_commit(),
     }
@@ -110,82 +106,6 @@ def wall_times(fn, repeats: int, warmups: int = 2) -> tuple[float, float]:
         fn()
         times.append(time.perf_counter() - start)
     return float(np.median(times)), float(np.min(times))
-
-
-def pinocchio_loop(model, data, frame, q, v, a, full: bool):
-    """A closure looping Pinocchio over the states; its ``acc`` attribute holds G2's accelerations (world)."""
-    n = q.shape[0]
-    acc = np.empty((n, 3))
-    if full:
-        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, model.nv)), np.empty((n, 3, model.nv))
-
-    def run():
-        for i in range(n):
-            pin.forwardKinematics(model, data, q[i], v[i], a[i])
-            pin.updateFramePlacement(model, data, frame)
-            acc[i] = pin.getFrameClassicalAcceleration(model, data, frame, LWA).linear
-            if full:
-                pos[i] = data.oMf[frame].translation
-                pin.computeJointJacobiansTimeVariation(model, data, q[i], v[i])
-                J[i] = pin.getFrameJacobian(model, data, frame, LWA)[:3]
-                Jd[i] = pin.getFrameJacobianTimeVariation(model, data, frame, LWA)[:3]
-
-    run.acc = acc
-    return run
-
-
-def mujoco_loop(model, data, site, body, q, v, a, full: bool):
-    """A closure looping MuJoCo over the states; its ``acc`` attribute holds G2's accelerations (world).
-
-    Gravity must be off in ``model`` (the adapters keep it so): ``mj_objectAcceleration``
-    reports proper acceleration.
-    """
-    n = q.shape[0]
-    acc, res = np.empty((n, 3)), np.empty(6)
-    if full:
-        pos, J, Jd = np.empty((n, 3)), np.empty((n, 3, model.nv)), np.empty((n, 3, model.nv))
-
-    def run():
-        for i in range(n):
-            data.qpos[:] = q[i]
-            data.qvel[:] = v[i]
-            data.qacc[:] = a[i]
-            mujoco.mj_kinematics(model, data)
-            mujoco.mj_comPos(model, data)
-            mujoco.mj_comVel(model, data)
-            mujoco.mj_rnePostConstraint(model, data)
-            mujoco.mj_objectAcceleration(model, data, mujoco.mjtObj.mjOBJ_SITE, site, res, 0)
-            acc[i] = res[3:]
-            if full:
-                pos[i] = data.site_xpos[site]
-                mujoco.mj_jac(model, data, J[i], None, pos[i], body)
-                mujoco.mj_jacDot(model, data, Jd[i], None, pos[i], body)
-
-    run.acc = acc
-    return run
-
-
-def drake_loop(route, q, v, a):
-    """A closure looping Drake over the states (G2's acceleration alone); its ``acc`` attribute holds them (world).
-
-    Per state: ``SetPositions``, ``SetVelocities``, ``CalcSpatialAccelerationsFromVdot``, the pose and
-    spatial velocity of G2's body, and the shift to G2 (what the adapter does, without J and J_dot).
-    """
-    plant, ctx, body, offset = route.plant, route.context, route.body, route.offset
-    n = q.shape[0]
-    acc = np.empty((n, 3))
-
-    def run():
-        for i in range(n):
-            plant.SetPositions(ctx, q[i])
-            plant.SetVelocities(ctx, v[i])
-            A = plant.CalcSpatialAccelerationsFromVdot(ctx, a[i])[body.index()]
-            X = plant.EvalBodyPoseInWorld(ctx, body)
-            w = plant.EvalBodySpatialVelocityInWorld(ctx, body).rotational()
-            acc[i] = A.Shift(X.rotation().multiply(offset), w).translational()
-
-    run.acc = acc
-    return run
 
 
 def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
@@ -217,18 +137,13 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
     for case, s in states.items():
         route = "euler" if case == 3 else "quaternion"
         c = relacc.Case(case)
-        e = engines["pinocchio"]
-        x = e.engine_input(route, c, s.q, s.u, s.udot)
-        r = e.routes[route]
-        for output in ("acceleration", "full"):
-            timings[(case, "pinocchio", output)] = wall_times(
-                pinocchio_loop(r.model, r.data, r.frame, x.q, x.v, x.a, output == "full"), max(1, repeats // 3))
-        e = engines["mujoco"]
-        x = e.engine_input(route, c, s.q, s.u, s.udot)
-        r = e.routes[route]
-        for output in ("acceleration", "full"):
-            timings[(case, "mujoco", output)] = wall_times(
-                mujoco_loop(r.model, r.data, r.site, r.body, x.q, x.v, x.a, output == "full"), max(1, repeats // 3))
+        for name in ("pinocchio", "mujoco"):
+            e = engines[name]
+            x = e.engine_input(route, c, s.q, s.u, s.udot)
+            adapter = e.routes[route]
+            for output in ("acceleration", "full"):
+                timings[(case, name, output)] = wall_times(
+                    adapter.point_loop(x.q, x.v, x.a, G2, output == "full"), max(1, repeats // 3))
     rows = [
         {"case": case, "who": who, "output": output, "seconds": median, "seconds_min": best,
          "states_per_second": n_states / median, "states_per_second_best": n_states / best,

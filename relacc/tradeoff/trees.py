@@ -71,12 +71,8 @@ def _outputs(tree, n):
 def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
     """The dynamics and kinematics rows of one model file (see the module docstring)."""
     from relacc.core.tree import convert
-    from relacc.engines.mujoco_tree import jacobian_loop
-    from relacc.engines.pinocchio_tree import aba_in_parallel
-    from relacc.engines.pinocchio_tree import jacobian_loop as pin_loop
-    from relacc.engines.pinocchio_tree import states as pin_states
-    from relacc.engines.robots.mujoco_ import MujocoRobot
-    from relacc.engines.robots.pinocchio_ import PinocchioRobot
+    from relacc.engines import load
+    from relacc.engines.base import body, com
 
     tree = relacc.Tree.from_file(path)
     st = random_states(tree, 2, n_states, seed)
@@ -89,11 +85,11 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
                 secs = wall_times(lambda: relacc.tree_accelerations(tree, case, q, u, out=acc), repeats)
             rows.append(_row("dynamics", name, "relacc tree_accelerations", t, secs, n_states, case=case))
     if anchors:
-        reference = MujocoRobot(path)
-        robot = PinocchioRobot(path, reference)
-        qe, ve = pin_states(robot, st.q, st.u)
+        reference = load("mujoco", path)
+        robot = load("pinocchio", path, reference.reference)
+        qe, ve, _, _, _ = robot.to_engine(st.q, st.u)
         for t in thread_counts():
-            secs = wall_times(aba_in_parallel(robot, t, qe, ve), repeats)
+            secs = wall_times(robot.aba_in_parallel(t, qe.T, ve.T), repeats)
             rows.append(_row("dynamics", name, "pinocchio abaInParallel", t, secs, n_states, case=None))
     small = max(200, n_states // 20)  # the loops run from Python: fewer states, the same per-state figure
     out = _outputs(tree, n_states)
@@ -111,11 +107,12 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
     rows.append(_row("kinematics", name, "relacc tree_kinematics (new outputs)", thread_counts()[-1],
                      (float(np.median(fresh)), float(np.min(fresh))), n_states, case=2))
     if anchors:
-        ae = np.asfortranarray(np.zeros_like(ve[:, :small]))
-        secs = wall_times(pin_loop(robot, np.asfortranarray(qe[:, :small]), np.asfortranarray(ve[:, :small]), ae),
-                          max(3, repeats // 2), warmups=1)
+        links = [com(link) for link in robot.link_frames]
+        secs = wall_times(robot.jacobian_loop(qe[:small], ve[:small], links), max(3, repeats // 2), warmups=1)
         rows.append(_row("kinematics", name, "pinocchio jacobians loop", 1, secs, small, case=None))
-        secs = wall_times(jacobian_loop(tree, st.q[:small], st.u[:small]), max(3, repeats // 2), warmups=1)
+        bodies = [body(b.name) for b in tree.bodies]
+        secs = wall_times(reference.jacobian_loop(st.q[:small], st.u[:small], bodies), max(3, repeats // 2),
+                          warmups=1)
         rows.append(_row("kinematics", name, "mujoco mj_jac/mj_jacDot loop", 1, secs, small, case=None))
     return rows
 

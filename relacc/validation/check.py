@@ -183,7 +183,7 @@ class CheckReport:
             "seed": self.seed,
             "tolerance": rounding_tolerance(),
             "error": "max |x - x_engine| / magnitude of the terms (relacc.core.scales.term_scales)",
-            "bound": "per state: tolerance * condition + lost offset (relacc.engines.base.Engine.bound)",
+            "bound": "per state: tolerance * condition + lost offset (relacc.engines.chain.ChainEngine.bound)",
             "states": f"chunk k of case c: {CHUNK} states from numpy.random.default_rng([seed, c, k])",
             "versions": self.versions,
             "comparisons": [c.as_dict() for c in self.comparisons],

@@ -7,7 +7,7 @@ normalized by :func:`relacc.core.scales.term_scales`) against that state's
 bound from the evaluator's accuracy model. Two sources of comparisons:
 
 * :func:`against_engines`: each engine and route against the core
-  (the engine's bound: :meth:`relacc.engines.base.Engine.bound`);
+  (the engine's bound: :meth:`relacc.engines.chain.ChainEngine.bound`);
 * :func:`against_derivatives`: the core against complex-step derivatives
   of its own position, velocity and V along the motion (bound ``c eps``).
 """

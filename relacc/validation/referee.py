@@ -4,7 +4,7 @@ With two engines a disagreement has no referee. relacc has five independent
 evaluators of G2's kinematics on the same states:
 
 * each engine (Pinocchio, MuJoCo, Drake), with its own accuracy model
-  (:meth:`relacc.engines.base.Engine.bound`);
+  (:meth:`relacc.engines.chain.ChainEngine.bound`);
 * relacc's fused kernels (the corrected formulas as ``relacc check`` runs them);
 * relacc's reference implementation (the note's formulas one by one,
   ``backend="reference"``), which shares no code with the kernels;

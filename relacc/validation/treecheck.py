@@ -70,10 +70,10 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
     Raises:
         ModelError: MuJoCo cannot read the file (relacc reads it through MuJoCo's compiler).
     """
-    from relacc.engines.robots.mujoco_ import MujocoRobot
+    from relacc.engines import load
     from relacc.validation.robots import load_robot
 
-    reference = MujocoRobot(model)
+    reference = load("mujoco", model)
     if reference.model.nbody < 2:
         raise ModelError(f"{model}: MuJoCo reads no body besides the world in it: there is nothing to check")
     names = [e for e in ("mujoco",) + OTHERS if installed(e)] if engines is None else list(engines)

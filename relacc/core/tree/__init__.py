@@ -7,7 +7,7 @@
 * :mod:`~relacc.core.tree.kinematics`: :func:`tree_kinematics`.
 
 Engine-free like the rest of the core: :meth:`Tree.from_file` reads MJCF and URDF through MuJoCo's
-compiler at the call (``relacc.engines.mujoco_tree``), the one place the core reaches an engine.
+compiler at the call (``relacc.engines.mujoco_.read_tree``), the one place the core reaches an engine.
 """
 
 from relacc.core.tree.coordinates import TreeStates, convert, random_states, reference_q

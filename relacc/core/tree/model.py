@@ -382,9 +382,9 @@ class Tree:
             from relacc.fixtures import load
 
             return cls.from_chain(load(path).chain, name=Path(path).stem, source=str(path))
-        from relacc.engines.mujoco_tree import read_tree
+        from relacc.engines import adapter_module
 
-        return read_tree(path)
+        return adapter_module("mujoco").read_tree(path)
 
     @classmethod
     def from_chain(cls, chain, name: str = "two_body", source: str = "python") -> "Tree":

@@ -17,15 +17,14 @@ same robot) and Drake (its MJCF parser) are compared with it:
 
 from __future__ import annotations
 
-import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from relacc.core.tolerances import robot_tolerance
-from relacc.engines import installed
-from relacc.engines.robots import robot_class
+from relacc.engines import installed, readings
+from relacc.engines import load as load_adapter
 from relacc.errors import EngineError, ModelError
 from relacc.validation.robots.agreement import QUANTITIES, random_states
 from relacc.validation.robots.agreement import compare as compare_dynamics
@@ -105,17 +104,20 @@ def _finite(x: float) -> float | None:
 
 
 def _readings(engine: str, attribute: str):
-    return getattr(importlib.import_module(f"relacc.engines.robots.{engine}_"), attribute)
+    """An engine's readings table (``MJCF_READINGS`` or ``ENGINE_READINGS``, :func:`relacc.engines.readings`)."""
+    mjcf, algorithms = readings(engine)
+    return mjcf if attribute == "MJCF_READINGS" else algorithms
 
 
 def load_robot(engine, path, reference, urdf=None):
-    """``path`` in one engine, matched to MuJoCo's reading ``reference`` (Pinocchio: from ``urdf`` when given).
+    """``path`` in one engine, matched to MuJoCo's reading ``reference`` (an adapter; Pinocchio: from ``urdf`` when
+    given).
 
     Raises:
         ModelError: the engine cannot read the file. EngineError: an unknown or missing engine.
     """
-    cls = robot_class(engine)
-    return cls(path, reference, urdf) if engine == "pinocchio" else cls(path, reference)
+    options = {"urdf": urdf} if engine == "pinocchio" and urdf is not None else {}
+    return load_adapter(engine, path, reference.reference, **options)
 
 
 def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0) -> RobotComparison:
@@ -131,15 +133,13 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
         ModelError: MuJoCo cannot read or compile the file, or no other engine can (messages name the
             file and the element). EngineError: an unknown or missing engine.
     """
-    from relacc.engines.robots.mujoco_ import MujocoRobot
-
     names = [e for e in OTHERS if installed(e)] if engines is None else list(engines)
     for name in names:
         if name not in OTHERS:
             raise EngineError(f"unknown engine {name!r} for compare: accepted are {', '.join(OTHERS)}")
     if urdf is not None and not Path(urdf).is_file():
         raise ModelError(f"{urdf}: no such file")
-    reference = MujocoRobot(model)
+    reference = load_adapter("mujoco", model)
     if urdf is None and Path(model).suffix.lower() == ".urdf":  # MuJoCo reads URDF too: Pinocchio by its URDF parser
         urdf = model
     reports = {"mujoco": EngineReport("mujoco", True, reference.model.nq, reference.model.nv,
@@ -179,7 +179,11 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
             row["cause"] = "" if row["ok"] else _mujoco_cause(quantity, reference, evaluator, states)
             dynamics[quantity][evaluator.engine] = row
             tree_rows.setdefault(quantity, {})[case] = row
-    verdicts = _referee(reference, robots, states, dynamics) if reference.model.nbody > 1 else []
+    verdicts = []
+    if reference.model.nbody > 1:
+        voters = _voters(robots, reference, states)
+        verdicts = _referee(reference, voters, states, dynamics)
+        _mujoco_side_causes(dynamics, voters, tree_rows)
     return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
                            {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts)
 
@@ -198,6 +202,8 @@ class Verdict:
     agreeing: tuple
     split: tuple
     pairs: dict
+    voted_as: dict = field(default_factory=dict)
+    """``{engine: why}``: engines that voted with a known difference of their algorithms removed."""
 
     def sentence(self) -> str:
         join = lambda names: ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]  # noqa: E731
@@ -210,18 +216,59 @@ class Verdict:
     def as_json(self) -> dict:
         return {"quantity": self.quantity, "odd_ones_out": list(self.odd_ones_out), "agreeing": list(self.agreeing),
                 "split": [list(side) for side in self.split], "pairs": {k: _finite(v) for k, v in self.pairs.items()},
-                "verdict": self.sentence()}
+                "voted_as": dict(self.voted_as), "verdict": self.sentence()}
 
 
-def _referee(reference, robots, states, dynamics) -> list:
+@dataclass
+class _Voter:
+    """An engine as the referee counts it: its rows against MuJoCo and against relacc's tree, and, when a known
+    difference of its algorithms applies (its ``ENGINE_READINGS``), the engine rebuilt without it and why."""
+
+    engine: str
+    against_mujoco: dict
+    against_tree: dict
+    why: str = ""
+
+
+def _voters(robots, reference, states) -> list:
+    """Each engine's vote: rebuilt without a known difference of its algorithms where one applies (a Pinocchio
+    composite joint's J_dot v), so that a known bug does not vote."""
+    tree = TreeRobot(reference, 2)
+    out = []
+    for robot in robots:
+        why, voter = "", robot
+        for key, text, applies, rebuild in _readings(robot.engine, "ENGINE_READINGS"):
+            if applies(robot):
+                try:
+                    voter, why = rebuild(robot), text
+                except (ModelError, EngineError):
+                    continue
+        out.append(_Voter(robot.engine, compare_dynamics(reference, voter, states),
+                          compare_dynamics(tree, voter, states), why))
+    return out
+
+
+def _mujoco_side_causes(dynamics, voters, tree_rows) -> None:
+    """An engine row that differs from MuJoCo where relacc's tree does too, for a reproduced MuJoCo cause, and where
+    the engine agrees with relacc's tree: the row's cause is MuJoCo's."""
+    for quantity, rows in dynamics.items():
+        mujoco = tree_rows.get(quantity, {}).get(2)
+        if mujoco is None or mujoco["ok"] or mujoco["cause"].startswith("not explained"):
+            continue
+        for v in voters:
+            row = rows.get(v.engine)
+            if row is not None and not row["ok"] and v.against_tree.get(quantity, {}).get("ok"):
+                row["cause"] = f"{mujoco['cause']}; {v.engine} agrees with relacc's tree"
+
+
+def _referee(reference, voters, states, dynamics) -> list:
     """A :class:`Verdict` for each quantity on which evaluators disagree.
 
-    Each engine is compared with MuJoCo (the rows already computed) and with relacc's tree (here, relacc's tree as
-    the reference). If MuJoCo and relacc agree, the engines that disagree with them are the odd ones out. If they
-    differ, the engines take sides: the side with more evaluators agrees, the other is odd; equal sides are a split.
+    Each engine (a :class:`_Voter`) is compared with MuJoCo and with relacc's tree. If MuJoCo and relacc agree, the
+    engines that disagree with them are the odd ones out. If they differ, the engines take sides: the side with more
+    evaluators agrees, the other is odd; equal sides are a split.
     """
     tree = TreeRobot(reference, 2)
-    against_tree = {robot.engine: compare_dynamics(tree, robot, states) for robot in robots}
     verdicts = []
     for quantity, rows in dynamics.items():
         if all(r["ok"] for r in rows.values()) or tree.engine not in rows:
@@ -229,29 +276,31 @@ def _referee(reference, robots, states, dynamics) -> list:
         ratio = lambda row: row["max_error"] / row["tolerance"]  # noqa: E731
         pairs = {f"mujoco|{tree.engine}": ratio(rows[tree.engine])}
         sides = {"mujoco": ["mujoco"], "relacc": [tree.engine]}
-        others = []
-        for engine, table in against_tree.items():
-            if engine not in rows or quantity not in table:
-                continue
-            pairs[f"mujoco|{engine}"], pairs[f"{engine}|{tree.engine}"] = ratio(rows[engine]), ratio(table[quantity])
-            with_mujoco, with_tree = rows[engine]["ok"], table[quantity]["ok"]
+        others, voted = [], {}
+        present = [v for v in voters if v.engine in rows and quantity in v.against_tree]
+        for v in present:
+            if v.why:
+                voted[v.engine] = v.why
+            mine, theirs = v.against_mujoco[quantity], v.against_tree[quantity]
+            pairs[f"mujoco|{v.engine}"], pairs[f"{v.engine}|{tree.engine}"] = ratio(mine), ratio(theirs)
+            with_mujoco, with_tree = mine["ok"], theirs["ok"]
             if with_mujoco and not with_tree:
-                sides["mujoco"].append(engine)
+                sides["mujoco"].append(v.engine)
             elif with_tree and not with_mujoco:
-                sides["relacc"].append(engine)
+                sides["relacc"].append(v.engine)
             elif not (with_mujoco or with_tree):
-                others.append(engine)
+                others.append(v.engine)
         if rows[tree.engine]["ok"]:  # MuJoCo and relacc agree: every engine that does not is odd
-            odd = tuple(e for e in against_tree if e in rows and not rows[e]["ok"])
-            verdicts.append(Verdict(quantity, odd, tuple(n for n in ["mujoco", *against_tree, tree.engine]
-                                                         if n not in odd and (n in rows or n == "mujoco")), (), pairs))
+            odd = tuple(v.engine for v in present if not v.against_mujoco[quantity]["ok"])
+            agreeing = tuple(n for n in ["mujoco", *(v.engine for v in present), tree.engine] if n not in odd)
+            verdicts.append(Verdict(quantity, odd, agreeing, (), pairs, voted))
             continue
         m, t = sides["mujoco"], sides["relacc"]
         if len(m) == len(t):
-            verdicts.append(Verdict(quantity, tuple(others), (), (tuple(m), tuple(t)), pairs))
+            verdicts.append(Verdict(quantity, tuple(others), (), (tuple(m), tuple(t)), pairs, voted))
         else:
             win, lose = (m, t) if len(m) > len(t) else (t, m)
-            verdicts.append(Verdict(quantity, tuple(lose) + tuple(others), tuple(win), (), pairs))
+            verdicts.append(Verdict(quantity, tuple(lose) + tuple(others), tuple(win), (), pairs, voted))
     return verdicts
 
 
@@ -261,8 +310,10 @@ MUJOCO_JACDOT = ("MuJoCo's mj_jacDot takes a ball joint's columns from the veloc
 
 
 def _mujoco_cause(quantity, reference, evaluator, states) -> str:
-    """Why relacc's tree and MuJoCo differ, reproduced: MuJoCo's other reading of the quantity agrees with relacc."""
+    """Why relacc's tree and MuJoCo differ, reproduced: MuJoCo's other reading of the quantity (``J_dot v`` from its
+    acceleration routine, ``mj_rnePostConstraint`` at zero rates, rather than ``mj_jacDot``) agrees with relacc."""
     if quantity in ("J_dot v", "classical acceleration"):
+        from relacc.engines.base import com
         from relacc.validation.robots.agreement import shared_links
 
         links = shared_links(reference.structure, evaluator.structure, 0.0)
@@ -270,10 +321,10 @@ def _mujoco_cause(quantity, reference, evaluator, states) -> str:
         worst = 0.0
         for q, v, a in zip(states.q, states.v, states.a):
             mine = evaluator.kinematics(q, v, a, links)
-            theirs = reference.rne_kinematics(q, v, a, links)
+            theirs = reference.points(q[None], v[None], np.zeros((1, len(v))), [com(name) for name in links])
             scale = np.abs(mine.J).max(initial=0) * (np.abs(a).max(initial=0) + np.abs(v).max(initial=0) ** 2)
-            for x, y in ((mine.Jdot_v, theirs.Jdot_v), (mine.acceleration, theirs.acceleration)):
-                worst = max(worst, float(np.abs(x - y).max(initial=0)) / max(scale, np.finfo(float).tiny))
+            x, y = mine.Jdot_v, theirs.acceleration[0]
+            worst = max(worst, float(np.abs(x - y).max(initial=0)) / max(scale, np.finfo(float).tiny))
         if worst <= tol:
             return MUJOCO_JACDOT if _ball_then_slide(reference.model) else (
                 "MuJoCo's mj_jacDot differs from its own acceleration routine (mj_rnePostConstraint), which agrees "

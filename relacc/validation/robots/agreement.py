@@ -1,7 +1,7 @@
 """Dynamics agreement between MuJoCo and another engine at the reference configuration and at random states.
 
 Over the speeds both engines have (joints one engine lacks stay at MuJoCo's ``qpos0`` with zero
-speed), in the common coordinates of :mod:`relacc.engines.robots.base`:
+speed), in the reference's coordinates (:mod:`relacc.engines.base`):
 
 * ``mass matrix``, ``bias forces`` (Coriolis, centrifugal and gravity), ``gravity forces``,
   ``forward dynamics`` (accelerations at zero torque, no passive force, actuator or constraint;
@@ -60,7 +60,7 @@ def random_states(reference, n: int, seed: int) -> States:
     require_memory(8.0 * (n + 1) * (m.nq + 2 * m.nv + 8), f"{n} random states of {reference.path.name}",
                    "ask for fewer states (--states)")
     size = max([np.linalg.norm(link.com) for link in reference.structure.links] + [1.0])
-    q = np.repeat(reference.reference()[None], n + 1, axis=0)
+    q = np.repeat(reference.default_q()[None], n + 1, axis=0)
     v, a = np.zeros((n + 1, m.nv)), np.zeros((n + 1, m.nv))
     v[1:], a[1:] = rng.standard_normal((n, m.nv)), rng.standard_normal((n, m.nv))
     for j, joint in enumerate(reference.structure.joints):

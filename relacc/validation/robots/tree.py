@@ -1,8 +1,8 @@
 """relacc's own tree as an evaluator in ``relacc compare``: the note's method on the model MuJoCo compiled.
 
-relacc reads the model through MuJoCo's compiler (:func:`relacc.engines.mujoco_tree.tree_of` on the
-reference's compiled model), so its *structure* is MuJoCo's by construction and it takes no part in the
-audit. What it adds is an independent *evaluation*: positions, partial velocities, their rates and Kane's
+relacc reads the model through MuJoCo's compiler (the reference adapter's tree,
+:attr:`relacc.engines.base.Adapter.reference`), so its *structure* is MuJoCo's by construction and it takes no
+part in the audit. What it adds is an independent *evaluation*: positions, partial velocities, their rates and Kane's
 equations by :mod:`relacc.core.tree` and :mod:`relacc.dynamics.tree`, sharing no code with any engine.
 
 :class:`TreeRobot` answers in the common (MuJoCo's, case 2) coordinates for any of the three cases: the
@@ -18,18 +18,17 @@ import numpy as np
 
 from relacc.core.tree import convert, tree_kinematics
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
-from relacc.engines.robots.base import Dynamics, LinkKinematics, Robot
+from relacc.engines.base import Dynamics, Points
 
 
-class TreeRobot(Robot):
-    """relacc's tree of ``reference``'s compiled model, evaluated in ``case`` and answered in MuJoCo's coordinates."""
+class TreeRobot:
+    """relacc's tree of ``reference``'s compiled model, evaluated in ``case`` and answered in MuJoCo's coordinates
+    (the interface of :class:`relacc.engines.base.Adapter` that a comparison uses: ``dynamics``, ``kinematics``)."""
 
     def __init__(self, reference, case: int = 2):
-        from relacc.engines.mujoco_tree import tree_of
-
         self.case = int(case)
         self.engine = f"relacc (case {self.case})"
-        self.tree = tree_of(reference.model, "compared", str(reference.path))
+        self.tree = reference.reference
         self.model, self.joint_names, self.path = reference.model, reference.joint_names, reference.path
         self.structure = reference.structure
         self.dofs, self.qdofs = np.arange(self.tree.nv), np.arange(self.tree.nq(2))
@@ -56,7 +55,7 @@ class TreeRobot(Robot):
         forward = np.linalg.solve(T, tree_accelerations(self.tree, self.case, q_c, u_c) - Tdv)
         return Dynamics(M, bias, T.T @ (-rest.f), forward)
 
-    def kinematics(self, q, v, a, links) -> LinkKinematics:
+    def kinematics(self, q, v, a, links) -> Points:
         q_c, u_c, T, Tdv = self._map(q, v)
         k = tree_kinematics(self.tree, self.case, q_c, u_c, T @ np.asarray(a, dtype=float) + Tdv)
         mass = np.array([b.mass for b in self.tree.bodies])
@@ -70,4 +69,4 @@ class TreeRobot(Robot):
             J[i] = Vc @ T
             Jdv[i] = np.einsum("b,bkj->kj", w, k.Vdot[bodies]) @ u_c + Vc @ Tdv
             acc[i] = np.einsum("b,bk->k", w, k.acceleration[bodies])
-        return LinkKinematics(pos, J, Jdv, acc)
+        return Points(pos, J, None, Jdv, acc)

@@ -3,7 +3,7 @@
 Each reading is ``(key, text, applies(spec), change(spec))``: the audit
 (:func:`relacc.validation.robots.audit.explain`) recompiles MuJoCo's model with ``change`` and takes
 ``text`` as the cause of the differences that disappear. These functions touch only the spec (no
-``pydrake``, no ``mujoco`` import); :class:`relacc.engines.robots.drake_.DrakeRobot` binds the armature
+``pydrake``, no ``mujoco`` import); :class:`relacc.engines.drake_.DrakeAdapter` binds the armature
 reading to the joints its plant has an actuator on.
 """
 
@@ -93,5 +93,8 @@ MJCF_READINGS = (
      "body, 6 more degrees of freedom); MuJoCo and Pinocchio weld it to the world",
      lambda spec: bool(_loose_roots(spec)), _free_roots),
 )
-"""How Drake's parsers read a file differently from MuJoCo (as in :mod:`relacc.engines.robots.pinocchio_`); each
+"""How Drake's parsers read a file differently from MuJoCo (as in :mod:`relacc.engines.pinocchio_.readings`); each
 is applied only where recompiling MuJoCo with it makes a difference disappear."""
+
+ENGINE_READINGS = ()
+"""No known difference in Drake's algorithms."""

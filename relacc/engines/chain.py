@@ -1,0 +1,240 @@
+"""The note's chain through one engine: G2's kinematics, the equations of motion and steps, on the engine's adapters.
+
+The chain's engine files are just models: each route is one adapter (:mod:`relacc.engines.base`), whose reference
+coordinates are those of relacc's tree of the route's MJCF:
+
+* ``"quaternion"`` (cases 1, 2, 3): ``two_body.xml`` (Pinocchio: its MJCF, composites split; Drake: the plant built
+  from relacc's tree, its parser would turn the ball into roll-pitch-yaw angles). The tree's case-2 coordinates
+  *are* the chain's case 2, ``[s1, quat_B1, s2', quat_B2/B1]`` and ``nu = [s1_dot, omega'_B1, s2'_dot, omega_hat'_B2]``;
+  a case's state goes to them by :func:`relacc.core.speeds.body_speed_map` (``nu = [W] u``), then to the engine's by
+  the adapter's speed map (``v_e = [T] nu``): ``[E] = [T][W]``, ``[E_dot] = [T_dot][W] + [T][W_dot]``,
+  ``V = [J][E]``, ``Vdot = [J_dot][E] + [J][E_dot]``, and the engine is handed ``a_e = [E] udot + [E_dot] u``.
+* ``"euler"`` (case 3 only): ``two_body_euler.xml`` (MuJoCo), ``two_body_euler.urdf`` (Pinocchio and Drake by their
+  URDF parsers), whose joint positions and velocities *are* case 3's ``q`` and ``u``.
+
+G2 is the model's point ``G2`` (a site, or a frame of that name). Each adapter gives the acceleration by the engine's
+own acceleration routine, independently of its Jacobian time variation. The chain's effects reach the adapters as
+the tree's (:meth:`relacc.dynamics.effects.Effects.for_tree`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from relacc.core.cases import Case, as_case, check_q, check_u
+from relacc.core.kinematics import G2Kinematics, check_finite_result
+from relacc.core.note.common import mv
+from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion
+from relacc.core.scales import global_condition, offset_error
+from relacc.core.speeds import body_speed_map, check_invertible, quaternion_coordinates
+from relacc.core.tolerances import rounding_tolerance
+from relacc.engines.base import point
+from relacc.errors import EngineError
+
+ROUTES = ("quaternion", "euler")
+G2 = point("G2")
+
+
+@dataclass(frozen=True)
+class EngineInput:
+    """A batch of states in an engine's own coordinates: ``q (n, nq_e)``, ``v (n, nv_e)``, ``a`` (or None), and the
+    map from the case's speeds, ``v_e = [E] u``, ``E (n, nv_e, 12)``, with its rate ``E_dot``."""
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray | None
+    E: np.ndarray
+    E_dot: np.ndarray
+
+
+@dataclass(frozen=True)
+class PointKinematics:
+    """G2 over a batch, in the engine's velocity coordinates: ``position (n, 3)`` m; ``J``, ``J_dot``
+    ``(n, 3, nv_e)``; ``acceleration (n, 3)`` classical, by the engine's acceleration routine (None without rates);
+    world (= fixed frame R) components."""
+
+    position: np.ndarray
+    J: np.ndarray
+    J_dot: np.ndarray
+    acceleration: np.ndarray | None
+
+
+class ChainEngine:
+    """The chain in one engine: ``routes`` ``{"quaternion": adapter, "euler": adapter}`` (module docstring)."""
+
+    def __init__(self, name: str, routes: dict):
+        self.name, self.routes = name, routes
+        self.global_coordinates = routes["quaternion"].global_coordinates
+
+    @property
+    def version(self) -> str:
+        return self.routes["quaternion"].version
+
+    def lost_offset(self, route: str) -> float:
+        """Metres by which the engine's model misplaces G2 (0 unless an engine rounds the model)."""
+        return self.routes[route].lost_offset("G2")
+
+    def bound(self, route: str, quantity: str, chain, case, q, u, udot=None):
+        """Per-state bound on the normalized error of ``quantity`` against the core: ``c eps condition + offset``,
+        the condition :func:`relacc.core.scales.global_condition` for the quantities the engine forms from world
+        positions (else 1), the offset :func:`relacc.core.scales.offset_error` of :meth:`lost_offset`."""
+        cond = global_condition(quantity, chain, case, q, u, udot) if quantity in self.global_coordinates else 1.0
+        return rounding_tolerance() * cond + offset_error(self.lost_offset(route), quantity, chain, case, q, u, udot)
+
+    def engine_input(self, route: str, case, q, u, udot) -> EngineInput:
+        """A batch of a case's states ``(n, .)`` in the engine's coordinates, with ``[E]`` and ``[E_dot]``."""
+        c, adapter = as_case(case), self.routes[route]
+        n = q.shape[0]
+        if route == "euler":
+            eye = np.broadcast_to(np.eye(12), (n, 12, 12))
+            qe, ve, ae, T, Td = adapter.to_engine(q, u, udot)
+            return EngineInput(qe, ve, ae, T @ eye, Td @ eye)
+        q14 = quaternion_coordinates(c, q)
+        W, W_dot = body_speed_map(c, q, u)
+        nu = mv(W, u)
+        qe, _, _, T, Td = adapter.to_engine(q14, nu)
+        E, E_dot = T @ W, Td @ W + T @ W_dot
+        return EngineInput(qe, mv(E, u), None if udot is None else mv(E, udot) + mv(E_dot, u), E, E_dot)
+
+    def note_coordinates(self, route: str, case, q_e) -> np.ndarray:
+        """Engine positions ``(n, nq_e)`` back to the case's ``q`` (1-2-3 angles for case 3 on the quaternion
+        route, through :func:`relacc.core.rotations.angles_123_from_matrix`)."""
+        q, _ = self.routes[route].from_engine(q_e, np.zeros((len(q_e), self.routes[route].nv_e)))
+        if route == "euler" or as_case(case) is not Case.ANGLE_RATES:
+            return q
+        return np.concatenate([q[:, 0:3], angles_123_from_matrix(matrix_from_quaternion(q[:, 3:7])), q[:, 7:10],
+                               angles_123_from_matrix(matrix_from_quaternion(q[:, 10:14]))], 1)
+
+    def note_state(self, route: str, case, x: EngineInput):
+        """Inverse of :meth:`engine_input`: ``(q, u, udot)`` of the case; ``u = [E]^-1 v_e``,
+        ``udot = [E]^-1 (a_e - [E_dot] u)``; it serves round-trip tests, not comparisons.
+
+        Raises:
+            SingularityError: case 3 within ``MAX_CONDITION`` of gimbal lock.
+        """
+        c = as_case(case)
+        q = self.note_coordinates(route, c, x.q)
+        check_invertible(c, q)
+        u = np.linalg.solve(x.E, x.v[..., None])[..., 0]
+        udot = None if x.a is None else np.linalg.solve(x.E, (x.a - mv(x.E_dot, u))[..., None])[..., 0]
+        return q, u, udot
+
+    def points(self, route: str, q, v, a, *, jdot: bool = True) -> PointKinematics:
+        """G2 at engine states ``(n, nq_e)``, ``(n, nv_e)``, rates ``a`` (or None); ``jdot=False`` leaves ``J_dot``
+        out (None), which Drake computes by automatic differentiation."""
+        p = self.routes[route].points(q, v, a, [G2], jdot=jdot)
+        return PointKinematics(p.position[:, 0], p.J[:, 0], p.Jdot[:, 0] if jdot else None,
+                               None if p.acceleration is None else p.acceleration[:, 0])
+
+    def g2_kinematics(self, case, q, u, udot=None, *, route="quaternion") -> G2Kinematics:
+        """G2's kinematics by this engine, in the core's conventions (fixed-frame components, classical
+        acceleration); ``variant`` names the engine and route.
+
+        Raises:
+            EngineError: unknown route or the euler route for cases 1-2. InputError: as :func:`relacc.g2_kinematics`.
+        """
+        c = as_case(case)
+        if route not in ROUTES:
+            raise EngineError(f"unknown route {route!r}: accepted are {', '.join(ROUTES)}")
+        if route == "euler" and c is not Case.ANGLE_RATES:
+            raise EngineError(f"the euler route takes case 3 states only, got case {int(c)}")
+        q = check_q(c, q)
+        u = check_u(f"u for case {int(c)}", u)
+        udot = None if udot is None else check_u(f"udot for case {int(c)}", udot)
+        batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1], () if udot is None else udot.shape[:-1])
+        q = np.broadcast_to(q, batch + q.shape[-1:]).reshape(-1, q.shape[-1])
+        u = np.broadcast_to(u, batch + (12,)).reshape(-1, 12)
+        udot = None if udot is None else np.broadcast_to(udot, batch + (12,)).reshape(-1, 12)
+        x = self.engine_input(route, c, q, u, udot)
+        p = self.points(route, x.q, x.v, x.a)
+        V = p.J @ x.E
+        Vdot = p.J_dot @ x.E + p.J @ x.E_dot
+        check_finite_result((p.position, V, Vdot, p.acceleration), q, u, udot)
+        shape = lambda a, tail: a.reshape(batch + tail)  # noqa: E731
+        return G2Kinematics(position=shape(p.position, (3,)), velocity=shape(np.einsum("nij,nj->ni", V, u), (3,)),
+                            acceleration=None if udot is None else shape(p.acceleration, (3,)),
+                            V=shape(V, (3, 12)), Vdot=shape(Vdot, (3, 12)), case=c, variant=f"{self.name}:{route}")
+
+    # --- dynamics and steps, on the quaternion route ----------------------------------------------------------
+
+    @property
+    def adapter(self):
+        """The quaternion route's adapter, which every dynamics and simulation uses."""
+        return self.routes["quaternion"]
+
+    def dynamics(self, q, v, effects):
+        """Engine equations ``M_e vdot_e = f_e`` ``((n, nv_e, nv_e), (n, nv_e))`` under exactly the chain's
+        ``effects`` (:class:`relacc.dynamics.effects.Effects`)."""
+        return self.adapter.equations(q, v, effects.for_tree())
+
+    def forward_dynamics(self, q, v, effects):
+        """Engine accelerations ``vdot_e`` ``(n, nv_e)`` at ``(q, v)`` under exactly ``effects``."""
+        return self.adapter.forward(q, v, effects.for_tree())
+
+    def equations_of_motion(self, case, q, u, effects):
+        """The engine's ``(M, f)`` mapped to a case's speeds: ``E^T M_e E`` and ``E^T (f_e - M_e E_dot u)``."""
+        c = as_case(case)
+        q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
+        x = self.engine_input("quaternion", c, np.atleast_2d(q), np.atleast_2d(u), None)
+        Me, fe = self.dynamics(np.ascontiguousarray(x.q), np.ascontiguousarray(x.v), effects)
+        M = np.swapaxes(x.E, -1, -2) @ Me @ x.E
+        f = np.einsum("nji,nj->ni", x.E, fe - np.einsum("nij,njk,nk->ni", Me, x.E_dot, np.atleast_2d(u)))
+        return M.reshape(q.shape[:-1] + (12, 12)), f.reshape(q.shape[:-1] + (12,))
+
+    def stepper(self, effects, dt: float, integrator: str, accuracy: float | None = None):
+        """The engine's integrator under exactly ``effects`` (:meth:`relacc.engines.base.Adapter.stepper`)."""
+        return self.adapter.stepper(effects.for_tree(), dt, integrator, accuracy)
+
+    def simulate(self, q, v, effects, dt: float, n_steps: int, integrator: str, record_every: int = 1,
+                 progress=None, accuracy: float | None = None):
+        """``(t, Q, V)`` from engine coordinates: times ``(m,)`` (s) and engine states every ``record_every`` steps
+        and at the last, the initial state first (:func:`relacc.dynamics.steps.collect`)."""
+        from relacc.dynamics.steps import collect
+
+        return collect(self.stepper(effects, dt, integrator, accuracy), q, v, dt, n_steps, record_every,
+                       who=self.name, integrator=integrator, progress=progress)
+
+    def applied(self, effects) -> dict:
+        return self.adapter.applied(effects.for_tree())
+
+    def initial_state(self, case, q, u):
+        """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates ``(q_e (nq_e,), v_e (nv_e,))``."""
+        x = self.engine_input("quaternion", as_case(case), np.asarray(q)[None], np.asarray(u)[None], None)
+        return x.q[0], x.v[0]
+
+    def body_state(self, q, v):
+        """Engine coordinates ``(n, nq_e)``, ``(n, nv_e)`` to case 2's ``(q14, nu)``."""
+        return self.adapter.from_engine(q, v)
+
+    def energy_terms(self, chain, q, v, effects):
+        """``(kinetic, gravity, spring)`` energies, J, ``(n,)`` each, of a batch of engine states."""
+        return self.adapter.energy(np.atleast_2d(q), np.atleast_2d(v), effects.for_tree())
+
+    def momenta(self, chain, q, v):
+        """Linear (kg m/s) and angular (kg m^2/s, about R's origin) momenta ``(n, 3)``, fixed components."""
+        return self.adapter.momenta(np.atleast_2d(q), np.atleast_2d(v))
+
+
+def chain_engine(name: str, fixture, split: bool = True) -> ChainEngine:
+    """The chain of ``fixture`` in engine ``name``, both routes, through the registry's adapters
+    (:func:`relacc.engines.load`); ``split=False`` keeps Pinocchio's composite joint as loaded (the composite-joint
+    finding, for the referee's tests).
+
+    Raises:
+        FixtureError: unreadable or stale model files. ModelError: an engine that cannot read them.
+    """
+    from relacc.engines import load
+
+    with fixture.engine_files() as paths:
+        xml, euler_xml, urdf = paths["two_body.xml"], paths["two_body_euler.xml"], paths["two_body_euler.urdf"]
+        mq, me = load("mujoco", xml), load("mujoco", euler_xml)
+        if name == "mujoco":
+            return ChainEngine(name, {"quaternion": mq, "euler": me})
+        if name == "pinocchio":
+            routes = {"quaternion": load(name, xml, mq.reference, split=split),
+                      "euler": load(name, urdf, me.reference, urdf=urdf)}
+        else:
+            routes = {"quaternion": load(name, xml, mq.reference, build=True), "euler": load(name, urdf, me.reference)}
+        return ChainEngine(name, routes)

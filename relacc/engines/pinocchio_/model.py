@@ -1,0 +1,126 @@
+"""Pinocchio's reading of a model file, and its joints matched to the reference's.
+
+Imports only ``pinocchio``. Pinocchio reads an MJCF by ``buildModelFromMJCF`` (a body with several joints becomes
+one ``JointModelComposite`` named ``Composite_<first joint>``) or a URDF by ``buildModelFromUrdf`` (with a free-flyer
+root when the reference's root is free). :func:`split_composites` rebuilds a model with every composite replaced by
+its sub-joints: Pinocchio 4.1.0's Jacobian time variation of a composite is wrong in its slide columns (it treats
+every column as fixed in the composite's output frame, which a ball rotates; stack-of-tasks/pinocchio#2519 reports
+the like), while its positions, velocities, Jacobians and classical accelerations are right.
+"""
+
+from __future__ import annotations
+
+import pinocchio as pin
+
+from relacc.engines.base import NQ, NV, Match
+from relacc.errors import ModelError
+
+
+def kind(joint) -> str | None:
+    """The common type of a (sub-)joint model, or None for one relacc does not map."""
+    name = joint.shortname()
+    if name == "JointModelFreeFlyer":
+        return "free"
+    if name == "JointModelSpherical":
+        return "ball"
+    if name.startswith(("JointModelR", "JointModelRevolute")):
+        return "hinge"
+    if name.startswith(("JointModelP", "JointModelPrismatic")):
+        return "slide"
+    return None
+
+
+def parse(path, urdf=None, root_free: bool = False) -> "pin.Model":
+    """Pinocchio's model of ``path`` (MJCF), or of ``urdf`` by its URDF parser.
+
+    Raises:
+        ModelError: the parser's message.
+    """
+    try:
+        if urdf is not None:
+            return pin.buildModelFromUrdf(str(urdf), pin.JointModelFreeFlyer()) if root_free else \
+                pin.buildModelFromUrdf(str(urdf))
+        return pin.buildModelFromMJCF(str(path))
+    except Exception as exc:  # Pinocchio raises ValueError/RuntimeError with its parser's message
+        raise ModelError(f"{urdf or path}: Pinocchio cannot read it: {' '.join(str(exc).split())}") from None
+
+
+def split_composites(model: "pin.Model") -> "pin.Model":
+    """The same model with every ``JointModelComposite`` replaced by its sub-joints.
+
+    Sub-joints keep their order (so ``q`` and ``v`` keep their layout) and their placements (the composite's own
+    placement times the first's, then each after the one before, as ``JointModelComposite.jointPlacements`` holds
+    them); the body inertia goes to the last sub-joint, massless bodies sit in between. Sub-joint ``k`` is named
+    ``<composite>[k]``. Frames are re-attached to the last sub-joint with their placements unchanged.
+    """
+    new = pin.Model()
+    new.name = model.name
+    new.gravity = model.gravity
+    joint_map = {0: 0}
+    for jid in range(1, model.njoints):
+        jm = model.joints[jid]
+        parent = joint_map[model.parents[jid]]
+        placement = model.jointPlacements[jid]
+        armature = model.armature[model.idx_vs[jid]:model.idx_vs[jid] + model.nvs[jid]].copy()
+        if jm.shortname() == "JointModelComposite":
+            comp = jm.extract()
+            subs, places = list(comp.joints), list(comp.jointPlacements)
+            for k, sub in enumerate(subs):  # places[k]: sub-joint k's placement after sub-joint k - 1
+                parent = new.addJoint(parent, sub, placement * places[0] if k == 0 else places[k],
+                                      f"{model.names[jid]}[{k}]")
+                if k < len(subs) - 1:
+                    new.appendBodyToJoint(parent, pin.Inertia.Zero(), pin.SE3.Identity())
+            new_id = parent
+        else:
+            new_id = new.addJoint(parent, jm, placement, model.names[jid])
+        new.appendBodyToJoint(new_id, model.inertias[jid], pin.SE3.Identity())
+        armatures = new.armature.copy()  # the composite's speeds keep their layout: its armature, in order
+        armatures[new.nv - len(armature):new.nv] = armature
+        new.armature = armatures
+        joint_map[jid] = new_id
+    for frame in list(model.frames)[1:]:
+        new.addFrame(pin.Frame(frame.name, joint_map[frame.parentJoint], frame.parentFrame, frame.placement,
+                               frame.type, frame.inertia), False)
+    return new
+
+
+def subjoints(model) -> dict:
+    """``{(name, k): (joint model, q start, v start)}``: every joint and every composite's sub-joint ``k``."""
+    out = {}
+    for j in range(1, model.njoints):
+        jm = model.joints[j]
+        if jm.shortname() == "JointModelComposite":
+            iq, iv = jm.idx_q, jm.idx_v
+            for k, sub in enumerate(jm.extract().joints):
+                out[(model.names[j], k)] = (sub, iq, iv)
+                iq, iv = iq + sub.nq, iv + sub.nv
+        else:
+            name, _, k = model.names[j].partition("[")  # split composites: "Composite_<first>[k]"
+            out[(name, int(k[:-1]) if k else 0)] = (jm, jm.idx_q, jm.idx_v)
+    return out
+
+
+def match(model, reference, from_urdf: bool) -> list[Match]:
+    """Each reference joint Pinocchio has, by name (a composite's sub-joints by their place in it; a URDF's
+    free-flyer root as the reference's free root), of the same type."""
+    subs = subjoints(model)
+    on_body: dict[int, list[str]] = {}
+    for b, j in reference.joints:
+        on_body.setdefault(b, []).append(j.name)
+    out = []
+    for k, ((b, joint), qa, da) in enumerate(zip(reference.joints, reference.qadr(2), reference.dofadr)):
+        siblings = on_body[b]
+        key = (joint.name, 0)
+        if key not in subs and len(siblings) > 1:
+            key = (f"Composite_{siblings[0]}", siblings.index(joint.name))
+        if key not in subs and from_urdf and k == 0 and joint.type == "free":
+            key = (model.names[1], 0)
+        if key not in subs:
+            continue
+        jm, iq, iv = subs[key]
+        if kind(jm) != joint.type:
+            continue  # reported by the audit as a type difference
+        nq, nv = NQ[joint.type], NV[joint.type]
+        out.append(Match(joint.type, (k,), tuple(range(qa, qa + nq)), tuple(range(da, da + nv)),
+                         tuple(range(iq, iq + jm.nq)), tuple(range(iv, iv + nv))))
+    return out

@@ -1,0 +1,64 @@
+"""How Pinocchio reads a model differently from MuJoCo, as changes to MuJoCo's ``MjSpec``, and the difference in its
+algorithms relacc knows.
+
+Each reading is ``(key, text, applies(spec), change(spec))``: the audit (:func:`relacc.validation.robots.audit.explain`)
+recompiles MuJoCo's model with ``change`` and takes ``text`` as the cause of the differences that disappear. These
+functions touch only the spec (no ``pinocchio``, no ``mujoco`` import).
+"""
+
+from __future__ import annotations
+
+
+def _drop_later_world_children(spec):
+    for body in list(spec.worldbody.bodies)[1:]:
+        spec.delete(body)
+
+
+def _visual_geoms(spec):
+    """Geoms with ``contype = conaffinity = 0`` in bodies whose inertia comes from their geoms."""
+    return [g for b in spec.bodies if not b.explicitinertial for g in b.geoms if g.contype == 0 and g.conaffinity == 0]
+
+
+def _leave_out_of_inertia(spec):
+    for g in spec.geoms:
+        g.group = min(int(g.group), 4)
+    for g in _visual_geoms(spec):
+        g.group = 5
+    spec.compiler.inertiagrouprange = [0, 4]
+    spec.compiler.boundmass = spec.compiler.boundinertia = 1e-14  # MuJoCo refuses massless moving bodies
+
+
+def _default_gravity(spec):
+    spec.option.gravity = [0.0, 0.0, -9.81]
+
+
+MJCF_READINGS = (
+    ("first_body", "Pinocchio's MJCF parser reads only the first <body> under <worldbody>; the others are dropped",
+     lambda spec: len(list(spec.worldbody.bodies)) > 1, _drop_later_world_children),
+    ("settotalmass", "Pinocchio ignores <compiler settotalmass>, which makes MuJoCo scale every mass",
+     lambda spec: spec.compiler.settotalmass > 0, lambda spec: setattr(spec.compiler, "settotalmass", -1.0)),
+    ("visual_geoms", "Pinocchio's MJCF parser takes geoms with contype=0 and conaffinity=0 as visual and leaves "
+     "them out of the inertia; MuJoCo counts every geom in inertiagrouprange",
+     lambda spec: bool(_visual_geoms(spec)), _leave_out_of_inertia),
+    ("gravity", "Pinocchio's MJCF parser ignores <option gravity> and keeps (0, 0, -9.81)",
+     lambda spec: list(spec.option.gravity) != [0.0, 0.0, -9.81], _default_gravity),
+)
+"""How Pinocchio's MJCF parser reads a file differently from MuJoCo, each as ``(key, cause, applies(spec),
+change(spec))``: ``change`` makes MuJoCo read the file Pinocchio's way, so that a comparison can check that the
+difference is explained (MuJoCo recompiled with the change gives Pinocchio's numbers)."""
+
+ENGINE_READINGS = (
+    ("composite_jdot", "Pinocchio's Jacobian time variation (J_dot v) of a JointModelComposite, which its MJCF parser "
+     "makes of a body with several joints, is wrong (stack-of-tasks/pinocchio#2519): with the composites split "
+     "into simple joints Pinocchio agrees",
+     lambda robot: bool(robot.composites()), lambda robot: _split(robot)),
+)
+"""Differences in Pinocchio's algorithms rather than its reading of the file: ``(key, cause, applies(robot),
+rebuild(robot))``, ``rebuild`` giving a robot without the difference."""
+
+
+def _split(robot):
+    from relacc.engines.pinocchio_ import PinocchioAdapter
+
+    path, reference, urdf = robot.args
+    return PinocchioAdapter(path, reference, urdf=urdf, split=True)
