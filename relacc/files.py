@@ -58,6 +58,7 @@ def write_bytes(path, data: bytes) -> Path:
     except OSError as exc:
         raise _os_error(path, exc) from None
     try:
+        check_interrupt()
         os.replace(tmp, path)
     except BaseException as exc:
         tmp.unlink(missing_ok=True)
@@ -145,6 +146,7 @@ def _rename_all(temps: dict) -> None:
     """Rename each staged temporary file over its path; on a failure put back the ones already replaced."""
     done, backups = [], {}
     try:
+        check_interrupt()
         for path, tmp in temps.items():
             try:
                 backups[path] = path.read_bytes() if path.exists() else None
@@ -276,16 +278,39 @@ def new_directory(path):
 
 @contextlib.contextmanager
 def terminate_as_interrupt():
-    """Inside the block, SIGTERM raises :class:`KeyboardInterrupt` like SIGINT, so writes clean up."""
+    """Inside the block, SIGTERM raises :class:`KeyboardInterrupt` like SIGINT, so writes clean up.
+
+    Both signals also leave a pending interrupt (:func:`check_interrupt`): an exception raised while a C library
+    runs a Python callback (numba's compiler calls its object cache through ctypes) is printed and dropped by
+    ctypes, and the command would carry on; every atomic write and the command's end check for it, so an interrupt
+    is never lost, at the latest before any file is changed."""
     def handler(signum, frame):
+        PENDING[0] = signum
         raise KeyboardInterrupt(f"signal {signum}")
 
     try:
-        previous = signal.signal(signal.SIGTERM, handler)
+        previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGINT)}
     except ValueError:  # not the main thread: leave signals alone
         yield
         return
+    PENDING[0] = None
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+
+PENDING: list = [None]
+"""The signal of an interrupt not yet acted on (see :func:`terminate_as_interrupt`), or None."""
+
+
+def check_interrupt() -> None:
+    """Raise the pending interrupt, if a signal came and its :class:`KeyboardInterrupt` was lost on the way."""
+    if PENDING[0] is not None:
+        raise KeyboardInterrupt(f"signal {PENDING[0]}")
+
+
+def clear_interrupt() -> None:
+    """The interrupt has been acted on."""
+    PENDING[0] = None

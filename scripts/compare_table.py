@@ -84,8 +84,8 @@ def table(models=None) -> str:
             items = [a for a in result.audit if name in a.values]
             causes = sorted(set().union(*[labels(c.split(": ", 1)[1]) for a in items for c in a.cause.split("; ")
                                           if c.startswith(name + ":")]))
-            bad = {q: r[name] for q, r in result.dynamics.items() if name in r and not r[name]["ok"]}
-            dyn = sorted(set().union(*[labels(r["cause"]) for r in bad.values()]))
+            bad = {q: r[name] for q, r in result.dynamics.items() if name in r and not r[name].passed}
+            dyn = sorted(set().union(*[labels(r.cause) for r in bad.values()]))
             audit = f"{len(items)}: {'; '.join(causes)}" if items else "0"
             dynamics = f"{len(bad)} of {len(result.dynamics)}: {'; '.join(dyn)}" if bad else "none"
             lines.append(f"{head} {name} | yes ({report.nv}) | {audit} | {dynamics} | "

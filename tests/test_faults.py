@@ -203,3 +203,27 @@ def _whole(text: str) -> bool:
         return True
     unit = text[: len(text) // 50]
     return text == unit * 50 and len(set(unit[:1000])) == 1 and unit[1000:].isdigit()
+
+
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")  # ctypes's report of the drop
+def test_an_interrupt_a_c_callback_swallows_is_not_lost(tmp_path):
+    """SIGTERM that lands while a C library runs a Python callback (numba's compiler calls its object cache through
+    ctypes) is printed and dropped by ctypes; the command carries on, but no file is changed and it still ends as
+    an interrupt."""
+    import ctypes
+
+    target = tmp_path / "report.html"
+    target.write_bytes(OLD)
+
+    @ctypes.CFUNCTYPE(None)
+    def callback():
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(10 ** 6):  # the handler runs here, inside the callback: ctypes drops its exception
+            pass
+
+    with files.terminate_as_interrupt():
+        callback()  # returns: the KeyboardInterrupt was swallowed
+        with pytest.raises(KeyboardInterrupt):
+            files.write_text(target, "new")
+        files.clear_interrupt()
+    assert target.read_bytes() == OLD and _leftovers(tmp_path) == []

@@ -36,7 +36,9 @@ def main(argv=None) -> int:
     try:
         with files.terminate_as_interrupt(), warnings.catch_warnings():
             warnings.simplefilter("error", RuntimeWarning)
-            return getattr(commands, f"cmd_{args.command}")(args)
+            code = getattr(commands, f"cmd_{args.command}")(args)
+            files.check_interrupt()  # an interrupt a C library's callback swallowed on the way
+            return code
     except RelaccError as exc:
         end_line()
         print(f"{name}: error: {exc}", file=sys.stderr)
@@ -49,6 +51,7 @@ def main(argv=None) -> int:
         print(f"{name}: error: not enough memory for this request; ask for fewer states", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        files.clear_interrupt()
         end_line()
         print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
         return 130

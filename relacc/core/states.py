@@ -11,14 +11,15 @@ from relacc.core.cases import Case, as_case, check_int
 
 @dataclass(frozen=True)
 class States:
-    """A batch of states of one case.
+    """A batch of states of one case, of the chain or of a model's tree: the one kind of states relacc draws.
 
     Attributes:
-        case: the choice of generalized speeds.
-        q: ``(n, 14)`` or ``(n, 12)`` coordinates (m, unit quaternions or rad).
-        u: ``(n, 12)`` speeds (m/s, rad/s). udot: ``(n, 12)`` their rates.
+        case: the choice of generalized speeds (a model's case 2 is MuJoCo's ``qpos``/``qvel``).
+        q: ``(n, nq)`` coordinates (the chain: ``(n, 14)`` or ``(n, 12)``; m, unit quaternions or rad).
+        u: ``(n, nv)`` speeds (m/s, rad/s). udot: ``(n, nv)`` their rates.
         seed: the seed they were drawn with, an int or a list of ints given
             to ``numpy.random.default_rng`` (print it when a check fails).
+        tree: the :class:`relacc.Tree` they are states of, or None for the note's chain.
     """
 
     case: Case
@@ -26,9 +27,17 @@ class States:
     u: np.ndarray
     udot: np.ndarray
     seed: int | list
+    tree: object = None
 
     def __len__(self) -> int:
         return self.q.shape[0]
+
+    def frozen(self) -> "States":
+        """The same states with read-only arrays (what a cache hands out: a test that changes them copies first)."""
+        arrays = [np.array(a) for a in (self.q, self.u, self.udot)]
+        for a in arrays:
+            a.setflags(write=False)
+        return States(self.case, *arrays, self.seed, self.tree)
 
 
 def random_unit_quaternions(rng: np.random.Generator, n: int) -> np.ndarray:

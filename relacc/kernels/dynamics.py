@@ -35,7 +35,8 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tolerances import MAX_CONDITION
-from relacc.kernels.perstate import HAVE_NUMBA, bad_inputs, cross, jitable, mv, numba, quat_matrix, r123
+from relacc.kernels.perstate import HAVE_NUMBA, bad_inputs, jitable, numba
+from relacc.kernels.so3 import cross, exp_mul, jr_inv, mv, quat_matrix, r123, w123_dot_mv, w123_mv, w123_solve
 from relacc.kernels.trig import LIMIT, sincos
 
 # Offsets into the chain parameters ``cp`` (:func:`chain_params`), all in the chain's own components.
@@ -145,27 +146,10 @@ def _trig3(q, k):
     return c1, c2, c3, s1, s2, s3
 
 
-@jitable
-def _w123(t, x):
-    """``W(theta) x`` for 1-2-3 angles (``t``: :func:`_trig3`): reference-frame angular velocity from angle rates."""
-    c1, c2, s1, s2 = t[0], t[1], t[3], t[4]
-    return x[0] + s2 * x[2], c1 * x[1] - s1 * c2 * x[2], s1 * x[1] + c1 * c2 * x[2]
-
-
-@jitable
-def _w123_dot(t, d1, d2, x):
-    """``W_dot(theta, theta_dot) x``."""
-    c1, c2, s1, s2 = t[0], t[1], t[3], t[4]
-    return (c2 * d2 * x[2], -s1 * d1 * x[1] + (-c1 * c2 * d1 + s1 * s2 * d2) * x[2],
-            c1 * d1 * x[1] + (-s1 * c2 * d1 - c1 * s2 * d2) * x[2])
-
-
-@jitable
-def _w123_solve(t, b):
-    """``W(theta)^-1 b`` (``det W = cos theta2``: inf or NaN at gimbal lock, caught by the callers)."""
-    c1, c2, s1, s2 = t[0], t[1], t[3], t[4]
-    x2 = (c1 * b[2] - s1 * b[1]) / c2
-    return b[0] - s2 * x2, c1 * b[1] + s1 * b[2], x2
+@jitable(inline=True)
+def _w_solve(t, b):
+    """``W(theta)^-1 b`` for the cosines and sines ``t`` (:func:`_trig3`)."""
+    return w123_solve(t[0], t[1], t[3], t[4], b[0], b[1], b[2])
 
 
 @jitable
@@ -190,7 +174,7 @@ def rates(case, q, u, cp, ep):
     t1 = t2 = (1.0, 1.0, 1.0, 0.0, 0.0, 0.0)  # the angles' trigonometry (case 3 only)
     if case == 3:
         t1, t2 = _trig3(q, 3), _trig3(q, 9)
-        C1, Mr = r123(*t1), r123(*t2)
+        C1, Mr = r123(t1[0], t1[1], t1[2], t1[3], t1[4], t1[5]), r123(t2[0], t2[1], t2[2], t2[3], t2[4], t2[5])
         o = 6
     else:
         C1, Mr = quat_matrix(q[3], q[4], q[5], q[6]), quat_matrix(q[10], q[11], q[12], q[13])
@@ -207,8 +191,8 @@ def rates(case, q, u, cp, ep):
     elif case == 2:
         w1, wh = mv(C1, ua[0], ua[1], ua[2]), mv(C2, ub[0], ub[1], ub[2])
     else:
-        w1 = _w123(t1, ua)
-        hb = _w123(t2, ub)
+        w1 = w123_mv(t1[0], t1[1], t1[3], t1[4], ua[0], ua[1], ua[2])
+        hb = w123_mv(t2[0], t2[1], t2[3], t2[4], ub[0], ub[1], ub[2])
         wh = mv(C1, hb[0], hb[1], hb[2])
     w2 = _add(w1, wh)
     # geometry, fixed components: G1 from B1's origin, the joint point from B1's origin, G2 from it
@@ -263,45 +247,14 @@ def rates(case, q, u, cp, ep):
         ang2 = _mtv(C2, h2[0], h2[1], h2[2])
         tan1, tan2 = ua, ub
     else:
-        ang1 = _w123_solve(t1, _sub(al1, _w123_dot(t1, u[3], u[4], ua)))
+        ang1 = _w_solve(t1, _sub(al1, w123_dot_mv(t1[0], t1[1], t1[3], t1[4], u[3], u[4], ua[1], ua[2])))
         hb1 = _mtv(C1, hd[0], hd[1], hd[2])
-        ang2 = _w123_solve(t2, _sub(hb1, _w123_dot(t2, u[9], u[10], ub)))
+        ang2 = _w_solve(t2, _sub(hb1, w123_dot_mv(t2[0], t2[1], t2[3], t2[4], u[9], u[10], ub[1], ub[2])))
         tan1, tan2 = ua, ub
     udot = (s1dd[0], s1dd[1], s1dd[2], ang1[0], ang1[1], ang1[2], s2dd[0], s2dd[1], s2dd[2],
             ang2[0], ang2[1], ang2[2])
     tangent = (u[0], u[1], u[2], tan1[0], tan1[1], tan1[2], u[6], u[7], u[8], tan2[0], tan2[1], tan2[2])
     return tangent, udot
-
-
-@jitable
-def _exp_mul(q, at, phi0, phi1, phi2, out):
-    """``out[at:at+4] = q[at:at+4] (x) Exp(phi)`` for a unit quaternion (w, x, y, z) and a body rotation vector."""
-    th2 = phi0 * phi0 + phi1 * phi1 + phi2 * phi2
-    if th2 < 1e-8:  # series of cos(a/2) and sin(a/2)/a, exact to rounding below 1e-8
-        w, k = 1 - th2 / 8 + th2 * th2 / 384, 0.5 - th2 / 48 + th2 * th2 / 3840
-    else:
-        th = np.sqrt(th2)
-        w, k = np.cos(th / 2), np.sin(th / 2) / th
-    x, y, z = k * phi0, k * phi1, k * phi2
-    a, b, c, d = q[at], q[at + 1], q[at + 2], q[at + 3]
-    out[at] = a * w - b * x - c * y - d * z
-    out[at + 1] = a * x + b * w + c * z - d * y
-    out[at + 2] = a * y - b * z + c * w + d * x
-    out[at + 3] = a * z + b * y - c * x + d * w
-
-
-@jitable
-def _dexpinv(phi0, phi1, phi2, w0, w1, w2):
-    """``J_r^-1(phi) w`` (see :func:`relacc.dynamics.integrate.so3_dexpinv_body`)."""
-    th2 = phi0 * phi0 + phi1 * phi1 + phi2 * phi2
-    if th2 < 1e-4:
-        beta = 1 / 12 + th2 / 720 + th2 * th2 / 30240
-    else:
-        th = np.sqrt(th2)
-        beta = 1 / th2 - (1 + np.cos(th)) / (2 * th * np.sin(th))
-    c = cross(phi0, phi1, phi2, w0, w1, w2)
-    cc = cross(phi0, phi1, phi2, c[0], c[1], c[2])
-    return w0 + 0.5 * c[0] + beta * cc[0], w1 + 0.5 * c[1] + beta * cc[1], w2 + 0.5 * c[2] + beta * cc[2]
 
 
 @jitable
@@ -314,8 +267,8 @@ def move(case, q, delta, out):
     for k in range(3):
         out[k] = q[k] + delta[k]
         out[7 + k] = q[7 + k] + delta[6 + k]
-    _exp_mul(q, 3, delta[3], delta[4], delta[5], out)
-    _exp_mul(q, 10, delta[9], delta[10], delta[11], out)
+    exp_mul(q, 3, delta[3], delta[4], delta[5], out)
+    exp_mul(q, 10, delta[9], delta[10], delta[11], out)
 
 
 @jitable
@@ -324,8 +277,8 @@ def _dexp_tangent(case, delta, w, out):
     for k in range(12):
         out[k] = w[k]
     if case != 3:
-        a = _dexpinv(delta[3], delta[4], delta[5], w[3], w[4], w[5])
-        b = _dexpinv(delta[9], delta[10], delta[11], w[9], w[10], w[11])
+        a = jr_inv(delta[3], delta[4], delta[5], w[3], w[4], w[5])
+        b = jr_inv(delta[9], delta[10], delta[11], w[9], w[10], w[11])
         out[3], out[4], out[5], out[9], out[10], out[11] = a[0], a[1], a[2], b[0], b[1], b[2]
 
 

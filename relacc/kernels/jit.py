@@ -9,6 +9,7 @@ when called from jitted code (``numba.extending.register_jitable``).
 from __future__ import annotations
 
 import contextlib
+import types
 
 try:  # numba is a dependency; without it the functions stay plain Python
     import numba
@@ -31,6 +32,14 @@ def jitable(fn=None, *, inline=False):
     if not HAVE_NUMBA:
         return fn
     return numba.extending.register_jitable(inline="always")(fn) if inline else numba.extending.register_jitable(fn)
+
+
+def inline_twin(fn):
+    """The same code as the (already :func:`jitable`) ``fn``, registered again to be inlined into its callers at
+    numba's level: one source, two ways of compiling it."""
+    twin = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__ + "_inline", fn.__defaults__, fn.__closure__)
+    twin.__doc__, twin.__qualname__ = fn.__doc__, fn.__qualname__ + "_inline"
+    return jitable(twin, inline=True)
 
 
 @contextlib.contextmanager

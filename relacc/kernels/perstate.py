@@ -14,80 +14,23 @@ import numpy as np
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.kernels import trig
 from relacc.kernels.jit import HAVE_NUMBA, jitable, numba  # noqa: F401  (re-exported)
+from relacc.kernels.so3 import (  # noqa: F401  (re-exported to the chain's kernels)
+    cross,
+    cross_cols,
+    mm,
+    mv,
+    quat_matrix,
+    r123,
+    w123,
+    w123_dot_mv,
+    w123_mv,
+)
 
 
 @jitable
 def nonfinite(x):
     """0 for a finite number, 1 for NaN or inf."""
     return 0 if (x == x and abs(x) < np.inf) else 1
-
-
-@jitable
-def cross(a0, a1, a2, b0, b1, b2):
-    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-
-
-@jitable
-def quat_matrix(w, x, y, z):
-    return (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-            2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-            2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
-
-
-@jitable
-def r123(c1, c2, c3, s1, s2, s3):
-    """``Rx Ry Rz`` from the cosines and sines of the three angles."""
-    return (c2 * c3, -c2 * s3, s2,
-            c1 * s3 + s1 * s2 * c3, c1 * c3 - s1 * s2 * s3, -s1 * c2,
-            s1 * s3 - c1 * s2 * c3, s1 * c3 + c1 * s2 * s3, c1 * c2)
-
-
-@jitable
-def w123(c1, c2, s1, s2, d1, d2):
-    """W(theta) and W_dot(theta, theta_dot), row-major 9-tuples, from cosines and sines of theta1, theta2."""
-    z = 0.0 * c1
-    W = (1.0 + z, z, s2, z, c1, -s1 * c2, z, s1, c1 * c2)
-    Wd = (z, z, c2 * d2, z, -s1 * d1, -c1 * c2 * d1 + s1 * s2 * d2, z, c1 * d1, -s1 * c2 * d1 - c1 * s2 * d2)
-    return W, Wd
-
-
-@jitable
-def w123_mv(c1, c2, s1, s2, x0, x1, x2):
-    """``W(theta) x`` written out (W has a unit entry and three zeros)."""
-    return x0 + s2 * x2, c1 * x1 - s1 * c2 * x2, s1 * x1 + c1 * c2 * x2
-
-
-@jitable
-def w123_dot_mv(c1, c2, s1, s2, d1, d2, x1, x2):
-    """``W_dot(theta, theta_dot) x`` written out (its first column is zero, so x0 drops out)."""
-    return (c2 * d2 * x2,
-            -s1 * d1 * x1 + (-c1 * c2 * d1 + s1 * s2 * d2) * x2,
-            c1 * d1 * x1 + (-s1 * c2 * d1 - c1 * s2 * d2) * x2)
-
-
-@jitable
-def mm(A, B):
-    return (A[0] * B[0] + A[1] * B[3] + A[2] * B[6], A[0] * B[1] + A[1] * B[4] + A[2] * B[7],
-            A[0] * B[2] + A[1] * B[5] + A[2] * B[8],
-            A[3] * B[0] + A[4] * B[3] + A[5] * B[6], A[3] * B[1] + A[4] * B[4] + A[5] * B[7],
-            A[3] * B[2] + A[4] * B[5] + A[5] * B[8],
-            A[6] * B[0] + A[7] * B[3] + A[8] * B[6], A[6] * B[1] + A[7] * B[4] + A[8] * B[7],
-            A[6] * B[2] + A[7] * B[5] + A[8] * B[8])
-
-
-@jitable
-def mv(A, x0, x1, x2):
-    return (A[0] * x0 + A[1] * x1 + A[2] * x2, A[3] * x0 + A[4] * x1 + A[5] * x2,
-            A[6] * x0 + A[7] * x1 + A[8] * x2)
-
-
-@jitable
-def cross_cols(w0, w1, w2, A):
-    """The matrix whose column j is ``w x A[:, j]``, row-major."""
-    c0 = cross(w0, w1, w2, A[0], A[3], A[6])
-    c1 = cross(w0, w1, w2, A[1], A[4], A[7])
-    c2 = cross(w0, w1, w2, A[2], A[5], A[8])
-    return (c0[0], c1[0], c2[0], c0[1], c1[1], c2[1], c0[2], c1[2], c2[2])
 
 
 @jitable

@@ -21,6 +21,11 @@ from typing import NamedTuple
 import numpy as np
 
 from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
+from relacc.kernels.so3 import cross_inline as cross
+from relacc.kernels.so3 import mm_inline as mm
+from relacc.kernels.so3 import mv_inline as mv
+from relacc.kernels.so3 import quat_matrix_inline as quat_matrix
+from relacc.kernels.so3 import r123_inline as r123
 
 FREE, BALL, SLIDE, HINGE = 0, 1, 2, 3
 KINDS = {"free": FREE, "ball": BALL, "slide": SLIDE, "hinge": HINGE}
@@ -95,15 +100,9 @@ def arrays_of(tree) -> TreeArrays:
 def rotation9(case, q, i, a):
     """The rotation (row-major 9-tuple) of a quaternion (cases 1-2) or 1-2-3 angles (case 3) at ``q[i, a:]``."""
     if case == 3:
-        c1, s1 = math.cos(q[i, a]), math.sin(q[i, a])
-        c2, s2 = math.cos(q[i, a + 1]), math.sin(q[i, a + 1])
-        c3, s3 = math.cos(q[i, a + 2]), math.sin(q[i, a + 2])
-        return (c2 * c3, -c2 * s3, s2, c1 * s3 + s1 * s2 * c3, c1 * c3 - s1 * s2 * s3, -s1 * c2,
-                s1 * s3 - c1 * s2 * c3, s1 * c3 + c1 * s2 * s3, c1 * c2)
-    w, x, y, z = q[i, a], q[i, a + 1], q[i, a + 2], q[i, a + 3]
-    return (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-            2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-            2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
+        return r123(math.cos(q[i, a]), math.cos(q[i, a + 1]), math.cos(q[i, a + 2]), math.sin(q[i, a]),
+                    math.sin(q[i, a + 1]), math.sin(q[i, a + 2]))
+    return quat_matrix(q[i, a], q[i, a + 1], q[i, a + 2], q[i, a + 3])
 
 
 @jitable(inline=True)
@@ -111,36 +110,12 @@ def axis_rotation(x, y, z, angle):
     """The rotation by ``angle`` about the unit axis ``(x, y, z)``, through its quaternion (as the walk and MuJoCo)."""
     h = 0.5 * angle
     s = math.sin(h)
-    w, qx, qy, qz = math.cos(h), s * x, s * y, s * z
-    return (1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - w * qz), 2 * (qx * qz + w * qy),
-            2 * (qx * qy + w * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - w * qx),
-            2 * (qx * qz - w * qy), 2 * (qy * qz + w * qx), 1 - 2 * (qx * qx + qy * qy))
+    return quat_matrix(math.cos(h), s * x, s * y, s * z)
 
 
 @jitable(inline=True)
 def row9(R, b):
     return (R[b, 0], R[b, 1], R[b, 2], R[b, 3], R[b, 4], R[b, 5], R[b, 6], R[b, 7], R[b, 8])
-
-
-@jitable(inline=True)
-def mm9(A, B):
-    """``A B`` of row-major 9-tuples."""
-    return (A[0] * B[0] + A[1] * B[3] + A[2] * B[6], A[0] * B[1] + A[1] * B[4] + A[2] * B[7],
-            A[0] * B[2] + A[1] * B[5] + A[2] * B[8], A[3] * B[0] + A[4] * B[3] + A[5] * B[6],
-            A[3] * B[1] + A[4] * B[4] + A[5] * B[7], A[3] * B[2] + A[4] * B[5] + A[5] * B[8],
-            A[6] * B[0] + A[7] * B[3] + A[8] * B[6], A[6] * B[1] + A[7] * B[4] + A[8] * B[7],
-            A[6] * B[2] + A[7] * B[5] + A[8] * B[8])
-
-
-@jitable(inline=True)
-def mv9(R, x0, x1, x2):
-    return (R[0] * x0 + R[1] * x1 + R[2] * x2, R[3] * x0 + R[4] * x1 + R[5] * x2,
-            R[6] * x0 + R[7] * x1 + R[8] * x2)
-
-
-@jitable(inline=True)
-def cross3(a0, a1, a2, b0, b1, b2):
-    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
 @jitable
@@ -204,19 +179,19 @@ def angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
         W = (1.0, 0.0, s2, 0.0, c1, -s1 * c2, 0.0, s1, c1 * c2)
         Wd = (0.0, 0.0, c2 * u1, 0.0, -s1 * u0, -c1 * c2 * u0 + s1 * s2 * u1, 0.0, c1 * u0,
               -s1 * c2 * u0 - c1 * s2 * u1)
-        A, Ad0 = mm9(Rb, W), mm9(Rb, Wd)
+        A, Ad0 = mm(Rb, W), mm(Rb, Wd)
         w0, w1, w2 = wb[0], wb[1], wb[2]
     elif case == 2:
         A = Ra
-        x0, x1, x2 = mv9(Ra, u0, u1, u2)
+        x0, x1, x2 = mv(Ra, u0, u1, u2)
         w0, w1, w2 = wb[0] + x0, wb[1] + x1, wb[2] + x2  # the frame after the joint
     # Ad = Ad0 + [w~] A, column by column
-    c00, c10, c20 = cross3(w0, w1, w2, A[0], A[3], A[6])
-    c01, c11, c21 = cross3(w0, w1, w2, A[1], A[4], A[7])
-    c02, c12, c22 = cross3(w0, w1, w2, A[2], A[5], A[8])
+    c00, c10, c20 = cross(w0, w1, w2, A[0], A[3], A[6])
+    c01, c11, c21 = cross(w0, w1, w2, A[1], A[4], A[7])
+    c02, c12, c22 = cross(w0, w1, w2, A[2], A[5], A[8])
     Ad = (Ad0[0] + c00, Ad0[1] + c01, Ad0[2] + c02, Ad0[3] + c10, Ad0[4] + c11, Ad0[5] + c12,
           Ad0[6] + c20, Ad0[7] + c21, Ad0[8] + c22)
-    return A, Ad, mv9(A, u0, u1, u2)
+    return A, Ad, mv(A, u0, u1, u2)
 
 
 @jitable
@@ -256,13 +231,13 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
                 R[b, k] = T.bR[b, k]
         else:
             Rp = row9(R, p)
-            r0, r1, r2 = mv9(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
+            r0, r1, r2 = mv(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
             wp0, wp1, wp2 = w[p, 0], w[p, 1], w[p, 2]
-            d0, d1, d2 = cross3(wp0, wp1, wp2, r0, r1, r2)
+            d0, d1, d2 = cross(wp0, wp1, wp2, r0, r1, r2)
             _moved_copy(V, Om, Vd, Omd, p, b, cols, c0, c0 + T.path_ptr[p + 1] - T.path_ptr[p], r0, r1, r2,
                         d0, d1, d2)
             o[b, 0], o[b, 1], o[b, 2] = o[p, 0] + r0, o[p, 1] + r1, o[p, 2] + r2
-            Rn = mm9(Rp, row9(T.bR, b))
+            Rn = mm(Rp, row9(T.bR, b))
             for k in range(9):
                 R[b, k] = Rn[k]
             w[b, 0], w[b, 1], w[b, 2] = wp0, wp1, wp2
@@ -271,13 +246,13 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
             Rb = row9(R, b)
             wb0, wb1, wb2 = w[b, 0], w[b, 1], w[b, 2]
             if kind == SLIDE:
-                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                e0, e1, e2 = mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
                 s = q[i, a] - T.jref[k]
                 r0, r1, r2 = e0 * s, e1 * s, e2 * s
                 sd = u[i, d]
-                d0, d1, d2 = cross3(wb0, wb1, wb2, r0, r1, r2)
+                d0, d1, d2 = cross(wb0, wb1, wb2, r0, r1, r2)
                 _move(V, Om, Vd, Omd, b, cols, c0, at, r0, r1, r2, d0 + e0 * sd, d1 + e1 * sd, d2 + e2 * sd)
-                f0, f1, f2 = cross3(wb0, wb1, wb2, e0, e1, e2)
+                f0, f1, f2 = cross(wb0, wb1, wb2, e0, e1, e2)
                 V[b, 0, d], V[b, 1, d], V[b, 2, d] = e0, e1, e2
                 Vd[b, 0, d], Vd[b, 1, d], Vd[b, 2, d] = f0, f1, f2
                 for ii in range(3):
@@ -285,12 +260,12 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
                 o[b, 0], o[b, 1], o[b, 2] = o[b, 0] + r0, o[b, 1] + r1, o[b, 2] + r2
                 continue
             jx, jy, jz = T.jpos[k, 0], T.jpos[k, 1], T.jpos[k, 2]
-            r0, r1, r2 = mv9(Rb, jx, jy, jz)
-            da0, da1, da2 = cross3(wb0, wb1, wb2, r0, r1, r2)
+            r0, r1, r2 = mv(Rb, jx, jy, jz)
+            da0, da1, da2 = cross(wb0, wb1, wb2, r0, r1, r2)
             if kind == HINGE:
-                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
-                Rn = mm9(Rb, axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
-                f0, f1, f2 = cross3(wb0, wb1, wb2, e0, e1, e2)
+                e0, e1, e2 = mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                Rn = mm(Rb, axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
+                f0, f1, f2 = cross(wb0, wb1, wb2, e0, e1, e2)
                 Om[b, 0, d], Om[b, 1, d], Om[b, 2, d] = e0, e1, e2
                 Omd[b, 0, d], Omd[b, 1, d], Omd[b, 2, d] = f0, f1, f2
                 for ii in range(3):
@@ -299,7 +274,7 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
                 n0, n1, n2 = wb0 + e0 * ud, wb1 + e1 * ud, wb2 + e2 * ud
                 nd = 1
             else:  # ball
-                Rn = mm9(Rb, rotation9(case, q, i, a))
+                Rn = mm(Rb, rotation9(case, q, i, a))
                 pp = T.parent[b]
                 Rp = row9(R, pp) if pp >= 0 else eye
                 wp = (w[pp, 0], w[pp, 1], w[pp, 2]) if pp >= 0 else (0.0, 0.0, 0.0)
@@ -313,8 +288,8 @@ def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
             if jx != 0.0 or jy != 0.0 or jz != 0.0:
                 # out to the anchor in the old frame, back to the origin in the turned one: the earlier columns'
                 # Omega is the same for both moves, so they make one; the joint's own columns take the second
-                t0, t1, t2 = mv9(Rn, -jx, -jy, -jz)
-                e0, e1, e2 = cross3(n0, n1, n2, t0, t1, t2)
+                t0, t1, t2 = mv(Rn, -jx, -jy, -jz)
+                e0, e1, e2 = cross(n0, n1, n2, t0, t1, t2)
                 _move(V, Om, Vd, Omd, b, cols, c0, at, r0 + t0, r1 + t1, r2 + t2, da0 + e0, da1 + e1, da2 + e2)
                 _move(V, Om, Vd, Omd, b, cols, at, at + nd, t0, t1, t2, e0, e1, e2)
                 o[b, 0], o[b, 1], o[b, 2] = o[b, 0] + r0 + t0, o[b, 1] + r1 + t1, o[b, 2] + r2 + t2
@@ -342,8 +317,8 @@ def point_out(T, b, px, py, pz, o, R, w, V, Om, Vd, Omd, u, ud, i, with_acc, j, 
             acc[i, j, k] = 0.0
         pos[i, j, 0], pos[i, j, 1], pos[i, j, 2] = px, py, pz
         return 0
-    r0, r1, r2 = mv9(row9(R, b), px, py, pz)
-    d0, d1, d2 = cross3(w[b, 0], w[b, 1], w[b, 2], r0, r1, r2)
+    r0, r1, r2 = mv(row9(R, b), px, py, pz)
+    d0, d1, d2 = cross(w[b, 0], w[b, 1], w[b, 2], r0, r1, r2)
     v0, v1, v2, a0, a1, a2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     for t in range(T.path_ptr[b], T.path_ptr[b + 1]):
         c = T.path_idx[t]

@@ -15,19 +15,10 @@ import numpy as np
 
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.kernels.jit import jitable
-from relacc.kernels.tree import (
-    BALL,
-    FREE,
-    HINGE,
-    SLIDE,
-    angular,
-    axis_rotation,
-    cross3,
-    mm9,
-    mv9,
-    rotation9,
-    row9,
-)
+from relacc.kernels.so3 import cross_inline as cross
+from relacc.kernels.so3 import mm_inline as mm
+from relacc.kernels.so3 import mv_inline as mv
+from relacc.kernels.tree import BALL, FREE, HINGE, SLIDE, angular, axis_rotation, rotation9, row9
 
 
 def inertia_arrays(tree):
@@ -81,8 +72,8 @@ def forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA):
                 R[b, k] = Ra[k]
             o[b, 0], o[b, 1], o[b, 2] = 0.0, 0.0, 0.0
             w0, w1, w2 = wj
-            aw = mv9(Ad, u[i, d + 3], u[i, d + 4], u[i, d + 5])
-            c0, c1, c2 = cross3(pd0, pd1, pd2, w0, w1, w2)  # S_dot's linear part: p_dot x A
+            aw = mv(Ad, u[i, d + 3], u[i, d + 4], u[i, d + 5])
+            c0, c1, c2 = cross(pd0, pd1, pd2, w0, w1, w2)  # S_dot's linear part: p_dot x A
             V[b, 0], V[b, 1], V[b, 2], V[b, 3], V[b, 4], V[b, 5] = w0, w1, w2, pd0, pd1, pd2
             C[js, 0], C[js, 1], C[js, 2] = aw
             C[js, 3], C[js, 4], C[js, 5] = c0, c1, c2
@@ -96,9 +87,9 @@ def forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA):
                 V[b, k] = 0.0
         else:
             Rp = row9(R, p)
-            r0, r1, r2 = mv9(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
+            r0, r1, r2 = mv(Rp, T.bpos[b, 0], T.bpos[b, 1], T.bpos[b, 2])
             o[b, 0], o[b, 1], o[b, 2] = o[p, 0] + r0, o[p, 1] + r1, o[p, 2] + r2
-            Rn = mm9(Rp, row9(T.bR, b))
+            Rn = mm(Rp, row9(T.bR, b))
             for k in range(9):
                 R[b, k] = Rn[k]
             for k in range(6):
@@ -108,56 +99,56 @@ def forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA):
             Rb = row9(R, b)
             w0, w1, w2 = V[b, 0], V[b, 1], V[b, 2]
             if kind == SLIDE:
-                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                e0, e1, e2 = mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
                 s = q[i, a] - T.jref[k]
                 ud = u[i, d]
                 S[d, 0], S[d, 1], S[d, 2], S[d, 3], S[d, 4], S[d, 5] = 0.0, 0.0, 0.0, e0, e1, e2
-                x0, x1, x2 = cross3(w0, w1, w2, e0, e1, e2)
+                x0, x1, x2 = cross(w0, w1, w2, e0, e1, e2)
                 V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + e0 * ud, V[b, 4] + e1 * ud, V[b, 5] + e2 * ud
                 C[k, 0], C[k, 1], C[k, 2], C[k, 3], C[k, 4], C[k, 5] = 0.0, 0.0, 0.0, x0 * ud, x1 * ud, x2 * ud
                 o[b, 0], o[b, 1], o[b, 2] = o[b, 0] + e0 * s, o[b, 1] + e1 * s, o[b, 2] + e2 * s
                 continue
             jx, jy, jz = T.jpos[k, 0], T.jpos[k, 1], T.jpos[k, 2]
-            t0, t1, t2 = mv9(Rb, jx, jy, jz)
+            t0, t1, t2 = mv(Rb, jx, jy, jz)
             ra0, ra1, ra2 = o[b, 0] + t0, o[b, 1] + t1, o[b, 2] + t2  # the anchor, from O
-            c0, c1, c2 = cross3(w0, w1, w2, ra0, ra1, ra2)
+            c0, c1, c2 = cross(w0, w1, w2, ra0, ra1, ra2)
             va0, va1, va2 = V[b, 3] + c0, V[b, 4] + c1, V[b, 5] + c2  # the anchor's velocity
             if kind == HINGE:
-                e0, e1, e2 = mv9(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
-                Rn = mm9(Rb, axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
-                m0, m1, m2 = cross3(ra0, ra1, ra2, e0, e1, e2)
+                e0, e1, e2 = mv(Rb, T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2])
+                Rn = mm(Rb, axis_rotation(T.jaxis[k, 0], T.jaxis[k, 1], T.jaxis[k, 2], q[i, a] - T.jref[k]))
+                m0, m1, m2 = cross(ra0, ra1, ra2, e0, e1, e2)
                 S[d, 0], S[d, 1], S[d, 2], S[d, 3], S[d, 4], S[d, 5] = e0, e1, e2, m0, m1, m2
-                ed0, ed1, ed2 = cross3(w0, w1, w2, e0, e1, e2)  # the axis' rate
-                n0, n1, n2 = cross3(va0, va1, va2, e0, e1, e2)
-                h0, h1, h2 = cross3(ra0, ra1, ra2, ed0, ed1, ed2)
+                ed0, ed1, ed2 = cross(w0, w1, w2, e0, e1, e2)  # the axis' rate
+                n0, n1, n2 = cross(va0, va1, va2, e0, e1, e2)
+                h0, h1, h2 = cross(ra0, ra1, ra2, ed0, ed1, ed2)
                 ud = u[i, d]
                 V[b, 0], V[b, 1], V[b, 2] = w0 + e0 * ud, w1 + e1 * ud, w2 + e2 * ud
                 V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + m0 * ud, V[b, 4] + m1 * ud, V[b, 5] + m2 * ud
                 C[k, 0], C[k, 1], C[k, 2] = ed0 * ud, ed1 * ud, ed2 * ud
                 C[k, 3], C[k, 4], C[k, 5] = (n0 + h0) * ud, (n1 + h1) * ud, (n2 + h2) * ud
             else:  # ball
-                Rn = mm9(Rb, rotation9(case, q, i, a))
+                Rn = mm(Rb, rotation9(case, q, i, a))
                 pp = T.parent[b]
                 Rp = row9(R, pp) if pp >= 0 else eye
                 wp = (V[pp, 0], V[pp, 1], V[pp, 2]) if pp >= 0 else zero3
                 Am, Ad, wj = angular(case, BALL, q, u, i, a, d, Rb, (w0, w1, w2), Rp, wp, Rn)
                 for c in range(3):
                     a0, a1, a2 = Am[c], Am[3 + c], Am[6 + c]
-                    m0, m1, m2 = cross3(ra0, ra1, ra2, a0, a1, a2)
+                    m0, m1, m2 = cross(ra0, ra1, ra2, a0, a1, a2)
                     S[d + c, 0], S[d + c, 1], S[d + c, 2], S[d + c, 3], S[d + c, 4], S[d + c, 5] = \
                         a0, a1, a2, m0, m1, m2
                 x0, x1, x2 = wj
-                ad0, ad1, ad2 = mv9(Ad, u[i, d], u[i, d + 1], u[i, d + 2])
-                m0, m1, m2 = cross3(ra0, ra1, ra2, x0, x1, x2)
-                n0, n1, n2 = cross3(va0, va1, va2, x0, x1, x2)
-                h0, h1, h2 = cross3(ra0, ra1, ra2, ad0, ad1, ad2)
+                ad0, ad1, ad2 = mv(Ad, u[i, d], u[i, d + 1], u[i, d + 2])
+                m0, m1, m2 = cross(ra0, ra1, ra2, x0, x1, x2)
+                n0, n1, n2 = cross(va0, va1, va2, x0, x1, x2)
+                h0, h1, h2 = cross(ra0, ra1, ra2, ad0, ad1, ad2)
                 V[b, 0], V[b, 1], V[b, 2] = w0 + x0, w1 + x1, w2 + x2
                 V[b, 3], V[b, 4], V[b, 5] = V[b, 3] + m0, V[b, 4] + m1, V[b, 5] + m2
                 C[k, 0], C[k, 1], C[k, 2] = ad0, ad1, ad2
                 C[k, 3], C[k, 4], C[k, 5] = n0 + h0, n1 + h1, n2 + h2
             for c in range(9):
                 R[b, c] = Rn[c]
-            b0, b1, b2 = mv9(Rn, -jx, -jy, -jz)
+            b0, b1, b2 = mv(Rn, -jx, -jy, -jz)
             o[b, 0], o[b, 1], o[b, 2] = ra0 + b0, ra1 + b1, ra2 + b2
         body_inertia(b, mass, com, inertia, o, R, V, IA, pA)
 
@@ -175,11 +166,11 @@ def body_inertia(b, mass, com, inertia, o, R, V, IA, pA):
     ``I_O = I_c + m (|c|^2 1 - c c^T)``: ``I (w, v) = (I_O w + h x v, m v + w x h)``."""
     Rb = row9(R, b)
     m = mass[b]
-    rc = mv9(Rb, com[b, 0], com[b, 1], com[b, 2])
+    rc = mv(Rb, com[b, 0], com[b, 1], com[b, 2])
     r0, r1, r2 = o[b, 0] + rc[0], o[b, 1] + rc[1], o[b, 2] + rc[2]
     J = (inertia[b, 0], inertia[b, 1], inertia[b, 2], inertia[b, 3], inertia[b, 4], inertia[b, 5], inertia[b, 6],
          inertia[b, 7], inertia[b, 8])
-    RJ = mm9(Rb, J)
+    RJ = mm(Rb, J)
     xx = RJ[0] * Rb[0] + RJ[1] * Rb[1] + RJ[2] * Rb[2]
     xy = RJ[0] * Rb[3] + RJ[1] * Rb[4] + RJ[2] * Rb[5]
     xz = RJ[0] * Rb[6] + RJ[1] * Rb[7] + RJ[2] * Rb[8]
@@ -196,13 +187,13 @@ def body_inertia(b, mass, com, inertia, o, R, V, IA, pA):
     IA[b, 11], IA[b, 12], IA[b, 13], IA[b, 14] = zz, -h1, h0, 0.0
     IA[b, 15], IA[b, 16], IA[b, 17], IA[b, 18], IA[b, 19], IA[b, 20] = m, 0.0, 0.0, m, 0.0, m
     w0, w1, w2, v0, v1, v2 = V[b, 0], V[b, 1], V[b, 2], V[b, 3], V[b, 4], V[b, 5]
-    c0, c1, c2 = cross3(h0, h1, h2, v0, v1, v2)
-    d0, d1, d2 = cross3(w0, w1, w2, h0, h1, h2)
+    c0, c1, c2 = cross(h0, h1, h2, v0, v1, v2)
+    d0, d1, d2 = cross(w0, w1, w2, h0, h1, h2)
     L0, L1, L2 = xx * w0 + xy * w1 + xz * w2 + c0, xy * w0 + yy * w1 + yz * w2 + c1, xz * w0 + yz * w1 + zz * w2 + c2
     p0, p1, p2 = m * v0 + d0, m * v1 + d1, m * v2 + d2
-    x0, x1, x2 = cross3(w0, w1, w2, L0, L1, L2)
-    y0, y1, y2 = cross3(v0, v1, v2, p0, p1, p2)
-    z0, z1, z2 = cross3(w0, w1, w2, p0, p1, p2)
+    x0, x1, x2 = cross(w0, w1, w2, L0, L1, L2)
+    y0, y1, y2 = cross(v0, v1, v2, p0, p1, p2)
+    z0, z1, z2 = cross(w0, w1, w2, p0, p1, p2)
     pA[b, 0], pA[b, 1], pA[b, 2], pA[b, 3], pA[b, 4], pA[b, 5] = x0 + y0, x1 + y1, x2 + y2, z0, z1, z2
 
 
@@ -264,7 +255,7 @@ def joint_B(case, q, u, i, T, qadr, k, b, R, V, tmp, at):
         Rb, wb, Rp, wp = eye, zero, eye, zero
     else:
         Q = rotation9(case, q, i, a)
-        Rb = mm9(Ra, (Q[0], Q[3], Q[6], Q[1], Q[4], Q[7], Q[2], Q[5], Q[8]))  # the frame it turns from
+        Rb = mm(Ra, (Q[0], Q[3], Q[6], Q[1], Q[4], Q[7], Q[2], Q[5], Q[8]))  # the frame it turns from
         pp = T.parent[b]
         Rp = row9(R, pp) if pp >= 0 else eye
         wp = (V[pp, 0], V[pp, 1], V[pp, 2]) if pp >= 0 else zero
@@ -280,8 +271,8 @@ def joint_B(case, q, u, i, T, qadr, k, b, R, V, tmp, at):
             tmp[at + 3 * r + c] = s
             tmp[at + 9 + 3 * r + c] = t
     for c in range(3):  # B_dot -= R_after^T [w_after~] A, column by column
-        y0, y1, y2 = cross3(w0, w1, w2, Am[c], Am[3 + c], Am[6 + c])
-        z = mv9((Ra[0], Ra[3], Ra[6], Ra[1], Ra[4], Ra[7], Ra[2], Ra[5], Ra[8]), y0, y1, y2)
+        y0, y1, y2 = cross(w0, w1, w2, Am[c], Am[3 + c], Am[6 + c])
+        z = mv((Ra[0], Ra[3], Ra[6], Ra[1], Ra[4], Ra[7], Ra[2], Ra[5], Ra[8]), y0, y1, y2)
         tmp[at + 9 + c] -= z[0]
         tmp[at + 12 + c] -= z[1]
         tmp[at + 15 + c] -= z[2]

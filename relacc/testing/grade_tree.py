@@ -14,11 +14,12 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.cases import as_case, check_int
+from relacc.core.states import States
 from relacc.core.tolerances import normalized_error, rounding_tolerance
 from relacc.core.tree import tree_kinematics
 from relacc.core.tree.scales import tree_scales
 from relacc.errors import InputError
-from relacc.testing.trees import PHYSICAL, TREE_QUANTITIES, ModelStates, as_tree, model_states, model_truth
+from relacc.testing.trees import PHYSICAL, TREE_QUANTITIES, as_tree, model_states, model_truth
 
 
 def _joint_columns(tree):
@@ -46,8 +47,8 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     if not callable(fn):
         raise CallError(f"{fn!r} is not callable; give a function fn(tree, q, u, udot)")
     ordinary, hard = model_states(tree, c, n, seed), model_states(tree, c, n, seed, hard=True)
-    s = ModelStates(tree, c, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
-                    seed)
+    s = States(ordinary.case, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
+               seed, tree)
     shape = (3,) if quantity in PHYSICAL else (3, tree.nv)
     mine = evaluate_user(fn, tree, c, s.q, s.u, s.udot, shape)
     tol = rounding_tolerance()

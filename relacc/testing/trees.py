@@ -13,8 +13,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from relacc.core.cases import as_case, check_int
+from relacc.core.states import States
 from relacc.core.tolerances import rounding_tolerance
-from relacc.core.tree import Tree, TreeStates, convert, random_states, tree_kinematics
+from relacc.core.tree import Tree, convert, random_states, tree_kinematics
 from relacc.core.tree.coordinates import rotations
 from relacc.core.tree.scales import tree_scales, tree_tolerance
 from relacc.errors import EngineError, InputError
@@ -35,29 +36,9 @@ def as_tree(model) -> Tree:
     raise InputError(f"model: expected a relacc.Tree or a path to an MJCF, URDF or chain TOML, got {model!r:.80}")
 
 
-@dataclass(frozen=True, eq=False)
-class ModelStates:
-    """Seeded states of a model's tree: ``q (n, nq)``, ``u``, ``udot (n, nv)`` of ``case``; ``seed``; ``tree``.
-
-    Arrays are read-only: a test that wants to change them copies them first."""
-
-    tree: Tree = field(repr=False)
-    case: int
-    q: np.ndarray = field(repr=False)
-    u: np.ndarray = field(repr=False)
-    udot: np.ndarray = field(repr=False)
-    seed: object
-
-    def __post_init__(self):
-        for name in ("q", "u", "udot"):
-            getattr(self, name).setflags(write=False)
-
-    def __len__(self) -> int:
-        return len(self.q)
-
-
-def model_states(model, case=2, n: int = 200, seed: int = 0, hard: bool = False) -> ModelStates:
-    """``n`` seeded states of a model's tree in a case (``numpy.random.default_rng(seed)``).
+def model_states(model, case=2, n: int = 200, seed: int = 0, hard: bool = False) -> States:
+    """``n`` seeded states of a model's tree in a case (``numpy.random.default_rng(seed)``), read-only
+    :class:`relacc.core.states.States` (``tree`` set).
 
     ``hard``: in turn, a free root 1e6 m from the origin, speeds and rates 1e3 times larger, and (case 3) every
     ball and free joint 1e-3 rad from gimbal lock; ordinary otherwise.
@@ -65,7 +46,7 @@ def model_states(model, case=2, n: int = 200, seed: int = 0, hard: bool = False)
     tree = as_tree(model)
     c = int(as_case(case))
     n, seed = check_int("n", n, minimum=1), check_int("seed", seed, minimum=0)
-    s: TreeStates = random_states(tree, 2, n, seed)
+    s = random_states(tree, 2, n, seed)
     q, u, udot = s.q.copy(), s.u.copy(), s.udot.copy()
     if hard:
         kind = np.arange(n) % 3
@@ -79,15 +60,15 @@ def model_states(model, case=2, n: int = 200, seed: int = 0, hard: bool = False)
     if hard and c == 3:  # case 3's own hard states: 1e-3 rad from the lock, the rates as drawn
         for _, _, a, _ in rotations(tree, 3):
             q[2::3, a + 1] = np.pi / 2 - 1e-3
-    return ModelStates(tree, c, q, u, udot, ["hard", seed] if hard else seed)
+    return States(as_case(c), q, u, udot, ["hard", seed] if hard else seed, tree).frozen()
 
 
-def model_truth(s: ModelStates, engine: str = "relacc", quantities=TREE_QUANTITIES) -> dict:
+def model_truth(s: States, engine: str = "relacc", quantities=TREE_QUANTITIES) -> dict:
     """``{quantity: Expected}`` of every body, by relacc's tree or by MuJoCo; see :func:`truth_of`."""
     return _truth(s, engine, tuple(quantities))
 
 
-def _truth(s: ModelStates, engine: str, quantities: tuple) -> dict:
+def _truth(s: States, engine: str, quantities: tuple) -> dict:
     """``{quantity: Expected}`` of every body, by relacc's tree or by MuJoCo.
 
     MuJoCo gives the quantities it has for the case: ``position``, ``velocity``, ``acceleration``, ``omega``,
@@ -141,7 +122,7 @@ class ModelTruth:
     """An evaluator's kinematics of every body of a model for a batch of states; each quantity an Expected."""
 
     source: str
-    states: ModelStates = field(repr=False)
+    states: States = field(repr=False)
     quantities: dict = field(repr=False)
 
     def of(self, quantity: str):
@@ -156,6 +137,6 @@ class ModelTruth:
         raise AttributeError(name)
 
 
-def truth_of(s: ModelStates, engine: str = "relacc") -> ModelTruth:
+def truth_of(s: States, engine: str = "relacc") -> ModelTruth:
     """:func:`model_truth` as a :class:`ModelTruth` (``truth.velocity``, ``truth.of("V")``)."""
     return ModelTruth(engine, s, model_truth(s, engine))

@@ -27,7 +27,7 @@ def states(case, n: int = 200, seed: int = 0, hard: bool = False, model=None):
     """``n`` seeded states of a case, ``numpy.random.default_rng(seed)``-reproducible.
 
     With ``model`` (an MJCF, URDF or chain TOML path, or a :class:`relacc.Tree`), the states of that model's
-    tree: :func:`relacc.testing.trees.model_states`, a :class:`relacc.testing.trees.ModelStates`.
+    tree: :func:`relacc.testing.trees.model_states`, a :class:`relacc.core.states.States` with ``tree``.
 
     Args:
         hard: draw from the hard-case catalogue (:mod:`relacc.validation.hardcases`) instead: gimbal
@@ -130,9 +130,9 @@ def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain
     Raises:
         EngineError: unknown or uninstalled engine, or a route that does not apply.
     """
-    from relacc.testing.trees import ModelStates, truth_of
+    from relacc.testing.trees import truth_of
 
-    if isinstance(s, ModelStates):  # a model's states: relacc's tree or MuJoCo, every body
+    if isinstance(s, States) and s.tree is not None:  # a model's states: relacc's tree or MuJoCo, every body
         return truth_of(s, engine)
     if not isinstance(s, States):
         raise InputError(f"states: expected the states of relacc.testing.states (or relacc_states), got "

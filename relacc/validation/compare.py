@@ -37,19 +37,25 @@ def routes_for(case) -> tuple[str, ...]:
 
 @dataclass(frozen=True, eq=False)
 class Comparison:
-    """One evaluator x route x case x quantity, state by state.
+    """One evaluator x route x case x quantity, state by state: the one comparison result, for the chain and for
+    any model.
 
     Attributes:
         case: 1, 2 or 3.
-        engine: the evaluator: an engine's name, or :data:`CORE` for the core
-            against complex-step derivatives.
-        route: ``quaternion`` or ``euler`` for engines, ``complex-step`` for the core.
-        quantity: one of :data:`relacc.core.conventions.QUANTITIES`.
-        errors: ``(n,)`` normalized error per state (dimensionless).
+        engine: the evaluator: an engine's name, :data:`CORE` for the core
+            against complex-step derivatives, ``relacc (case c)`` for relacc's tree of a model.
+        route: ``quaternion`` or ``euler`` for the chain's engines, ``complex-step`` for the core,
+            ``model`` for a model file's.
+        quantity: one of :data:`relacc.core.conventions.QUANTITIES`, or of a model's
+            (:data:`relacc.validation.robots.agreement.QUANTITIES`).
+        errors: ``(n,)`` normalized error per state (dimensionless; inf where a value is undefined).
         bounds: ``(n,)`` the evaluator's accuracy model per state (``c eps``
             times a condition, plus any offset the engine's model loses).
         finite: every value the evaluator returned is finite.
         tolerance: ``c eps``, the error model's bound for a condition of 1.
+        max_difference: the largest absolute difference over the states, in the quantity's units (models).
+        cause: why it differs, reproduced (models; empty where it agrees).
+        singular: ``{evaluator: [joints]}`` where a mass matrix over the shared speeds is exactly singular.
     """
 
     case: int
@@ -60,6 +66,9 @@ class Comparison:
     bounds: np.ndarray = field(repr=False)
     finite: bool = True
     tolerance: float = field(default_factory=rounding_tolerance)
+    max_difference: float = 0.0
+    cause: str = ""
+    singular: dict = field(default_factory=dict)
 
     @property
     def evaluator(self) -> str:
@@ -94,21 +103,36 @@ class Comparison:
 
     def as_dict(self) -> dict:
         """Plain data (``relacc check --json``)."""
-        return {
+        out = {
             "case": self.case,
             "engine": self.engine,
             "route": self.route,
             "quantity": self.quantity,
-            "max_error": self.max_error,
-            "median_error": self.median_error,
-            "max_error_eps": self.max_error / EPS,
+            "max_error": _finite(self.max_error),
+            "median_error": _finite(self.median_error),
+            "max_error_eps": _finite(self.max_error / EPS),
             "tolerance": self.tolerance,
             "max_bound": self.max_bound,
-            "max_ratio": self.max_ratio,
+            "max_ratio": _finite(self.max_ratio),
             "passed": self.passed,
             "worst_state": self.worst_state,
-            "convention": CONVENTIONS[self.quantity],
         }
+        if self.quantity in CONVENTIONS:
+            out["convention"] = CONVENTIONS[self.quantity]
+        return out
+
+    def as_row(self) -> dict:
+        """A model's row (``relacc compare --json``): worst error and state, tolerance, largest difference, cause."""
+        row = {"max_error": _finite(self.max_error), "tolerance": self.tolerance, "ok": self.passed,
+               "state": self.worst_state, "max_difference": _finite(self.max_difference), "cause": self.cause}
+        if self.singular:
+            row["singular"] = self.singular
+        return row
+
+
+def _finite(x: float) -> float | None:
+    """JSON has no infinity: an undefined or infinite error or difference is written ``null``."""
+    return x if np.isfinite(x) else None
 
 
 def compare(case, engine: str, route: str, quantity: str, value, reference, scale, bounds) -> Comparison:

@@ -11,7 +11,7 @@ file, its algorithms) is ``relacc compare``'s job; this check says where.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from relacc.engines import installed
 from relacc.errors import ModelError
@@ -22,29 +22,9 @@ from relacc.validation.robots.tree import TreeRobot
 
 
 @dataclass(frozen=True)
-class Row:
-    """One case x engine x quantity: the worst normalized error over the states, its tolerance, the worst state."""
-
-    case: int
-    engine: str
-    quantity: str
-    max_error: float
-    tolerance: float
-    state: int
-
-    @property
-    def passed(self) -> bool:
-        return self.max_error <= self.tolerance
-
-    def as_dict(self) -> dict:
-        finite = self.max_error if self.max_error < float("inf") else None
-        return {"case": self.case, "engine": self.engine, "quantity": self.quantity, "max_error": finite,
-                "tolerance": self.tolerance, "state": self.state, "passed": self.passed}
-
-
-@dataclass(frozen=True)
 class TreeCheck:
-    """The result of :func:`check_tree`: ``rows``, the engines that could not load the file (``{name: message}``)."""
+    """The result of :func:`check_tree`: ``rows`` (a :class:`relacc.validation.compare.Comparison` per case x engine x
+    quantity), the engines that could not load the file (``{name: message}``)."""
 
     model: str
     n_states: int
@@ -58,7 +38,7 @@ class TreeCheck:
 
     def as_dict(self) -> dict:
         return {"model": self.model, "states": self.n_states, "seed": self.seed, "passed": self.passed,
-                "not_loaded": self.not_loaded, "comparisons": [r.as_dict() for r in self.rows]}
+                "not_loaded": self.not_loaded, "comparisons": [_row(r) for r in self.rows]}
 
 
 def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed: int = 0, progress=None) -> TreeCheck:
@@ -93,6 +73,13 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
         for robot in robots:
             if progress:
                 progress(f"case {case}: {robot.engine}")
-            for quantity, r in compare_dynamics(tree, robot, states).items():
-                rows.append(Row(int(case), robot.engine, quantity, r["max_error"], r["tolerance"], r["state"]))
+            for r in compare_dynamics(tree, robot, states).values():
+                rows.append(replace(r, case=int(case)))
     return TreeCheck(str(model), n_states, seed, rows, not_loaded)
+
+
+def _row(r) -> dict:
+    """One comparison's JSON: case, engine, quantity, the worst error (null where undefined), tolerance, state."""
+    return {"case": r.case, "engine": r.engine, "quantity": r.quantity, **{k: v for k, v in r.as_row().items()
+                                                                          if k in ("max_error", "tolerance", "state")},
+            "passed": r.passed}

@@ -10,9 +10,9 @@ Engine-free like the rest of the core: :meth:`Tree.from_file` reads MJCF and URD
 compiler at the call (``relacc.engines.mujoco_.read_tree``), the one place the core reaches an engine.
 """
 
-from relacc.core.tree.coordinates import TreeStates, convert, random_states, reference_q
+from relacc.core.tree.coordinates import convert, random_states, reference_q
 from relacc.core.tree.kinematics import PointKinematics, TreeKinematics, tree_kinematics
 from relacc.core.tree.model import Body, Joint, Point, Tree
 
-__all__ = ["Body", "Joint", "Point", "PointKinematics", "Tree", "TreeKinematics", "TreeStates", "convert",
+__all__ = ["Body", "Joint", "Point", "PointKinematics", "Tree", "TreeKinematics", "convert",
            "random_states", "reference_q", "tree_kinematics"]

@@ -20,13 +20,12 @@ frame the ball turns from. Cases 1-2 share ``q``: a MuJoCo state ``(qpos, qvel)`
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from relacc.core.cases import as_case, as_numbers, quaternion_norm_deviation
 from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion, quaternion_from_123
 from relacc.core.so3 import condition_123
+from relacc.core.states import States
 from relacc.core.tolerances import MAX_CONDITION, QUATERNION_NORM_TOLERANCE
 from relacc.core.tree.walk import angular_map, mv, walk
 from relacc.errors import InputError, SingularityError
@@ -175,19 +174,9 @@ def convert(tree, q, u=None, udot=None, *, source, target):
     return np.broadcast_to(qt, batch + (qt.shape[-1],)).copy(), shape(ut), shape(udt)
 
 
-@dataclass(frozen=True)
-class TreeStates:
-    """Random states of a tree: ``q (n, nq)``, ``u (n, nv)``, ``udot (n, nv)`` of ``case``, from ``seed``."""
-
-    case: int
-    q: np.ndarray
-    u: np.ndarray
-    udot: np.ndarray
-    seed: int
-
-
-def random_states(tree, case, n: int, seed: int, *, size: float | None = None) -> TreeStates:
-    """``n`` random states (``numpy.random.default_rng(seed)``), drawn in case 2 and converted.
+def random_states(tree, case, n: int, seed: int, *, size: float | None = None):
+    """``n`` random states (``numpy.random.default_rng(seed)``), drawn in case 2 and converted: a
+    :class:`relacc.core.states.States` of ``tree``.
 
     Free joints: a position within ``size`` (default: the tree's extent, at least 1 m) of the origin and a
     uniformly random unit quaternion; balls: a random unit quaternion; hinges uniform in ``[-pi, pi]``;
@@ -218,4 +207,4 @@ def random_states(tree, case, n: int, seed: int, *, size: float | None = None) -
             q[near, a:a + 4] = quaternion_from_123(theta[near])
     if c != 2:
         q, u, udot = convert(tree, q, u, udot, source=2, target=c)
-    return TreeStates(c, q, u, udot, int(seed))
+    return States(as_case(c), q, u, udot, int(seed), tree)

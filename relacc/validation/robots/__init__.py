@@ -17,7 +17,7 @@ same robot) and Drake (its MJCF parser) are compared with it:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -78,7 +78,7 @@ class RobotComparison:
     @property
     def agree(self) -> bool:
         """No audit difference and every dynamics quantity within tolerance for every engine."""
-        return not self.audit and all(r["ok"] for rows in self.dynamics.values() for r in rows.values())
+        return not self.audit and all(r.passed for rows in self.dynamics.values() for r in rows.values())
 
     @property
     def exit_code(self) -> int:
@@ -87,11 +87,10 @@ class RobotComparison:
     def as_json(self) -> dict:
         dynamics = {}
         for quantity, rows in self.dynamics.items():
-            worst = max(rows.values(), key=lambda r: r["max_error"] / r["tolerance"])
-            dynamics[quantity] = {"max_error": _finite(worst["max_error"]), "tolerance": worst["tolerance"],
-                                  "ok": all(r["ok"] for r in rows.values()),
-                                  "engines": {e: {k: _finite(x) if isinstance(x, float) else x for k, x in r.items()}
-                                              for e, r in rows.items()}}
+            worst = max(rows.values(), key=lambda r: r.max_ratio)
+            dynamics[quantity] = {"max_error": _finite(worst.max_error), "tolerance": worst.tolerance,
+                                  "ok": all(r.passed for r in rows.values()),
+                                  "engines": {e: r.as_row() for e, r in rows.items()}}
         return {"model": self.model, "urdf": self.urdf, "engines": {k: e.as_json() for k, e in self.engines.items()},
                 "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
                 "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree}
@@ -167,16 +166,17 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
         audits.append(items)
         rows = compare_dynamics(reference, robot, states)
         for quantity, row in rows.items():
-            row["cause"] = "" if row["ok"] else _dynamics_cause(quantity, row, reference, robot, explained, applied,
-                                                                 readings, n_states, seed)
-            if from_urdf and items and row["cause"].startswith("not explained"):
-                row["cause"] = "the URDF and the MJCF describe the robot differently (see the audit)"
-            dynamics[quantity][robot.engine] = row
+            cause = "" if row.passed else _dynamics_cause(quantity, row, reference, robot, explained, applied,
+                                                          readings, n_states, seed)
+            if from_urdf and items and cause.startswith("not explained"):
+                cause = "the URDF and the MJCF describe the robot differently (see the audit)"
+            dynamics[quantity][robot.engine] = replace(row, cause=cause)
     tree_rows = {}
     for case in (1, 2, 3) if reference.model.nbody > 1 else ():  # relacc's own evaluation, in each case
         evaluator = TreeRobot(reference, case)
         for quantity, row in compare_dynamics(reference, evaluator, states).items():
-            row["cause"] = "" if row["ok"] else _mujoco_cause(quantity, reference, evaluator, states)
+            row = replace(row, case=case, cause="" if row.passed else _mujoco_cause(quantity, reference, evaluator,
+                                                                                     states))
             dynamics[quantity][evaluator.engine] = row
             tree_rows.setdefault(quantity, {})[case] = row
     verdicts = []
@@ -253,12 +253,12 @@ def _mujoco_side_causes(dynamics, voters, tree_rows) -> None:
     the engine agrees with relacc's tree: the row's cause is MuJoCo's."""
     for quantity, rows in dynamics.items():
         mujoco = tree_rows.get(quantity, {}).get(2)
-        if mujoco is None or mujoco["ok"] or mujoco["cause"].startswith("not explained"):
+        if mujoco is None or mujoco.passed or mujoco.cause.startswith("not explained"):
             continue
         for v in voters:
-            row = rows.get(v.engine)
-            if row is not None and not row["ok"] and v.against_tree.get(quantity, {}).get("ok"):
-                row["cause"] = f"{mujoco['cause']}; {v.engine} agrees with relacc's tree"
+            row, theirs = rows.get(v.engine), v.against_tree.get(quantity)
+            if row is not None and not row.passed and theirs is not None and theirs.passed:
+                rows[v.engine] = replace(row, cause=f"{mujoco.cause}; {v.engine} agrees with relacc's tree")
 
 
 def _referee(reference, voters, states, dynamics) -> list:
@@ -271,9 +271,9 @@ def _referee(reference, voters, states, dynamics) -> list:
     tree = TreeRobot(reference, 2)
     verdicts = []
     for quantity, rows in dynamics.items():
-        if all(r["ok"] for r in rows.values()) or tree.engine not in rows:
+        if all(r.passed for r in rows.values()) or tree.engine not in rows:
             continue
-        ratio = lambda row: row["max_error"] / row["tolerance"]  # noqa: E731
+        ratio = lambda row: row.max_ratio  # noqa: E731
         pairs = {f"mujoco|{tree.engine}": ratio(rows[tree.engine])}
         sides = {"mujoco": ["mujoco"], "relacc": [tree.engine]}
         others, voted = [], {}
@@ -283,15 +283,15 @@ def _referee(reference, voters, states, dynamics) -> list:
                 voted[v.engine] = v.why
             mine, theirs = v.against_mujoco[quantity], v.against_tree[quantity]
             pairs[f"mujoco|{v.engine}"], pairs[f"{v.engine}|{tree.engine}"] = ratio(mine), ratio(theirs)
-            with_mujoco, with_tree = mine["ok"], theirs["ok"]
+            with_mujoco, with_tree = mine.passed, theirs.passed
             if with_mujoco and not with_tree:
                 sides["mujoco"].append(v.engine)
             elif with_tree and not with_mujoco:
                 sides["relacc"].append(v.engine)
             elif not (with_mujoco or with_tree):
                 others.append(v.engine)
-        if rows[tree.engine]["ok"]:  # MuJoCo and relacc agree: every engine that does not is odd
-            odd = tuple(v.engine for v in present if not v.against_mujoco[quantity]["ok"])
+        if rows[tree.engine].passed:  # MuJoCo and relacc agree: every engine that does not is odd
+            odd = tuple(v.engine for v in present if not v.against_mujoco[quantity].passed)
             agreeing = tuple(n for n in ["mujoco", *(v.engine for v in present), tree.engine] if n not in odd)
             verdicts.append(Verdict(quantity, odd, agreeing, (), pairs, voted))
             continue
@@ -319,7 +319,7 @@ def _mujoco_cause(quantity, reference, evaluator, states) -> str:
         links = shared_links(reference.structure, evaluator.structure, 0.0)
         tol = robot_tolerance(len(reference.structure.links))
         worst = 0.0
-        for q, v, a in zip(states.q, states.v, states.a):
+        for q, v, a in zip(states.q, states.u, states.udot):
             mine = evaluator.kinematics(q, v, a, links)
             theirs = reference.points(q[None], v[None], np.zeros((1, len(v))), [com(name) for name in links])
             scale = np.abs(mine.J).max(initial=0) * (np.abs(a).max(initial=0) + np.abs(v).max(initial=0) ** 2)
@@ -352,8 +352,8 @@ def _explained(again: dict, quantity: str, before: dict) -> bool:
     row = again.get(quantity)
     if row is None:
         return False
-    return row["ok"] or (np.isfinite(before["max_difference"])
-                         and row["max_difference"] <= EXPLAINED * before["max_difference"])
+    return row.passed or (np.isfinite(before.max_difference)
+                          and row.max_difference <= EXPLAINED * before.max_difference)
 
 
 def _dynamics_cause(quantity, before, reference, robot, explained, applied, readings, n_states, seed) -> str:
@@ -375,11 +375,11 @@ def _dynamics_cause(quantity, before, reference, robot, explained, applied, read
             again = compare_dynamics(explained, fixed, random_states(explained, n_states, seed))
             if texts and _explained(again, quantity, before):
                 return text + "; and the audit's causes: " + "; ".join(texts)
-    if before.get("singular"):
+    if before.singular:
         return "forward dynamics undefined: " + "; ".join(
             f"{'MuJoCo' if engine == 'mujoco' else engine}'s mass matrix over the shared speeds is singular "
             f"(no inertia moves with {', '.join(joints) or 'a combination of speeds'})"
-            for engine, joints in before["singular"].items())
+            for engine, joints in before.singular.items())
     return f"not explained by a known difference of {robot.engine}" + (
         f" (the audit's causes were applied: {'; '.join(texts)})" if texts else "")
 

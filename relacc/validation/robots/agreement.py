@@ -24,11 +24,12 @@ magnitude otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+from relacc.core.cases import Case
+from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
+from relacc.validation.compare import Comparison
 
 QUANTITIES = ("mass matrix", "bias forces", "gravity forces", "forward dynamics", "COM position", "COM Jacobian",
               "J_dot v", "classical acceleration")
@@ -36,19 +37,9 @@ QUANTITIES = ("mass matrix", "bias forces", "gravity forces", "forward dynamics"
 
 
 
-@dataclass(frozen=True)
-class States:
-    """``q (n, nq)``, ``v (n, nv)``, ``a (n, nv)`` in MuJoCo's coordinates; state 0 is the reference
-    configuration at rest; ``seed`` of the others."""
-
-    q: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
-    seed: int
-
-
 def random_states(reference, n: int, seed: int) -> States:
-    """The reference configuration at rest, then ``n`` random states (``numpy.random.default_rng(seed)``).
+    """The reference configuration at rest, then ``n`` random states (``numpy.random.default_rng(seed)``): case-2
+    :class:`relacc.core.states.States` of the reference's tree (``u``, ``udot``: speeds and rates).
 
     Per joint: free, a position within the model's size of the origin and a uniformly random unit
     quaternion; ball, a random unit quaternion; hinge and slide, uniform in their range when limited,
@@ -77,7 +68,7 @@ def random_states(reference, n: int, seed: int) -> States:
             q[1:, at] = rng.uniform(lo, hi, n)
         else:
             q[1:, at] = rng.uniform(-np.pi, np.pi, n) if joint.type == "hinge" else rng.uniform(-size, size, n)
-    return States(q, v, a, seed)
+    return States(Case.BODY_FRAME, q, v, a, seed, reference.reference)
 
 
 def _gravity_terms(reference, q, v, a, dofs, gravity) -> float:
@@ -124,11 +115,10 @@ def inertialess(reference, M, dofs) -> list[str]:
 
 
 def compare(reference, robot, states: States) -> dict:
-    """``{quantity: {"max_error", "tolerance", "ok", "state", "max_difference"}}`` for ``robot`` against MuJoCo.
-
-    ``state``: the index of the worst state (0: the reference configuration); ``max_difference``: the
-    largest absolute difference over the states, in the quantity's units. Quantities a robot
-    cannot give (no shared link) are left out.
+    """``{quantity: Comparison}`` for ``robot`` against ``reference`` (MuJoCo, or relacc's tree): per state the
+    normalized error (state 0: the reference configuration), the tolerance, and ``max_difference``, the largest
+    absolute difference over the states in the quantity's units. Quantities a robot cannot give (no shared link)
+    are left out.
     """
     dofs = robot.dofs
     solve = len(dofs) != reference.model.nv or robot.extra_dofs > 0
@@ -146,7 +136,7 @@ def compare(reference, robot, states: States) -> dict:
             return 0.0
         return float(d / scale) if scale > 0 and np.isfinite(d / scale) else float("inf")
 
-    for q, v0, a0 in zip(states.q, states.v, states.a):
+    for q, v0, a0 in zip(states.q, states.u, states.udot):
         v, a = np.zeros_like(v0), np.zeros_like(a0)
         v[dofs], a[dofs] = v0[dofs], a0[dofs]  # unshared joints locked at rest
         M0, b0, g0, f0 = _restrict(reference.dynamics(q, v), dofs, solve)
@@ -183,16 +173,13 @@ def compare(reference, robot, states: States) -> dict:
             errors["classical acceleration"].append(_err(k1.acceleration, k0.acceleration, jscale * (as_ + vs**2),
                                                          "classical acceleration"))
     out = {}
+    tol = robot_tolerance(n_links)
     for k, e in errors.items():
         if not e:
             continue
-        e = np.asarray(e)
-        worst = int(np.argmax(np.where(np.isnan(e), np.inf, e)))
-        tol = robot_tolerance(n_links)
-        out[k] = {"max_error": float(e[worst]), "tolerance": tol, "ok": bool(np.all(e <= tol)), "state": worst,
-                  "max_difference": diffs[k]}
-    if singular and "forward dynamics" in out:
-        out["forward dynamics"]["singular"] = singular
+        e = np.asarray(e, dtype=float)
+        out[k] = Comparison(2, robot.engine, "model", k, e, np.full(e.shape, tol), True, tol, diffs[k],
+                            singular=singular if k == "forward dynamics" else {})
     return out
 
 
