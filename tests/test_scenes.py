@@ -14,6 +14,7 @@ from relacc.fixtures import shipped
 from relacc.simulate import scenes
 
 SHIPPED = shipped.scene_paths()
+CHAIN = shipped.scene_paths("chain")
 ENGINES = ("relacc", "pinocchio", "mujoco", "drake")
 FLOOR = 1e-12
 """Differences below this (m, or relative energy) are rounding, where orders cannot be read."""
@@ -161,7 +162,7 @@ def test_inline_model_writes_its_own_engine_files(tmp_path):
 
 def test_scene_overrides_are_validated():
     """Scene.replace checks dt, integrator and engines like the file loader does."""
-    scene = scenes.load(SHIPPED[0])
+    scene = scenes.load(CHAIN[0])
     with pytest.raises(InputError, match="dt"):
         scene.replace(dt=0.0)
     with pytest.raises(InputError, match="engines"):
@@ -199,12 +200,12 @@ def test_durations_must_be_whole_steps(tmp_path, duration, dt):
     with pytest.raises(FixtureError, match=rf"{duration} s is not a whole number of steps of dt = {dt} s"):
         scenes.load(_scene_file(tmp_path, text))
     with pytest.raises(InputError, match="not a whole number of steps"):
-        scenes.load(SHIPPED[0]).replace(duration=duration, dt=dt)
+        scenes.load(CHAIN[0]).replace(duration=duration, dt=dt)
 
 
 def test_energy_drift_of_a_chain_falling_from_rest(tmp_path):
     """At rest with its mass center at zero height, E(0) = 0: the drift is RK4's tiny one, not |dE| / |E(0)|."""
-    chain = scenes.load(SHIPPED[0]).fixture.chain
+    chain = scenes.load(CHAIN[0]).fixture.chain
     z = (chain.m1 * chain.r1[2] + chain.m2 * (chain.q2[2] + chain.r2[2])) / (chain.m1 + chain.m2)
     text = SCENE.replace("q = [0.0, 0.0, 0.0, 1.0", f"q = [0.0, 0.0, {float(-z)!r}, 1.0").replace(
         "u = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]", "u = [" + ", ".join(["0.0"] * 12) + "]")
@@ -250,3 +251,31 @@ def test_inline_models_leave_no_temporary_directory(tmp_path, monkeypatch):
     with pytest.raises(FixtureError):
         scenes.load(_scene_file(tmp_path / "bad", text.replace("r2 = [0.1, 0.1, 0.0]", "r2 = [0.1, 0.1]")))
     assert list((tmp_path / "tmp").iterdir()) == []
+
+
+def test_model_engines_apply_only_the_scenes_effects():
+    """gymnasium's ant carries joint damping (1), limits (+-30 to 70 deg), contacts with a floor, armature and
+    motors. Its default scene names none of them: started inside the floor with speeds that cross every limit, the
+    engines agree with relacc's tree (which knows none of them) to rounding, while MuJoCo's own step of the file
+    (gravity off, the scene's integrator and step) moves the torso otherwise (measured 0.93 m, the floor pushing
+    it out): a run that applied any of them would differ."""
+    import gymnasium
+    import mujoco
+
+    path = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "ant.xml"
+    scene = scenes.model_scene(path, seed=3, duration=0.1, dt=1e-3)
+    q, u = scene.q.copy(), 5.0 * scene.u
+    q[2] = 0.0  # the torso's centre in the floor's plane
+    scene = scene.replace(q=q, u=u, engines=("relacc", "mujoco", "pinocchio", "drake"))
+    result = simulate.run(scene)
+    pos, _, pairs = result.differences()
+    assert pos <= 1e-9, pairs  # measured 3.6e-11: Drake's error-controlled RK5 against the RK4 of the others
+    model = mujoco.MjModel.from_xml_path(str(path))
+    model.opt.gravity[:] = 0.0
+    model.opt.timestep, model.opt.integrator = 1e-3, mujoco.mjtIntegrator.mjINT_RK4
+    data = mujoco.MjData(model)
+    data.qpos[:], data.qvel[:] = q, u
+    for _ in range(100):
+        mujoco.mj_step(model, data)
+    mine = result.trajectories["relacc"].position[-1]
+    assert np.abs(data.xipos[1] - mine).max() > 1e-3

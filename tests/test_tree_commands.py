@@ -91,3 +91,86 @@ def test_hard_states_of_a_model_include_gimbal_lock():
     assert np.all(np.abs(s.q[0::3, root:root + 3]) >= 1e6 - 10)
     k = relacc.tree_kinematics(tree, 3, s.q, s.u, s.udot)
     assert np.all(np.isfinite(k.acceleration))
+
+
+def _mujoco_position(path, body):
+    """A user's own formula for a body's mass centre in any case, written on MuJoCo alone (not relacc): case 3's
+    1-2-3 angles made a quaternion by scipy (intrinsic XYZ: Rx Ry Rz), then MuJoCo's forward kinematics."""
+    import mujoco
+    from scipy.spatial.transform import Rotation
+
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    free = [j for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
+
+    def position(tree, q, u, udot):
+        q = np.asarray(q, dtype=float)
+        if q.size != model.nq:  # case 3: [p, theta] in place of [p, quat] at each free joint
+            parts, at = [], 0
+            for j in range(model.njnt):
+                if j in free:
+                    x, y, z, w = Rotation.from_euler("XYZ", q[at + 3:at + 6]).as_quat()
+                    parts += [q[at:at + 3], [w, x, y, z]]
+                    at += 6
+                else:
+                    parts.append(q[at:at + 1])
+                    at += 1
+            q = np.concatenate(parts)
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        return data.xipos[model.body(body).id].copy()
+
+    return position
+
+
+@pytest.mark.parametrize("name,body", [("ant.xml", "aux_3"), ("hopper.xml", "foot")])
+@pytest.mark.parametrize("case", [1, 2, 3])
+def test_grade_answers_on_gymnasium_models_in_every_case(name, body, case):
+    """grade --model on ant (a free root, case 3 with angles) and hopper (slides and hinges): a correct formula
+    written on MuJoCo alone passes in every case; the same formula off by 1e-6 m in y fails, named."""
+    fn = _mujoco_position(ASSETS / name, body)
+    g = check_formula(fn, model=ASSETS / name, body=body, quantity="position", case=case, n=10, seed=case)
+    assert g.ok, g.text()
+
+    def off(tree, q, u, udot):
+        return fn(tree, q, u, udot) + np.array([0.0, 1e-6, 0.0])
+
+    g = check_formula(off, model=ASSETS / name, body=body, quantity="position", case=case, n=10, seed=case)
+    assert not g.ok and g.body == body
+
+
+def test_report_takes_a_model_file(tmp_path):
+    """relacc report --model hopper.xml: the model's page with every section; Pinocchio's known composite J_dot v
+    difference makes it exit 1, named with its cause; the page renders in Chromium and leaves the cwd empty."""
+    import shutil
+
+    from playwright.sync_api import sync_playwright
+
+    out_dir = tmp_path / "out"
+    work = tmp_path / "cwd"
+    work.mkdir()
+    page = out_dir / "hopper.html"
+    out = _relacc("report", "--model", str(ASSETS / "hopper.xml"), "--quick", "--quiet", "--out", str(page),
+                  cwd=work)
+    assert out.returncode == 1, out.stdout + out.stderr
+    assert out.stdout.strip() == f"wrote {page}: DISAGREEMENTS found (see the verdict)"
+    assert list(work.iterdir()) == []
+    html = page.read_text()
+    assert "stack-of-tasks/pinocchio#2519" in html and "http://" not in html.replace("http://www.w3.org", "")
+    chromium = shutil.which("chromium")
+    assert chromium, "Debian's chromium is required for this test (apt-get install chromium; .ci/run does it)"
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox", "--disable-gpu"])
+        view = browser.new_page()
+        errors = []
+        view.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        view.goto(page.as_uri())
+        ids = view.eval_on_selector_all("section", "els => els.map(e => e.id)")
+        bodies = view.eval_on_selector_all("#bodies tr td:first-child", "els => els.map(e => e.textContent)")
+        cells = view.eval_on_selector_all("#cases th", "els => els.map(e => e.textContent)")
+        browser.close()
+    assert errors == []
+    assert ids == ["verdict", "engines", "audit", "dynamics", "referee", "cases", "bodies", "conventions",
+                   "simulation"]
+    assert bodies == ["torso", "thigh", "leg", "foot"]
+    assert cells == ["quantity", "case 1", "case 2", "case 3"]

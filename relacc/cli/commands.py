@@ -274,18 +274,27 @@ def cmd_simulate(args) -> int:
     from relacc.fixtures.shipped import scene_path
     from relacc.simulate import scenes
 
+    if (args.scene is None) == (args.model is None):
+        raise InputError("give a SCENE (a scene file or a shipped scene's name) or --model FILE (its default "
+                         "scene), one of them")
     if args.ensemble is None:
         given = [flag for flag, value in (("--spread", args.spread), ("--seed", args.seed),
                                           ("--scheduler", args.scheduler)) if value is not None]
+        if args.model is not None:  # the default scene's speeds come from --seed
+            given = [g for g in given if g != "--seed"]
         if given:
             raise InputError(f"{', '.join(given)} {'goes' if len(given) == 1 else 'go'} with --ensemble N (the "
                              "perturbed members); a single run of the scene has no random state")
     else:
         args.spread = 0.05 if args.spread is None else args.spread
-        args.seed = 0 if args.seed is None else args.seed
     if args.out is not None:
         files.check_new_directory(args.out)
-    scene = scenes.load(scene_path(args.scene))
+    if args.model is not None:
+        scene = scenes.model_scene(args.model, seed=0 if args.seed is None else args.seed)
+    else:
+        scene = scenes.load(scene_path(args.scene))
+    if args.ensemble is not None:
+        args.seed = 0 if args.seed is None else args.seed
     changes = {k: v for k, v in (("dt", args.dt), ("integrator", args.integrator), ("duration", args.duration))
                if v is not None}
     if args.engines:
@@ -343,8 +352,8 @@ def _ensemble(scene, args) -> int:
           "workers; member 0: the scene's own state)")
     for n, r in summary["engines"].items():
         print(f"{n:10s} {r['steps_per_second']:12.4g} {r['seconds']:9.3f} {r['threads']:7d}")
-    print("largest G2 position difference over the run, per member (m):")
-    for k, v in summary["largest_g2_position_difference"].items():
+    print(f"largest {'G2' if scene.is_chain else scene.observe} position difference over the run, per member (m):")
+    for k, v in summary[f"largest_{'g2' if scene.is_chain else 'point'}_position_difference"].items():
         print(f"  {k:20s} max {v['max']:.3e} (member {v['worst_member']}), median {v['median']:.3e}")
     return 0
 
@@ -353,6 +362,12 @@ def cmd_tradeoff(args) -> int:
     from relacc import tradeoff
 
     progress = None if (args.quiet or args.json) else (lambda line: print(f"  {line}", file=sys.stderr, flush=True))
+    if _is_robot(args):
+        from relacc.tradeoff import models
+
+        result = models.run(args.model, quick=args.quick, seed=args.seed, progress=progress)
+        print(json.dumps(result.as_json(), indent=2) if args.json else models.format_text(result))
+        return 0
     result = tradeoff.run(quick=args.quick, seed=args.seed, progress=progress, fixture=fixtures.load(args.model))
     if args.json:
         print(json.dumps(result.as_json(), indent=2))
@@ -362,6 +377,13 @@ def cmd_tradeoff(args) -> int:
 
 
 def cmd_report(args) -> int:
+    if _is_robot(args):
+        from relacc.report import model as model_report
+
+        path, agree = model_report.write(args.model, args.out, n_states=args.states, seed=args.seed,
+                                         quick=args.quick, progress=_progress(args))
+        print(f"wrote {path}: {'everything agrees' if agree else 'DISAGREEMENTS found (see the verdict)'}")
+        return 0 if agree else 1
     from relacc.report import build_report
 
     path, ctx = build_report(out=args.out, n_states=args.states, seed=args.seed, quick=args.quick,

@@ -251,8 +251,13 @@ def build_parser() -> argparse.ArgumentParser:
              "scene.",
              ["relacc simulate tumbling", "relacc simulate my_scene.toml --out runs/ --json",
               "relacc simulate gimbal_spin --engines relacc,mujoco --dt 1e-4",
-              "relacc simulate tumbling --ensemble 1000 --spread 0.05 --engines relacc,mujoco"])
-    p.add_argument("scene", metavar="SCENE", help="scene TOML file, or a shipped scene's name")
+              "relacc simulate tumbling --ensemble 1000 --spread 0.05 --engines relacc,mujoco",
+              "relacc simulate ant_tumbling", "relacc simulate --model robot.xml --duration 0.5"])
+    p.add_argument("scene", metavar="SCENE", nargs="?", default=None,
+                   help="scene TOML file, or a shipped scene's name (tumbling, gravity_spring, forced_damped, "
+                        "gimbal_spin, ant_tumbling); or give --model")
+    _model(p, "an MJCF .xml or URDF .urdf, or a chain TOML: its default scene, tumbling in space from its "
+              "reference configuration with speeds from --seed, nothing acting")
     p.add_argument("--out", metavar="DIR", help="a new directory for one CSV per engine")
     _json(p, "the summary")
     p.add_argument("--engines", type=_choices_list("--engines", SIM_ENGINE_NAMES), metavar="ENGINES",
@@ -301,20 +306,22 @@ def build_parser() -> argparse.ArgumentParser:
     _json(p, "all points and orders")
     _seed(p)
     _quiet(p)
-    _model(p)
+    _model(p, "a chain TOML, or an MJCF .xml or URDF .urdf model: its default scene's integrator sweep")
 
     p = _sub(sub, "report", "write the self-contained HTML agreement report",
              "Run the cross-validation, errata, hard cases, scenes, tradeoff and throughput, and write one "
              "self-contained HTML page (no network needed to view it), atomically.",
-             ["relacc report", "relacc report --quick --out /tmp/report.html"])
+             ["relacc report", "relacc report --quick --out /tmp/report.html",
+              "relacc report --model robot.xml --out /tmp/robot.html"])
     p.add_argument("--out", metavar="FILE", default="reports/agreement.html",
                    help="output file (default reports/agreement.html, relative to the working directory)")
     p.add_argument("--states", type=_int_in(1, 10**6), default=None, metavar="N",
-                   help="states per case (default 2000, --quick 200)")
+                   help="states per case (default 2000, --quick 200; a model file: 20, --quick 5)")
     _seed(p)
     p.add_argument("--quick", action="store_true", help="a small run for tests and CI")
     _quiet(p)
-    _model(p)
+    _model(p, "a chain TOML, or an MJCF .xml or URDF .urdf model: its audit, per-body agreement in the three "
+              "cases, conventions, referee and default scene")
     return parser
 
 

@@ -98,3 +98,39 @@ ENGINE_INTEGRATORS = {
 }
 """The integrators each engine has, by the names scenes use. ``euler`` is semi-implicit Euler everywhere
 (MuJoCo's ``mjINT_EULER``, Drake's ``semi_explicit_euler``: ``v`` first, then ``q`` with the new ``v``)."""
+
+
+TREE_JOINTS = {
+    "free": ("[p, quat] (7)", "[p, theta] (6)", "[p_dot, omega], omega in fixed components",
+             "[p_dot, omega'], omega' in body components", "[p_dot, theta_dot]"),
+    "ball": ("quat (4)", "theta (3)", "relative angular velocity, parent body's components",
+             "relative angular velocity, the body's components", "theta_dot"),
+    "hinge": ("angle (rad)", "angle (rad)", "rate (rad/s)", "rate (rad/s)", "rate (rad/s)"),
+    "slide": ("displacement (m)", "displacement (m)", "rate (m/s)", "rate (m/s)", "rate (m/s)"),
+}
+"""A model's coordinates and speeds at each joint type: ``(q cases 1-2, q case 3, u case 1, u case 2, u case 3)``.
+``p``: the body frame's origin, fixed components; ``theta``: 1-2-3 body-fixed angles of the same rotation as
+``quat`` (``Rx Ry Rz``). Case 2 is MuJoCo's ``qpos``/``qvel`` as they are (``docs/trees.md``)."""
+
+TREE_ENGINE_SPEEDS = {
+    "mujoco": "case 2 as it is: a free joint's v = [p_dot (world), omega (body)], a ball's omega in the child's "
+              "components; quaternions (w, x, y, z)",
+    "pinocchio": "a free joint's v = [R^T p_dot, omega], both in body components (T = diag(R^T, I)); quaternions "
+                 "(x, y, z, w); an unbounded revolute q = (cos, sin); ball, hinge and slide speeds as case 2",
+    "drake": "a free joint's v = [omega, p_dot], both in the parent's components (case 1's, reordered); a ball is a "
+             "BallRpyJoint (roll-pitch-yaw q, omega in the parent's components); several joints on one body a chain "
+             "of massless bodies",
+}
+"""Each engine's own speeds at a model's joints, which its adapter maps to case 2 (``v_e = T(q) v``) once."""
+
+MODEL_MEANINGS = {
+    "mass matrix": "M (nv x nv) over the shared speeds, in case c's speeds",
+    "bias forces": "Coriolis, centrifugal and gravity generalized forces, M a + bias = tau",
+    "gravity forces": "bias at zero speeds",
+    "forward dynamics": "a = M^-1 (-bias): no passive force, actuator or contact",
+    "COM position": "each link's mass centre, fixed components, m",
+    "COM Jacobian": "d v_G / d u per link, fixed components",
+    "J_dot v": "each link's mass centre, fixed components, m/s^2 (classical: a = J u_dot + J_dot u)",
+    "classical acceleration": "each link's mass centre at random speed rates, fixed components, m/s^2 (classical)",
+}
+"""What each of a model's compared quantities is: which point, which components, classical or spatial."""

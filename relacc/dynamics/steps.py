@@ -35,6 +35,12 @@ class Stepper:
         self.advance = advance
         self._record = record
 
+    @property
+    def records_blocks(self) -> bool:
+        """Whether it records a block at once itself (a compiled loop, ``mujoco.rollout``) rather than step by
+        step through :meth:`advance`."""
+        return self._record is not None
+
     def record(self, x, v, gaps):
         """``(X, V, n)``: the states after ``gaps[0]``, ``gaps[0] + gaps[1]``, ... steps; ``n < len(gaps)`` when
         record ``n`` became non-finite (those before it are valid)."""

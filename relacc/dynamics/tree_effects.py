@@ -104,6 +104,43 @@ class TreeEffects:
         object.__setattr__(self, "joints", dict(self.joints))
         object.__setattr__(self, "bodies", dict(self.bodies))
 
+    def active(self) -> tuple[str, ...]:
+        """Names of what acts, in a fixed order: ``gravity`` (when given and not zero), ``joint springs``,
+        ``joint dampers``, ``body loads``."""
+        out = []
+        if self.gravity is not None and np.any(self.gravity):
+            out.append("gravity")
+        if any(e.stiffness for e in self.joints.values()):
+            out.append("joint springs")
+        if any(e.damping for e in self.joints.values()):
+            out.append("joint dampers")
+        if self.bodies:
+            out.append("body loads")
+        return tuple(out)
+
+    @property
+    def conserves_energy(self) -> bool:
+        """True when only conservative effects act (gravity, springs)."""
+        return not set(self.active()) - {"gravity", "joint springs"}
+
+    @property
+    def conserves_momentum(self) -> bool:
+        """True when no external force or torque acts (joint springs and dampers are internal)."""
+        return not set(self.active()) & {"gravity", "body loads"}
+
+    def describe(self) -> dict:
+        """Plain data: each effect and its values."""
+        out = {}
+        if self.gravity is not None:
+            out["gravity"] = self.gravity.tolist()
+        for name, e in self.joints.items():
+            out[f"joint {name}"] = {"stiffness": e.stiffness, "damping": e.damping,
+                                    "rest": None if e.rest is None else np.asarray(e.rest, dtype=float).tolist()}
+        for name, b in self.bodies.items():
+            out[f"body {name}"] = {"force": b.force.tolist(), "torque": b.torque.tolist(), "frequency": b.frequency,
+                                   "phase": b.phase}
+        return out
+
     def resolve(self, tree):
         """``(gravity, [(joint index, JointEffect, rest)], [(body index, BodyLoad)])``, names checked against ``tree``.
 

@@ -248,8 +248,8 @@ class Adapter(abc.ABC):
         """
 
     def load_forces(self, qe, effects, t=0.0) -> np.ndarray:
-        """``(n, nv_e)`` the generalized forces of ``effects``' body loads (engines that configure their model to
-        apply them, like MuJoCo, leave this zero)."""
+        """``(n, nv_e)`` the generalized forces of ``effects``' body loads at time ``t`` (s; a scalar or one per state;
+        engines that configure their model to apply them, like MuJoCo, leave this zero)."""
         return np.zeros((len(qe), self.nv_e))
 
     def generalized_forces(self, qe, ve, effects, t=0.0) -> np.ndarray:

@@ -120,7 +120,7 @@ def run_scenes(quick: bool, progress=None) -> list:
     from relacc.simulate import scenes
 
     out = []
-    for path in shipped.scene_paths():
+    for path in shipped.scene_paths("chain"):
         scene = scenes.load(path)
         if quick:
             scene = scene.replace(duration=round(min(scene.duration, 0.2) / scene.dt) * scene.dt)

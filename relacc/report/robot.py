@@ -33,7 +33,8 @@ def page_data(result) -> dict:
     return {"n_bad": len(bad), "n_unexplained": len(unexplained), "model": data["model"], "urdf": data["urdf"],
             "engines": data["engines"], "names": engines,
             "others": others, "audit": audit, "dynamics": rows, "agree": data["agree"], "states": data["states"],
-            "seed": data["seed"], "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
+            "seed": data["seed"], "referee": data["referee"],
+            "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
 
 
 def _show(value) -> str:

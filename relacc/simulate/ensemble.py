@@ -73,12 +73,12 @@ def ensemble(scene: Scene, q0, u0, *, engine: str = "relacc", threads: int | Non
     """
     if engine not in SIM_ENGINES:
         raise EngineError(f"unknown engine {engine!r}: accepted are {', '.join(SIM_ENGINES)}")
-    q0, u0 = check_q(scene.case, q0), check_u("u0", u0)
+    q0, u0 = _checked(scene, q0, u0)
     if q0.ndim != 2 or u0.ndim != 2 or len(q0) != len(u0):
-        raise EngineError(f"q0 and u0 must be (N, nq) and (N, 12) with the same N, got {q0.shape}, {u0.shape}")
+        raise EngineError(f"q0 and u0 must be (N, nq) and (N, nv) with the same N, got {q0.shape}, {u0.shape}")
     steps = recorded_steps(scene.n_steps, scene.record_every)
     n, m = len(q0), len(steps)
-    require_memory(8.0 * n * m * (q0.shape[1] + 12 + 9) * 2, f"an ensemble of {n} members x {m} records",
+    require_memory(8.0 * n * m * (q0.shape[1] + u0.shape[1] + 9) * 2, f"an ensemble of {n} members x {m} records",
                    "use record_every > 1, or fewer members per call")
     if threads is None:
         from relacc.kernels.jit import numba
@@ -89,11 +89,23 @@ def ensemble(scene: Scene, q0, u0, *, engine: str = "relacc", threads: int | Non
     return runner(scene, q0.astype(float), u0.astype(float), steps, threads, engine)
 
 
+def _checked(scene, q0, u0):
+    """Initial states checked as the scene's case takes them (the chain's, or a model's tree's)."""
+    if scene.is_chain:
+        return check_q(scene.case, q0), check_u("u0", u0)
+    from relacc.core.tree.coordinates import check_q as check_tree_q
+    from relacc.core.tree.coordinates import check_u as check_tree_u
+
+    return check_tree_q(scene.tree, scene.case, q0), check_tree_u(scene.tree, "u0", u0)
+
+
 def _gaps(steps):
     return np.diff(np.concatenate([[0], steps])).astype(np.int64)
 
 
-def _relacc(scene, q0, u0, steps, threads, _):
+def _relacc(scene, q0, u0, steps, threads, name):
+    if not scene.is_chain:
+        return _relacc_tree(scene, q0, u0, steps, threads, name)
     from relacc.dynamics import accelerations
     from relacc.kernels import dynamics as kernel
     from relacc.kernels.jit import threads as kernel_threads
@@ -119,6 +131,40 @@ def _relacc(scene, q0, u0, steps, threads, _):
                     seconds, n * int(steps[-1]), threads)
 
 
+def _relacc_tree(scene, q0, u0, steps, threads, name):
+    """A model: relacc's tree stepper (:func:`relacc.simulate.subjects.tree_stepper`) on every member at once."""
+    from relacc.dynamics.tree import tree_accelerations
+    from relacc.simulate.subjects import tree_point, tree_stepper
+
+    integrator, _ = scene.integrator_for("relacc")
+    stepper = tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator)
+    Q, U, seconds = _batched(stepper, q0, u0, steps, scene, "relacc")
+    n, m = Q.shape[:2]
+    flat_q, flat_u = Q.reshape(n * m, -1), U.reshape(n * m, -1)
+    t = np.tile(steps * scene.dt, n)
+    pos, vel, acc = tree_point(scene, flat_q, flat_u, tree_accelerations(scene.tree, scene.case, flat_q, flat_u,
+                                                                          effects=scene.effects, t=t))
+    return Ensemble("relacc", steps * scene.dt, Q, U, pos.reshape(n, m, 3), vel.reshape(n, m, 3),
+                    acc.reshape(n, m, 3), seconds, n * int(steps[-1]), 1)
+
+
+def _batched(stepper, x, v, steps, scene, who):
+    """Every member at once through a stepper that takes batches of rows; ``(Q (n, m, .), V, seconds)``."""
+    n, m = len(x), len(steps)
+    Q, V = np.empty((n, m, x.shape[1])), np.empty((n, m, v.shape[1]))
+    Q[:, 0], V[:, 0] = x, v
+    seconds = 0.0
+    for j, gap in enumerate(_gaps(steps)[1:], start=1):
+        start = time.perf_counter()
+        with np.errstate(all="ignore"):  # a diverging member is reported by its record, not by warnings
+            x, v = stepper.advance(x, v, int(gap))
+        seconds += time.perf_counter() - start
+        Q[:, j], V[:, j] = x, v
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            _check_done(np.where(np.all(np.isfinite(x), axis=1), m, j), m, steps, scene, who)
+    return Q, V, seconds
+
+
 def _check_done(done, m, steps, scene, who):
     bad = np.flatnonzero(done < m)
     if bad.size:
@@ -128,32 +174,35 @@ def _check_done(done, m, steps, scene, who):
 
 
 def _engine_states(engine, scene, q0, u0):
-    from relacc.core.cases import as_case
+    """Members' states in an engine's coordinates (its adapter's, from the reference's)."""
+    from relacc.simulate.subjects import reference_state
 
-    x = engine.engine_input("quaternion", as_case(scene.case), q0, u0, None)
-    return np.ascontiguousarray(x.q), np.ascontiguousarray(x.v)
+    qe, ve, _, _, _ = engine.to_engine(*reference_state(scene, q0, u0))
+    return np.ascontiguousarray(qe), np.ascontiguousarray(ve)
 
 
 def _observed(engine_name, engine, scene, Q, V, steps, seconds, threads):
-    """G2 at every record of an engine's ensemble, by the engine itself (its own forward dynamics)."""
+    """The point at every record of an engine's ensemble, by the engine itself (its own forward dynamics)."""
     n, m = Q.shape[:2]
     flat_q, flat_v = Q.reshape(n * m, -1), V.reshape(n * m, -1)
-    pts = engine.points("quaternion", flat_q, flat_v, engine.forward_dynamics(flat_q, flat_v, scene.effects),
-                        jdot=False)
-    velocity = np.einsum("nij,nj->ni", pts.J, flat_v)
-    return Ensemble(engine_name, steps * scene.dt, Q, V, pts.position.reshape(n, m, 3), velocity.reshape(n, m, 3),
-                    pts.acceleration.reshape(n, m, 3), seconds, n * int(steps[-1]), threads)
+    t = np.tile(steps * scene.dt, n)
+    pts = engine.points(flat_q, flat_v, engine.forward(flat_q, flat_v, scene.engine_effects, t), [scene.point])
+    velocity = np.einsum("nij,nj->ni", pts.J[:, 0], flat_v)
+    return Ensemble(engine_name, steps * scene.dt, Q, V, pts.position[:, 0].reshape(n, m, 3),
+                    velocity.reshape(n, m, 3), pts.acceleration[:, 0].reshape(n, m, 3), seconds, n * int(steps[-1]),
+                    threads)
 
 
 def _mujoco(scene, q0, u0, steps, threads, name):
-    from relacc.engines import load_engine
+    from relacc.simulate.subjects import adapter
 
-    engine = load_engine("mujoco", scene.fixture)
-    engine.stepper(scene.effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
+    engine = adapter(scene, "mujoco")
+    stepper = engine.stepper(scene.engine_effects, scene.dt, scene.integrator)  # configures the model
     qpos, qvel = _engine_states(engine, scene, q0, u0)
+    if not stepper.records_blocks:  # sinusoidal loads: MuJoCo's control callback, member after member
+        return _one_by_one(scene, q0, u0, steps, threads, name)
     try:
-        Q, V, first_bad, seconds = engine.adapter.rollout(qpos, qvel, np.asarray(steps),
-                                                          engine.adapter.work_data(threads))
+        Q, V, first_bad, seconds = engine.rollout(qpos, qvel, np.asarray(steps), engine.work_data(threads))
     except IntegrationError as exc:
         raise IntegrationError(f"mujoco: {exc} (dt = {scene.dt} s)") from None
     _check_done(first_bad, len(steps), steps, scene, "mujoco")
@@ -163,40 +212,30 @@ def _mujoco(scene, q0, u0, steps, threads, name):
 def _pinocchio(scene, q0, u0, steps, threads, name):
     """RKMK4 on Pinocchio's manifold for every member at once: the adapter's stepper on a batch of rows, its
     accelerations from ``pin.abaInParallel`` at every stage."""
-    from relacc.engines import load_engine
+    from relacc.simulate.subjects import adapter
 
     if scene.integrator != "rk4":  # the batched path is RKMK4 (relacc.dynamics.integrate.rkmk4_step)
         return _one_by_one(scene, q0, u0, steps, threads, name)
-    engine = load_engine("pinocchio", scene.fixture)
+    engine = adapter(scene, "pinocchio")
     x, v = _engine_states(engine, scene, q0, u0)
-    stepper = engine.adapter.stepper(scene.effects.for_tree(), scene.dt, "rk4", threads=threads)
-    n, m = len(q0), len(steps)
-    Q, V = np.empty((n, m, x.shape[1])), np.empty((n, m, v.shape[1]))
-    Q[:, 0], V[:, 0] = x, v
-    seconds = 0.0
-    for j, gap in enumerate(_gaps(steps)[1:], start=1):
-        start = time.perf_counter()
-        x, v = stepper.advance(x, v, int(gap))
-        seconds += time.perf_counter() - start
-        Q[:, j], V[:, j] = x, v
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-            _check_done(np.where(np.all(np.isfinite(x), axis=1), m, j), m, steps, scene, "pinocchio")
+    stepper = engine.stepper(scene.engine_effects, scene.dt, "rk4", threads=threads)
+    Q, V, seconds = _batched(stepper, x, v, steps, scene, "pinocchio")
     return _observed("pinocchio", engine, scene, Q, V, steps, seconds, threads)
 
 
 def _one_by_one(scene, q0, u0, steps, threads, name):
     """Any engine's own stepper, member after member (one thread)."""
     from relacc.dynamics.steps import blocks
-    from relacc.engines import load_engine
+    from relacc.simulate.subjects import adapter
 
-    engine = load_engine(name, scene.fixture)
+    engine = adapter(scene, name)
     integrator, accuracy = scene.integrator_for(name)
     x0, v0 = _engine_states(engine, scene, q0, u0)
     n, m = len(q0), len(steps)
     Q, V = np.empty((n, m, x0.shape[1])), np.empty((n, m, v0.shape[1]))
     seconds = 0.0
     for i in range(n):
-        stepper = engine.stepper(scene.effects, scene.dt, integrator, accuracy)
+        stepper = engine.stepper(scene.engine_effects, scene.dt, integrator, accuracy)
         start = time.perf_counter()
         at = 0
         for chunk, X, Vb in blocks(stepper, x0[i], v0[i], steps, who=f"{name} member {i}", dt=scene.dt,

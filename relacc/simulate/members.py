@@ -24,7 +24,7 @@ MEMBER_CHUNK = 1024
 
 
 def perturbed(scene: Scene, n: int, spread: float, seed: int, start: int = 0):
-    """``(q0 (n, nq), u0 (n, 12))``: members ``start .. start + n - 1`` of the scene's ensemble.
+    """``(q0 (n, nq), u0 (n, nv))``: members ``start .. start + n - 1`` of the scene's ensemble.
 
     Member 0 is the scene's own state. The others: positions and angles plus ``spread`` times
     standard normals (m, rad), quaternions turned by rotation vectors of that size (they stay unit),
@@ -42,10 +42,14 @@ def perturbed(scene: Scene, n: int, spread: float, seed: int, start: int = 0):
         lo, hi = max(start - j * MEMBER_CHUNK, 0), min(start + n - j * MEMBER_CHUNK, MEMBER_CHUNK)
         qs.append(q[lo:hi])
         us.append(u[lo:hi])
+    if not scene.is_chain:
+        return np.concatenate(qs), np.concatenate(us)
     return check_q(scene.case, np.concatenate(qs)), check_u("u0", np.concatenate(us))
 
 
 def _chunk(scene, j, spread, seed):
+    if not scene.is_chain:
+        return _tree_chunk(scene, j, spread, seed)
     rng = np.random.default_rng([seed, j])
     m = MEMBER_CHUNK
     q0 = np.repeat(scene.q[None].astype(float), m, axis=0)
@@ -58,6 +62,27 @@ def _chunk(scene, j, spread, seed):
         for sl in (slice(3, 7), slice(10, 14)):
             q0[:, sl] = quaternion_multiply(q0[:, sl], quaternion_exp(spread * rng.normal(size=(m, 3))))
     u0 += spread * rng.normal(size=(m, 12))
+    if j == 0:
+        q0[0], u0[0] = scene.q, scene.u
+    return q0, u0
+
+
+def _tree_chunk(scene, j, spread, seed):
+    """A model's chunk: every coordinate plus ``spread`` normals, quaternions (cases 1-2) turned by rotation
+    vectors of that size, speeds plus ``spread`` normals."""
+    from relacc.core.tree.coordinates import rotations
+
+    rng = np.random.default_rng([seed, j])
+    m = MEMBER_CHUNK
+    q0 = np.repeat(scene.q[None].astype(float), m, axis=0)
+    u0 = np.repeat(scene.u[None].astype(float), m, axis=0)
+    quats = [a for _, _, a, _ in rotations(scene.tree, scene.case)] if scene.case != 3 else []
+    plain = np.ones(q0.shape[1], dtype=bool)
+    for a in quats:
+        plain[a:a + 4] = False
+        q0[:, a:a + 4] = quaternion_multiply(q0[:, a:a + 4], quaternion_exp(spread * rng.normal(size=(m, 3))))
+    q0[:, plain] += spread * rng.normal(size=(m, int(plain.sum())))
+    u0 += spread * rng.normal(size=u0.shape)
     if j == 0:
         q0[0], u0[0] = scene.q, scene.u
     return q0, u0
@@ -97,7 +122,8 @@ class Part:
                 "engines": {k: {"steps_per_second": self.steps[k] / self.seconds[k] if self.seconds[k] > 0
                                 else float("inf"), "seconds": self.seconds[k], "threads": self.threads[k]}
                             for k in self.steps},
-                "largest_g2_position_difference": {
+                "point": scene.observe,
+                f"largest_{'g2' if scene.is_chain else 'point'}_position_difference": {
                     k: {"max": float(v.max()), "median": float(np.median(v)), "worst_member": int(np.argmax(v))}
                     for k, v in self.differences.items()}}
 

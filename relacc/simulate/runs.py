@@ -27,17 +27,12 @@ from pathlib import Path
 
 import numpy as np
 
-from relacc import dynamics, files
-from relacc.core.cases import as_case
-from relacc.core.kinematics import g2_kinematics
-from relacc.core.scales import term_scales
-from relacc.core.speeds import to_body_speeds
-from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
-from relacc.dynamics.integrate import stepper
+from relacc import files
+from relacc.core.tolerances import EPS
 from relacc.dynamics.steps import BLOCK, blocks, recorded_steps
-from relacc.engines import load_engine
 from relacc.errors import EngineError
 from relacc.limits import require_memory
+from relacc.simulate import subjects
 from relacc.simulate.scenes import SIM_ENGINES, Scene
 from relacc.simulate.trajectory import Track, Trajectory
 
@@ -75,57 +70,30 @@ class SimulationResult:
         return pos, vel, self.pairs
 
     def summary(self) -> dict:
-        """The ``relacc simulate --json`` object."""
+        """The ``relacc simulate --json`` object. The observed point's keys say which: ``g2_...`` for the chain,
+        ``point_...`` for a model (``point`` names it)."""
         pos, vel, pairs = self.differences()
-        eff = self.scene.effects
+        eff, p = self.scene.effects, "g2" if self.scene.is_chain else "point"
         engines = {}
         for name, tr in self.tracks.items():
             p_drift, h_drift = tr.momentum_drift()
             engines[name] = {
-                "g2_position_final": tr.last["position"].tolist(),
+                f"{p}_position_final": tr.last["position"].tolist(),
                 "t_final": float(tr.last["t"]),
                 "energy_drift": tr.energy_drift() if eff.conserves_energy else None,
-                "momentum_drift": p_drift if eff.conserves_momentum else None,
-                "angular_momentum_drift": h_drift if eff.conserves_momentum else None,
+                "momentum_drift": p_drift if self.scene.conserves_momentum else None,
+                "angular_momentum_drift": h_drift if self.scene.conserves_momentum else None,
                 "seconds": tr.seconds,
                 "applied": tr.applied,
             }
         return {
             "scene": self.scene.name, "case": self.scene.case, "integrator": self.scene.integrator,
             "dt": self.scene.dt, "duration": self.scene.duration, "steps": self.scene.n_steps,
-            "record_every": self.scene.record_every, "effects": eff.describe(), "engines": engines,
-            "max_g2_position_difference": pos, "max_g2_velocity_difference": vel, "pairs": pairs,
-            "note_acceleration_vs_engines": self.note_check, "csv": [str(p) for p in self.csv],
+            "record_every": self.scene.record_every, "effects": eff.describe(), "point": self.scene.observe,
+            "engines": engines, f"max_{p}_position_difference": pos, f"max_{p}_velocity_difference": vel,
+            "pairs": pairs, ("note" if self.scene.is_chain else "relacc") + "_acceleration_vs_engines": self.note_check,
+            "csv": [str(c) for c in self.csv],
         }
-
-
-def _observe_relacc(scene: Scene):
-    """relacc's observation of a block of its own states (the scene's case coordinates)."""
-    chain, case, eff = scene.fixture.chain, scene.case, scene.effects
-
-    def observe(Q, U):
-        k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, eff))
-        T, g, s = dynamics.energy_terms(chain, case, Q, U, eff)
-        p, H = dynamics.momenta(chain, case, Q, U)
-        return {"position": k.position, "velocity": k.velocity, "acceleration": k.acceleration, "energy": T + g + s,
-                "energy_scale": T + np.abs(g) + s, "momentum": p, "angular_momentum": H}
-
-    return observe
-
-
-def _observe_engine(engine, scene: Scene):
-    """An engine's observation of a block of its states: G2, energy and momenta (:meth:`Engine.energy_terms`)."""
-    chain, eff = scene.fixture.chain, scene.effects
-
-    def observe(Q, V):
-        pts = engine.points("quaternion", Q, V, engine.forward_dynamics(Q, V, eff), jdot=False)
-        T, g, s = engine.energy_terms(chain, Q, V, eff)
-        p, H = engine.momenta(chain, Q, V)
-        return {"position": pts.position, "velocity": np.einsum("nij,nj->ni", pts.J, V),
-                "acceleration": pts.acceleration, "energy": T + g + s, "energy_scale": T + np.abs(g) + s,
-                "momentum": p, "angular_momentum": H}
-
-    return observe
 
 
 class _Run:
@@ -134,14 +102,14 @@ class _Run:
     def __init__(self, name, engine, scene: Scene, steps, keep, progress):
         integrator, accuracy = scene.integrator_for(name)
         if name == "relacc":
-            integ, x0, v0 = stepper(scene.fixture.chain, scene.case, scene.effects, scene.dt,
-                                    integrator), scene.q, scene.u
-            observe, applied = _observe_relacc(scene), {"equations": "Newton-Euler per body (Kane's, solved), " + (
-                ", ".join(scene.effects.active()) or "no effects")}
+            integ, observe, applied = subjects.relacc_run(scene, integrator)
+            x0, v0 = scene.q, scene.u
         else:
-            x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
-            integ = engine.stepper(scene.effects, scene.dt, integrator, accuracy)
-            observe, applied = _observe_engine(engine, scene), engine.applied(scene.effects)
+            q2, v2 = subjects.reference_state(scene, scene.q[None], scene.u[None])
+            qe, ve, _, _, _ = engine.to_engine(q2, v2)
+            x0, v0 = qe[0], ve[0]
+            integ = engine.stepper(scene.engine_effects, scene.dt, integrator, accuracy)
+            observe, applied = subjects.engine_observer(engine, scene), engine.applied(scene.engine_effects)
             if (integrator, accuracy) != (scene.integrator, None):
                 applied = {"integrator": integrator + ("" if accuracy is None else f", error-controlled to "
                                                        f"{accuracy:g}"), **applied}
@@ -159,7 +127,7 @@ class _Run:
         start = time.perf_counter()
         chunk, X, V = next(self.blocks)
         self.track.seconds += time.perf_counter() - start
-        block = {"t": chunk * dt, "q": X, "u": V, **self.observe(X, V)}
+        block = {"t": chunk * dt, "q": X, "u": V, **self.observe(chunk * dt, X, V)}
         self.track.add(block)
         return block
 
@@ -187,7 +155,7 @@ def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=Non
     if keep:
         require_memory(8.0 * len(steps) * len(names) * (scene.q.size + 26 + 17), f"keeping {len(steps)} records "
                        f"of {len(names)} runs", "run with keep=False (relacc simulate does), or record_every > 1")
-    loaded = {n: load_engine(n, scene.fixture) for n in names if n != "relacc"}
+    loaded = {n: subjects.adapter(scene, n) for n in names if n != "relacc"}
     runs = {n: _Run(n, loaded.get(n), scene, steps, keep, progress) for n in names}
     note_at = set(np.unique(np.linspace(0, len(steps) - 1, NOTE_CHECK_STATES).astype(int)).tolist())
     note_states, pairs = [], {}
@@ -200,13 +168,14 @@ def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=Non
             blocks_ = {n: r.block(scene.dt) for n, r in runs.items()}
             _compare_pairs(blocks_, pairs)
             if "relacc" in blocks_:
-                note_states += [(blocks_["relacc"]["q"][j - start], blocks_["relacc"]["u"][j - start])
-                                for j in range(start, start + len(chunk)) if j in note_at]
+                note_states += [(blocks_["relacc"]["q"][j - start], blocks_["relacc"]["u"][j - start],
+                                 blocks_["relacc"]["t"][j - start]) for j in range(start, start + len(chunk))
+                                if j in note_at]
             for n, w in writers.items():
                 b = blocks_[n]
                 w.writerows(np.column_stack([b["t"], b["q"], b["u"], b["position"], b["velocity"],
                                              b["acceleration"], b["energy"]]).tolist())
-    note = _note_check(scene, note_states, loaded) if note_states and loaded else {}
+    note = subjects.note_check(scene, note_states, loaded) if note_states and loaded else {}
     tracks = {n: r.track for n, r in runs.items()}
     trajectories = {n: t.trajectory() for n, t in tracks.items()} if keep else {}
     return SimulationResult(scene, tracks, trajectories, pairs, note, paths)
@@ -236,51 +205,26 @@ def _csv_writer(handle, scene: Scene, track: Track):
     return writer
 
 
-def _note_check(scene: Scene, states, engines: dict) -> dict:
-    """The note's a_G2 against each engine's, at relacc's states: error and bound.
-
-    Both sides solve their own equations of motion for ``udot``, so rounding
-    is amplified by the conditioning of the mass matrix. G2's acceleration
-    does not depend on the chart, so the bound uses the body-speed (Case 2)
-    mass matrix: ``c eps kappa(M_body)`` (largest over the states; case 3's
-    own ``M`` is ill-conditioned near gimbal lock only along angle-rate
-    combinations that barely move G2). The error is normalized by the
-    acceleration's term scale.
-    """
-    chain, case, eff = scene.fixture.chain, scene.case, scene.effects
-    Q, U = np.array([s[0] for s in states]), np.array([s[1] for s in states])
-    Udot = dynamics.accelerations(chain, case, Q, U, eff)
-    note = g2_kinematics(chain, case, Q, U, Udot).acceleration
-    scale = term_scales(chain, case, Q, U, Udot).acceleration
-    q14, nu, _ = to_body_speeds(case, Q, U)
-    M_body, _ = dynamics.equations_of_motion(chain, 2, q14, nu, eff)
-    bound = float(rounding_tolerance() * np.max(np.linalg.cond(M_body)))
-    out = {}
-    for name, engine in engines.items():
-        x = engine.engine_input("quaternion", as_case(case), Q, U, None)
-        A = engine.forward_dynamics(x.q, x.v, eff)
-        pts = engine.points("quaternion", x.q, x.v, A, jdot=False)
-        out[name] = {"error": float(np.max(normalized_error(pts.acceleration, note, scale))), "bound": bound}
-    return out
-
-
 def format_text(result: SimulationResult) -> str:
     """The human-readable summary printed by ``relacc simulate``."""
     scene, summary, eff = result.scene, result.summary(), result.scene.effects
+    p = "g2" if scene.is_chain else "point"
+    label = "G2" if scene.is_chain else scene.observe
     out = [f"{scene.title} ({scene.name}): case {scene.case}, {scene.integrator}, dt = {scene.dt} s, "
            f"{scene.duration} s ({scene.n_steps} steps), effects: {', '.join(eff.active()) or 'none'}",
-           f"{'engine':10s} {'G2 position at t = ' + format(scene.duration, 'g') + ' s (fixed comps, m)':44s} "
+           f"{'engine':10s} {label + ' position at t = ' + format(scene.duration, 'g') + ' s (fixed comps, m)':44s} "
            f"{'energy drift':>12s} {'momentum drift':>15s} {'seconds':>8s}"]
     for name, e in summary["engines"].items():
-        pos = ", ".join(f"{x:.9f}" for x in e["g2_position_final"])
+        pos = ", ".join(f"{x:.9f}" for x in e[f"{p}_position_final"])
         ed = "-" if e["energy_drift"] is None else f"{e['energy_drift']:.2e}"
         md = "-" if e["momentum_drift"] is None else f"{e['momentum_drift']:.2e}"
         out.append(f"{name:10s} [{pos:42s}] {ed:>12s} {md:>15s} {e['seconds']:8.3f}")
-    out.append(f"largest G2 difference between engines over the run: position "
-               f"{summary['max_g2_position_difference']:.3e} m, "
-               f"velocity {summary['max_g2_velocity_difference']:.3e} m/s")
-    for name, c in summary["note_acceleration_vs_engines"].items():
-        out.append(f"note's acceleration along relacc's trajectory vs {name}: {c['error']:.2e} (normalized, "
+    out.append(f"largest {label} difference between engines over the run: position "
+               f"{summary[f'max_{p}_position_difference']:.3e} m, "
+               f"velocity {summary[f'max_{p}_velocity_difference']:.3e} m/s")
+    who = "note's" if scene.is_chain else "relacc's"
+    for name, c in summary[("note" if scene.is_chain else "relacc") + "_acceleration_vs_engines"].items():
+        out.append(f"{who} acceleration along relacc's trajectory vs {name}: {c['error']:.2e} (normalized, "
                    f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
     out.append("energy drift: max |E - E0| / max (T + |V_g| + V_s) over the run, where only conservative effects "
                "act; momentum drift: max |p - p0| (kg m/s) where no external force acts")

@@ -1,4 +1,9 @@
-"""Scenes: TOML files that say which chain, from which state, under which effects, for how long.
+"""Scenes: TOML files that say which model, from which state, under which effects, for how long.
+
+A scene's model is the note's chain (a shipped model, a chain TOML, inline fields) or any model file (MJCF,
+URDF; beside the scene or inside an installed pip package). For a model, the effects are named by joint and body
+(``[effects.joints.NAME]``, ``[effects.bodies.NAME]``) and every engine applies exactly those, nothing else from the
+file (no contacts, actuators, joint damping, limits).
 
 The schema is declared in :class:`relacc.fixtures.schema.SceneFile` (the
 README's table is generated from it). An example::
@@ -52,20 +57,24 @@ class Scene:
 
     Attributes:
         name: file stem. title, description: from the file.
-        fixture: the chain and, for engines, its model files.
-        case: coordinates of ``q``, ``u``. q: ``(nq,)``; u: ``(12,)``.
-        effects: what acts. duration, dt: s. integrator: one of ``INTEGRATORS``.
+        fixture: the chain and, for engines, its model files (None for a model scene).
+        case: coordinates of ``q``, ``u``. q: ``(nq,)``; u: ``(nv,)`` (the chain: 12).
+        effects: what acts: :class:`relacc.dynamics.effects.Effects` (the chain) or
+            :class:`relacc.dynamics.tree_effects.TreeEffects` (a model; gravity given, zero when absent).
+        duration, dt: s. integrator: one of ``INTEGRATORS``.
         engines: names in ``SIM_ENGINES``. record_every: steps between records.
+        model_path: a model scene's file (None for the chain). tree: relacc's tree of it.
+        observe: the point the engines are compared at (``G2`` for the chain; a body's mass centre or a point).
     """
 
     name: str
     title: str
     description: str
-    fixture: Fixture
+    fixture: Fixture | None
     case: int
     q: np.ndarray
     u: np.ndarray
-    effects: Effects
+    effects: object
     duration: float
     dt: float
     integrator: str
@@ -74,12 +83,44 @@ class Scene:
     source: Path | None = field(default=None)
     drake_integrator: str | None = None
     drake_accuracy: float | None = None
+    model_path: Path | None = None
+    tree: object = None
+    observe: str = "G2"
 
     def __post_init__(self):
         problem = check_simulate(self.duration, self.dt, self.integrator, list(self.engines), self.record_every,
                                  self.drake_integrator, self.drake_accuracy)
         if problem:
             raise InputError(f"scene {self.name}: {problem[0]}: {problem[1]}")
+
+    @property
+    def is_chain(self) -> bool:
+        """The note's chain (its compiled kernels, G2), rather than a model file's tree."""
+        return self.model_path is None
+
+    @property
+    def conserves_momentum(self) -> bool:
+        """No external force or torque: the effects exert none, and every root body is free (a body jointed to the
+        world takes reaction forces from it)."""
+        if not self.effects.conserves_momentum:
+            return False
+        return self.is_chain or all(b.joints and b.joints[0].type == "free" for b in self.tree.bodies
+                                    if b.parent < 0)
+
+    @property
+    def engine_effects(self):
+        """The effects as the engines' adapters take them: by joint and body name
+        (:class:`relacc.dynamics.tree_effects.TreeEffects`)."""
+        return self.effects.for_tree() if self.is_chain else self.effects
+
+    @property
+    def point(self) -> tuple[str, str]:
+        """The observed point as an adapter's point spec: ``G2``, a named point, or a body's mass centre."""
+        from relacc.engines.base import body, point
+
+        if self.is_chain or self.observe in self.tree.point_names:
+            return point(self.observe)
+        return body(self.observe)
 
     def integrator_for(self, engine: str) -> tuple[str, float | None]:
         """``(integrator, accuracy)`` an engine runs: the scene's, or for Drake ``[simulate.drake]``'s."""
@@ -152,12 +193,34 @@ def load(path) -> Scene:
         except RelaccError as exc:
             raise tomlfile.field_error(path, text, table, key, str(exc)) from None
 
+    model_path = _model_file(path, text, doc.model, checked)
+    if model_path is not None:
+        return _model_scene(path, text, doc, model_path, checked)
     fixture = _model(path, text, doc.model, checked)
     case = checked("initial", "case", lambda: int(as_case(doc.initial.case)))
+    if doc.initial.q == "reference":
+        raise tomlfile.field_error(path, text, "initial", "q", "the chain has no reference configuration: give "
+                                   "its 14 (cases 1-2) or 12 (case 3) coordinates")
     q = checked("initial", "q", lambda: check_q(case, doc.initial.q))
     u = checked("initial", "u", lambda: check_u("u", doc.initial.u))
+    if doc.effects.joints or doc.effects.bodies:
+        key = "joints" if doc.effects.joints else "bodies"
+        raise tomlfile.field_error(path, text, "effects", key, f"[effects.{key}.NAME] names a model's joints and "
+                                   "bodies; the chain's effects are gravity, spring, ball_damping, force_G2, "
+                                   "torque_B1, torque_B2")
+    if doc.simulate.observe not in (None, "G2"):
+        raise tomlfile.field_error(path, text, "simulate", "observe", "the chain is observed at G2")
     effects = _effects(doc.effects, checked)
     sim = doc.simulate
+    drake_integrator, drake_accuracy = _simulate_table(path, text, sim)
+    return Scene(name=path.stem, title=doc.title or path.stem, description=doc.description, fixture=fixture,
+                 case=case, q=q, u=u, effects=effects, duration=float(sim.duration), dt=float(sim.dt),
+                 integrator=sim.integrator, engines=tuple(sim.engines), record_every=sim.record_every, source=path,
+                 drake_integrator=drake_integrator, drake_accuracy=drake_accuracy)
+
+
+def _simulate_table(path, text, sim):
+    """``(drake_integrator, drake_accuracy)`` of a checked ``[simulate]`` table (the first problem raises)."""
     drake_integrator = sim.drake.integrator if sim.drake else None
     drake_accuracy = sim.drake.accuracy if sim.drake else None
     problem = check_simulate(sim.duration, sim.dt, sim.integrator, sim.engines, sim.record_every, drake_integrator,
@@ -166,10 +229,86 @@ def load(path) -> Scene:
         table = "simulate.drake" if problem[0] == "drake" else "simulate"
         raise tomlfile.field_error(path, text, table, "accuracy" if problem[0] == "drake" else problem[0],
                                    problem[1])
-    return Scene(name=path.stem, title=doc.title or path.stem, description=doc.description, fixture=fixture,
-                 case=case, q=q, u=u, effects=effects, duration=float(sim.duration), dt=float(sim.dt),
-                 integrator=sim.integrator, engines=tuple(sim.engines), record_every=sim.record_every, source=path,
-                 drake_integrator=drake_integrator, drake_accuracy=drake_accuracy)
+    return drake_integrator, drake_accuracy
+
+
+def _model_file(path, text, model, checked) -> Path | None:
+    """A model scene's file (MJCF or URDF, beside the scene or inside ``package``), or None for the chain."""
+    if model.package is not None and model.file is None:
+        raise tomlfile.field_error(path, text, "model", "package", "give file = \"path inside the package\" too")
+    if model.file is None or Path(model.file).suffix.lower() == ".toml" and model.package is None:
+        return None
+    others = sorted(k for k, v in model.model_dump().items() if v is not None and k not in ("file", "package"))
+    if others:
+        raise tomlfile.field_error(path, text, "model", others[0], "a model file takes no other [model] field")
+    if model.package is not None:
+        import importlib.util
+
+        spec = importlib.util.find_spec(model.package) if model.package.isidentifier() else None
+        if spec is None or spec.origin is None:
+            raise tomlfile.field_error(path, text, "model", "package", f"no installed package {model.package!r} "
+                                       f"(pip install {model.package}), where this scene's model is")
+        where = Path(spec.origin).parent / model.file
+    else:
+        where = path.parent / model.file
+    if not where.is_file():
+        raise tomlfile.field_error(path, text, "model", "file", f"no such model file: {where}")
+    return where.resolve()
+
+
+def _model_scene(path, text, doc, model_path, checked) -> Scene:
+    """A scene on a model file: its tree, the state in the case's coordinates, effects by joint and body name."""
+    from relacc.core.tree import Tree, reference_q
+    from relacc.core.tree.coordinates import check_q as check_tree_q
+    from relacc.core.tree.coordinates import check_u as check_tree_u
+    from relacc.core.tree.coordinates import convert
+
+    tree = checked("model", "file", lambda: Tree.from_file(model_path))
+    case = checked("initial", "case", lambda: int(as_case(doc.initial.case)))
+    if doc.initial.q == "reference":
+        q = convert(tree, reference_q(tree, 2), source=2, target=case)[0] if case != 2 else reference_q(tree, 2)
+    else:
+        q = checked("initial", "q", lambda: check_tree_q(tree, case, doc.initial.q))
+    u = checked("initial", "u", lambda: check_tree_u(tree, "u", doc.initial.u))
+    chain_keys = [k for k in ("ball_damping", "force_G2", "torque_B1", "torque_B2", "spring")
+                  if getattr(doc.effects, k) is not None]
+    if chain_keys:
+        raise tomlfile.field_error(path, text, "effects", chain_keys[0], "a chain's effect; a model's are gravity, "
+                                   "[effects.joints.NAME] and [effects.bodies.NAME]")
+    effects = _tree_effects(tree, doc.effects, checked)
+    sim = doc.simulate
+    observe = sim.observe or tree.bodies[0].name
+    if observe not in tree.body_names and observe not in tree.point_names:
+        raise tomlfile.field_error(path, text, "simulate", "observe", f"{tree.name} has no body or point "
+                                   f"{observe!r}; bodies: {', '.join(tree.body_names)}")
+    drake_integrator, drake_accuracy = _simulate_table(path, text, sim)
+    return Scene(name=path.stem, title=doc.title or path.stem, description=doc.description, fixture=None,
+                 case=case, q=np.asarray(q, dtype=float), u=np.asarray(u, dtype=float), effects=effects,
+                 duration=float(sim.duration), dt=float(sim.dt), integrator=sim.integrator,
+                 engines=tuple(sim.engines), record_every=sim.record_every, source=path,
+                 drake_integrator=drake_integrator, drake_accuracy=drake_accuracy, model_path=model_path, tree=tree,
+                 observe=observe)
+
+
+def _tree_effects(tree, eff, checked):
+    """A model scene's effects, names checked against its tree (gravity absent: zero, not the file's)."""
+    from relacc.dynamics.tree_effects import BodyLoad, JointEffect, TreeEffects
+
+    gravity = checked("effects", "gravity", lambda: TreeEffects(eff.gravity).gravity) if eff.gravity else None
+    joints, bodies = {}, {}
+    for name, j in (eff.joints or {}).items():
+        table = f"effects.joints.{name}"
+        checked(table, "stiffness", lambda: tree.joint(name))
+        joints[name] = checked(table, "rest", lambda: JointEffect(j.stiffness or 0.0, j.damping or 0.0, j.rest))
+    for name, b in (eff.bodies or {}).items():
+        table = f"effects.bodies.{name}"
+        checked(table, "force", lambda: tree.body(name))
+        bodies[name] = checked(table, "force", lambda: BodyLoad(
+            b.force if b.force is not None else (0.0, 0.0, 0.0), b.torque if b.torque is not None else (0.0, 0.0, 0.0),
+            b.frequency or 0.0, b.phase or 0.0))
+    effects = TreeEffects(np.zeros(3) if gravity is None else gravity, joints, bodies)
+    checked("effects", "joints", lambda: effects.resolve(tree))
+    return effects
 
 
 def _model(path, text, model, checked) -> Fixture:
@@ -220,3 +359,39 @@ def _effects(eff, checked) -> Effects:
             checked("effects.spring", key.replace("spring_", ""), lambda: Effects(**{key: value}))
         kw.update(spring)
     return Effects(**kw)
+
+
+def model_scene(path, *, seed: int = 0, duration: float = 1.0, dt: float = 1e-3, engines=None) -> Scene:
+    """The default scene of any model file (``relacc simulate --model``): tumbling in space from the reference
+    configuration (MuJoCo's ``qpos0``) with seeded speeds (standard normals from ``numpy.random.default_rng(seed)``,
+    m/s and rad/s), nothing acting (no gravity, no spring, no contact: energy and momenta are conserved, so their
+    drift measures each integrator), RK4, observed at the first body's mass centre. A chain TOML gets the shipped
+    ``tumbling`` scene on that chain.
+
+    Raises:
+        ModelError: the file cannot be read. InputError: a bad seed.
+    """
+    from relacc.core.cases import check_int
+    from relacc.core.tree import Tree, reference_q
+    from relacc.dynamics.tree_effects import TreeEffects
+    from relacc.engines import available
+
+    path = Path(path)
+    seed = check_int("seed", seed, minimum=0)
+    names = tuple(["relacc"] + [e for e in ("pinocchio", "mujoco", "drake") if e in available()]) if engines is None \
+        else tuple(engines)
+    drake = "runge_kutta5" if "drake" in names else None
+    if path.suffix.lower() == ".toml":
+        from relacc.fixtures.shipped import scene_path
+
+        base = load(scene_path("tumbling"))
+        return base.replace(fixture=load_fixture(path), name=f"{path.stem}_tumbling", engines=names,
+                            drake_integrator=drake)
+    tree = Tree.from_file(path)
+    u = np.random.default_rng(seed).standard_normal(tree.nv)
+    return Scene(name=f"{path.stem}_tumbling", title=f"{tree.name} tumbling in space (seed {seed})",
+                 description="the model's default scene: its reference configuration, seeded speeds, nothing acting",
+                 fixture=None, case=2, q=reference_q(tree, 2), u=u, effects=TreeEffects(np.zeros(3)),
+                 duration=float(duration), dt=float(dt), integrator="rk4", engines=names,
+                 record_every=max(1, int(round(duration / dt)) // 100), source=None, drake_integrator=drake,
+                 model_path=path.resolve(), tree=tree, observe=tree.bodies[0].name)

@@ -69,7 +69,7 @@ def run(quick: bool = False, seed: int = 0, progress=None, fixture=None, profile
     engines = {n: load_engine(n, fixture) for n in available()}
     drows = derivatives.sweep(fixture.chain, cfg["states"], seed, cfg["repeats"], engines)
     irows, refs = [], []
-    for path in shipped.scene_paths():
+    for path in shipped.scene_paths("chain"):
         if cfg["scenes"] and path.stem not in cfg["scenes"]:
             continue
         scene = scenes.load(path)

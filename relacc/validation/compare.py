@@ -56,6 +56,8 @@ class Comparison:
         max_difference: the largest absolute difference over the states, in the quantity's units (models).
         cause: why it differs, reproduced (models; empty where it agrees).
         singular: ``{evaluator: [joints]}`` where a mass matrix over the shared speeds is exactly singular.
+        per_link: ``{link: worst normalized error over the states}`` for a model's quantities of each link's mass
+            centre (empty otherwise).
     """
 
     case: int
@@ -69,6 +71,7 @@ class Comparison:
     max_difference: float = 0.0
     cause: str = ""
     singular: dict = field(default_factory=dict)
+    per_link: dict = field(default_factory=dict)
 
     @property
     def evaluator(self) -> str:

@@ -220,7 +220,7 @@ class DrakeAdapter(Adapter):
                 body, p_B = where[name]
                 Jv = p.CalcJacobianTranslationalVelocity(ctx, KV, body.body_frame(), p_B, W, W)
                 Jw = p.CalcJacobianAngularVelocity(ctx, KV, body.body_frame(), W, W)
-                tau[i] += float(load.factor(t)) * (Jv.T @ load.force + Jw.T @ load.torque)
+                tau[i] += float(load.factor(t[i] if np.ndim(t) else t)) * (Jv.T @ load.force + Jw.T @ load.torque)
         return tau
 
     def equations(self, qe, ve, effects=None, t=0.0):

@@ -147,10 +147,13 @@ class MujocoAdapter(Adapter):
     # --- evaluations ----------------------------------------------------------------------------------------
 
     def _forward(self, qe, ve, effects, t):
-        run.configure(self, effects, t)
+        """``mj_forward`` at each state under exactly ``effects`` at time ``t`` (a scalar, or one per state)."""
+        times = np.broadcast_to(np.asarray(t, dtype=float), (len(qe),))
+        run.configure(self, effects, float(times[0]) if len(qe) else 0.0)
         m, d = self.model, self.data
         for i in range(len(qe)):
-            d.qpos[:], d.qvel[:], d.time = qe[i], ve[i], t
+            d.qpos[:], d.qvel[:], d.time = qe[i], ve[i], times[i]
+            run.set_loads(self, effects, times[i], d)
             with run.timed_loads(self, effects):
                 mujoco.mj_forward(m, d)
             yield i, m, d

@@ -214,7 +214,7 @@ class PinocchioAdapter(Adapter):
             pin.updateFramePlacements(m, d)
             for name, load in effects.bodies.items():
                 J = pin.getFrameJacobian(m, d, self.body_frames[name], LWA)
-                tau[i] += float(load.factor(t)) * (J[:3].T @ load.force + J[3:].T @ load.torque)
+                tau[i] += float(load.factor(t[i] if np.ndim(t) else t)) * (J[:3].T @ load.force + J[3:].T @ load.torque)
         return tau
 
     def equations(self, qe, ve, effects=None, t=0.0):
@@ -251,6 +251,8 @@ class PinocchioAdapter(Adapter):
         kind, name = spec
         if kind == "com":
             return self.link_frames[name][2]
+        if kind == "body":
+            return self.body_frames[name]
         frames = [i for i, f in enumerate(self.model.frames) if f.name == name]
         if not frames:
             raise EngineError(f"{self.source}: Pinocchio has no frame named {name!r}")

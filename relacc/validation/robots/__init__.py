@@ -209,6 +209,9 @@ class Verdict:
         join = lambda names: ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]  # noqa: E731
         if self.split:
             return f"{self.quantity}: an even split, {join(self.split[0])} against {join(self.split[1])}"
+        if not self.odd_ones_out:
+            known = f" once {join(sorted(self.voted_as))}'s known difference is removed" if self.voted_as else ""
+            return f"{self.quantity}: no odd one out: {join(self.agreeing)} agree{known}"
         odd = ", ".join(self.odd_ones_out)
         return f"{self.quantity}: the odd one{'s' if len(self.odd_ones_out) > 1 else ''} out: {odd}; " \
                f"{join(self.agreeing)} agree"

@@ -34,6 +34,8 @@ from relacc.validation.compare import Comparison
 QUANTITIES = ("mass matrix", "bias forces", "gravity forces", "forward dynamics", "COM position", "COM Jacobian",
               "J_dot v", "classical acceleration")
 """What is compared, in report order."""
+KINEMATIC = QUANTITIES[4:]
+"""The quantities of each link's mass centre, which are also measured link by link (``Comparison.per_link``)."""
 
 
 
@@ -127,14 +129,21 @@ def compare(reference, robot, states: States) -> dict:
     links = shared_links(reference.structure, robot.structure, robot_tolerance(n_links))
     errors = {k: [] for k in QUANTITIES}
     diffs = {k: 0.0 for k in QUANTITIES}
+    per_link = {k: dict.fromkeys(links, 0.0) for k in KINEMATIC}  # the worst normalized error of each link
     singular = {}  # engine -> joints with no inertia, where its M over the shared speeds is exactly singular
+
+    def _ratio(d, scale):
+        if d == 0:
+            return 0.0
+        return float(d / scale) if scale > 0 and np.isfinite(d / scale) else float("inf")
 
     def _err(x, ref, scale, key):
         d = _difference(x, ref)
         diffs[key] = max(diffs[key], d)
-        if d == 0:
-            return 0.0
-        return float(d / scale) if scale > 0 and np.isfinite(d / scale) else float("inf")
+        if key in per_link:
+            for i, link in enumerate(links):
+                per_link[key][link] = max(per_link[key][link], _ratio(_difference(x[i], ref[i]), scale))
+        return _ratio(d, scale)
 
     for q, v0, a0 in zip(states.q, states.u, states.udot):
         v, a = np.zeros_like(v0), np.zeros_like(a0)
@@ -179,7 +188,7 @@ def compare(reference, robot, states: States) -> dict:
             continue
         e = np.asarray(e, dtype=float)
         out[k] = Comparison(2, robot.engine, "model", k, e, np.full(e.shape, tol), True, tol, diffs[k],
-                            singular=singular if k == "forward dynamics" else {})
+                            singular=singular if k == "forward dynamics" else {}, per_link=per_link.get(k, {}))
     return out
 
 

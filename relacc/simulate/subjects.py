@@ -1,0 +1,201 @@
+"""What a scene is simulated on: relacc's own run and each engine's, for the chain and for any model alike.
+
+Every engine runs through its adapter (:mod:`relacc.engines.base`) from the scene's state in the reference's
+coordinates (the tree's case 2: MuJoCo's ``qpos``/``qvel``), under the scene's effects by joint and body name, and
+is observed at the scene's point (G2; a model's body or point). relacc's own run differs by model:
+
+* the chain: its compiled kernels in the case's coordinates (:func:`relacc.dynamics.integrate.stepper`), G2 by the
+  note's formulas, energy and momenta by :mod:`relacc.dynamics`;
+* a model: its tree's forward dynamics (:func:`relacc.tree_accelerations`) integrated by the one RKMK4 on the
+  tree's manifold in the case's coordinates (:func:`tree_stepper`), the point by :func:`relacc.tree_kinematics`,
+  energy and momenta by :mod:`relacc.dynamics.tree_energy`.
+
+An observation of a block of records ``(t, Q, U)`` is ``{position, velocity, acceleration (n, 3), energy,
+energy_scale (n,), momentum, angular_momentum (n, 3)}``, fixed-frame components.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from relacc.core.tolerances import rounding_tolerance
+
+
+def reference_state(scene, q, u) -> tuple[np.ndarray, np.ndarray]:
+    """States of the scene's case ``(n, nq)``, ``(n, nv)`` in the reference's coordinates (the adapters')."""
+    if scene.is_chain:
+        from relacc.core.speeds import to_body_speeds
+
+        q14, nu, _ = to_body_speeds(scene.case, q, u)
+        return q14, nu
+    from relacc.core.tree.coordinates import convert
+
+    q2, u2, _ = convert(scene.tree, q, u, source=scene.case, target=2)
+    return q2, u2
+
+
+def adapter(scene, name: str):
+    """Engine ``name``'s adapter of the scene's model (the chain: the quaternion route's, ``two_body.xml``)."""
+    from relacc.engines import load, load_engine
+
+    if scene.is_chain:
+        return load_engine(name, scene.fixture).adapter
+    return load(name, scene.model_path, scene.tree)
+
+
+def engine_observer(engine, scene):
+    """An engine's observation of a block of its own states: the point, energy and momenta."""
+    eff = scene.engine_effects
+
+    def observe(t, Q, V):
+        pts = engine.points(Q, V, engine.forward(Q, V, eff, t), [scene.point])
+        T, g, s = engine.energy(Q, V, eff)
+        p, H = engine.momenta(Q, V)
+        return {"position": pts.position[:, 0], "velocity": np.einsum("nij,nj->ni", pts.J[:, 0], V),
+                "acceleration": pts.acceleration[:, 0], "energy": T + g + s, "energy_scale": T + np.abs(g) + s,
+                "momentum": p, "angular_momentum": H}
+
+    return observe
+
+
+def relacc_run(scene, integrator):
+    """``(stepper, observe, applied)``: relacc's own run of the scene in its case's coordinates."""
+    if scene.is_chain:
+        return _chain_run(scene, integrator)
+    return (tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator), _tree_observer(scene),
+            {"equations": "Kane's equations of the tree (relacc.tree_accelerations), "
+                          + (", ".join(scene.effects.active()) or "no effects")})
+
+
+def _chain_run(scene, integrator):
+    from relacc import dynamics
+    from relacc.core.kinematics import g2_kinematics
+    from relacc.dynamics.integrate import stepper
+
+    chain, case, eff = scene.fixture.chain, scene.case, scene.effects
+
+    def observe(t, Q, U):
+        k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, eff))
+        T, g, s = dynamics.energy_terms(chain, case, Q, U, eff)
+        p, H = dynamics.momenta(chain, case, Q, U)
+        return {"position": k.position, "velocity": k.velocity, "acceleration": k.acceleration, "energy": T + g + s,
+                "energy_scale": T + np.abs(g) + s, "momentum": p, "angular_momentum": H}
+
+    return (stepper(chain, case, eff, scene.dt, integrator), observe,
+            {"equations": "Newton-Euler per body (Kane's, solved), " + (", ".join(eff.active()) or "no effects")})
+
+
+def tree_point(scene, Q, U, Udot):
+    """``(position, velocity, acceleration)`` ``(n, 3)`` of the scene's point by relacc's tree (case coordinates)."""
+    from relacc.core.tree import tree_kinematics
+
+    kind, name = scene.point
+    if kind == "point":
+        k = tree_kinematics(scene.tree, scene.case, Q, U, Udot, points=[name])
+        return k.points.position[:, 0], k.points.velocity[:, 0], k.points.acceleration[:, 0]
+    k = tree_kinematics(scene.tree, scene.case, Q, U, Udot)
+    b = scene.tree.body(name)
+    return k.position[:, b], k.velocity[:, b], k.acceleration[:, b]
+
+
+def _tree_observer(scene):
+    from relacc.dynamics.tree import tree_accelerations
+    from relacc.dynamics.tree_energy import tree_energy, tree_momenta
+
+    tree, case, eff = scene.tree, scene.case, scene.effects
+
+    def observe(t, Q, U):
+        Udot = tree_accelerations(tree, case, Q, U, effects=eff, t=t)
+        pos, vel, acc = tree_point(scene, Q, U, Udot)
+        q2, v2 = reference_state(scene, Q, U)
+        T, g, s = tree_energy(tree, q2, v2, eff)
+        p, H = tree_momenta(tree, q2, v2)
+        return {"position": pos, "velocity": vel, "acceleration": acc, "energy": T + g + s,
+                "energy_scale": T + np.abs(g) + s, "momentum": p, "angular_momentum": H}
+
+    return observe
+
+
+def tree_stepper(tree, case, effects, dt: float, integrator: str):
+    """relacc's fixed-step integrator for a tree (:mod:`relacc.dynamics.integrate`: RKMK4 or semi-implicit Euler on
+    the tree's manifold, :class:`relacc.dynamics.integrate.TreeSpace`) with Kane's accelerations under exactly
+    ``effects``, in ``case``'s coordinates; one state or a batch of rows; time runs on from 0.
+
+    Raises:
+        EngineError: an integrator relacc lacks.
+    """
+    from relacc.core.tree.coordinates import convert
+    from relacc.dynamics.integrate import STEPPERS, TreeSpace
+    from relacc.dynamics.steps import Stepper
+    from relacc.dynamics.tree import tree_accelerations
+    from relacc.errors import EngineError
+
+    if integrator not in STEPPERS:
+        raise EngineError(f"relacc integrators: {', '.join(STEPPERS)}; got {integrator!r}")
+    step, space, clock = STEPPERS[integrator], TreeSpace(tree, case), [0.0]
+
+    def derivs(q, u, t):
+        udot = tree_accelerations(tree, case, q, u, effects=effects, t=t)
+        return (u if case == 2 else convert(tree, q, u, source=case, target=2)[1]), np.asarray(udot)
+
+    def advance(q, u, k):
+        for _ in range(k):
+            q, u = step(space, q, u, dt, derivs, clock[0])
+            clock[0] += dt
+        return q, u
+
+    return Stepper(advance)
+
+
+def note_check(scene, states, engines: dict) -> dict:
+    """relacc's acceleration of the scene's point against each engine's, at relacc's states: error and bound.
+
+    Both sides solve their own equations of motion, so rounding is amplified by the conditioning of the mass
+    matrix: the bound is ``c eps kappa(M)`` with ``M`` in case-2 speeds (the point's acceleration does not depend
+    on the chart; largest over the states). The error is normalized by the acceleration's term scale. The chain:
+    the note's ``a_G2`` (:func:`relacc.g2_kinematics` with Kane's ``udot``).
+    """
+    from relacc.core.tolerances import normalized_error
+
+    Q, U = np.array([s[0] for s in states]), np.array([s[1] for s in states])
+    t = np.array([s[2] for s in states])
+    mine, scale, M2 = _relacc_acceleration(scene, t, Q, U)
+    bound = float(rounding_tolerance() * np.max(np.linalg.cond(M2)))
+    q2, v2 = reference_state(scene, Q, U)
+    out = {}
+    for name, engine in engines.items():
+        qe, ve, _, _, _ = engine.to_engine(q2, v2)
+        pts = engine.points(qe, ve, engine.forward(qe, ve, scene.engine_effects, t), [scene.point])
+        out[name] = {"error": float(np.max(normalized_error(pts.acceleration[:, 0], mine, scale))), "bound": bound}
+    return out
+
+
+def _relacc_acceleration(scene, t, Q, U):
+    """``(acceleration (n, 3), term scale (n,), M in case-2 speeds (n, nv, nv))`` of the point, by relacc."""
+    if scene.is_chain:
+        from relacc import dynamics
+        from relacc.core.kinematics import g2_kinematics
+        from relacc.core.scales import term_scales
+        from relacc.core.speeds import to_body_speeds
+
+        chain, case, eff = scene.fixture.chain, scene.case, scene.effects
+        Udot = dynamics.accelerations(chain, case, Q, U, eff)
+        q14, nu, _ = to_body_speeds(case, Q, U)
+        return (g2_kinematics(chain, case, Q, U, Udot).acceleration, term_scales(chain, case, Q, U, Udot).acceleration,
+                dynamics.equations_of_motion(chain, 2, q14, nu, eff)[0])
+    from relacc.core.tree.scales import tree_scales
+    from relacc.dynamics.tree import tree_accelerations, tree_dynamics
+
+    tree, case, eff = scene.tree, scene.case, scene.effects
+    Udot = tree_accelerations(tree, case, Q, U, effects=eff, t=t)
+    _, _, acc = tree_point(scene, Q, U, Udot)
+    kind, name = scene.point
+    if kind == "point":  # the scale of the point's own offset on its body
+        pt = tree.points[tree.point_names.index(name)]
+        at = [np.zeros(3) if b != pt.body else pt.pos for b in range(tree.nb)]
+        b = pt.body
+    else:
+        at, b = None, tree.body(name)
+    scale = tree_scales(tree, case, Q, U, Udot, at=at).of("acceleration")[:, b]
+    q2, v2 = reference_state(scene, Q, U)
+    return acc, scale, tree_dynamics(tree, 2, q2, v2, effects=eff, t=t).M
