@@ -257,14 +257,77 @@ def test_drake_names_a_model_without_a_name_and_says_so():
 
 
 def test_a_urdf_model_is_read_by_every_engines_urdf_parser():
-    """Drake's acrobot URDF: MuJoCo and Pinocchio agree everywhere; Drake's 6 more speeds are its free root link."""
+    """Drake's acrobot URDF: its root link, which no joint carries, is welded to the world in Drake as MuJoCo and
+    Pinocchio read it (Drake's parser alone would float it), and the warnings say so; everything agrees."""
     result = compare(other_model("pydrake", "share/drake/examples/acrobot/Acrobot_no_collision.urdf"),
                      n_states=4, seed=1)
-    assert (result.engines["pinocchio"].nv, result.engines["drake"].nv) == (2, 8)
-    (row,) = result.audit
-    assert (row.item, row.values) == ("degrees of freedom", {"mujoco": 2, "drake": 8})
-    assert "leaves a root link" in row.cause
+    assert (result.engines["pinocchio"].nv, result.engines["drake"].nv) == (2, 2)
+    assert any("welded the URDF's root link 'base_link'" in w for w in result.engines["drake"].warnings)
+    assert result.audit == []
     assert all(rs[e].passed for rs in result.dynamics.values() for e in ("pinocchio", "drake")), f"seed {result.seed}"
+
+
+ROBOT_URDF = """<?xml version="1.0"?>
+<robot name="gripper_arm">
+  <link name="base"><inertial><mass value="3.0"/><origin xyz="0 0 0.05"/>
+    <inertia ixx="0.02" iyy="0.02" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><mesh filename="package://no_such_package/meshes/base.dae"/></geometry></visual>
+    <collision><geometry><mesh filename="package://no_such_package/meshes/base.stl"/></geometry></collision></link>
+  <link name="arm"><inertial><mass value="1.2"/><origin xyz="0.2 0 0" rpy="0.1 0.2 0.3"/>
+    <inertia ixx="0.004" iyy="0.03" izz="0.031" ixy="0.001" ixz="0" iyz="0.0005"/></inertial>
+    <collision><geometry><mesh filename="meshes/arm.obj"/></geometry></collision></link>
+  <link name="left"><inertial><mass value="0.1"/><origin xyz="0.02 0.01 0"/>
+    <inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="right"><inertial><mass value="0.1"/><origin xyz="0.02 -0.01 0"/>
+    <inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/>
+    <origin xyz="0 0 0.1" rpy="0 0.3 0"/><axis xyz="0 0.6 0.8"/><limit lower="-2" upper="2" effort="10" velocity="2"/>
+  </joint>
+  <joint name="left_finger" type="prismatic"><parent link="arm"/><child link="left"/>
+    <origin xyz="0.4 0.01 0"/><axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="10" velocity="1"/></joint>
+  <joint name="right_finger" type="prismatic"><parent link="arm"/><child link="right"/>
+    <origin xyz="0.4 -0.01 0"/><axis xyz="0 -1 0"/><limit lower="0" upper="0.04" effort="10" velocity="1"/>
+    <mimic joint="left_finger" multiplier="1" offset="0"/></joint>
+</robot>
+"""
+
+
+def test_a_real_style_urdf_with_meshes_mimic_and_a_free_root_link_is_compared(tmp_path):
+    """A URDF as robots ship them: package:// meshes from a package that is not here, a .dae visual, a relative mesh
+    that does not exist, a mimic joint (Drake reads it as a constraint its continuous plant cannot evaluate: a
+    traceback before) and a root link no joint carries. Every engine reads its kinematics and inertials, the
+    warnings say what was dropped and welded, and the dynamics agree within the error model; nothing is written."""
+    path = tmp_path / "gripper_arm.urdf"
+    path.write_text(ROBOT_URDF)
+    result = compare(path, n_states=6, seed=2)
+    assert {n: r.loaded for n, r in result.engines.items()} == {"mujoco": True, "pinocchio": True, "drake": True}
+    assert {n: r.nv for n, r in result.engines.items()} == {"mujoco": 3, "pinocchio": 3, "drake": 3}
+    for name in ("mujoco", "drake"):
+        assert any("dropped the URDF's 1 visual and 2 collision elements" in w and "1 mimic element" in w
+                   for w in result.engines[name].warnings), result.engines[name].warnings
+    assert result.audit == [], [a.as_json() for a in result.audit]
+    assert result.agree, f"seed {result.seed}"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["gripper_arm.urdf"]
+
+
+def test_an_engine_failing_to_evaluate_is_that_engine_not_taking_part(tmp_path, monkeypatch):
+    """Whatever an engine raises while it evaluates (here a RuntimeError planted in Drake's forward dynamics, as
+    Drake raises for constraints) is that engine not taking part, with its message on one line; the others are
+    still compared."""
+    from relacc.engines.drake_ import DrakeAdapter
+
+    def fails(self, *args, **kwargs):
+        raise RuntimeError("Continuous time does not support constraints.\n(planted)")
+
+    monkeypatch.setattr(DrakeAdapter, "forward", fails)
+    path = tmp_path / "gripper_arm.urdf"
+    path.write_text(ROBOT_URDF)
+    result = compare(path, n_states=2, seed=0)
+    drake = result.engines["drake"]
+    assert not drake.loaded and drake.error == ("drake fails to evaluate it: RuntimeError: Continuous time does not "
+                                                "support constraints. (planted)")
+    assert "drake" not in {e for rows in result.dynamics.values() for e in rows}
+    assert all(rows["pinocchio"].passed for rows in result.dynamics.values())
 
 
 def test_a_singular_mass_matrix_is_named_not_a_traceback(tmp_path, capsys):

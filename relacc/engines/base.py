@@ -75,13 +75,19 @@ class Link:
     inertia: np.ndarray = field(repr=False)
 
 
+def moving_mass(links) -> float:
+    """The one definition of a model's total mass: the sum over its moving links (kg)."""
+    return float(sum(link.mass for link in links))
+
+
 @dataclass(frozen=True)
 class Structure:
     """What an engine made of a model file: joints and links at the reference configuration, gravity, mass.
 
     Attributes:
         nq, nv: the engine's own counts. joints: in the reference's order, those the engine has.
-        links: one per moving body it has. gravity: ``(3,)`` m/s^2, world. total_mass: kg, every body.
+        links: one per moving body it has. gravity: ``(3,)`` m/s^2, world. total_mass: kg, of the moving links
+            (:func:`moving_mass`; bodies welded to the world carry none of the dynamics and are left out).
         bodies: every body name it has (world excluded).
     """
 

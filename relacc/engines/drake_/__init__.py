@@ -40,7 +40,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 
 from relacc.core.rotations import matrix_from_quaternion, tilde
 from relacc.core.tree.coordinates import reference_q
-from relacc.engines.base import Adapter, Joint, Link, Points, Structure, combine
+from relacc.engines.base import Adapter, Joint, Link, Points, Structure, combine, moving_mass
 from relacc.engines.drake_ import run
 from relacc.engines.drake_.plant import build_plant, match_parsed, parse, quiet
 from relacc.engines.drake_.readings import MJCF_READINGS, drop_armature, unactuated
@@ -181,9 +181,9 @@ class DrakeAdapter(Adapter):
                                 anchor, reflected[list(mt.v)], np.asarray(dj.default_damping_vector(), dtype=float)))
         links = tuple(self._link(name, head) for name, head in self.heads.items())
         every = [p.get_body(BodyIndex(i)) for i in range(1, p.num_bodies())]  # 0 is the world
-        bodies, total = tuple(b.name() for b in every), sum(b.default_mass() for b in every)
+        bodies = tuple(b.name() for b in every)
         return Structure(p.num_positions(), p.num_velocities(), tuple(joints), links, self.gravity0.copy(),
-                         float(total), bodies)
+                         moving_mass(links), bodies)
 
     # --- evaluations ----------------------------------------------------------------------------------------
 

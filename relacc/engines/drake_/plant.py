@@ -25,6 +25,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, QuaternionFloatingJoint, RotationalInertia, SpatialInertia
 
 from relacc.engines.base import NQ, NV, Match
+from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import EngineError, ModelError
 
 TYPES = {"quaternion_floating": "free", "ball_rpy": "ball", "revolute": "hinge", "prismatic": "slide"}
@@ -52,12 +53,29 @@ def _directive(path) -> str:
 def _parse(path, named: bool):
     plant = MultibodyPlant(0.0)
     parser = Parser(plant)
-    if named:
+    welded = []
+    if is_urdf(path):  # its kinematics and inertials only
+        for instance in parser.AddModelsFromString(dynamics_text(path)[0], "urdf"):
+            welded += _weld_roots(plant, instance)
+    elif named:
         parser.AddModelsFromString(_directive(path), "dmd.yaml")
     else:
         parser.AddModels(str(path))
     plant.Finalize()
-    return plant
+    return plant, welded
+
+
+def _weld_roots(plant, instance) -> list[str]:
+    """Weld to the world, where it is, each body of a URDF that no joint carries: URDF's root link, which MuJoCo
+    and Pinocchio fix to the world and Drake's parser alone would leave free (six more degrees of freedom)."""
+    children = {plant.get_joint(j).child_body().index() for j in plant.GetJointIndices(instance)}
+    names = []
+    for index in plant.GetBodyIndices(instance):
+        if index not in children:
+            body = plant.get_body(index)
+            plant.WeldFrames(plant.world_frame(), body.body_frame())
+            names.append(body.name())
+    return names
 
 
 def parse(path):
@@ -72,12 +90,12 @@ def parse(path):
     log.propagate = False
     try:
         try:
-            plant = _parse(path, named=False)
+            plant, welded = _parse(path, named=False)
         except Exception as exc:
             if NO_MODEL_NAME not in str(exc):
                 raise
             handler.lines.clear()
-            plant = _parse(path, named=True)
+            plant, welded = _parse(path, named=True)
             handler.lines.append(f"the file has no model name, which Drake's parser requires: relacc loaded it "
                                  f"through a model directive naming it {Path(path).stem!r} (the name only)")
     except Exception as exc:  # Drake raises RuntimeError with its parser's message (file and line)
@@ -85,6 +103,12 @@ def parse(path):
     finally:
         log.removeHandler(handler)
         log.propagate = before
+    if is_urdf(path):
+        note = dynamics_text(path)[1]
+        handler.lines = [line.replace("<literal-string>.urdf", str(path)) for line in handler.lines]
+        handler.lines += [note] if note else []
+        handler.lines += [f"relacc welded the URDF's root link {name!r} to the world, as MuJoCo and Pinocchio read "
+                          "it (Drake's parser alone leaves it free)" for name in welded]
     return plant, handler.lines
 
 

@@ -26,7 +26,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from relacc.engines.base import Adapter, Joint, Link, Match, Points, Structure, combine
+from relacc.engines.base import Adapter, Joint, Link, Match, Points, Structure, combine, moving_mass
 from relacc.engines.mujoco_ import run
 from relacc.engines.mujoco_.spec import (
     TYPES,
@@ -135,7 +135,7 @@ class MujocoAdapter(Adapter):
                                 m.dof_armature[a:a + n].copy(), m.dof_damping[a:a + n].copy()))
         links = tuple(self._link(b, d) for b in self.groups)
         gravity = np.zeros(3) if m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY else m.opt.gravity.copy()
-        return Structure(m.nq, m.nv, tuple(joints), links, gravity, float(m.body_mass[1:].sum()),
+        return Structure(m.nq, m.nv, tuple(joints), links, gravity, moving_mass(links),
                          tuple(self.body_name(b) for b in range(1, m.nbody)))
 
     def lost_offset(self, name: str) -> float:

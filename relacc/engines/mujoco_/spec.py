@@ -24,6 +24,7 @@ import numpy as np
 
 from relacc.core.rotations import matrix_from_quaternion
 from relacc.core.tree.model import Body, Joint, Point, Tree
+from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import ModelError
 
 TYPES = {int(mujoco.mjtJoint.mjJNT_FREE): "free", int(mujoco.mjtJoint.mjJNT_BALL): "ball",
@@ -67,8 +68,9 @@ def load_spec(path) -> "mujoco.MjSpec":
     path = Path(path)
     if not path.is_file():
         raise ModelError(f"{path}: no such file")
+    text = dynamics_text(path)[0] if is_urdf(path) else None  # a URDF's kinematics and inertials only
     try:
-        return mujoco.MjSpec.from_file(str(path))
+        return mujoco.MjSpec.from_file(str(path)) if text is None else mujoco.MjSpec.from_string(text)
     except Exception as exc:  # mujoco raises ValueError with the parser's message
         raise ModelError(f"{path}: MuJoCo cannot read it: {' '.join(str(exc).split())}") from None
 
@@ -85,7 +87,8 @@ def compile_spec(spec, path) -> tuple["mujoco.MjModel", list[str]]:
             model = spec.compile()
     except Exception as exc:
         raise ModelError(f"{path}: MuJoCo cannot compile it: {' '.join(str(exc).split())}") from None
-    return model, [" ".join(str(w.message).split()) for w in caught] + own
+    note = dynamics_text(path)[1] if is_urdf(path) else None
+    return model, [" ".join(str(w.message).split()) for w in caught] + own + ([note] if note else [])
 
 
 def rigid_groups(model) -> dict[int, list[int]]:

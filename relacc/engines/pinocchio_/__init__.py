@@ -36,7 +36,7 @@ from relacc.core.rotations import (
     tilde,
 )
 from relacc.dynamics.steps import Stepper
-from relacc.engines.base import Adapter, Joint, Link, Points, Structure, fixed_step_only
+from relacc.engines.base import Adapter, Joint, Link, Points, Structure, fixed_step_only, moving_mass
 from relacc.engines.pinocchio_.model import match, parse, split_composites
 from relacc.errors import EngineError, ModelError
 
@@ -139,7 +139,7 @@ class PinocchioAdapter(Adapter):
                               R @ inertia.inertia @ R.T))
         body_names = tuple(f.name for f in m.frames if f.type == pin.FrameType.BODY)
         return Structure(m.nq, m.nv, tuple(joints), tuple(links), self.gravity0.copy(),
-                         float(pin.computeTotalMass(m)), body_names)
+                         moving_mass(links), body_names)
 
     def reference_q(self) -> np.ndarray:
         from relacc.core.tree.coordinates import reference_q

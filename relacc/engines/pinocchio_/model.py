@@ -1,11 +1,12 @@
 """Pinocchio's reading of a model file, and its joints matched to the reference's.
 
 Imports only ``pinocchio``. Pinocchio reads an MJCF by ``buildModelFromMJCF`` (a body with several joints becomes
-one ``JointModelComposite`` named ``Composite_<first joint>``) or a URDF by ``buildModelFromUrdf`` (with a free-flyer
-root when the reference's root is free). :func:`split_composites` rebuilds a model with every composite replaced by
-its sub-joints: Pinocchio 4.1.0's Jacobian time variation of a composite is wrong in its slide columns (it treats
-every column as fixed in the composite's output frame, which a ball rotates; stack-of-tasks/pinocchio#2519 reports
-the like), while its positions, velocities, Jacobians and classical accelerations are right.
+one ``JointModelComposite`` named ``Composite_<first joint>``) or a URDF by ``buildModelFromXML`` (its text without
+visual and collision elements, :mod:`relacc.engines.urdf`; with a free-flyer root when the reference's root is
+free). :func:`split_composites` rebuilds a model with every composite replaced by its sub-joints: Pinocchio 4.1.0's
+Jacobian time variation of a composite is wrong in its slide columns (it treats every column as fixed in the
+composite's output frame, which a ball rotates; stack-of-tasks/pinocchio#2519 reports the like), while its
+positions, velocities, Jacobians and classical accelerations are right.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import pinocchio as pin
 
 from relacc.engines.base import NQ, NV, Match
+from relacc.engines.urdf import dynamics_text
 from relacc.errors import ModelError
 
 
@@ -36,10 +38,11 @@ def parse(path, urdf=None, root_free: bool = False) -> "pin.Model":
     Raises:
         ModelError: the parser's message.
     """
+    text = dynamics_text(urdf)[0] if urdf is not None else None  # its kinematics and inertials only
     try:
-        if urdf is not None:
-            return pin.buildModelFromUrdf(str(urdf), pin.JointModelFreeFlyer()) if root_free else \
-                pin.buildModelFromUrdf(str(urdf))
+        if text is not None:
+            return pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free else \
+                pin.buildModelFromXML(text)
         return pin.buildModelFromMJCF(str(path))
     except Exception as exc:  # Pinocchio raises ValueError/RuntimeError with its parser's message
         raise ModelError(f"{urdf or path}: Pinocchio cannot read it: {' '.join(str(exc).split())}") from None

@@ -96,6 +96,11 @@ class RobotComparison:
                 "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree}
 
 
+def _one_line(engine: str, what: str, exc: BaseException) -> str:
+    """An engine's failure as one line: the engine, what failed, the exception's type and message."""
+    return f"{engine} {what}: {type(exc).__name__}: {' '.join(str(exc).split())}"
+
+
 def _finite(x: float) -> float | None:
     """JSON has no infinity: an undefined or infinite error or difference is written ``null`` (the row's cause
     says why)."""
@@ -150,6 +155,9 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
         except ModelError as exc:
             reports[name] = EngineReport(name, False, error=str(exc))
             continue
+        except (Exception, SystemExit) as exc:  # whatever an engine raises is that engine not loading
+            reports[name] = EngineReport(name, False, error=_one_line(name, "cannot load it", exc))
+            continue
         robots.append(robot)
         reports[name] = EngineReport(name, True, robot.structure.nq, robot.structure.nv,
                                      warnings=tuple(robot.warnings))
@@ -161,14 +169,22 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     audits, dynamics = [], {q: {} for q in QUANTITIES}
     for robot in robots:
         from_urdf = robot.engine == "pinocchio" and urdf is not None
+        other_file = from_urdf and Path(urdf).resolve() != Path(model).resolve()  # a URDF beside an MJCF
         readings = () if from_urdf else getattr(robot, "mjcf_readings", _readings(robot.engine, "MJCF_READINGS"))
-        items, explained, applied = explain(reference, robot, readings, scales, URDF_CAUSE if from_urdf else None)
+        try:
+            items, explained, applied = explain(reference, robot, readings, scales,
+                                                URDF_CAUSE if other_file else None)
+            rows = compare_dynamics(reference, robot, states)
+        except (Exception, SystemExit) as exc:  # an engine that fails to evaluate takes no part, and says why
+            reports[robot.engine] = EngineReport(robot.engine, False, robot.structure.nq, robot.structure.nv,
+                                                 error=_one_line(robot.engine, "fails to evaluate it", exc),
+                                                 warnings=tuple(robot.warnings))
+            continue
         audits.append(items)
-        rows = compare_dynamics(reference, robot, states)
         for quantity, row in rows.items():
             cause = "" if row.passed else _dynamics_cause(quantity, row, reference, robot, explained, applied,
                                                           readings, n_states, seed)
-            if from_urdf and items and cause.startswith("not explained"):
+            if other_file and items and cause.startswith("not explained"):
                 cause = "the URDF and the MJCF describe the robot differently (see the audit)"
             dynamics[quantity][robot.engine] = replace(row, cause=cause)
     tree_rows = {}
@@ -180,6 +196,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
             dynamics[quantity][evaluator.engine] = row
             tree_rows.setdefault(quantity, {})[case] = row
     verdicts = []
+    robots = [r for r in robots if reports[r.engine].loaded]
     if reference.model.nbody > 1:
         voters = _voters(robots, reference, states)
         verdicts = _referee(reference, voters, states, dynamics)

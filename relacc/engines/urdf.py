@@ -1,0 +1,58 @@
+"""What the engines read of a URDF: its kinematics and inertials, without its visual and collision geometry.
+
+Dynamics need a URDF's joints, links and ``<inertial>`` elements only (a ``<mimic>`` is a constraint, which the
+unconstrained dynamics compared leave out; an engine that reads it as one cannot give them); its ``<visual>`` and
+``<collision>`` elements name meshes (``package://`` paths, formats an engine cannot read) that have no part in
+them, and URDF defines a link's inertia by its ``<inertial>`` alone (no inertial: a massless link). So every adapter
+reads the same text, :func:`dynamics_text`, with those elements removed, from memory (nothing is written anywhere),
+and the warnings say how many were dropped. Engine-free: shared by the adapters.
+"""
+
+from __future__ import annotations
+
+import re
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from relacc.errors import ModelError
+
+GEOMETRY = ("visual", "collision")
+ELEMENTS = re.compile(r"<(visual|collision|mimic)\b[^>]*?/>|<(visual|collision|mimic)\b.*?</\2\s*>", re.S)
+"""A self-closed or a whole element of those the dynamics do not read (none of them nests in itself)."""
+
+
+def is_urdf(path) -> bool:
+    return Path(path).suffix.lower() == ".urdf"
+
+
+def dynamics_text(path) -> tuple[str, str | None]:
+    """``(text, note)``: the URDF at ``path`` without its links' visual and collision elements, and a one-line note
+    saying how many were dropped (None when there were none).
+
+    Raises:
+        ModelError: a missing or unreadable file, or XML that does not parse (the parser's message, with its line).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ModelError(f"{path}: no such file")
+    try:
+        text = path.read_text(encoding="utf-8")
+        ET.fromstring(text)  # a parse error names its line in the user's own file
+    except (ET.ParseError, OSError, UnicodeDecodeError) as exc:
+        raise ModelError(f"{path}: not a readable URDF: {' '.join(str(exc).split())}") from None
+    counts = dict.fromkeys(GEOMETRY + ("mimic",), 0)
+
+    def blank(match):  # the element goes, its lines stay: the engines' messages keep the file's line numbers
+        counts[match.group(1) or match.group(2)] += 1
+        return "\n" * match.group(0).count("\n")
+
+    text = ELEMENTS.sub(blank, text)
+    notes = []
+    if counts["visual"] or counts["collision"]:
+        notes.append(f"relacc dropped the URDF's {counts['visual']} visual and {counts['collision']} collision "
+                     "elements (their meshes have no part in the dynamics, which read the inertials)")
+    if counts["mimic"]:
+        notes.append(f"relacc dropped the URDF's {counts['mimic']} mimic element{'s' if counts['mimic'] > 1 else ''}: "
+                     "the dynamics compared are the tree's without constraints, every joint free")
+    note = "; ".join(notes) or None
+    return text, note
