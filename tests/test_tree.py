@@ -48,8 +48,14 @@ def test_random_trees_agree_with_mujoco_in_every_case(tmp_path, seed):
     """Random trees of 3-12 bodies (free root; ball, hinge, slide and stacked joints; random placements, anchors,
     inertial frames): every body's position, velocity, acceleration, omega and alpha agree with MuJoCo in cases 1-3."""
     path = _tree_file(tmp_path, seed, 3 + seed % 10)
+    _agrees_with_mujoco_in_every_case(path, 16, seed)
+
+
+def _agrees_with_mujoco_in_every_case(path, n, seed):
+    """Every body's physical quantities of relacc's tree of ``path`` against MuJoCo's, at ``n`` random states
+    (``seed``) in cases 1-3; returns the tree."""
     tree, model = read_tree(path), mujoco.MjModel.from_xml_path(str(path))
-    st = random_states(tree, 2, 16, seed)
+    st = random_states(tree, 2, n, seed)
     ref = mujoco_reference(model, st.q, st.u, st.udot)
     for case in (1, 2, 3):
         q, u, udot = convert(tree, st.q, st.u, st.udot, source=2, target=case)
@@ -57,6 +63,7 @@ def test_random_trees_agree_with_mujoco_in_every_case(tmp_path, seed):
         sc = tree_scales(tree, case, q, u, udot)
         for name in PHYSICAL:
             _assert_bodies(tree, getattr(k, name), ref[name], sc.of(name), f"case {case} {name}", seed)
+    return tree
 
 
 @pytest.mark.parametrize("seed", range(12, 20))

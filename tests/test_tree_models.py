@@ -18,7 +18,7 @@ from relacc.core.tree import convert, random_states
 from relacc.core.tree.scales import tree_scales, tree_tolerance
 from relacc.engines.mujoco_.spec import read_tree
 from relacc.errors import InputError, ModelError, SingularityError
-from tests.test_tree import PHYSICAL, _assert_bodies, _tree_file
+from tests.test_tree import PHYSICAL, _agrees_with_mujoco_in_every_case, _assert_bodies, _tree_file
 from tests.trees import jacdot_exact, mujoco_reference
 
 ASSETS = sorted((Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets").glob("*.xml"))
@@ -192,16 +192,8 @@ def test_a_fifty_link_chain_agrees_with_mujoco(tmp_path):
     xml = random_mjcf(50, 50, chain=True)
     path = tmp_path / "chain50.xml"
     path.write_text(xml)
-    tree, model = read_tree(path), mujoco.MjModel.from_xml_path(str(path))
+    tree = _agrees_with_mujoco_in_every_case(path, 4, 50)
     assert max(tree.depth) >= 50
-    st = random_states(tree, 2, 4, 50)
-    ref = mujoco_reference(model, st.q, st.u, st.udot)
-    for case in (1, 2, 3):
-        q, u, udot = convert(tree, st.q, st.u, st.udot, source=2, target=case)
-        k = relacc.tree_kinematics(tree, case, q, u, udot)
-        sc = tree_scales(tree, case, q, u, udot)
-        for name in PHYSICAL:
-            _assert_bodies(tree, getattr(k, name), ref[name], sc.of(name), f"case {case} {name}", 50)
 
 
 def test_far_from_the_origin_relacc_loses_no_digits(tmp_path):

@@ -129,6 +129,23 @@ def as_numbers(name: str, value, length: int, what: str, values: bool = True, of
 _COMPLEX_STEP_POINTS = contextvars.ContextVar("relacc_complex_step_points", default=False)
 
 
+def fixed_vector(owner: str, name: str, value, n: int = 3) -> np.ndarray:
+    """``value`` as a read-only float ``(n,)`` of finite numbers: a model's or an effect's fixed vector (a position,
+    an axis, a quaternion, gravity), as given, never normalized.
+
+    Raises:
+        InputError: naming ``owner`` and ``name``, what was given and what is accepted.
+    """
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"{owner}: {name} must be {n} real numbers, got {value!r:.80}") from None
+    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
+        raise InputError(f"{owner}: {name} must be {n} finite numbers, got {np.asarray(value).tolist()!r:.80}")
+    arr.setflags(write=False)
+    return arr
+
+
 @contextlib.contextmanager
 def complex_step_points():
     """Inside the block, complex quaternions are judged as points of a complex step: by ``q . q = 1``.

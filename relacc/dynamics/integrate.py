@@ -126,6 +126,24 @@ def euler_step(space, x, v, h, derivs, t=0.0):
 STEPPERS = {"rk4": rkmk4_step, "euler": euler_step}
 """Integrators for relacc and Pinocchio, by scene name."""
 
+
+def space_stepper(space, derivs, dt: float, integrator: str):
+    """Fixed steps of ``dt`` (s) by ``STEPPERS[integrator]`` on ``space`` with ``derivs(x, v, t)``, as a
+    :class:`relacc.dynamics.steps.Stepper`; time runs on from 0 across its calls. The caller checks that
+    ``integrator`` is one of :data:`STEPPERS` (and says whose integrators they are)."""
+    from relacc.dynamics.steps import Stepper
+
+    step, clock = STEPPERS[integrator], [0.0]
+
+    def advance(x, v, k):
+        for _ in range(k):
+            x, v = step(space, x, v, dt, derivs, clock[0])
+            clock[0] += dt
+        return x, v
+
+    return Stepper(advance)
+
+
 def stepper(chain, case, effects, dt: float, integrator: str):
     """relacc's own fixed-step integrator as a :class:`relacc.dynamics.steps.Stepper`, compiled.
 

@@ -11,6 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from relacc.core.cases import fixed_vector
+from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.errors import InputError
 
 
@@ -22,17 +24,6 @@ def _num(owner, name, value, minimum=None) -> float:
         raise InputError(f"{owner}: {name} must be finite" + (f" and >= {minimum}" if minimum is not None else "")
                          + f", got {x}")
     return x
-
-
-def _vec(owner, name, value, n=3):
-    try:
-        arr = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"{owner}: {name} must be {n} numbers, got {value!r:.60}") from None
-    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
-        raise InputError(f"{owner}: {name} must be {n} finite numbers, got {np.asarray(value).tolist()!r:.60}")
-    arr.setflags(write=False)
-    return arr
 
 
 @dataclass(frozen=True)
@@ -70,8 +61,8 @@ class BodyLoad:
     phase: float = 0.0
 
     def __post_init__(self):
-        object.__setattr__(self, "force", _vec("body load", "force", self.force))
-        object.__setattr__(self, "torque", _vec("body load", "torque", self.torque))
+        object.__setattr__(self, "force", fixed_vector("body load", "force", self.force))
+        object.__setattr__(self, "torque", fixed_vector("body load", "torque", self.torque))
         object.__setattr__(self, "frequency", _num("body load", "frequency", self.frequency, 0.0))
         object.__setattr__(self, "phase", _num("body load", "phase", self.phase))
 
@@ -93,7 +84,7 @@ class TreeEffects:
 
     def __post_init__(self):
         if self.gravity is not None:
-            object.__setattr__(self, "gravity", _vec("effects", "gravity", self.gravity))
+            object.__setattr__(self, "gravity", fixed_vector("effects", "gravity", self.gravity))
         for name, value in dict(self.joints).items():
             if not isinstance(value, JointEffect):
                 raise InputError(f"effects: joint {name!r} must map to a relacc JointEffect, "
@@ -155,10 +146,11 @@ class TreeEffects:
             if kind == "free" and eff.stiffness:
                 raise InputError(f"effects: joint {name!r} is free: it takes a damper, not a spring")
             if kind == "ball":
-                rest = np.array((1.0, 0.0, 0.0, 0.0)) if eff.rest is None else _vec(f"effects: joint {name!r}", "rest",
-                                                                                    eff.rest, 4)
-                if abs(float(rest @ rest) - 1) > 1e-12:
-                    raise InputError(f"effects: joint {name!r}: rest must be a unit quaternion (w, x, y, z)")
+                rest = np.array((1.0, 0.0, 0.0, 0.0)) if eff.rest is None else \
+                    fixed_vector(f"effects: joint {name!r}", "rest", eff.rest, 4)
+                if abs(float(rest @ rest) - 1) > QUATERNION_NORM_TOLERANCE:
+                    raise InputError(f"effects: joint {name!r}: rest must be a unit quaternion (w, x, y, z), its "
+                                     f"squared norm within {QUATERNION_NORM_TOLERANCE:g} of 1 (never normalized)")
             else:
                 rest = 0.0 if eff.rest is None else _num(f"effects: joint {name!r}", "rest", eff.rest)
             joints.append((k, eff, rest))

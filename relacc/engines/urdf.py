@@ -10,6 +10,7 @@ and the warnings say how many were dropped. Engine-free: shared by the adapters.
 
 from __future__ import annotations
 
+import functools
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -35,6 +36,12 @@ def dynamics_text(path) -> tuple[str, str | None]:
     path = Path(path)
     if not path.is_file():
         raise ModelError(f"{path}: no such file")
+    stat = path.stat()
+    return _dynamics_text(path, stat.st_mtime_ns, stat.st_size)  # each adapter asks; the file is read once
+
+
+@functools.lru_cache(maxsize=8)
+def _dynamics_text(path: Path, mtime_ns: int, size: int) -> tuple[str, str | None]:
     try:
         text = path.read_text(encoding="utf-8")
         ET.fromstring(text)  # a parse error names its line in the user's own file

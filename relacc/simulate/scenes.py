@@ -261,12 +261,11 @@ def _model_scene(path, text, doc, model_path, checked) -> Scene:
     from relacc.core.tree import Tree, reference_q
     from relacc.core.tree.coordinates import check_q as check_tree_q
     from relacc.core.tree.coordinates import check_u as check_tree_u
-    from relacc.core.tree.coordinates import convert
 
     tree = checked("model", "file", lambda: Tree.from_file(model_path))
     case = checked("initial", "case", lambda: int(as_case(doc.initial.case)))
     if doc.initial.q == "reference":
-        q = convert(tree, reference_q(tree, 2), source=2, target=case)[0] if case != 2 else reference_q(tree, 2)
+        q = reference_q(tree, case)
     else:
         q = checked("initial", "q", lambda: check_tree_q(tree, case, doc.initial.q))
     u = checked("initial", "u", lambda: check_tree_u(tree, "u", doc.initial.u))

@@ -21,6 +21,14 @@ import numpy as np
 from relacc.core.tolerances import rounding_tolerance
 
 
+def _observation(position, velocity, acceleration, energy_terms, momentum, angular_momentum) -> dict:
+    """One block's observation (the module docstring): the energy from its terms ``(T, V_g, V_s)`` (J), and the
+    energy's scale ``T + |V_g| + V_s`` that its drift is measured against."""
+    T, g, s = energy_terms
+    return {"position": position, "velocity": velocity, "acceleration": acceleration, "energy": T + g + s,
+            "energy_scale": T + np.abs(g) + s, "momentum": momentum, "angular_momentum": angular_momentum}
+
+
 def reference_state(scene, q, u) -> tuple[np.ndarray, np.ndarray]:
     """States of the scene's case ``(n, nq)``, ``(n, nv)`` in the reference's coordinates (the adapters')."""
     if scene.is_chain:
@@ -51,9 +59,8 @@ def engine_observer(engine, scene):
         pts = engine.points(Q, V, engine.forward(Q, V, eff, t), [scene.point])
         T, g, s = engine.energy(Q, V, eff)
         p, H = engine.momenta(Q, V)
-        return {"position": pts.position[:, 0], "velocity": np.einsum("nij,nj->ni", pts.J[:, 0], V),
-                "acceleration": pts.acceleration[:, 0], "energy": T + g + s, "energy_scale": T + np.abs(g) + s,
-                "momentum": p, "angular_momentum": H}
+        return _observation(pts.position[:, 0], np.einsum("nij,nj->ni", pts.J[:, 0], V), pts.acceleration[:, 0],
+                            (T, g, s), p, H)
 
     return observe
 
@@ -78,15 +85,16 @@ def _chain_run(scene, integrator):
         k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, eff))
         T, g, s = dynamics.energy_terms(chain, case, Q, U, eff)
         p, H = dynamics.momenta(chain, case, Q, U)
-        return {"position": k.position, "velocity": k.velocity, "acceleration": k.acceleration, "energy": T + g + s,
-                "energy_scale": T + np.abs(g) + s, "momentum": p, "angular_momentum": H}
+        return _observation(k.position, k.velocity, k.acceleration, (T, g, s), p, H)
 
     return (stepper(chain, case, eff, scene.dt, integrator), observe,
             {"equations": "Newton-Euler per body (Kane's, solved), " + (", ".join(eff.active()) or "no effects")})
 
 
 def tree_point(scene, Q, U, Udot):
-    """``(position, velocity, acceleration)`` ``(n, 3)`` of the scene's point by relacc's tree (case coordinates)."""
+    """``(position, velocity, acceleration)``, each ``(n, 3)``, of the scene's point (a body's mass centre or a named
+    point) by relacc's tree from states ``Q, U, Udot`` in the scene's case: fixed-frame components, m, m/s and m/s^2
+    (classical)."""
     from relacc.core.tree import tree_kinematics
 
     kind, name = scene.point
@@ -110,8 +118,7 @@ def _tree_observer(scene):
         q2, v2 = reference_state(scene, Q, U)
         T, g, s = tree_energy(tree, q2, v2, eff)
         p, H = tree_momenta(tree, q2, v2)
-        return {"position": pos, "velocity": vel, "acceleration": acc, "energy": T + g + s,
-                "energy_scale": T + np.abs(g) + s, "momentum": p, "angular_momentum": H}
+        return _observation(pos, vel, acc, (T, g, s), p, H)
 
     return observe
 
@@ -125,26 +132,17 @@ def tree_stepper(tree, case, effects, dt: float, integrator: str):
         EngineError: an integrator relacc lacks.
     """
     from relacc.core.tree.coordinates import convert
-    from relacc.dynamics.integrate import STEPPERS, TreeSpace
-    from relacc.dynamics.steps import Stepper
+    from relacc.dynamics.integrate import STEPPERS, TreeSpace, space_stepper
     from relacc.dynamics.tree import tree_accelerations
     from relacc.errors import EngineError
 
     if integrator not in STEPPERS:
         raise EngineError(f"relacc integrators: {', '.join(STEPPERS)}; got {integrator!r}")
-    step, space, clock = STEPPERS[integrator], TreeSpace(tree, case), [0.0]
-
     def derivs(q, u, t):
         udot = tree_accelerations(tree, case, q, u, effects=effects, t=t)
         return (u if case == 2 else convert(tree, q, u, source=case, target=2)[1]), np.asarray(udot)
 
-    def advance(q, u, k):
-        for _ in range(k):
-            q, u = step(space, q, u, dt, derivs, clock[0])
-            clock[0] += dt
-        return q, u
-
-    return Stepper(advance)
+    return space_stepper(TreeSpace(tree, case), derivs, dt, integrator)
 
 
 def note_check(scene, states, engines: dict) -> dict:

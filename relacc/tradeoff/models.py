@@ -90,8 +90,8 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTra
                 except IntegrationError:  # a diverged run is a result: infinite error, left out of fits
                     row.update(error=float("inf"), seconds=None, diverged=True)
                 rows.append(row)
-    orders = {f"{r['engine']}/{r['integrator']}": observed_order(rows, r["engine"], r["integrator"])
-              for r in rows}
+    runs = dict.fromkeys((r["engine"], r["integrator"]) for r in rows)
+    orders = {f"{e}/{i}": observed_order(rows, e, i) for e, i in runs}
     return ModelTradeoff(str(model), base.observe, base.duration, rows, reference,
                          {k: v for k, v in orders.items() if v is not None})
 

@@ -21,6 +21,7 @@ from functools import cached_property
 
 import numpy as np
 
+from relacc.core.cases import fixed_vector
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.errors import InputError
 
@@ -39,16 +40,6 @@ NQ_ANGLES = {"free": 6, "ball": 3, "slide": 1, "hinge": 1}
 AXIS_TOLERANCE = QUATERNION_NORM_TOLERANCE
 """Largest accepted ``| |axis|^2 - 1 |``: axes are unit as given, never normalized."""
 
-
-def _vec(owner, name, value, n=3) -> np.ndarray:
-    try:
-        arr = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"{owner}: {name} must be {n} real numbers, got {value!r:.80}") from None
-    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
-        raise InputError(f"{owner}: {name} must be {n} finite numbers, got {np.asarray(value).tolist()!r:.80}")
-    arr.setflags(write=False)
-    return arr
 
 
 def _number(owner, name, value, minimum=None) -> float:
@@ -87,8 +78,8 @@ class Joint:
             raise InputError(f"joint name: expected a non-empty string, got {self.name!r}")
         if self.type not in JOINT_TYPES:
             raise InputError(f"{who}: unknown type {self.type!r}; accepted: {', '.join(JOINT_TYPES)}")
-        object.__setattr__(self, "pos", _vec(who, "pos", self.pos))
-        axis = _vec(who, "axis", self.axis)
+        object.__setattr__(self, "pos", fixed_vector(who, "pos", self.pos))
+        axis = fixed_vector(who, "axis", self.axis)
         if self.type in ("hinge", "slide") and abs(float(axis @ axis) - 1) > AXIS_TOLERANCE:
             raise InputError(f"{who}: axis {axis.tolist()} has squared norm {float(axis @ axis):.17g}; pass a unit "
                              "axis (relacc does not normalize it)")
@@ -157,8 +148,8 @@ class Body:
         who = f"body {self.name!r}"
         if not isinstance(self.name, str) or not self.name:
             raise InputError(f"body name: expected a non-empty string, got {self.name!r}")
-        object.__setattr__(self, "pos", _vec(who, "pos", self.pos))
-        quat = _vec(who, "quat", self.quat, 4)
+        object.__setattr__(self, "pos", fixed_vector(who, "pos", self.pos))
+        quat = fixed_vector(who, "quat", self.quat, 4)
         if abs(float(quat @ quat) - 1) > QUATERNION_NORM_TOLERANCE:
             raise InputError(f"{who}: quat {quat.tolist()} has squared norm {float(quat @ quat):.17g}; pass a unit "
                              "quaternion (w, x, y, z): relacc does not normalize it")
@@ -170,7 +161,7 @@ class Body:
             raise InputError(f"{who}: a free joint must be the body's only joint (as in MuJoCo)")
         object.__setattr__(self, "joints", joints)
         object.__setattr__(self, "mass", _number(who, "mass", self.mass, minimum=0.0))
-        object.__setattr__(self, "com", _vec(who, "com", self.com))
+        object.__setattr__(self, "com", fixed_vector(who, "com", self.com))
         try:
             inertia = np.array(self.inertia, dtype=np.float64)
         except (TypeError, ValueError):
@@ -196,7 +187,7 @@ class Point:
     pos: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
 
     def __post_init__(self):
-        object.__setattr__(self, "pos", _vec(f"point {self.name!r}", "pos", self.pos))
+        object.__setattr__(self, "pos", fixed_vector(f"point {self.name!r}", "pos", self.pos))
 
 
 @dataclass(frozen=True, eq=False)
@@ -258,7 +249,7 @@ class Tree:
             raise InputError("Tree: point names must be unique")
         object.__setattr__(self, "bodies", tuple(resolved))
         object.__setattr__(self, "points", tuple(points))
-        object.__setattr__(self, "gravity", _vec("Tree", "gravity", self.gravity))
+        object.__setattr__(self, "gravity", fixed_vector("Tree", "gravity", self.gravity))
 
     def __repr__(self) -> str:
         return f"Tree({self.name!r}: {self.nb} bodies, {len(self.joints)} joints, nv {self.nv}, from {self.source})"

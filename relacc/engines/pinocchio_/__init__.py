@@ -35,9 +35,9 @@ from relacc.core.rotations import (
     quaternion_to_xyzw,
     tilde,
 )
-from relacc.dynamics.steps import Stepper
 from relacc.engines.base import Adapter, Joint, Link, Points, Structure, fixed_step_only, moving_mass
 from relacc.engines.pinocchio_.model import match, parse, split_composites
+from relacc.engines.urdf import dynamics_text
 from relacc.errors import EngineError, ModelError
 
 __all__ = ["LWA", "PinocchioAdapter", "load", "split_composites", "version"]
@@ -65,8 +65,9 @@ class PinocchioAdapter(Adapter):
         self.model = split_composites(loaded) if split else loaded
         self.gravity0 = self.model.gravity.linear.copy()
         m = self.model
+        note = dynamics_text(urdf)[1] if urdf is not None else None  # what it was not given of the URDF
         super().__init__(reference, match(m, reference, urdf is not None), m.nq, m.nv,
-                         Path(urdf) if urdf is not None else Path(path))
+                         Path(urdf) if urdf is not None else Path(path), [note] if note else [])
         self.link_frames, self.body_frames = {}, {}
         self._add_frames()
         self.data = m.createData()
@@ -285,20 +286,12 @@ class PinocchioAdapter(Adapter):
     def stepper(self, effects, dt, integrator, accuracy=None, threads: int = 1):
         """RKMK4 (or semi-implicit Euler) on Pinocchio's manifold with ``aba`` accelerations under ``effects``, on
         one state ``(nq_e,)`` or a batch ``(n, nq_e)`` (``abaInParallel`` on ``threads``); time runs on from 0."""
-        from relacc.dynamics.integrate import STEPPERS
+        from relacc.dynamics.integrate import STEPPERS, space_stepper
 
         if integrator not in STEPPERS:
             raise EngineError(f"Pinocchio integrators here: {', '.join(STEPPERS)}; got {integrator!r}")
         fixed_step_only("Pinocchio (with relacc's integrators)", accuracy)
-        step, space, clock, derivs = STEPPERS[integrator], self.space(), [0.0], self.derivs(effects, threads)
-
-        def advance(x, w, k):
-            for _ in range(k):
-                x, w = step(space, x, w, dt, derivs, clock[0])
-                clock[0] += dt
-            return x, w
-
-        return Stepper(advance)
+        return space_stepper(self.space(), self.derivs(effects, threads), dt, integrator)
 
     def derivs(self, effects, threads: int = 1):
         """``derivs(x, w, t) -> (w, vdot)``: the tangent velocity (Pinocchio's ``v``) and the accelerations under
