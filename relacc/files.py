@@ -17,6 +17,7 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import sys
 import tempfile
 from pathlib import Path
 
@@ -281,9 +282,10 @@ def terminate_as_interrupt():
     """Inside the block, SIGTERM raises :class:`KeyboardInterrupt` like SIGINT, so writes clean up.
 
     Both signals also leave a pending interrupt (:func:`check_interrupt`): an exception raised while a C library
-    runs a Python callback (numba's compiler calls its object cache through ctypes) is printed and dropped by
-    ctypes, and the command would carry on; every atomic write and the command's end check for it, so an interrupt
-    is never lost, at the latest before any file is changed."""
+    runs a Python callback (numba's compiler calls its object cache through ctypes; Hypothesis, which the report's
+    hard-case search runs, has a garbage-collector callback) is dropped there, and the command would carry on (its
+    "Exception ignored" lines are kept off stderr while the interrupt is pending); every atomic write and the
+    command's end check for it, so an interrupt is never lost, at the latest before any file is changed."""
     def handler(signum, frame):
         PENDING[0] = signum
         raise KeyboardInterrupt(f"signal {signum}")
@@ -294,9 +296,17 @@ def terminate_as_interrupt():
         yield
         return
     PENDING[0] = None
+    unraisable = sys.unraisablehook
+
+    def quiet(info):  # the interrupt lost in a callback is pending, not news: no "Exception ignored" lines
+        if not (isinstance(info.exc_value, KeyboardInterrupt) and PENDING[0] is not None):
+            unraisable(info)
+
+    sys.unraisablehook = quiet
     try:
         yield
     finally:
+        sys.unraisablehook = unraisable
         for sig, old in previous.items():
             signal.signal(sig, old)
 

@@ -11,6 +11,7 @@ def cmd_compare(args) -> int:
     from relacc.errors import InputError
     from relacc.validation.robots import compare
 
+    args.model = models(args.model)
     out = None
     if args.out is not None:
         from relacc import files
@@ -30,6 +31,29 @@ def cmd_compare(args) -> int:
     else:
         print(text(result) + (f"\nwrote {out}" if out is not None else ""))
     return result.exit_code
+
+
+def models(paths) -> list[str]:
+    """The model files named: files as given; a directory, its ``.xml`` and ``.urdf`` files (recursively, sorted).
+
+    Raises:
+        InputError: a directory holding no such file.
+    """
+    from pathlib import Path
+
+    from relacc.errors import InputError
+
+    out = []
+    for given in paths:
+        path = Path(given)
+        if not path.is_dir():
+            out.append(given)
+            continue
+        found = sorted(str(p) for p in path.rglob("*") if p.suffix.lower() in (".xml", ".urdf") and p.is_file())
+        if not found:
+            raise InputError(f"{given}: a directory with no .xml or .urdf file in it")
+        out += found
+    return out
 
 
 def _many(args) -> int:
@@ -83,6 +107,7 @@ def text(result) -> str:
         n = len(e["warnings"])
         warned = f"; {n} parser warning{'s' if n != 1 else ''} (in --json)" if n else ""
         lines.append(f"  {name:9s} {status}{warned}")
+    lines.append(f"compared: {', '.join(data['compared'])}")
     lines.append(f"audit: {len(data['audit'])} difference{'s' if len(data['audit']) != 1 else ''}")
     for a in data["audit"]:
         values = ", ".join(f"{k} {_short(v)}" for k, v in a.items() if k not in ("item", "where", "cause"))

@@ -283,10 +283,12 @@ def build_parser() -> argparse.ArgumentParser:
              "when anything differs, 2 when the model cannot be compared.",
              ["relacc compare robot.xml", "relacc compare robot.xml --urdf robot.urdf --engines pinocchio",
               "relacc compare robot.xml --json --out robot.html",
-              "relacc compare models/*.xml --scheduler local:2 --json > all.json"])
+              "relacc compare models/*.xml --scheduler local:2 --json > all.json",
+              "relacc compare path/to/robots/ --states 5"])
     p.add_argument("model", metavar="MODEL.xml", nargs="+",
-                   help="the MJCF file (or a URDF, which every engine then reads by its URDF parser); several: "
-                        "each compared alone (exit: the highest of theirs)")
+                   help="the MJCF file (or a URDF, which every engine then reads by its URDF parser); several, or a "
+                        "directory (its .xml and .urdf files, in sorted order, searched recursively): each compared "
+                        "alone, one summary (exit: the highest of theirs)")
     p.add_argument("--urdf", metavar="MODEL.urdf",
                    help="a URDF of the same robot for Pinocchio (links named as the MJCF's bodies)")
     p.add_argument("--engines", type=_choices_list("--engines", ("pinocchio", "drake")), metavar="ENGINES",

@@ -25,25 +25,38 @@ def page_data(result) -> dict:
             r = row["engines"].get(e)
             cells.append(None if r is None else {**r, "eps": None if r["max_error"] is None else r["max_error"] / EPS})
         rows.append({"quantity": quantity, "cells": cells})
-    audit = [{"item": a["item"], "where": a["where"], "cells": [_show(a.get(e)) for e in engines],
+    audit = [{"item": a["item"], "where": a["where"], "cells": [_cell(a.get(e)) for e in engines],
               "cause": a["cause"]} for a in data["audit"]]
     bad = [c for r in rows for c in r["cells"] if c is not None and not c["ok"]]
     unexplained = [c for c in bad if c["cause"].startswith("not explained")]
     unexplained += [a for a in audit if "not explained" in a["cause"]]
-    return {"n_bad": len(bad), "n_unexplained": len(unexplained), "model": data["model"], "urdf": data["urdf"],
+    return {"n_bad": len(bad), "compared": data["compared"], "digits": SHOWN_DIGITS,
+            "n_unexplained": len(unexplained), "model": data["model"], "urdf": data["urdf"],
             "engines": data["engines"], "names": engines,
             "others": others, "audit": audit, "dynamics": rows, "agree": data["agree"], "states": data["states"],
             "seed": data["seed"], "referee": data["referee"],
             "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
 
 
-def _show(value) -> str:
-    """A value as text, every digit kept (nothing rounded): numbers by ``repr``, lists element by element."""
+SHOWN_DIGITS = 6
+"""Significant digits of the audit's values on the page (each cell's title, and the JSON, keep every digit)."""
+
+
+def _show(value, digits: int | None = None) -> str:
+    """A value as text: numbers to ``digits`` significant digits, or every digit (``repr``) when None; lists element
+    by element."""
     if value is None:
         return "-"
     if isinstance(value, list):
-        return "[" + ", ".join(_show(v) for v in value) + "]"
-    return repr(value) if isinstance(value, float) else str(value)
+        return "[" + ", ".join(_show(v, digits) for v in value) + "]"
+    if isinstance(value, float):
+        return repr(value) if digits is None else f"{value:.{digits}g}"
+    return str(value)
+
+
+def _cell(value) -> dict:
+    """An audit cell: ``{"shown": 6 significant digits, "full": every digit}``."""
+    return {"shown": _show(value, SHOWN_DIGITS), "full": _show(value)}
 
 
 def render(result) -> str:

@@ -25,10 +25,14 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, QuaternionFloatingJoint, RotationalInertia, SpatialInertia
 
 from relacc.engines.base import NQ, NV, Match
+from relacc.engines.mjcf import without_meshes
 from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import EngineError, ModelError
 
 TYPES = {"quaternion_floating": "free", "ball_rpy": "ball", "revolute": "hinge", "prismatic": "slide"}
+
+OBJ_ONLY = "only supports mesh files in .obj format"
+"""Drake's MJCF parser refusing a mesh of another format."""
 
 NO_MODEL_NAME = "must have a name attribute or a model name must be specified"
 """Drake's MJCF parser refuses a ``<mujoco>`` without ``model=`` (MuJoCo itself names it "MuJoCo Model")."""
@@ -50,13 +54,15 @@ def _directive(path) -> str:
             f"    name: {json.dumps(path.stem)}\n    file: {json.dumps(path.as_uri())}\n")
 
 
-def _parse(path, named: bool):
+def _parse(path, named: bool, meshes: bool = False):
     plant = MultibodyPlant(0.0)
     parser = Parser(plant)
     welded = []
     if is_urdf(path):  # its kinematics and inertials only
         for instance in parser.AddModelsFromString(dynamics_text(path)[0], "urdf"):
             welded += _weld_roots(plant, instance)
+    elif meshes:
+        parser.AddModelsFromString(without_meshes(path)[0], "xml")
     elif named:
         parser.AddModelsFromString(_directive(path), "dmd.yaml")
     else:
@@ -92,12 +98,24 @@ def parse(path):
         try:
             plant, welded = _parse(path, named=False)
         except Exception as exc:
-            if NO_MODEL_NAME not in str(exc):
+            if NO_MODEL_NAME in str(exc):
+                handler.lines.clear()
+                plant, welded = _parse(path, named=True)
+                handler.lines.append(f"the file has no model name, which Drake's parser requires: relacc loaded it "
+                                     f"through a model directive naming it {Path(path).stem!r} (the name only)")
+            elif OBJ_ONLY in str(exc) and not is_urdf(path):
+                handler.lines.clear()
+                try:
+                    note = without_meshes(path)[1]
+                except ModelError as why:
+                    raise ModelError(f"{path}: Drake cannot read it: it reads .obj meshes only, and "
+                                     f"{str(why).removeprefix(f'{path}: ')}") from None
+                plant, welded = _parse(path, named=False, meshes=True)
+                handler.lines.append(note)
+            else:
                 raise
-            handler.lines.clear()
-            plant, welded = _parse(path, named=True)
-            handler.lines.append(f"the file has no model name, which Drake's parser requires: relacc loaded it "
-                                 f"through a model directive naming it {Path(path).stem!r} (the name only)")
+    except ModelError:
+        raise
     except Exception as exc:  # Drake raises RuntimeError with its parser's message (file and line)
         raise ModelError(f"{path}: Drake cannot read it: {' '.join(str(exc).split())}") from None
     finally:
@@ -113,17 +131,27 @@ def parse(path):
 
 
 def match_parsed(plant, reference) -> tuple[list[Match], dict]:
-    """Each reference joint the parsed plant has, by name (free joints by their body), of the same type; and each
-    reference body's Drake body (its last joint's child)."""
+    """Each reference joint the parsed plant has, of the same type: by name, else by structure (free joints by
+    their body; a body's only joint, unnamed in MuJoCo and named ``<parent>-<body>`` by Drake's parser, by the
+    body it moves); and each reference body's Drake body (its last joint's child)."""
     joints = [plant.get_joint(j) for j in plant.GetJointIndices() if plant.get_joint(j).num_velocities() > 0]
     by_name = {j.name(): j for j in joints if j.type_name() != "quaternion_floating"}
     floating = {j.child_body().name(): j for j in joints if j.type_name() == "quaternion_floating"}
-    matches, heads = [], {}
+    by_body = {}
+    for j in joints:
+        by_body.setdefault(j.child_body().name(), []).append(j)
+    count = {}
+    for b, _ in reference.joints:
+        count[b] = count.get(b, 0) + 1
+    matches, heads, taken = [], {}, set()
     for k, ((b, joint), qa, da) in enumerate(zip(reference.joints, reference.qadr(2), reference.dofadr)):
         body = reference.bodies[b].name
         dj = floating.get(body) if joint.type == "free" else by_name.get(joint.name)
-        if dj is None or TYPES.get(dj.type_name()) != joint.type:
+        if dj is None and count[b] == 1 and len(by_body.get(body, ())) == 1:
+            dj = by_body[body][0]
+        if dj is None or TYPES.get(dj.type_name()) != joint.type or dj.index() in taken:
             continue
+        taken.add(dj.index())
         matches.append(Match(joint.type, (k,), tuple(range(qa, qa + NQ[joint.type])),
                              tuple(range(da, da + NV[joint.type])),
                              tuple(range(dj.position_start(), dj.position_start() + dj.num_positions())),

@@ -52,6 +52,12 @@ def version() -> str:
     return pin.__version__
 
 
+
+def six(J) -> np.ndarray:
+    """A Pinocchio Jacobian as ``(6, nv)``: its bindings give a model with one speed a ``(6,)`` vector."""
+    J = np.asarray(J)
+    return J.reshape(6, -1) if J.ndim == 1 else J
+
 class PinocchioAdapter(Adapter):
     """A model file in Pinocchio (its MJCF parser, or ``urdf`` by its URDF parser), matched to ``reference``."""
 
@@ -121,7 +127,7 @@ class PinocchioAdapter(Adapter):
         for mt in self.matches:
             k = mt.joints[0]
             b, jt = tree.joints[k]
-            col = d.J[:, mt.v[0]]
+            col = six(d.J)[:, mt.v[0]]
             axis = anchor = None
             if mt.kind == "hinge":  # the axis, and its point nearest the world origin (v_O = p x w)
                 w = col[3:]
@@ -214,7 +220,7 @@ class PinocchioAdapter(Adapter):
             pin.computeJointJacobians(m, d, qe[i])
             pin.updateFramePlacements(m, d)
             for name, load in effects.bodies.items():
-                J = pin.getFrameJacobian(m, d, self.body_frames[name], LWA)
+                J = six(pin.getFrameJacobian(m, d, self.body_frames[name], LWA))
                 tau[i] += float(load.factor(t[i] if np.ndim(t) else t)) * (J[:3].T @ load.force + J[3:].T @ load.torque)
         return tau
 
@@ -271,8 +277,8 @@ class PinocchioAdapter(Adapter):
             pin.updateFramePlacements(m, d)
             for k, f in enumerate(frames):
                 pos[i, k] = d.oMf[f].translation
-                J[i, k] = pin.getFrameJacobian(m, d, f, LWA)[:3]
-                Jd[i, k] = pin.getFrameJacobianTimeVariation(m, d, f, LWA)[:3]
+                J[i, k] = six(pin.getFrameJacobian(m, d, f, LWA))[:3]
+                Jd[i, k] = six(pin.getFrameJacobianTimeVariation(m, d, f, LWA))[:3]
             if ae is not None:  # second pass: accelerations, read as classical
                 pin.forwardKinematics(m, d, qe[i], ve[i], ae[i])
                 for k, f in enumerate(frames):
@@ -341,8 +347,8 @@ class PinocchioAdapter(Adapter):
                 pin.computeJointJacobiansTimeVariation(m, d, qe[i], ve[i])
                 pin.updateFramePlacements(m, d)
                 for k, f in enumerate(frames):
-                    J[i, k] = pin.getFrameJacobian(m, d, f, LWA)
-                    Jd[i, k] = pin.getFrameJacobianTimeVariation(m, d, f, LWA)
+                    J[i, k] = six(pin.getFrameJacobian(m, d, f, LWA))
+                    Jd[i, k] = six(pin.getFrameJacobianTimeVariation(m, d, f, LWA))
 
         return loop
 
@@ -359,8 +365,8 @@ class PinocchioAdapter(Adapter):
                 if full:
                     pin.computeJointJacobiansTimeVariation(m, d, qe[i], ve[i])
                     pin.updateFramePlacements(m, d)
-                    J[i] = pin.getFrameJacobian(m, d, f, LWA)
-                    Jd[i] = pin.getFrameJacobianTimeVariation(m, d, f, LWA)
+                    J[i] = six(pin.getFrameJacobian(m, d, f, LWA))
+                    Jd[i] = six(pin.getFrameJacobianTimeVariation(m, d, f, LWA))
                 pin.forwardKinematics(m, d, qe[i], ve[i], ae[i])
                 acc[i] = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear
 

@@ -103,23 +103,39 @@ def subjoints(model) -> dict:
     return out
 
 
+def moving(model) -> dict:
+    """``{body name: joint index}``: the body each Pinocchio joint moves (the first body frame on it)."""
+    out = {}
+    for f in model.frames:
+        if f.type == pin.FrameType.BODY and f.parentJoint > 0 and f.parentJoint not in out.values():
+            out[f.name] = f.parentJoint
+    return out
+
+
 def match(model, reference, from_urdf: bool) -> list[Match]:
-    """Each reference joint Pinocchio has, by name (a composite's sub-joints by their place in it; a URDF's
-    free-flyer root as the reference's free root), of the same type."""
+    """Each reference joint Pinocchio has, of the same type: by name (a composite's sub-joints by their place in
+    it), else by structure: the joint that moves the same body, at the same place among that body's joints
+    (unnamed joints, which MuJoCo leaves nameless and Pinocchio's parsers name ``base_free`` or ``<body>Joint_0``;
+    a URDF's free-flyer root)."""
     subs = subjoints(model)
-    on_body: dict[int, list[str]] = {}
-    for b, j in reference.joints:
-        on_body.setdefault(b, []).append(j.name)
-    out = []
+    by_body = moving(model)
+    on_body: dict[int, list[int]] = {}
+    for k, (b, _) in enumerate(reference.joints):
+        on_body.setdefault(b, []).append(k)
+    out, taken = [], set()
     for k, ((b, joint), qa, da) in enumerate(zip(reference.joints, reference.qadr(2), reference.dofadr)):
-        siblings = on_body[b]
-        key = (joint.name, 0)
-        if key not in subs and len(siblings) > 1:
-            key = (f"Composite_{siblings[0]}", siblings.index(joint.name))
+        siblings = [reference.joints[i][1].name for i in on_body[b]]
+        place = on_body[b].index(k)
+        key = (joint.name, 0) if joint.name else None
+        if key not in subs and len(siblings) > 1 and siblings[0]:
+            key = (f"Composite_{siblings[0]}", place)
+        if key not in subs and reference.bodies[b].name in by_body:  # by structure: the body it moves
+            key = (model.names[by_body[reference.bodies[b].name]], place)
         if key not in subs and from_urdf and k == 0 and joint.type == "free":
             key = (model.names[1], 0)
-        if key not in subs:
+        if key not in subs or key in taken:
             continue
+        taken.add(key)
         jm, iq, iv = subs[key]
         if kind(jm) != joint.type:
             continue  # reported by the audit as a type difference

@@ -28,6 +28,22 @@ def _leave_out_of_inertia(spec):
     spec.compiler.boundmass = spec.compiler.boundinertia = 1e-14  # MuJoCo refuses massless moving bodies
 
 
+def _placed_fixed_root(spec):
+    """The first body under ``<worldbody>``, when it has no joint and is placed away from the world frame."""
+    bodies = list(spec.worldbody.bodies)
+    if not bodies or list(bodies[0].joints):
+        return None
+    b = bodies[0]
+    turned = int(b.alt.type) != 0 or list(b.quat) != [1.0, 0.0, 0.0, 0.0]  # 0: a quaternion, MuJoCo's enum
+    return b if turned or any(b.pos) else None
+
+
+def _root_at_world(spec):
+    b = _placed_fixed_root(spec)
+    b.pos, b.quat = [0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]
+    b.alt.type = type(b.alt.type)(0)  # the quaternion, not an alternative orientation
+
+
 def _default_gravity(spec):
     spec.option.gravity = [0.0, 0.0, -9.81]
 
@@ -40,6 +56,8 @@ MJCF_READINGS = (
     ("visual_geoms", "Pinocchio's MJCF parser takes geoms with contype=0 and conaffinity=0 as visual and leaves "
      "them out of the inertia; MuJoCo counts every geom in inertiagrouprange",
      lambda spec: bool(_visual_geoms(spec)), _leave_out_of_inertia),
+    ("fixed_root", "Pinocchio's MJCF parser drops the pos and orientation of a first <body> that has no joint (it "
+     "puts that body at the world frame)", lambda spec: _placed_fixed_root(spec) is not None, _root_at_world),
     ("gravity", "Pinocchio's MJCF parser ignores <option gravity> and keeps (0, 0, -9.81)",
      lambda spec: list(spec.option.gravity) != [0.0, 0.0, -9.81], _default_gravity),
 )

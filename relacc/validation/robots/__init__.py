@@ -23,8 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from relacc.core.tolerances import robot_tolerance
-from relacc.engines import installed, readings
+from relacc.engines import adapter_module, installed, readings
 from relacc.engines import load as load_adapter
+from relacc.engines.contain import survives
 from relacc.errors import EngineError, ModelError
 from relacc.validation.robots.agreement import QUANTITIES, random_states
 from relacc.validation.robots.agreement import compare as compare_dynamics
@@ -81,6 +82,12 @@ class RobotComparison:
         return not self.audit and all(r.passed for rows in self.dynamics.values() for r in rows.values())
 
     @property
+    def compared(self) -> list[str]:
+        """The engines that took part: MuJoCo and each other engine that read the file, shares at least one of
+        MuJoCo's speeds and evaluated it (at least two, or :func:`compare` raises)."""
+        return [name for name, e in self.engines.items() if e.loaded]
+
+    @property
     def exit_code(self) -> int:
         return 0 if self.agree else 1
 
@@ -91,7 +98,8 @@ class RobotComparison:
             dynamics[quantity] = {"max_error": _finite(worst.max_error), "tolerance": worst.tolerance,
                                   "ok": all(r.passed for r in rows.values()),
                                   "engines": {e: r.as_row() for e, r in rows.items()}}
-        return {"model": self.model, "urdf": self.urdf, "engines": {k: e.as_json() for k, e in self.engines.items()},
+        return {"model": self.model, "urdf": self.urdf, "compared": self.compared,
+                "engines": {k: e.as_json() for k, e in self.engines.items()},
                 "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
                 "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree}
 
@@ -144,6 +152,8 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     if urdf is not None and not Path(urdf).is_file():
         raise ModelError(f"{urdf}: no such file")
     reference = load_adapter("mujoco", model)
+    if reference.model.nv == 0:
+        raise ModelError(f"{model}: MuJoCo reads no joint in it: nothing moves, so there are no dynamics to compare")
     if urdf is None and Path(model).suffix.lower() == ".urdf":  # MuJoCo reads URDF too: Pinocchio by its URDF parser
         urdf = model
     reports = {"mujoco": EngineReport("mujoco", True, reference.model.nq, reference.model.nv,
@@ -151,6 +161,8 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     robots = []
     for name in names:
         try:
+            adapter_module(name)  # imported here once, not in the probe
+            survives(f"{model}: {name} cannot load it", lambda: load_robot(name, model, reference, urdf))  # noqa: B023
             robot = load_robot(name, model, reference, urdf)
         except ModelError as exc:
             reports[name] = EngineReport(name, False, error=str(exc))
@@ -158,12 +170,16 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
         except (Exception, SystemExit) as exc:  # whatever an engine raises is that engine not loading
             reports[name] = EngineReport(name, False, error=_one_line(name, "cannot load it", exc))
             continue
+        if reference.model.nv and not len(robot.dofs):  # read, but none of its joints is one of MuJoCo's
+            reports[name] = EngineReport(name, False, robot.structure.nq, robot.structure.nv,
+                                         error=f"{name} shares no speed with MuJoCo: it read nq "
+                                               f"{robot.structure.nq}, nv {robot.structure.nv} and none of its "
+                                               "joints is one of MuJoCo's", warnings=tuple(robot.warnings))
+            continue
         robots.append(robot)
         reports[name] = EngineReport(name, True, robot.structure.nq, robot.structure.nv,
                                      warnings=tuple(robot.warnings))
-    if not robots:
-        why = "; ".join(f"{r.error}" for r in reports.values() if r.error) or "no other engine is installed"
-        raise ModelError(f"{model}: nothing to compare MuJoCo with: {why}")
+    _at_least_two(model, reports, robots)
     scales = Scales.of(reference.structure)
     states = random_states(reference, n_states, seed)
     audits, dynamics = [], {q: {} for q in QUANTITIES}
@@ -197,12 +213,24 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
             tree_rows.setdefault(quantity, {})[case] = row
     verdicts = []
     robots = [r for r in robots if reports[r.engine].loaded]
+    _at_least_two(model, reports, robots)
     if reference.model.nbody > 1:
         voters = _voters(robots, reference, states)
         verdicts = _referee(reference, voters, states, dynamics)
         _mujoco_side_causes(dynamics, voters, tree_rows)
     return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
                            {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts)
+
+
+def _at_least_two(model, reports, robots) -> None:
+    """A comparison needs MuJoCo and at least one other engine over at least one shared speed.
+
+    Raises:
+        ModelError: no other engine took part; the message says, engine by engine, why.
+    """
+    if not robots:
+        why = "; ".join(f"{r.error}" for r in reports.values() if r.error) or "no other engine is installed"
+        raise ModelError(f"{model}: nothing to compare MuJoCo with: {why}")
 
 
 @dataclass(frozen=True)
@@ -334,7 +362,7 @@ def _mujoco_cause(quantity, reference, evaluator, states) -> str:
     acceleration routine, ``mj_rnePostConstraint`` at zero rates, rather than ``mj_jacDot``) agrees with relacc."""
     if quantity in ("J_dot v", "classical acceleration"):
         from relacc.engines.base import com
-        from relacc.validation.robots.agreement import shared_links
+        from relacc.validation.robots.agreement import point_terms, shared_links
 
         links = shared_links(reference.structure, evaluator.structure, 0.0)
         tol = robot_tolerance(len(reference.structure.links))
@@ -342,9 +370,9 @@ def _mujoco_cause(quantity, reference, evaluator, states) -> str:
         for q, v, a in zip(states.q, states.u, states.udot):
             mine = evaluator.kinematics(q, v, a, links)
             theirs = reference.points(q[None], v[None], np.zeros((1, len(v))), [com(name) for name in links])
-            scale = np.abs(mine.J).max(initial=0) * (np.abs(a).max(initial=0) + np.abs(v).max(initial=0) ** 2)
+            scale, _ = point_terms(mine.J, mine.position, v, a)  # J_dot v: MuJoCo's acceleration at zero rates
             x, y = mine.Jdot_v, theirs.acceleration[0]
-            worst = max(worst, float(np.abs(x - y).max(initial=0)) / max(scale, np.finfo(float).tiny))
+            worst = max(worst, float((np.abs(x - y).max(axis=1) / np.maximum(scale, np.finfo(float).tiny)).max()))
         if worst <= tol:
             return MUJOCO_JACDOT if _ball_then_slide(reference.model) else (
                 "MuJoCo's mj_jacDot differs from its own acceleration routine (mj_rnePostConstraint), which agrees "

@@ -1,7 +1,8 @@
 """Dynamics agreement between MuJoCo and another engine at the reference configuration and at random states.
 
-Over the speeds both engines have (joints one engine lacks stay at MuJoCo's ``qpos0`` with zero
-speed), in the reference's coordinates (:mod:`relacc.engines.base`):
+Over the speeds both engines have (a joint one engine lacks is held in the other at MuJoCo's ``qpos0`` with
+zero speed, where the first engine's parser fixed it), in the reference's coordinates
+(:mod:`relacc.engines.base`):
 
 * ``mass matrix``, ``bias forces`` (Coriolis, centrifugal and gravity), ``gravity forces``,
   ``forward dynamics`` (accelerations at zero torque, no passive force, actuator or constraint;
@@ -18,8 +19,9 @@ the larger of the two engines', so that an engine that leaves out a term is meas
 solve: it carries ``kappa_2(M)``; where an engine's ``M`` over the shared speeds is exactly singular,
 a speed moving no inertia, its forward dynamics is undefined: the error is infinite and the row
 names that engine's inertia-less joints under ``singular``);
-``|J| (|a| + |v|^2)`` for point accelerations and ``|J| |v|^2`` for ``J_dot v``; the values' own
-magnitude otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` per link).
+per link, the terms summed in its ``J_dot v`` and classical acceleration (:func:`point_terms`: a lever
+arm times ``(sum |v_i|)^2`` over the speeds that move it, plus ``|J| sum |a_i|``); the values' own magnitude
+otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` per link).
 """
 
 from __future__ import annotations
@@ -140,17 +142,27 @@ def compare(reference, robot, states: States) -> dict:
     def _err(x, ref, scale, key):
         d = _difference(x, ref)
         diffs[key] = max(diffs[key], d)
-        if key in per_link:
-            for i, link in enumerate(links):
-                per_link[key][link] = max(per_link[key][link], _ratio(_difference(x[i], ref[i]), scale))
-        return _ratio(d, scale)
+        if key not in per_link:
+            return _ratio(d, scale)
+        scales = np.broadcast_to(np.asarray(scale, dtype=float), (len(links),))  # one scale, or one per link
+        worst = 0.0 if np.isfinite(d) else float("inf")
+        for i, link in enumerate(links):
+            r = _ratio(_difference(x[i], ref[i]), scales[i])
+            per_link[key][link] = max(per_link[key][link], r)
+            worst = max(worst, r)
+        return worst
 
+    held = np.setdiff1d(np.arange(states.q.shape[1]), robot.qdofs)  # positions of joints the robot lacks
+    q0 = reference.default_q()
     for q, v0, a0 in zip(states.q, states.u, states.udot):
         v, a = np.zeros_like(v0), np.zeros_like(a0)
-        v[dofs], a[dofs] = v0[dofs], a0[dofs]  # unshared joints locked at rest
+        v[dofs], a[dofs] = v0[dofs], a0[dofs]  # unshared joints locked at rest, at MuJoCo's qpos0 in both
+        if held.size:
+            q = q.copy()
+            q[held] = q0[held]
         M0, b0, g0, f0 = _restrict(reference.dynamics(q, v), dofs, solve)
         M1, b1, g1, f1 = _restrict(robot.dynamics(q, v), dofs, solve)
-        vs, as_ = np.abs(v[dofs]).max(initial=0), np.abs(a[dofs]).max(initial=0)
+        vs = np.abs(v[dofs]).max(initial=0)
         # the terms' magnitude: gravity's sum_l m_l |g| |J_l| and the velocity terms' max_i M_ii |v|^2, which
         # stay when the results cancel (a planar model's gravity forces, a symmetric one's Coriolis forces)
         terms = _gravity_terms(reference, q, v, a, dofs, gravity) + np.abs(np.diag(M0)).max(initial=0) * vs**2
@@ -175,11 +187,12 @@ def compare(reference, robot, states: States) -> dict:
             k1 = robot.kinematics(q, v, a, links)
             J0 = k0.J[:, :, dofs]
             jscale = np.abs(J0).max(initial=0)
+            jdv, acc = point_terms(J0, k0.position, v[dofs], a[dofs])
             errors["COM position"].append(_err(k1.position, k0.position, np.abs(k0.position).max(initial=0),
                                                "COM position"))
             errors["COM Jacobian"].append(_err(k1.J, J0, jscale, "COM Jacobian"))
-            errors["J_dot v"].append(_err(k1.Jdot_v, k0.Jdot_v, jscale * vs**2, "J_dot v"))
-            errors["classical acceleration"].append(_err(k1.acceleration, k0.acceleration, jscale * (as_ + vs**2),
+            errors["J_dot v"].append(_err(k1.Jdot_v, k0.Jdot_v, jdv, "J_dot v"))
+            errors["classical acceleration"].append(_err(k1.acceleration, k0.acceleration, acc,
                                                          "classical acceleration"))
     out = {}
     tol = robot_tolerance(n_links)
@@ -190,6 +203,24 @@ def compare(reference, robot, states: States) -> dict:
         out[k] = Comparison(2, robot.engine, "model", k, e, np.full(e.shape, tol), True, tol, diffs[k],
                             singular=singular if k == "forward dynamics" else {}, per_link=per_link.get(k, {}))
     return out
+
+
+def point_terms(J, position, v, a) -> tuple[np.ndarray, np.ndarray]:
+    """The magnitude of the terms summed in each link's ``J_dot v`` and classical acceleration, ``(L,)`` each.
+
+    ``J_dot v = sum_i sum_j (dJ_i/dq_j) v_i v_j`` over the speeds on the link's path (its Jacobian's nonzero
+    columns): a hinge's ``dJ_i/dq_j`` is a lever arm, bounded by the larger of the link's Jacobian entries and its
+    distance from the world origin (engines form world positions and subtract them); the terms' sum is that lever
+    times ``(sum_i |v_i|)^2``, which on a 7-joint arm is several times ``max |v|^2``. The classical acceleration
+    adds ``J a``, terms ``|J| sum_i |a_i|``.
+    """
+    path = np.any(J != 0, axis=1)  # (L, nv): the speeds that move each link
+    speed = (path * np.abs(v)).sum(axis=1)
+    rate = (path * np.abs(a)).sum(axis=1)
+    jmax = np.abs(J).max(axis=(1, 2), initial=0)
+    lever = np.maximum(jmax, np.linalg.norm(position, axis=1))
+    jdv = lever * speed**2
+    return jdv, jdv + jmax * rate
 
 
 def _difference(x, ref) -> float:

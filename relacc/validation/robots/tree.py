@@ -30,6 +30,7 @@ class TreeRobot:
         self.engine = f"relacc (case {self.case})"
         self.tree = reference.reference
         self.model, self.joint_names, self.path = reference.model, reference.joint_names, reference.path
+        self.default_q = reference.default_q  # MuJoCo's qpos0
         self.structure = reference.structure
         self.dofs, self.qdofs = np.arange(self.tree.nv), np.arange(self.tree.nq(2))
         self.extra_dofs = 0

@@ -1,0 +1,56 @@
+"""An MJCF without its mesh geometry, for an engine that cannot read the meshes (engine-free).
+
+Drake's MJCF parser reads ``.obj`` meshes only and refuses a file naming any other (robosuite's and
+gymnasium-robotics' ``.stl`` meshes). Where every body's inertia is explicit (an ``<inertial>``; or
+``<compiler inertiafromgeom="false">``), meshes have no part in the dynamics: :func:`without_meshes` gives the text
+with its mesh geoms and mesh assets removed and a note saying so. Where a body's inertia would come from a mesh,
+the meshes cannot be dropped without changing the dynamics, and it says which body.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from relacc.errors import ModelError
+
+
+def _mesh_geom(geom) -> bool:
+    return geom.get("type") == "mesh" or geom.get("mesh") is not None
+
+
+def without_meshes(path) -> tuple[str, str]:
+    """``(text, note)``: the MJCF at ``path`` without mesh geoms and mesh assets, and a one-line note.
+
+    Raises:
+        ModelError: the file does not parse, includes other files, or a body's inertia comes from a mesh (named).
+    """
+    path = Path(path)
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError) as exc:
+        raise ModelError(f"{path}: not readable XML: {' '.join(str(exc).split())}") from None
+    if root.find(".//include") is not None:
+        raise ModelError(f"{path}: includes other files; relacc drops meshes from a single file only")
+    from_geoms = all(c.get("inertiafromgeom", "auto") != "false" for c in root.iter("compiler"))
+    if from_geoms:
+        for body in root.iter("body"):
+            if body.find("inertial") is None and any(_mesh_geom(g) for g in body.findall("geom")):
+                raise ModelError(f"{path}: body {body.get('name', '(unnamed)')!r} takes its inertia from a mesh "
+                                 "(no <inertial>), so the meshes cannot be dropped")
+    geoms = assets = 0
+    for parent in list(root.iter()):
+        for child in list(parent):
+            if child.tag == "geom" and _mesh_geom(child) and parent.tag != "default":
+                parent.remove(child)
+                geoms += 1
+            elif child.tag == "mesh" and parent.tag == "asset":
+                parent.remove(child)
+                assets += 1
+    for compiler in root.iter("compiler"):
+        compiler.attrib.pop("meshdir", None)
+    if root.get("model") is None:
+        root.set("model", path.stem)
+    note = (f"relacc dropped the file's {geoms} mesh geoms and {assets} mesh assets for this engine, which cannot "
+            "read the meshes: every body's inertia is explicit, so they have no part in the dynamics")
+    return ET.tostring(root, encoding="unicode"), note
