@@ -74,6 +74,7 @@ def run_json(args, capsys):
 CHECK = ["check", "--states", "60000", "--cases", "1", "--engines", "mujoco", "--json", "--quiet"]
 
 
+@pytest.mark.slow
 def test_check_on_the_cluster_is_the_local_run(cluster, capsys, monkeypatch):
     """relacc check --scheduler tcp://... --json equals the in-process run, over three tasks of 20,000 states."""
     from relacc.cluster import sweeps
@@ -84,6 +85,7 @@ def test_check_on_the_cluster_is_the_local_run(cluster, capsys, monkeypatch):
     assert (code, remote) == (local_code, local)
 
 
+@pytest.mark.slow
 def test_a_worker_killed_mid_run_changes_nothing(cluster, capsys, monkeypatch):
     """One worker SIGKILLed after the first task finishes: its tasks are retried and the answer is unchanged."""
     import relacc.cluster as cluster_module
@@ -108,6 +110,7 @@ def test_a_worker_killed_mid_run_changes_nothing(cluster, capsys, monkeypatch):
     assert remote == local
 
 
+@pytest.mark.slow
 def test_ctrl_c_cancels_the_clusters_work(cluster):
     """SIGINT to a running `relacc check --scheduler`: one line, exit 130, and the scheduler holds no task after."""
     from distributed import Client
@@ -134,6 +137,7 @@ def test_ctrl_c_cancels_the_clusters_work(cluster):
     assert left == 0
 
 
+@pytest.mark.slow
 def test_compare_of_several_models_on_the_cluster(cluster, capsys, tmp_path):
     """relacc compare A B --scheduler: the same JSON as in-process, one entry per model, a broken one exit 2."""
     from relacc.fixtures.shipped import models_dir
@@ -148,6 +152,7 @@ def test_compare_of_several_models_on_the_cluster(cluster, capsys, tmp_path):
     assert [entry["exit"] for entry in remote] == [0, local[1]["exit"], 2]
 
 
+@pytest.mark.slow
 def test_ensemble_on_the_cluster(cluster, capsys):
     """relacc simulate --ensemble on the cluster: the same members, the same largest differences as in-process."""
     args = ["simulate", "tumbling", "--ensemble", "1100", "--duration", "0.02", "--engines", "relacc,mujoco",
@@ -205,6 +210,7 @@ def test_bad_schedulers_are_one_line_in_bounded_time(address, message, capsys, m
     assert err.count("\n") == 1 and message in err
 
 
+@pytest.mark.slow
 def test_local_cluster_is_started_and_stopped(capsys):
     """--scheduler local:2 starts two worker processes here, gives the in-process answer and stops them."""
     args = ["check", "--states", "500", "--cases", "3", "--engines", "pinocchio", "--json", "--quiet"]

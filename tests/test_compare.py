@@ -155,6 +155,7 @@ GYM = {  # file: facts the audit must state (item, where, engine, mujoco's value
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["ant.xml", "half_cheetah.xml", "hopper.xml", "humanoid.xml", "humanoidstandup.xml",
                                   "inverted_double_pendulum.xml", "inverted_pendulum.xml", "point.xml", "pusher.xml",
                                   "pusher_v5.xml", "reacher.xml", "swimmer.xml", "walker2d.xml", "walker2d_v5.xml"])
@@ -174,6 +175,7 @@ def test_gymnasium_assets_are_compared_and_every_difference_explained(name):
         assert row.values[engine] == pytest.approx(theirs, rel=1e-10, abs=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["ant.xml", "humanoid.xml"])
 def test_free_root_models_are_compared_through_the_speed_maps(name):
     """ant and humanoid (free root joint): every quantity is compared for both engines, none left out."""
@@ -407,6 +409,7 @@ def test_drake_keeps_armature_only_with_the_actuators_it_reads(tmp_path, actuato
         assert found.values == {"mujoco": [0.3], "drake": [0.0]} and "<motor> or <position>" in found.cause
 
 
+@pytest.mark.slow
 def test_docs_table_is_current():
     """docs/compare.md's tables (gymnasium's assets, models outside it) are what scripts/compare_table.py writes."""
     import importlib.util

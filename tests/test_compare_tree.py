@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import gymnasium
+import pytest
 
 from relacc.validation.robots import MUJOCO_JACDOT, compare
 
@@ -15,6 +16,7 @@ BALL_THEN_SLIDE = """<mujoco model="ball_then_slide"><compiler angle="radian"/><
 </worldbody></mujoco>"""
 
 
+@pytest.mark.slow
 def test_relacc_evaluates_every_quantity_in_every_case():
     """On the free-root ant every engine agrees; relacc's tree is there in cases 1-3 and agrees with MuJoCo."""
     result = compare(ASSETS / "ant.xml", n_states=4, seed=3)

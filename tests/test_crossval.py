@@ -47,6 +47,7 @@ def test_printed_variant_disagrees_with_engines(harness):
             assert comp.median_error > 1e-3, f"case {case} {engine}: printed variant agrees"
 
 
+@pytest.mark.slow
 def test_check_streams_in_chunks(fixture, monkeypatch):
     """A sweep of several chunks: the merged summary equals the chunks' own, the median within its bin, memory flat."""
     import tracemalloc

@@ -94,6 +94,7 @@ def test_a_graded_function_gets_copies(tmp_path):
     assert check_formula(right, quantity="acceleration", case=1, n=10).ok
 
 
+@pytest.mark.slow
 def test_grade_json_is_strict_with_nan_results(tmp_path):
     out = _relacc("grade", _module(tmp_path, "def fn(chain, q, u, udot):\n    return np.full(3, np.nan)\n"),
                   "--quantity", "velocity", "--case", "1", "--states", "3", "--json", cwd=tmp_path)
@@ -102,6 +103,7 @@ def test_grade_json_is_strict_with_nan_results(tmp_path):
     assert data["worst_error"] is None and data["ok"] is False
 
 
+@pytest.mark.slow
 def test_a_printing_function_does_not_corrupt_json(tmp_path):
     spec = _module(tmp_path, "import relacc\nprint('module says hi')\ndef fn(chain, q, u, udot):\n"
                              "    print('hello from fn')\n    return relacc.g2_kinematics(chain, 1, q, u).velocity\n")
@@ -149,6 +151,7 @@ def test_relacc_states_checks_its_arguments_and_hands_out_read_only_states(relac
 
 # --- memory refused up front --------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_huge_requests_are_refused_before_any_work(tmp_path, relacc_states):
     for argv in (["compare", str(ROOT / "models" / "two_body.xml"), "--states", "1000000000"],
                  ["grade", "examples/student_correct.py:velocity", "--quantity", "velocity", "--case", "1",
@@ -189,6 +192,7 @@ def test_an_unstable_engine_run_is_a_diverged_run(tmp_path):
     assert list(work.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_sigterm_during_simulate_removes_the_new_directory(tmp_path):
     out_dir = tmp_path / "new"
     proc = subprocess.Popen([sys.executable, "-m", "relacc", "simulate", "gimbal_spin", "--duration", "20",
@@ -209,6 +213,7 @@ def test_sigterm_during_simulate_removes_the_new_directory(tmp_path):
 
 # --- --out means the same everywhere ------------------------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [["compare", "MODEL", "--out", ""], ["simulate", "tumbling", "--out", ""],
                                   ["fixtures", "--out", ""], ["report", "--out", ""]])
 def test_an_empty_out_is_refused(tmp_path, argv):
@@ -217,6 +222,7 @@ def test_an_empty_out_is_refused(tmp_path, argv):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_compare_out_creates_its_parents(tmp_path):
     page = tmp_path / "missing" / "dir" / "page.html"
     out = _relacc("compare", str(ROOT / "models" / "two_body.xml"), "--states", "2", "--engines", "drake",
@@ -232,6 +238,7 @@ def test_fixtures_refuses_an_empty_name(tmp_path):
 
 # --- cluster addresses --------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("address", ["tcp://[::1", "tcp://", "tcp://localhost:notaport", "inproc://x",
                                      "local:99999"])
 def test_bad_scheduler_addresses_are_one_line(tmp_path, address):
@@ -239,6 +246,7 @@ def test_bad_scheduler_addresses_are_one_line(tmp_path, address):
     assert "--scheduler" in line
 
 
+@pytest.mark.slow
 def test_something_else_on_the_port_is_one_line_in_time(tmp_path):
     server = http.server.HTTPServer(("127.0.0.1", 0), http.server.BaseHTTPRequestHandler)
     threading.Thread(target=server.serve_forever, daemon=True).start()
@@ -252,6 +260,7 @@ def test_something_else_on_the_port_is_one_line_in_time(tmp_path):
         server.shutdown()
 
 
+@pytest.mark.slow
 def test_an_unroutable_scheduler_is_one_line(tmp_path):
     env = dict(os.environ, RELACC_SCHEDULER_TIMEOUT="3")
     line = _one_line(_relacc("check", "--states", "10", "--scheduler", "tcp://10.255.255.1:8786", cwd=tmp_path,
@@ -259,6 +268,7 @@ def test_an_unroutable_scheduler_is_one_line(tmp_path):
     assert "memory" not in line and "--scheduler" in line
 
 
+@pytest.mark.slow
 def test_sigterm_while_local_workers_start_is_one_line(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "relacc", "check", "--states", "100000", "--scheduler", "local:4",
                              "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)

@@ -99,6 +99,7 @@ def test_stream_names_the_bad_chunk(chain):
         list(iter_g2_kinematics(chain, 1, q, s.u, s.udot, chunk_size=5))
 
 
+@pytest.mark.slow
 def test_stream_memory_is_bounded_by_the_chunk(chain, tmp_path):
     """Streaming 400k states from memmaps peaks at the same memory as 100k: set by the chunk, not N."""
     def peak(n):

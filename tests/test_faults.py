@@ -72,6 +72,7 @@ def _run_and_signal(argv, cwd, sig, after):
     return proc.returncode, out, err
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
 def test_interrupting_the_report_keeps_the_previous_report(tmp_path, sig):
     """`relacc report` interrupted by SIGINT or SIGTERM: exit 130, one line, the old report untouched."""
@@ -83,6 +84,7 @@ def test_interrupting_the_report_keeps_the_previous_report(tmp_path, sig):
     assert target.read_bytes() == OLD and _leftovers(tmp_path) == []
 
 
+@pytest.mark.slow
 def test_interrupting_a_simulation_keeps_the_previous_csvs(tmp_path):
     """`relacc simulate --out DIR` interrupted while streaming its CSVs: the earlier CSVs survive whole."""
     out = tmp_path / "runs"
@@ -137,6 +139,7 @@ def _full_disk(monkeypatch):
     monkeypatch.setattr(os, "fdopen", full)
 
 
+@pytest.mark.slow
 def test_cli_on_a_full_disk_is_one_line_exit_2(tmp_path, monkeypatch, capsys):
     """`relacc simulate --out` on a disk too small for its CSVs: exit 2, one line, nothing left (root: a real 64 kB
     tmpfs, in a subprocess; otherwise the kernel's ENOSPC injected into the command run in-process)."""
@@ -157,6 +160,7 @@ def test_cli_on_a_full_disk_is_one_line_exit_2(tmp_path, monkeypatch, capsys):
         assert list(disk.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_read_only_destinations_are_refused_before_any_work(tmp_path):
     """An --out in a read-only place is refused up front (a read-only mount as root, else a 0555 directory)."""
     place = tmp_path / "ro"

@@ -8,6 +8,7 @@ import io
 from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
@@ -67,6 +68,7 @@ def test_g2_kinematics_junk(chain, case, q, u, udot, variant):
         _assert_finite(k)
 
 
+@pytest.mark.slow
 @given(st.data())
 def test_g2_kinematics_valid_shapes_extreme_values(chain, data):
     """Well-shaped states with values up to 1e300 (speeds up to 1e200) give finite results or a RelaccError."""
@@ -149,6 +151,7 @@ def test_harness_and_engines_junk(fixture, n_states, seed, engine):
     _only_relacc_errors(lambda: Harness(fixture, engines=(engine,), n_states=n_states, seed=seed))
 
 
+@pytest.mark.slow
 @given(st.data())
 def test_malformed_scene_files(tmp_path_factory, data):
     """Random edits of a shipped scene (lines deleted, garbled, values replaced) give a FixtureError or a scene."""

@@ -108,6 +108,7 @@ def test_overflow_is_an_error_not_inf(chain):
         relacc.g2_kinematics(chain, 1, q, u, u)
 
 
+@pytest.mark.slow
 def test_hypothesis_search_finds_no_state_outside_the_model(fixture):
     """Hypothesis, targeting error / bound over decades of magnitudes, finds nothing above the bound."""
     worst = hypothesis_search(fixture, max_examples=60, seed=SEED)

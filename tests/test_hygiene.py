@@ -74,10 +74,11 @@ COMMANDS = [
     ["compare", "MODELS/two_body_euler.urdf", "--states", "2"],
     ["check", "--model", "MODELS/two_body.xml", "--states", "2", "--quiet"],
     ["grade", "ROOT/examples/student_correct.py:velocity", "--quantity", "velocity", "--case", "1", "--states", "5"],
-    ["report", "--quick", "--out", "ELSEWHERE/report.html"],
 ]
+"""Every command but the report, which tests/test_report.py's ``quick_report`` runs from an empty directory."""
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", COMMANDS, ids=lambda a: " ".join(a[:2]))
 def test_every_command_leaves_the_working_directory_empty(tmp_path, argv):
     """Run from an empty directory, every command writes only where it is told (MuJoCo's log included)."""

@@ -40,6 +40,7 @@ def installed(tmp_path_factory):
     return {"wheel": wheel, "bin": venv / "bin", "python": python, "cwd": empty}
 
 
+@pytest.mark.slow
 def test_wheel_carries_the_shipped_models_and_scenes(installed):
     """The wheel holds the chain's TOML, its engine files, every scene, the templates and the recorded runs."""
     names = set(zipfile.ZipFile(installed["wheel"]).namelist())
@@ -50,6 +51,7 @@ def test_wheel_carries_the_shipped_models_and_scenes(installed):
     assert any(n.startswith("relacc/recorded/throughput-") for n in names)
 
 
+@pytest.mark.slow
 def test_installed_relacc_comes_from_the_wheel(installed):
     """In the new environment relacc and its models are imported from that environment, not the checkout."""
     out = subprocess.run([str(installed["python"]), "-c", "import relacc\nfrom relacc.fixtures import shipped\n"
@@ -60,6 +62,7 @@ def test_installed_relacc_comes_from_the_wheel(installed):
     assert module.startswith(venv) and model.startswith(venv), out.stdout
 
 
+@pytest.mark.slow
 def test_check_simulate_and_report_run_from_an_empty_directory(installed):
     """`relacc check`, `relacc simulate tumbling` and `relacc report --quick --out X` work from an empty directory.
 
@@ -82,6 +85,7 @@ def test_check_simulate_and_report_run_from_an_empty_directory(installed):
     assert sorted(p.name for p in installed["cwd"].iterdir()) == ["X.html"]  # nothing else left behind
 
 
+@pytest.mark.slow
 def test_a_models_folder_in_the_working_directory_changes_nothing(installed):
     """A `models/` folder in the working directory is not picked up: the shipped model is used."""
     decoy = installed["cwd"] / "decoy"

@@ -133,6 +133,7 @@ def test_import_relacc_loads_nothing_heavy(tmp_path):
     assert _loaded_after("import relacc", tmp_path) == []
 
 
+@pytest.mark.slow
 def test_core_evaluation_on_the_reference_path_loads_no_compiler(tmp_path):
     """The core's reference formulas run without numba: only a batched fast call loads the kernels."""
     code = ("import numpy as np, relacc\nc = relacc.TwoBodyChain(q2=[0, 0, .1], r2=[.1, 0, 0])\n"

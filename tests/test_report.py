@@ -20,12 +20,21 @@ CHROMIUM_FLAGS = [
 
 @pytest.fixture(scope="module")
 def quick_report(tmp_path_factory, fixture):
-    """`relacc report --quick` written through the command line."""
+    """`relacc report --quick` run as a user runs it, from an empty working directory, which it leaves empty
+    (the report's case of tests/test_hygiene.py::test_every_command_leaves_the_working_directory_empty)."""
+    import subprocess
+    import sys
+
     out = tmp_path_factory.mktemp("report") / "agreement.html"
-    assert main(["report", "--quick", "--quiet", "--out", str(out), "--model", str(fixture.source)]) == 0
+    work = tmp_path_factory.mktemp("work")
+    run = subprocess.run([sys.executable, "-m", "relacc", "report", "--quick", "--quiet", "--out", str(out),
+                          "--model", str(fixture.source)], capture_output=True, text=True, cwd=work, timeout=900)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert list(work.iterdir()) == []
     return out
 
 
+@pytest.mark.slow
 def test_report_has_verdict_and_every_section(quick_report):
     """The page carries the verdict, the versions, the seed and one <section> per section module."""
     html = quick_report.read_text()
@@ -37,6 +46,7 @@ def test_report_has_verdict_and_every_section(quick_report):
     assert "seed 0" in html
 
 
+@pytest.mark.slow
 def test_report_is_self_contained(quick_report):
     """No src/href points outside the file: only data: URIs and in-page anchors."""
     html = quick_report.read_text()
@@ -46,6 +56,7 @@ def test_report_is_self_contained(quick_report):
     assert "<script" not in html and "@import" not in html and "url(http" not in html
 
 
+@pytest.mark.slow
 def test_report_shows_every_erratum(quick_report):
     """Every equation id has a row with a status badge."""
     html = quick_report.read_text()
@@ -74,6 +85,7 @@ def test_out_is_a_directory_is_one_line_error(tmp_path, capsys):
     assert "is a directory" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_report_in_headless_chromium(quick_report):
     """Chromium loads the page with no console error, no network request and no table wider than the page."""
     from playwright.sync_api import sync_playwright
@@ -109,6 +121,7 @@ def test_report_in_headless_chromium(quick_report):
     assert n_images > 30 and broken == 0
 
 
+@pytest.mark.slow
 def test_report_shows_the_recorded_benchmark_runs(quick_report):
     """Every recorded run in benchmarks/results has a row in the throughput section's table."""
     html = quick_report.read_text()
@@ -162,6 +175,7 @@ def test_batched_ratios_compare_like_with_like(tmp_path):
     assert [run["ratios"] for run in recorded_runs(tmp_path)] == [r]
 
 
+@pytest.mark.slow
 def test_report_shows_the_recorded_dynamics_runs(quick_report):
     """Every recorded run of benchmarks/batched.py has a row in the throughput section, as does the live run."""
     html = quick_report.read_text()

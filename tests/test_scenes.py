@@ -31,6 +31,7 @@ def test_four_scenes_are_shipped():
     assert {"tumbling", "gravity_spring", "forced_damped", "gimbal_spin"} <= {p.stem for p in SHIPPED}
 
 
+@pytest.mark.slow
 def test_engines_agree_to_a_micrometre(scene_run):
     """With the scene's own integrator and step, every pair of engines keeps G2 within 1e-6 m."""
     scene, result = scene_run
@@ -39,6 +40,7 @@ def test_engines_agree_to_a_micrometre(scene_run):
     assert pos <= 1e-6, f"{scene.name}: {pairs}"
 
 
+@pytest.mark.slow
 def test_note_accelerations_match_engines_along_the_run(scene_run):
     """Along relacc's trajectory the note's a_G2 equals each engine's to c eps kappa(M) of the terms."""
     scene, result = scene_run
@@ -47,6 +49,7 @@ def test_note_accelerations_match_engines_along_the_run(scene_run):
         assert check["error"] <= check["bound"], f"{scene.name} {engine}: {check}"
 
 
+@pytest.mark.slow
 def test_trajectories_are_finite_and_start_at_the_scene_state(scene_run):
     """Every trajectory is finite and all engines start with the same G2 position."""
     scene, result = scene_run
@@ -64,6 +67,7 @@ def _coarse(scene, factor):
     return scene.replace(dt=dt, duration=round(duration / dt) * dt)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
 def test_engine_differences_shrink_at_the_integrators_order(path):
     """Each engine's successive differences |x(8h) - x(4h)| / |x(4h) - x(2h)| shrink at order >= 3.5 (RK4: 4, RK5: 5).
@@ -82,6 +86,7 @@ def test_engine_differences_shrink_at_the_integrators_order(path):
         assert order >= 3.5, f"{scene.name} {engine}: differences {d}, observed order {order:.2f}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", [p for p in SHIPPED if scenes.load(p).effects.conserves_energy],
                          ids=lambda p: p.stem)
 def test_conservative_scenes_conserve_energy_and_momentum(path):
@@ -218,6 +223,7 @@ def test_energy_drift_of_a_chain_falling_from_rest(tmp_path):
         assert result.tracks[name].energy_drift() == pytest.approx(tr.energy_drift(), rel=1e-12)
 
 
+@pytest.mark.slow
 def test_long_runs_keep_only_a_block(tmp_path):
     """With keep=False and CSVs streamed, memory is set by the block: 5x the steps, about the same peak."""
     import tracemalloc
@@ -253,6 +259,7 @@ def test_inline_models_leave_no_temporary_directory(tmp_path, monkeypatch):
     assert list((tmp_path / "tmp").iterdir()) == []
 
 
+@pytest.mark.slow
 def test_model_engines_apply_only_the_scenes_effects():
     """gymnasium's ant carries joint damping (1), limits (+-30 to 70 deg), contacts with a floor, armature and
     motors. Its default scene names none of them: started inside the floor with speeds that cross every limit, the

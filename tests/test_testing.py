@@ -137,6 +137,7 @@ def test_exported_fixtures_load_in_every_engine_and_the_manifest_maps_every_case
     assert set(manifest["cases"]) == {"1", "2", "3"} and manifest["units"]["length"] == "m"
 
 
+@pytest.mark.slow
 def test_a_fresh_project_uses_the_plugin(tmp_path):
     """docs/testing.md's test file, in a project outside the repository: it passes; made wrong, it fails by name."""
     text = (REPO / "docs" / "testing.md").read_text()

@@ -19,6 +19,7 @@ def quick():
     return tradeoff.run(quick=True)
 
 
+@pytest.mark.slow
 def test_fitted_orders_match_theory(quick):
     """RK4 (relacc, Pinocchio, MuJoCo) fits order 4, Euler and MuJoCo's implicit integrators order 1."""
     from relacc.tradeoff.integrators import THEORY
@@ -28,6 +29,7 @@ def test_fitted_orders_match_theory(quick):
         assert abs(order - THEORY[key.split("/")[1]]) <= ORDER_BAND, (key, order)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["forward", "central"])
 def test_finite_difference_minimum_where_theory_puts_it(quick, method):
     """The best h is within 1.5 decades of eps^(1/2) (forward) and eps^(1/3) (central), every case."""
@@ -36,6 +38,7 @@ def test_finite_difference_minimum_where_theory_puts_it(quick, method):
         assert abs(np.log10(h / theory_step(method))) <= 1.5, (method, case, h)
 
 
+@pytest.mark.slow
 def test_finite_difference_error_falls_then_rises(quick):
     """Each stencil's error decreases with h down to its best step, then grows again from round-off."""
     for method in FORMULAS:
@@ -47,6 +50,7 @@ def test_finite_difference_error_falls_then_rises(quick):
         assert errors[0] > 100 * errors[i] and errors[-1] > 100 * errors[i], method
 
 
+@pytest.mark.slow
 def test_exact_methods_reach_rounding(quick):
     """Analytic formulas, engines and the complex step at h <= 1e-10 are within c eps of the reference."""
     for r in quick.derivatives:
@@ -55,6 +59,7 @@ def test_exact_methods_reach_rounding(quick):
             assert r["error"] <= rounding_tolerance(), r
 
 
+@pytest.mark.slow
 def test_reference_solutions_agree(quick):
     """The two independent reference trajectories (DOP853 1e-13; MuJoCo RK4 at dt/16) agree to 1e-10 m."""
     assert quick.references
@@ -68,6 +73,7 @@ def test_pareto_front():
     assert [(r["error"], r["seconds"]) for r in tradeoff.pareto(rows)] == [(1e-2, 1), (1e-4, 2), (1e-8, 10)]
 
 
+@pytest.mark.slow
 def test_cli_tradeoff_json(capsys):
     """relacc tradeoff --quick --json prints derivatives, integrators and orders with the documented keys."""
     assert main(["tradeoff", "--quick", "--json"]) == 0

@@ -36,6 +36,7 @@ def test_check_takes_a_model_file(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_check_on_ant_agrees_in_every_case(tmp_path):
     out = _relacc("check", "--model", str(ASSETS / "ant.xml"), "--states", "3", "--cases", "1,3", "--quiet",
                   cwd=tmp_path)

@@ -45,6 +45,7 @@ def test_sincos_within_two_ulps_of_libm(seed):
     assert worst <= TRIG_ULPS, f"seed {seed}: {worst} ulps"
 
 
+@pytest.mark.slow
 def test_sincos_compiled_and_numpy_give_the_same_bits():
     """The compiled sincos and the same source run on numpy arrays agree bit for bit."""
     x = _angles(2)
