@@ -270,8 +270,7 @@ class Adapter(abc.ABC):
         if effects.joints:
             from relacc.dynamics.tree import joint_forces
 
-            q, v = self.from_engine(qe, ve)
-            T, _ = self.speed_map(q, v)
+            q, v, T = self._from_engine(qe, ve)  # T does not depend on the speeds
             tau += np.linalg.solve(np.swapaxes(T, 1, 2), joint_forces(self.reference, q, v, effects)[..., None])[..., 0]
         if effects.bodies:
             tau += self.load_forces(qe, effects, t)
@@ -340,6 +339,11 @@ class Adapter(abc.ABC):
         Raises:
             EngineError: the engine lacks some of the reference's joints.
         """
+        q, v, _ = self._from_engine(qe, ve)
+        return q, v
+
+    def _from_engine(self, qe, ve):
+        """:meth:`from_engine` and the speed map ``T (n, nv_e, nv)`` at the positions."""
         if len(self.dofs) != self.reference.nv:
             raise EngineError(f"{self.engine} lacks some of the reference's joints: its states do not map back")
         qe, ve = np.atleast_2d(np.asarray(qe, dtype=float)), np.atleast_2d(np.asarray(ve, dtype=float))
@@ -349,7 +353,7 @@ class Adapter(abc.ABC):
         T, _ = self.speed_map(q, np.zeros((len(q), self.reference.nv)))
         v = np.zeros((len(q), self.reference.nv))
         v[:, self.dofs] = np.linalg.solve(T, ve[..., None])[..., 0]
-        return q, v
+        return q, v, T
 
     def dynamics(self, q, v) -> Dynamics:
         """:class:`Dynamics` at one reference state ``q (nq,)``, ``v (nv,)`` (speeds the engine lacks: zero), the
