@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from relacc.cli import main
+from relacc.core.tolerances import robot_tolerance
 from relacc.errors import ModelError
 from relacc.validation import robots
 from relacc.validation.robots import compare
@@ -70,9 +71,8 @@ def test_a_joint_one_engine_lacks_is_held_at_qpos0(tmp_path):
     assert {"mass matrix", "gravity forces", "forward dynamics"} <= set(result.dynamics)
 
 
-def test_a_placed_jointless_root_is_pinocchios_known_reading(tmp_path):
-    """Pinocchio's MJCF parser puts a jointless first body at the world frame (robosuite's baxter: 6.2 cm): every
-    difference it makes is attributed by recompiling MuJoCo with that body at the origin, none left unexplained."""
+def placed_root_arm(tmp_path):
+    """tests/test_compare.py's arm inside a jointless body placed at (0.3, -0.2, 0.5), turned 0.7 rad about z."""
     from tests.test_compare import ARM_MJCF
 
     inner = ARM_MJCF.format(compiler="", armature="", visual="", extra="")
@@ -81,6 +81,13 @@ def test_a_placed_jointless_root_is_pinocchios_known_reading(tmp_path):
     path.write_text(inner[:start] + '<body name="pedestal" pos="0.3 -0.2 0.5" euler="0 0 0.7">'
                     '<inertial pos="0 0 0" mass="4" diaginertia="0.1 0.1 0.1"/>' + inner[start:end] + "</body>"
                     + inner[end:])
+    return path
+
+
+def test_a_placed_jointless_root_is_pinocchios_known_reading(tmp_path):
+    """Pinocchio's MJCF parser puts a jointless first body at the world frame (robosuite's baxter: 6.2 cm): every
+    difference it makes is attributed by recompiling MuJoCo with that body at the origin, none left unexplained."""
+    path = placed_root_arm(tmp_path)
     result = compare(path, engines=["pinocchio"], n_states=4, seed=6)
     causes = {a.cause for a in result.audit}
     assert causes and all("drops the pos and orientation of a first <body>" in c for c in causes), causes
@@ -239,3 +246,30 @@ def test_a_directory_is_every_model_in_it(tmp_path, capsys):
     (tmp_path / "empty").mkdir()
     assert main(["compare", str(tmp_path / "empty")]) == 2
     assert "no .xml or .urdf file" in capsys.readouterr().err
+
+
+def test_the_page_draws_each_engines_robot_and_rings_what_differs(tmp_path):
+    """The geometry behind the drawing is each engine's reading: Pinocchio, which puts the jointless root at the
+    world frame, has every mass centre at MuJoCo's expressed in that root's frame (p, R from the file: an independent
+    reference); the drawing rings exactly Pinocchio's links and joints the audit names, never MuJoCo's."""
+    from scipy.spatial.transform import Rotation
+
+    from relacc.report.drawing import flagged
+    from relacc.report.robot import page_data, write
+    path = placed_root_arm(tmp_path)
+    result = compare(path, engines=["pinocchio"], n_states=2, seed=9)
+    geometry = result.as_json()["geometry"]
+    R, p = Rotation.from_euler("xyz", [0, 0, 0.7]).as_matrix(), np.array([0.3, -0.2, 0.5])
+    mine = {x["name"]: np.array(x["com"]) for x in geometry["mujoco"]["links"]}
+    theirs = {x["name"]: np.array(x["com"]) for x in geometry["pinocchio"]["links"]}
+    assert set(mine) == set(theirs) == {"link1", "link2", "link3"}
+    scale = max(np.abs(c).max() for c in mine.values()) + np.abs(p).max()  # the terms' magnitude (m)
+    for name in mine:  # the error model of compare: c eps per link of the terms' magnitude
+        np.testing.assert_allclose(theirs[name], R.T @ (mine[name] - p), rtol=0, atol=robot_tolerance(3) * scale)
+    marked = flagged(result.as_json()["audit"])
+    assert {e for e, _, _ in marked} == {"pinocchio"}
+    assert {("pinocchio", "link", n) for n in mine} <= marked
+    data = page_data(result)
+    assert data["drawing"].startswith("data:image/svg+xml;base64,")
+    html = (tmp_path / "page.html").read_text() if write(result, tmp_path / "page.html") else ""
+    assert '<section id="drawing">' in html and data["drawing"] in html

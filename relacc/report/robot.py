@@ -30,7 +30,10 @@ def page_data(result) -> dict:
     bad = [c for r in rows for c in r["cells"] if c is not None and not c["ok"]]
     unexplained = [c for c in bad if c["cause"].startswith("not explained")]
     unexplained += [a for a in audit if "not explained" in a["cause"]]
+    from relacc.report.drawing import drawing
+
     return {"n_bad": len(bad), "compared": data["compared"], "digits": SHOWN_DIGITS,
+            "drawing": drawing(data["geometry"], data["audit"]),
             "n_unexplained": len(unexplained), "model": data["model"], "urdf": data["urdf"],
             "engines": data["engines"], "names": engines,
             "others": others, "audit": audit, "dynamics": rows, "agree": data["agree"], "states": data["states"],

@@ -75,6 +75,10 @@ class RobotComparison:
     n_states: int = 0
     seed: int = 0
     referee: list = field(default_factory=list)
+    geometry: dict = field(default_factory=dict)
+    """``{engine: {"joints": [{"name", "type", "anchor", "axis"}], "links": [{"name", "mass", "com"}]}}``: what each
+    engine that took part made of the model at the reference configuration (MuJoCo's ``qpos0``): joint anchors,
+    unit axes (hinge, slide; None otherwise) and link mass centres in world components (m), masses (kg)."""
 
     @property
     def agree(self) -> bool:
@@ -101,7 +105,8 @@ class RobotComparison:
         return {"model": self.model, "urdf": self.urdf, "compared": self.compared,
                 "engines": {k: e.as_json() for k, e in self.engines.items()},
                 "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
-                "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree}
+                "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree,
+                "geometry": self.geometry}
 
 
 def _one_line(engine: str, what: str, exc: BaseException) -> str:
@@ -218,8 +223,18 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
         voters = _voters(robots, reference, states)
         verdicts = _referee(reference, voters, states, dynamics)
         _mujoco_side_causes(dynamics, voters, tree_rows)
+    geometry = {r.engine: _geometry(r.structure) for r in [reference, *robots]}
     return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
-                           {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts)
+                           {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts, geometry)
+
+
+def _geometry(structure) -> dict:
+    """Plain data of a :class:`relacc.engines.base.Structure`'s joints and links (see ``RobotComparison.geometry``)."""
+    listed = lambda x: None if x is None else [float(c) for c in x]  # noqa: E731
+    return {"joints": [{"name": j.name, "type": j.type, "anchor": listed(j.anchor), "axis": listed(j.axis)}
+                       for j in structure.joints],
+            "links": [{"name": link.name, "mass": float(link.mass), "com": listed(link.com)}
+                      for link in structure.links]}
 
 
 def _at_least_two(model, reports, robots) -> None:
