@@ -169,9 +169,11 @@ def test_report_takes_a_model_file(tmp_path):
         ids = view.eval_on_selector_all("section", "els => els.map(e => e.id)")
         bodies = view.eval_on_selector_all("#bodies tr td:first-child", "els => els.map(e => e.textContent)")
         cells = view.eval_on_selector_all("#cases th", "els => els.map(e => e.textContent)")
+        drawn = view.eval_on_selector("#drawing img", "e => e.complete && e.naturalWidth")
         browser.close()
     assert errors == []
-    assert ids == ["verdict", "engines", "audit", "dynamics", "referee", "cases", "bodies", "conventions",
+    assert ids == ["verdict", "engines", "drawing", "audit", "dynamics", "referee", "cases", "bodies", "conventions",
                    "simulation"]
+    assert drawn > 0, "the drawing of the robot did not render"
     assert bodies == ["torso", "thigh", "leg", "foot"]
     assert cells == ["quantity", "case 1", "case 2", "case 3"]
