@@ -73,7 +73,8 @@ def main(argv=None) -> int:
         for path in found:
             r = {**row(path, args.states), "package": package}
             rows.append(r)
-            print(f"| {package} | {path.name} | {r['exit']} | {', '.join(r.get('compared', [])) or '-'} | "
+            print(f"| {package} | {path.parent.name}/{path.name} | {r['exit']} | "
+                  f"{', '.join(r.get('compared', [])) or '-'} | "
                   f"{r.get('audit', '-')} | {r.get('dynamics', '-')} | {r.get('unexplained', '-')} | "
                   f"{r['stderr_lines']} |", flush=True)
     if args.json:

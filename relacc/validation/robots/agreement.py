@@ -209,18 +209,20 @@ def point_terms(J, position, v, a) -> tuple[np.ndarray, np.ndarray]:
     """The magnitude of the terms summed in each link's ``J_dot v`` and classical acceleration, ``(L,)`` each.
 
     ``J_dot v = sum_i sum_j (dJ_i/dq_j) v_i v_j`` over the speeds on the link's path (its Jacobian's nonzero
-    columns): a hinge's ``dJ_i/dq_j`` is a lever arm, bounded by the larger of the link's Jacobian entries and its
-    distance from the world origin (engines form world positions and subtract them); the terms' sum is that lever
-    times ``(sum_i |v_i|)^2``, which on a 7-joint arm is several times ``max |v|^2``. The classical acceleration
-    adds ``J a``, terms ``|J| sum_i |a_i|``.
+    columns): a hinge's ``dJ_i/dq_j`` is a lever arm, bounded by the larger of the link's Jacobian entries and the
+    model's extent at the state, the farthest link from the world origin (engines form world positions, MuJoCo
+    offsets from the subtree's mass centre, and subtract them: their rounding is eps times that extent, whatever
+    the link's own distance); the terms' sum is that lever times ``(sum_i |v_i|)^2``, which on a 7-joint arm is
+    several times ``max |v|^2``. The classical acceleration adds ``J a``, terms the same lever times
+    ``sum_i |a_i|`` (a Jacobian's entries are lever arms too).
     """
     path = np.any(J != 0, axis=1)  # (L, nv): the speeds that move each link
     speed = (path * np.abs(v)).sum(axis=1)
     rate = (path * np.abs(a)).sum(axis=1)
     jmax = np.abs(J).max(axis=(1, 2), initial=0)
-    lever = np.maximum(jmax, np.linalg.norm(position, axis=1))
+    lever = np.maximum(jmax, np.linalg.norm(position, axis=1).max(initial=0))
     jdv = lever * speed**2
-    return jdv, jdv + jmax * rate
+    return jdv, jdv + lever * rate
 
 
 def _difference(x, ref) -> float:
