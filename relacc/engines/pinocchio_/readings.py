@@ -8,6 +8,8 @@ functions touch only the spec (no ``pinocchio``, no ``mujoco`` import).
 
 from __future__ import annotations
 
+import numpy as np
+
 
 def _drop_later_world_children(spec):
     for body in list(spec.worldbody.bodies)[1:]:
@@ -44,6 +46,35 @@ def _root_at_world(spec):
     b.alt.type = type(b.alt.type)(0)  # the quaternion, not an alternative orientation
 
 
+def _solid(geom) -> bool:
+    """A geom Pinocchio's MJCF parser counts in the inertia (not ``contype = conaffinity = 0``)."""
+    return not (geom.contype == 0 and geom.conaffinity == 0)
+
+
+def _mesh_bodies(spec):
+    """Bodies whose inertia comes from their geoms and whose every counted geom is a mesh."""
+    out = []
+    for b in spec.bodies:
+        solid = [g for g in b.geoms if _solid(g)]
+        if not b.explicitinertial and solid and all(int(g.type) == MESH for g in solid):
+            out.append((b, solid))
+    return out
+
+
+MESH = 7
+"""MuJoCo's ``mjGEOM_MESH`` (``mjtGeom``), read here without importing mujoco."""
+
+
+def _unit_mesh_inertia(spec):
+    from relacc.engines.base import combine
+
+    for body, meshes in _mesh_bodies(spec):
+        mass, com, inertia = combine((1.0, list(g.pos), np.eye(3)) for g in meshes)
+        body.explicitinertial = True
+        body.mass, body.ipos, body.iquat = mass, list(com), [1.0, 0.0, 0.0, 0.0]
+        body.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2], inertia[1, 2]]
+
+
 def _default_gravity(spec):
     spec.option.gravity = [0.0, 0.0, -9.81]
 
@@ -56,6 +87,8 @@ MJCF_READINGS = (
     ("visual_geoms", "Pinocchio's MJCF parser takes geoms with contype=0 and conaffinity=0 as visual and leaves "
      "them out of the inertia; MuJoCo counts every geom in inertiagrouprange",
      lambda spec: bool(_visual_geoms(spec)), _leave_out_of_inertia),
+    ("mesh_inertia", "Pinocchio's MJCF parser gives a mesh geom 1 kg and a unit inertia at the geom's frame (it reads "
+     "neither the mesh's volume nor the geom's mass)", lambda spec: bool(_mesh_bodies(spec)), _unit_mesh_inertia),
     ("fixed_root", "Pinocchio's MJCF parser drops the pos and orientation of a first <body> that has no joint (it "
      "puts that body at the world frame)", lambda spec: _placed_fixed_root(spec) is not None, _root_at_world),
     ("gravity", "Pinocchio's MJCF parser ignores <option gravity> and keeps (0, 0, -9.81)",

@@ -59,6 +59,12 @@ class Scales:
         inertia = max([np.abs(link.inertia).max() for link in structure.links] + [mass * length**2])
         return cls(mass, length, inertia, robot_tolerance(len(structure.links)))
 
+    def larger(self, other: "Scales") -> "Scales":
+        """Each scale the larger of two models' (the terms' magnitude is the larger of the two readings', so that a
+        value one engine rounds on its own scale is judged on it); the tolerance stays this one's."""
+        return Scales(max(self.mass, other.mass), max(self.length, other.length), max(self.inertia, other.inertia),
+                      self.tolerance)
+
 
 def _value(x):
     """JSON-ready: floats as they are (nothing rounded), arrays as lists."""
@@ -133,6 +139,7 @@ def explain(reference, robot, readings, sc: Scales, unexplained: str | None = No
     (default: that no known difference of the engine's parser explains it).
     """
     engine = robot.engine
+    sc = sc.larger(Scales.of(robot.structure))
     left = differences(reference.structure, robot.structure, engine, sc)
     causes: dict = {}
     current, applied = reference, []
