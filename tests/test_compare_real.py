@@ -149,6 +149,19 @@ def test_a_mesh_that_gives_a_body_its_inertia_is_named_not_dropped(tmp_path, cap
     assert err.count("\n") == 1 and "reads .obj meshes only" in err, err
 
 
+def test_meshes_are_kept_where_the_compiler_takes_inertia_from_geoms_anyway(tmp_path):
+    """``inertiafromgeom="true"`` makes MuJoCo take every body's inertia from its geoms, <inertial> or not: dropping
+    the meshes would change the dynamics, so Drake is left out on one line that says why."""
+    _stl(tmp_path / "part.stl")
+    path = tmp_path / "meshed.xml"
+    explicit = MESHED.format(inertial1='<inertial pos="0.05 0 0" mass="1" diaginertia="0.01 0.02 0.03"/>')
+    path.write_text(explicit.replace("<asset>", '<compiler inertiafromgeom="true"/>\n  <asset>'))
+    with pytest.raises(ModelError) as caught:
+        compare(path, engines=["drake"], n_states=2, seed=7)
+    message = str(caught.value)
+    assert "\n" not in message and 'takes its inertia from a mesh (inertiafromgeom="true")' in message, message
+
+
 PINOCCHIO_SEES_NOTHING = """<mujoco model="table_first">
   <worldbody>
     <body name="table" pos="0 0 0.4"><inertial pos="0 0 0" mass="10" diaginertia="1 1 1"/></body>

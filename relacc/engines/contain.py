@@ -61,6 +61,9 @@ def survives(what: str, step, timeout: float = PROBE_TIMEOUT) -> None:
         raise
     if os.WIFSIGNALED(status):
         sig = os.WTERMSIG(status)
-        name = signal.Signals(sig).name if sig in signal.Signals._value2member_map_ else str(sig)
+        try:
+            name = signal.Signals(sig).name
+        except ValueError:  # a signal number Python has no name for
+            name = f"signal {sig}"
         raise ModelError(f"{what}: the engine ended its process with {name} (a C++ abort or crash, contained in a "
                          "probe process)")

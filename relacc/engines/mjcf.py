@@ -1,10 +1,11 @@
 """An MJCF without its mesh geometry, for an engine that cannot read the meshes (engine-free).
 
 Drake's MJCF parser reads ``.obj`` meshes only and refuses a file naming any other (robosuite's and
-gymnasium-robotics' ``.stl`` meshes). Where every body's inertia is explicit (an ``<inertial>``; or
-``<compiler inertiafromgeom="false">``), meshes have no part in the dynamics: :func:`without_meshes` gives the text
-with its mesh geoms and mesh assets removed and a note saying so. Where a body's inertia would come from a mesh,
-the meshes cannot be dropped without changing the dynamics, and it says which body.
+gymnasium-robotics' ``.stl`` meshes). Where every body's inertia is explicit (an ``<inertial>``, unless
+``<compiler inertiafromgeom="true">`` makes MuJoCo take it from the geoms anyway; or ``inertiafromgeom="false"``),
+meshes have no part in the dynamics: :func:`without_meshes` gives the text with its mesh geoms and mesh assets
+removed and a note saying so. Where a body's inertia would come from a mesh, the meshes cannot be dropped without
+changing the dynamics, and it says which body.
 """
 
 from __future__ import annotations
@@ -32,12 +33,15 @@ def without_meshes(path) -> tuple[str, str]:
         raise ModelError(f"{path}: not readable XML: {' '.join(str(exc).split())}") from None
     if root.find(".//include") is not None:
         raise ModelError(f"{path}: includes other files; relacc drops meshes from a single file only")
-    from_geoms = all(c.get("inertiafromgeom", "auto") != "false" for c in root.iter("compiler"))
-    if from_geoms:
-        for body in root.iter("body"):
-            if body.find("inertial") is None and any(_mesh_geom(g) for g in body.findall("geom")):
-                raise ModelError(f"{path}: body {body.get('name', '(unnamed)')!r} takes its inertia from a mesh "
-                                 "(no <inertial>), so the meshes cannot be dropped")
+    mode = "auto"
+    for compiler in root.iter("compiler"):  # the last one given holds
+        mode = compiler.get("inertiafromgeom", mode)
+    for body in root.iter("body") if mode != "false" else ():
+        explicit = body.find("inertial") is not None and mode != "true"  # "true": geoms override <inertial>
+        if not explicit and any(_mesh_geom(g) for g in body.findall("geom")):
+            why = 'inertiafromgeom="true"' if mode == "true" else "no <inertial>"
+            raise ModelError(f"{path}: body {body.get('name', '(unnamed)')!r} takes its inertia from a mesh "
+                             f"({why}), so the meshes cannot be dropped")
     geoms = assets = 0
     for parent in list(root.iter()):
         for child in list(parent):

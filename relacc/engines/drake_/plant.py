@@ -54,15 +54,16 @@ def _directive(path) -> str:
             f"    name: {json.dumps(path.stem)}\n    file: {json.dumps(path.as_uri())}\n")
 
 
-def _parse(path, named: bool, meshes: bool = False):
+def _parse(path, named: bool, text: str | None = None):
+    """Drake's plant of ``path``: through a model directive when ``named``, from ``text`` (an MJCF) when given."""
     plant = MultibodyPlant(0.0)
     parser = Parser(plant)
     welded = []
     if is_urdf(path):  # its kinematics and inertials only
         for instance in parser.AddModelsFromString(dynamics_text(path)[0], "urdf"):
             welded += _weld_roots(plant, instance)
-    elif meshes:
-        parser.AddModelsFromString(without_meshes(path)[0], "xml")
+    elif text is not None:
+        parser.AddModelsFromString(text, "xml")
     elif named:
         parser.AddModelsFromString(_directive(path), "dmd.yaml")
     else:
@@ -106,11 +107,11 @@ def parse(path):
             elif OBJ_ONLY in str(exc) and not is_urdf(path):
                 handler.lines.clear()
                 try:
-                    note = without_meshes(path)[1]
+                    text, note = without_meshes(path)
                 except ModelError as why:
                     raise ModelError(f"{path}: Drake cannot read it: it reads .obj meshes only, and "
                                      f"{str(why).removeprefix(f'{path}: ')}") from None
-                plant, welded = _parse(path, named=False, meshes=True)
+                plant, welded = _parse(path, named=False, text=text)
                 handler.lines.append(note)
             else:
                 raise

@@ -16,9 +16,18 @@ def _drop_later_world_children(spec):
         spec.delete(body)
 
 
+MESH = 7
+"""MuJoCo's ``mjGEOM_MESH`` (``mjtGeom``), read here without importing mujoco."""
+
+
+def _solid(geom) -> bool:
+    """A geom Pinocchio's MJCF parser counts in the inertia (not ``contype = conaffinity = 0``)."""
+    return not (geom.contype == 0 and geom.conaffinity == 0)
+
+
 def _visual_geoms(spec):
     """Geoms with ``contype = conaffinity = 0`` in bodies whose inertia comes from their geoms."""
-    return [g for b in spec.bodies if not b.explicitinertial for g in b.geoms if g.contype == 0 and g.conaffinity == 0]
+    return [g for b in spec.bodies if not b.explicitinertial for g in b.geoms if not _solid(g)]
 
 
 def _leave_out_of_inertia(spec):
@@ -46,11 +55,6 @@ def _root_at_world(spec):
     b.alt.type = type(b.alt.type)(0)  # the quaternion, not an alternative orientation
 
 
-def _solid(geom) -> bool:
-    """A geom Pinocchio's MJCF parser counts in the inertia (not ``contype = conaffinity = 0``)."""
-    return not (geom.contype == 0 and geom.conaffinity == 0)
-
-
 def _mesh_bodies(spec):
     """Bodies whose inertia comes from their geoms and whose every counted geom is a mesh."""
     out = []
@@ -59,10 +63,6 @@ def _mesh_bodies(spec):
         if not b.explicitinertial and solid and all(int(g.type) == MESH for g in solid):
             out.append((b, solid))
     return out
-
-
-MESH = 7
-"""MuJoCo's ``mjGEOM_MESH`` (``mjtGeom``), read here without importing mujoco."""
 
 
 def _unit_mesh_inertia(spec):

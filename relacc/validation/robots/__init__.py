@@ -175,7 +175,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
         except (Exception, SystemExit) as exc:  # whatever an engine raises is that engine not loading
             reports[name] = EngineReport(name, False, error=_one_line(name, "cannot load it", exc))
             continue
-        if reference.model.nv and not len(robot.dofs):  # read, but none of its joints is one of MuJoCo's
+        if not len(robot.dofs):  # read, but none of its joints is one of MuJoCo's (MuJoCo has some: checked above)
             reports[name] = EngineReport(name, False, robot.structure.nq, robot.structure.nv,
                                          error=f"{name} shares no speed with MuJoCo: it read nq "
                                                f"{robot.structure.nq}, nv {robot.structure.nv} and none of its "

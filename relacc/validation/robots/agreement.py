@@ -206,7 +206,11 @@ def compare(reference, robot, states: States) -> dict:
 
 
 def point_terms(J, position, v, a) -> tuple[np.ndarray, np.ndarray]:
-    """The magnitude of the terms summed in each link's ``J_dot v`` and classical acceleration, ``(L,)`` each.
+    """The magnitude of the terms summed in each link's ``J_dot v`` and classical acceleration: ``(L,)`` each, m/s^2.
+
+    ``J``: ``(L, 3, n)`` each link's mass-centre Jacobian over the shared speeds (world components; m/s per unit
+    speed); ``position``: ``(L, 3)`` the mass centres in world (m); ``v``, ``a``: ``(n,)`` the shared speeds and their
+    rates (rad/s or m/s; per s^2).
 
     ``J_dot v = sum_i sum_j (dJ_i/dq_j) v_i v_j`` over the speeds on the link's path (its Jacobian's nonzero
     columns): a hinge's ``dJ_i/dq_j`` is a lever arm, bounded by the larger of the link's Jacobian entries and the
