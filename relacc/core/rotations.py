@@ -56,6 +56,13 @@ def matrix_from_quaternion(quat):
         ``(..., 3, 3)`` dimensionless rotation matrix.
     """
     q = np.asarray(quat)
+    if q.size == 4 and q.dtype == np.float64:  # one rotation (a stepper's stage): the same arithmetic on floats
+        w, x, y, z = q.ravel().tolist()
+        xx, yy, zz = x * x, y * y, z * z
+        xy, xz, yz = x * y, x * z, y * z
+        wx, wy, wz = w * x, w * y, w * z
+        return np.array([1 - 2 * (yy + zz), 2 * (xy - wz), 2 * (xz + wy), 2 * (xy + wz), 1 - 2 * (xx + zz),
+                         2 * (yz - wx), 2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy)]).reshape(q.shape[:-1] + (3, 3))
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     xx, yy, zz = x * x, y * y, z * z
     xy, xz, yz = x * y, x * z, y * z

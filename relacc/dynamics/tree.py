@@ -92,48 +92,61 @@ def equations(tree, case, q, u, effects=None, t=0.0):
     return M, f
 
 
-def _joint_terms(tree, case, q, u, joints, joint_effects, M, f, armature=True):
-    """Armature (unless ``armature`` is False), springs and dampers: terms on case-2 speeds, mapped to the case's
-    through ``[B]``; ``joints`` (the walk's joint frames) may be None in case 2."""
+def _passive(kind, eff, rest, x, w) -> np.ndarray:
+    """MuJoCo's passive force of one joint's spring and damper on case-2 speeds ``w (n, k)`` (N, N m per speed):
+    ``-damping w``, and for a hinge's or slide's spring ``-stiffness (x - rest)`` (``x (n, 1)`` its coordinate), for
+    a ball's ``-stiffness log(rest^-1 x)`` (``x (n, 4)`` its quaternion ``(w, x, y, z)``); a free joint has none."""
+    out = -eff.damping * w
+    if eff.stiffness and kind in ("hinge", "slide"):
+        out = out - eff.stiffness * (x - rest)
+    elif eff.stiffness and kind == "ball":
+        out = out - eff.stiffness * (SO3(np.broadcast_to(rest, (x.shape[0], 4))).inverse() @ SO3(x)).log()
+    return out
+
+
+def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
+    """Armature, springs and dampers: terms on case-2 speeds, mapped to the case's through ``[B]``."""
     effect_at = {k: (eff, rest) for k, eff, rest in joint_effects}
     rot = {k: (kind, a, d) for k, kind, a, d in rotations(tree, case)}
     for k, ((_, j), a, d) in enumerate(zip(tree.joints, tree.qadr(case), tree.dofadr)):
         eff, rest = effect_at.get(k, (None, None))
-        arm_all = j.armature if armature else np.zeros_like(j.armature)
-        if not (np.any(arm_all) or eff is not None):
+        if not (np.any(j.armature) or eff is not None):
             continue
         lin = 3 if j.type == "free" else (1 if j.type in ("hinge", "slide") else 0)
         for i in range(lin):  # hinge, slide, a free joint's translation: case-2 speeds in every case
-            if arm_all[i]:
-                M[:, d + i, d + i] += arm_all[i]
-            if eff is not None:
-                spring = eff.stiffness * (q[:, a + i] - rest) if j.type != "free" else 0.0
-                f[:, d + i] -= spring + eff.damping * u[:, d + i]
+            if j.armature[i]:
+                M[:, d + i, d + i] += j.armature[i]
+        if eff is not None and lin:
+            f[:, d:d + lin] += _passive(j.type, eff, rest, q[:, a:a + lin], u[:, d:d + lin])
         if k not in rot:
             continue
         kind, qa, da = rot[k]
-        B, B_dot = _speed_map(case, kind, None if joints is None else joints[k], q.shape[0])
+        B, B_dot = _speed_map(case, kind, joints[k], q.shape[0])
         u2 = mv(B, u[:, da:da + 3])
-        arm = arm_all[lin:lin + 3]
+        arm = j.armature[lin:lin + 3]
         if np.any(arm):
             blk = (slice(None), slice(da, da + 3), slice(da, da + 3))
             M[blk] += np.swapaxes(B, -1, -2) @ (arm[:, None] * B)
         tau2 = -arm * mv(B_dot, u[:, da:da + 3])
         if eff is not None:
-            tau2 = tau2 - eff.damping * u2
-            if kind == "ball" and eff.stiffness:
-                tau2 = tau2 - eff.stiffness * (SO3(np.broadcast_to(rest, (q.shape[0], 4))).inverse()
-                                               @ SO3(_ball_quaternion(case, q, qa))).log()
+            x = _ball_quaternion(case, q, qa) if kind == "ball" and eff.stiffness else None
+            tau2 = tau2 + _passive(kind, eff, rest, x, u2)
         f[:, da:da + 3] += mv(np.swapaxes(B, -1, -2), tau2)
 
 
-def joint_forces(tree, q, v, effects) -> np.ndarray:
+def joint_forces(tree, q, v, effects, joint_effects=None) -> np.ndarray:
     """``(n, nv)`` the generalized forces of ``effects``' joint springs and dampers alone at case-2 states
     ``q (n, nq)``, ``v (n, nv)`` (MuJoCo's ``qpos``, ``qvel``): what MuJoCo's passive force gives for them (N, N m
-    per speed)."""
-    _, joint_effects, _ = effects.resolve(tree)
+    per speed). Only the positions and speeds of joints with an effect are read. ``joint_effects``: the second
+    item of ``effects.resolve(tree)`` when the caller has it already (a stepper calls this at every stage)."""
+    if joint_effects is None:
+        _, joint_effects, _ = effects.resolve(tree)
     f = np.zeros((q.shape[0], tree.nv))
-    _joint_terms(tree, 2, q, v, None, joint_effects, np.zeros((0, tree.nv, tree.nv)), f, armature=False)
+    qadr = tree.qadr(2)
+    for k, eff, rest in joint_effects:
+        kind, a, d = tree.joints[k][1].type, qadr[k], tree.dofadr[k]
+        k_v = {"free": 6, "ball": 3}.get(kind, 1)
+        f[:, d:d + k_v] = _passive(kind, eff, rest, q[:, a:a + (4 if kind == "ball" else 1)], v[:, d:d + k_v])
     return f
 
 

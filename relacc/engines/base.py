@@ -34,6 +34,10 @@ from relacc.errors import EngineError
 JOINT_TYPES = ("free", "ball", "slide", "hinge")
 """Joint types in the common description (MuJoCo's names)."""
 
+ONE = ("hinge", "slide")
+"""Joints of one speed: an engine's speed is a constant multiple of the reference's (its axis' sense), so a match's
+speed map ``T`` is the same at every position."""
+
 NQ = {"free": 7, "ball": 4, "slide": 1, "hinge": 1, "floating": 7}
 NV = {"free": 6, "ball": 3, "slide": 1, "hinge": 1, "floating": 6}
 
@@ -268,10 +272,7 @@ class Adapter(abc.ABC):
         if effects is None:
             return tau
         if effects.joints:
-            from relacc.dynamics.tree import joint_forces
-
-            q, v, T = self._from_engine(qe, ve)  # T does not depend on the speeds
-            tau += np.linalg.solve(np.swapaxes(T, 1, 2), joint_forces(self.reference, q, v, effects)[..., None])[..., 0]
+            tau += self._joint_forces(qe, ve, effects)
         if effects.bodies:
             tau += self.load_forces(qe, effects, t)
         return tau
@@ -339,11 +340,6 @@ class Adapter(abc.ABC):
         Raises:
             EngineError: the engine lacks some of the reference's joints.
         """
-        q, v, _ = self._from_engine(qe, ve)
-        return q, v
-
-    def _from_engine(self, qe, ve):
-        """:meth:`from_engine` and the speed map ``T (n, nv_e, nv)`` at the positions."""
         if len(self.dofs) != self.reference.nv:
             raise EngineError(f"{self.engine} lacks some of the reference's joints: its states do not map back")
         qe, ve = np.atleast_2d(np.asarray(qe, dtype=float)), np.atleast_2d(np.asarray(ve, dtype=float))
@@ -353,7 +349,43 @@ class Adapter(abc.ABC):
         T, _ = self.speed_map(q, np.zeros((len(q), self.reference.nv)))
         v = np.zeros((len(q), self.reference.nv))
         v[:, self.dofs] = np.linalg.solve(T, ve[..., None])[..., 0]
-        return q, v, T
+        return q, v
+
+    def _joint_forces(self, qe, ve, effects) -> np.ndarray:
+        """``(n, nv_e)`` the generalized forces of ``effects``' joint springs and dampers on the engine's speeds.
+
+        Only the matches of joints with an effect are mapped back (a match's speeds map on their own: ``T`` is
+        block-diagonal by match), each by its block ``T_m``: ``v = T_m^-1 v_e``, ``tau_e = T_m^-T f``. The matches
+        and the resolved effects are kept per ``effects``: steppers call this at every stage of every step.
+        """
+        from relacc.dynamics.tree import joint_forces
+
+        cached = getattr(self, "_joint_plan", None)
+        if cached is None or cached[0] is not effects:
+            _, resolved, _ = effects.resolve(self.reference)
+            joints = {k for k, _, _ in resolved}
+            plan = [m for m in self.matches if joints & set(m.joints)]
+            if len(set().union(*(m.joints for m in plan))) < len(joints):
+                raise EngineError(f"{self.engine} lacks a joint the effects name: its forces do not map")
+            plan = [(m, np.array(m.q), np.array(m.v), np.array(m.ref_q), np.array(m.ref_v),
+                     self.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, 1)))[0] if m.kind in ONE else None)
+                    for m in plan]
+            cached = self._joint_plan = (effects, resolved, plan)
+        _, resolved, plan = cached
+        n = len(qe)
+        q, v = np.zeros((n, self.reference.nq(2))), np.zeros((n, self.reference.nv))
+        blocks = []
+        for m, iq, iv, ref_q, ref_v, T in plan:
+            x = self.q_back(m, qe[:, iq])
+            if T is None:  # T does not depend on the speeds
+                T, _ = self.v_block(m, x, np.zeros((n, len(ref_v))))
+            q[:, ref_q], v[:, ref_v] = x, _solve(T, ve[:, iv])
+            blocks.append(T)
+        f = joint_forces(self.reference, q, v, effects, resolved)
+        tau = np.zeros((n, self.nv_e))
+        for (_, _, iv, _, ref_v, _), T in zip(plan, blocks):
+            tau[:, iv] = _solve(np.swapaxes(T, 1, 2), f[:, ref_v])
+        return tau
 
     def dynamics(self, q, v) -> Dynamics:
         """:class:`Dynamics` at one reference state ``q (nq,)``, ``v (nv,)`` (speeds the engine lacks: zero), the
@@ -376,6 +408,14 @@ class Adapter(abc.ABC):
         Tdv = Td[0] @ np.asarray(v, dtype=float)[self.dofs]
         J = p.J[0]
         return Points(p.position[0], J @ T[0], None, p.Jdot_v[0] + J @ Tdv, p.acceleration[0])
+
+
+def _solve(T, b) -> np.ndarray:
+    """``x (n, k)`` with ``T x = b`` for ``T (n, k, k)`` (or one ``(1, k, k)`` for all), ``b (n, k)``: a hinge's or
+    slide's ``k = 1`` by division."""
+    if T.shape[-1] == 1:
+        return b / T[:, 0]
+    return np.linalg.solve(T, b[..., None])[..., 0]
 
 
 def describe(effects) -> dict:
