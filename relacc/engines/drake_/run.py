@@ -1,6 +1,7 @@
 """Drake stepping: its ``Simulator`` with one of its own integrators, and a ``LeafSystem`` that applies exactly a
 scene's effects (gravity through the plant's gravity field, set to the effects' or the model's own; springs,
-dampers and loads as applied generalized forces at the context's time). Imports only ``pydrake``.
+dampers and loads as applied generalized forces at the context's time; no such system where the effects have none,
+so a run under gravity alone never calls back into Python). Imports only ``pydrake``.
 """
 
 from __future__ import annotations
@@ -48,9 +49,10 @@ def stepper(adapter, effects, dt, integrator, accuracy=None) -> Stepper:
     plant = builder.AddSystem(adapter.rebuilt())
     g = adapter.gravity0 if effects is None or effects.gravity is None else effects.gravity
     plant.mutable_gravity_field().set_gravity_vector(np.asarray(g, dtype=float))
-    forces = builder.AddSystem(_Effects(adapter, effects))
-    builder.Connect(plant.get_state_output_port(), forces.get_input_port(0))
-    builder.Connect(forces.get_output_port(0), plant.get_applied_generalized_force_input_port())
+    if effects is not None and (effects.joints or effects.bodies):  # else nothing to apply: no call into Python
+        forces = builder.AddSystem(_Effects(adapter, effects))
+        builder.Connect(plant.get_state_output_port(), forces.get_input_port(0))
+        builder.Connect(forces.get_output_port(0), plant.get_applied_generalized_force_input_port())
     diagram = builder.Build()
     simulator = Simulator(diagram)
     ResetIntegratorFromFlags(simulator, scheme, dt)
