@@ -25,6 +25,7 @@ and links' mass centres: position, Jacobian, its rate, classical acceleration) a
 from __future__ import annotations
 
 import abc
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -124,10 +125,10 @@ class Points:
 
 @dataclass(frozen=True)
 class Dynamics:
-    """Rigid-body dynamics at one state over the shared speeds, reference coordinates.
+    """Rigid-body dynamics at states over the shared speeds ``k``, reference coordinates (one state: no batch axis).
 
-    ``M a + bias = tau``: M ``(n, n)``; bias ``(n,)`` (Coriolis, centrifugal and gravity);
-    gravity ``(n,)`` the gravity part alone (``bias`` at zero speeds); forward ``(n,)`` the
+    ``M a + bias = tau``: M ``(n, k, k)``; bias ``(n, k)`` (Coriolis, centrifugal and gravity);
+    gravity ``(n, k)`` the gravity part alone (``bias`` at zero speeds); forward ``(n, k)`` the
     accelerations at zero ``tau`` (no passive force, actuator or constraint), None where the engine has speeds
     the reference lacks. Units per speed: kg m^2 or kg; N m or N; rad/s^2 or m/s^2.
     """
@@ -388,26 +389,40 @@ class Adapter(abc.ABC):
         return tau
 
     def dynamics(self, q, v) -> Dynamics:
-        """:class:`Dynamics` at one reference state ``q (nq,)``, ``v (nv,)`` (speeds the engine lacks: zero), the
-        model's own gravity as the engine read it and nothing else."""
+        """:class:`Dynamics` at reference states ``q (n, nq)``, ``v (n, nv)`` (or one state, ``(nq,)``, ``(nv,)``:
+        then without the batch axis; speeds the engine lacks: zero), the model's own gravity as the engine read it
+        and nothing else."""
+        one = np.ndim(q) == 1
         qe, ve, _, T, Td = self.to_engine(q, v)
         Me, fe = self.equations(qe, ve)
         _, ge = self.equations(qe, np.zeros_like(ve))
-        T, Tdv = T[0], Td[0] @ np.asarray(v, dtype=float)[self.dofs]
-        M, be = T.T @ Me[0] @ T, -fe[0]
+        Tt = np.swapaxes(T, 1, 2)
+        Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
+        M = Tt @ Me @ T
+        bias = np.einsum("nij,nj->ni", Tt, -fe + np.einsum("nij,nj->ni", Me, Tdv))
+        gravity = np.einsum("nij,nj->ni", Tt, -ge)
         forward = None
         if self.extra_dofs == 0:
-            forward = np.linalg.solve(T, self.forward(qe, ve)[0] - Tdv)
-        return Dynamics(M, T.T @ (be + Me[0] @ Tdv), T.T @ -ge[0], forward)
+            forward = np.linalg.solve(T, (self.forward(qe, ve) - Tdv)[..., None])[..., 0]
+        return first(Dynamics(M, bias, gravity, forward), one)
 
     def kinematics(self, q, v, a, links) -> Points:
-        """Each named link's centre of mass at one reference state (rates ``a``), over the shared speeds:
-        ``(L, ...)`` arrays (:class:`Points` without the batch axis), ``J_dot v`` included."""
+        """Each named link's centre of mass at reference states ``q (n, nq)``, ``v (n, nv)``, rates ``a (n, nv)``, over
+        the shared speeds: :class:`Points` ``(n, L, ...)`` (one state: ``(L, ...)``), ``J_dot v`` included."""
+        one = np.ndim(q) == 1
         qe, ve, ae, T, Td = self.to_engine(q, v, a)
         p = self.points(qe, ve, ae, [com(name) for name in links])
-        Tdv = Td[0] @ np.asarray(v, dtype=float)[self.dofs]
-        J = p.J[0]
-        return Points(p.position[0], J @ T[0], None, p.Jdot_v[0] + J @ Tdv, p.acceleration[0])
+        Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
+        return first(Points(p.position, p.J @ T[:, None], None, p.Jdot_v + np.einsum("nlij,nj->nli", p.J, Tdv),
+                             p.acceleration), one)
+
+
+def first(result, one: bool):
+    """``result`` (a :class:`Dynamics` or :class:`Points` of a batch) at its only state when ``one``."""
+    if not one:
+        return result
+    values = (getattr(result, f.name) for f in dataclasses.fields(result))
+    return type(result)(*(None if x is None else x[0] for x in values))
 
 
 def _solve(T, b) -> np.ndarray:

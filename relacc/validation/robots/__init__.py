@@ -382,11 +382,11 @@ def _mujoco_cause(quantity, reference, evaluator, states) -> str:
         links = shared_links(reference.structure, evaluator.structure, 0.0)
         tol = robot_tolerance(len(reference.structure.links))
         worst = 0.0
-        for q, v, a in zip(states.q, states.u, states.udot):
-            mine = evaluator.kinematics(q, v, a, links)
-            theirs = reference.points(q[None], v[None], np.zeros((1, len(v))), [com(name) for name in links])
-            scale, _ = point_terms(mine.J, mine.position, v, a)  # J_dot v: MuJoCo's acceleration at zero rates
-            x, y = mine.Jdot_v, theirs.acceleration[0]
+        mine = evaluator.kinematics(states.q, states.u, states.udot, links)
+        theirs = reference.points(states.q, states.u, np.zeros_like(states.u), [com(name) for name in links])
+        for i, (v, a) in enumerate(zip(states.u, states.udot)):
+            scale, _ = point_terms(mine.J[i], mine.position[i], v, a)  # J_dot v: MuJoCo's acceleration at zero rates
+            x, y = mine.Jdot_v[i], theirs.acceleration[i]
             worst = max(worst, float((np.abs(x - y).max(axis=1) / np.maximum(scale, np.finfo(float).tiny)).max()))
         if worst <= tol:
             return MUJOCO_JACDOT if _ball_then_slide(reference.model) else (

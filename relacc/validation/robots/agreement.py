@@ -38,6 +38,8 @@ QUANTITIES = ("mass matrix", "bias forces", "gravity forces", "forward dynamics"
 """What is compared, in report order."""
 KINEMATIC = QUANTITIES[4:]
 """The quantities of each link's mass centre, which are also measured link by link (``Comparison.per_link``)."""
+CHUNK = 64
+"""States evaluated in one batched call of each evaluator (bounds the memory of Jacobians on a large model)."""
 
 
 
@@ -75,13 +77,15 @@ def random_states(reference, n: int, seed: int) -> States:
     return States(Case.BODY_FRAME, q, v, a, seed, reference.reference)
 
 
-def _gravity_terms(reference, q, v, a, dofs, gravity) -> float:
-    """``sum_l m_l |g| max |J_l|``: the magnitude of the terms of the gravity forces (N or N m)."""
+def _gravity_terms(reference, q, v, a, dofs, gravity) -> np.ndarray:
+    """``sum_l m_l |g| max |J_l|`` at states ``(n, ...)``: the magnitude of the terms of the gravity forces ``(n,)``
+    (N or N m)."""
     massive = [link for link in reference.structure.links if link.mass > 0]
     if not massive or gravity == 0:
-        return 0.0
-    k = reference.kinematics(q, v, a, [link.name for link in massive])
-    return float(sum(link.mass * gravity * np.abs(J[:, dofs]).max(initial=0) for link, J in zip(massive, k.J)))
+        return np.zeros(len(q))
+    J = reference.kinematics(q, v, a, [link.name for link in massive]).J[..., dofs]  # (n, L, 3, k)
+    mass = np.array([link.mass for link in massive])
+    return (mass * gravity * np.abs(J).max(axis=(2, 3), initial=0)).sum(axis=1)
 
 
 def shared_links(ref, other, tolerance: float) -> list[str]:
@@ -91,11 +95,12 @@ def shared_links(ref, other, tolerance: float) -> list[str]:
     return [link.name for link in ref.links if link.name in theirs and min(link.mass, theirs[link.name]) > floor]
 
 
-def _restrict(dyn, dofs, solve: bool):
-    M = dyn.M[np.ix_(dofs, dofs)] if dyn.M.shape[0] != len(dofs) else dyn.M
-    bias = dyn.bias[dofs] if dyn.bias.shape[0] != len(dofs) else dyn.bias
-    gravity = dyn.gravity[dofs] if dyn.gravity.shape[0] != len(dofs) else dyn.gravity
-    forward = _solve(M, -bias) if solve or dyn.forward is None else dyn.forward
+def _restrict(dyn, i, dofs, solve: bool):
+    """State ``i`` of a batch's :class:`relacc.engines.base.Dynamics`, over the shared speeds ``dofs``."""
+    M, bias, gravity = dyn.M[i], dyn.bias[i], dyn.gravity[i]
+    if M.shape[0] != len(dofs):
+        M, bias, gravity = M[np.ix_(dofs, dofs)], bias[dofs], gravity[dofs]
+    forward = _solve(M, -bias) if solve or dyn.forward is None else dyn.forward[i]
     return M, bias, gravity, forward
 
 
@@ -153,47 +158,48 @@ def compare(reference, robot, states: States) -> dict:
         return worst
 
     held = np.setdiff1d(np.arange(states.q.shape[1]), robot.qdofs)  # positions of joints the robot lacks
-    q0 = reference.default_q()
-    for q, v0, a0 in zip(states.q, states.u, states.udot):
-        v, a = np.zeros_like(v0), np.zeros_like(a0)
-        v[dofs], a[dofs] = v0[dofs], a0[dofs]  # unshared joints locked at rest, at MuJoCo's qpos0 in both
-        if held.size:
-            q = q.copy()
-            q[held] = q0[held]
-        M0, b0, g0, f0 = _restrict(reference.dynamics(q, v), dofs, solve)
-        M1, b1, g1, f1 = _restrict(robot.dynamics(q, v), dofs, solve)
-        vs = np.abs(v[dofs]).max(initial=0)
-        # the terms' magnitude: gravity's sum_l m_l |g| |J_l| and the velocity terms' max_i M_ii |v|^2, which
-        # stay when the results cancel (a planar model's gravity forces, a symmetric one's Coriolis forces)
-        terms = _gravity_terms(reference, q, v, a, dofs, gravity) + np.abs(np.diag(M0)).max(initial=0) * vs**2
-        bias_scale = terms + max(np.abs(g).max(initial=0) + np.abs(b - g).max(initial=0) for b, g in ((b0, g0),
-                                                                                                    (b1, g1)))
-        sigma = np.linalg.svd(M0, compute_uv=False)
-        inv = 1.0 / sigma[-1] if sigma.size and sigma[-1] > 0 else np.inf  # ||M^-1||_2
-        for name, M, f in (("mujoco", M0, f0), (robot.engine, M1, f1)):
-            if np.isnan(f).any():
-                singular.setdefault(name, [])
-                singular[name] += [j for j in inertialess(reference, M, dofs) if j not in singular[name]]
-        errors["mass matrix"].append(_err(M1, M0, max(np.abs(np.diag(M0)).max(initial=0),
-                                                      np.abs(np.diag(M1)).max(initial=0)), "mass matrix"))
-        errors["bias forces"].append(_err(b1, b0, bias_scale, "bias forces"))
-        errors["gravity forces"].append(_err(g1, g0, _gravity_terms(reference, q, v, a, dofs, gravity)
-                                             + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0), "gravity forces"))
-        f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
-        errors["forward dynamics"].append(_err(f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
-                                               "forward dynamics"))
+    Q, V, A = states.q.copy(), np.zeros_like(states.u), np.zeros_like(states.udot)
+    Q[:, held] = reference.default_q()[held]  # unshared joints locked at rest, at MuJoCo's qpos0 in both
+    V[:, dofs], A[:, dofs] = states.u[:, dofs], states.udot[:, dofs]
+    for start in range(0, len(Q), CHUNK):  # each evaluator batched over a chunk of states
+        at = slice(start, start + CHUNK)
+        q, v, a = Q[at], V[at], A[at]
+        D0, D1 = reference.dynamics(q, v), robot.dynamics(q, v)
+        G = _gravity_terms(reference, q, v, a, dofs, gravity)
         if links:
-            k0 = reference.kinematics(q, v, a, links)
-            k1 = robot.kinematics(q, v, a, links)
-            J0 = k0.J[:, :, dofs]
-            jscale = np.abs(J0).max(initial=0)
-            jdv, acc = point_terms(J0, k0.position, v[dofs], a[dofs])
-            errors["COM position"].append(_err(k1.position, k0.position, np.abs(k0.position).max(initial=0),
-                                               "COM position"))
-            errors["COM Jacobian"].append(_err(k1.J, J0, jscale, "COM Jacobian"))
-            errors["J_dot v"].append(_err(k1.Jdot_v, k0.Jdot_v, jdv, "J_dot v"))
-            errors["classical acceleration"].append(_err(k1.acceleration, k0.acceleration, acc,
-                                                         "classical acceleration"))
+            k0, k1 = reference.kinematics(q, v, a, links), robot.kinematics(q, v, a, links)
+        for i in range(len(q)):
+            M0, b0, g0, f0 = _restrict(D0, i, dofs, solve)
+            M1, b1, g1, f1 = _restrict(D1, i, dofs, solve)
+            vs = np.abs(v[i, dofs]).max(initial=0)
+            # the terms' magnitude: gravity's sum_l m_l |g| |J_l| and the velocity terms' max_i M_ii |v|^2, which
+            # stay when the results cancel (a planar model's gravity forces, a symmetric one's Coriolis forces)
+            terms = G[i] + np.abs(np.diag(M0)).max(initial=0) * vs**2
+            bias_scale = terms + max(np.abs(g).max(initial=0) + np.abs(b - g).max(initial=0)
+                                     for b, g in ((b0, g0), (b1, g1)))
+            sigma = np.linalg.svd(M0, compute_uv=False)
+            inv = 1.0 / sigma[-1] if sigma.size and sigma[-1] > 0 else np.inf  # ||M^-1||_2
+            for name, M, f in (("mujoco", M0, f0), (robot.engine, M1, f1)):
+                if np.isnan(f).any():
+                    singular.setdefault(name, [])
+                    singular[name] += [j for j in inertialess(reference, M, dofs) if j not in singular[name]]
+            errors["mass matrix"].append(_err(M1, M0, max(np.abs(np.diag(M0)).max(initial=0),
+                                                          np.abs(np.diag(M1)).max(initial=0)), "mass matrix"))
+            errors["bias forces"].append(_err(b1, b0, bias_scale, "bias forces"))
+            errors["gravity forces"].append(_err(g1, g0, G[i] + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0),
+                                                 "gravity forces"))
+            f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
+            errors["forward dynamics"].append(_err(f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
+                                                   "forward dynamics"))
+            if links:
+                J0 = k0.J[i][:, :, dofs]
+                jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs])
+                errors["COM position"].append(_err(k1.position[i], k0.position[i],
+                                                   np.abs(k0.position[i]).max(initial=0), "COM position"))
+                errors["COM Jacobian"].append(_err(k1.J[i], J0, np.abs(J0).max(initial=0), "COM Jacobian"))
+                errors["J_dot v"].append(_err(k1.Jdot_v[i], k0.Jdot_v[i], jdv, "J_dot v"))
+                errors["classical acceleration"].append(_err(k1.acceleration[i], k0.acceleration[i], acc,
+                                                             "classical acceleration"))
     out = {}
     tol = robot_tolerance(n_links)
     for k, e in errors.items():

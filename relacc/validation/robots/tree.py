@@ -18,7 +18,7 @@ import numpy as np
 
 from relacc.core.tree import convert, tree_kinematics
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
-from relacc.engines.base import Dynamics, Points
+from relacc.engines.base import Dynamics, Points, first
 
 
 class TreeRobot:
@@ -38,36 +38,47 @@ class TreeRobot:
         self.links = {reference.body_name(b): [c - 1 for c in bodies] for b, bodies in reference.groups.items()}
 
     def _map(self, q, v):
-        """``(q_c, u_c, T (nv, nv), T_dot v (nv,))``: the state in the case's coordinates and its speed map."""
-        nv, c = self.tree.nv, self.case
+        """``(q_c, u_c, T (n, nv, nv), T_dot v (n, nv))``: states ``(n, nq)``, ``(n, nv)`` in the case's coordinates
+        and their speed maps."""
+        nv, c, n = self.tree.nv, self.case, len(q)
         # u_c = T u_2 and, at zero u_2 rates, udot_c = T_dot u_2
-        q_c, u_c, Tdv = convert(self.tree, q, v, np.zeros(nv), source=2, target=c)
+        q_c, u_c, Tdv = convert(self.tree, q, v, np.zeros_like(v), source=2, target=c)
         if c == 2:
-            return q_c, u_c, np.eye(nv), np.zeros(nv)
-        T = convert(self.tree, np.broadcast_to(q, (nv, len(q))), np.eye(nv), source=2, target=c)[1].T
-        return q_c, u_c, T, Tdv
+            return q_c, u_c, np.broadcast_to(np.eye(nv), (n, nv, nv)), np.zeros((n, nv))
+        # column j of T: the case's speeds of unit case-2 speed j, at each state
+        _, cols, _ = convert(self.tree, np.repeat(q, nv, axis=0), np.tile(np.eye(nv), (n, 1)), source=2, target=c)
+        return q_c, u_c, np.swapaxes(cols.reshape(n, nv, nv), 1, 2), Tdv
 
     def dynamics(self, q, v) -> Dynamics:
+        """:class:`Dynamics` at states ``q (n, nq)``, ``v (n, nv)`` (case 2; one state: no batch axis)."""
+        one = np.ndim(q) == 1
+        q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
         q_c, u_c, T, Tdv = self._map(q, v)
         d = tree_dynamics(self.tree, self.case, q_c, u_c)
         rest = tree_dynamics(self.tree, self.case, q_c, np.zeros_like(u_c))
-        M = T.T @ d.M @ T
-        bias = T.T @ (-d.f + d.M @ Tdv)
-        forward = np.linalg.solve(T, tree_accelerations(self.tree, self.case, q_c, u_c) - Tdv)
-        return Dynamics(M, bias, T.T @ (-rest.f), forward)
+        Tt = np.swapaxes(T, 1, 2)
+        M = Tt @ d.M @ T
+        bias = np.einsum("nij,nj->ni", Tt, -d.f + np.einsum("nij,nj->ni", d.M, Tdv))
+        forward = np.linalg.solve(T, (tree_accelerations(self.tree, self.case, q_c, u_c) - Tdv)[..., None])[..., 0]
+        return first(Dynamics(M, bias, np.einsum("nij,nj->ni", Tt, -rest.f), forward), one)
 
     def kinematics(self, q, v, a, links) -> Points:
+        """:class:`Points` ``(n, L, ...)`` of the named links' mass centres (one state: ``(L, ...)``)."""
+        one = np.ndim(q) == 1
+        q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
         q_c, u_c, T, Tdv = self._map(q, v)
-        k = tree_kinematics(self.tree, self.case, q_c, u_c, T @ np.asarray(a, dtype=float) + Tdv)
+        k = tree_kinematics(self.tree, self.case, q_c, u_c, np.einsum("nij,nj->ni", T, a) + Tdv)
         mass = np.array([b.mass for b in self.tree.bodies])
-        n = len(links)
-        pos, J, Jdv, acc = np.zeros((n, 3)), np.zeros((n, 3, self.tree.nv)), np.zeros((n, 3)), np.zeros((n, 3))
+        n, L = len(q), len(links)
+        pos, J = np.zeros((n, L, 3)), np.zeros((n, L, 3, self.tree.nv))
+        Jdv, acc = np.zeros((n, L, 3)), np.zeros((n, L, 3))
         for i, name in enumerate(links):
             bodies = self.links[name]
             w = mass[bodies] / mass[bodies].sum()
-            pos[i] = np.einsum("b,bk->k", w, k.position[bodies])
-            Vc = np.einsum("b,bkj->kj", w, k.V[bodies])
-            J[i] = Vc @ T
-            Jdv[i] = np.einsum("b,bkj->kj", w, k.Vdot[bodies]) @ u_c + Vc @ Tdv
-            acc[i] = np.einsum("b,bk->k", w, k.acceleration[bodies])
-        return Points(pos, J, None, Jdv, acc)
+            pos[:, i] = np.einsum("b,nbk->nk", w, k.position[:, bodies])
+            Vc = np.einsum("b,nbkj->nkj", w, k.V[:, bodies])
+            J[:, i] = Vc @ T
+            Jdv[:, i] = (np.einsum("nkj,nj->nk", np.einsum("b,nbkj->nkj", w, k.Vdot[:, bodies]), u_c)
+                         + np.einsum("nkj,nj->nk", Vc, Tdv))
+            acc[:, i] = np.einsum("b,nbk->nk", w, k.acceleration[:, bodies])
+        return first(Points(pos, J, None, Jdv, acc), one)
