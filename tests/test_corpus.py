@@ -1,0 +1,50 @@
+"""docs/compare.md's corpus table is what ``relacc compare`` gives now on other people's robot descriptions (issue 24).
+
+The three pinned wheels of ``scripts/corpus.py`` (example-robot-data, robosuite, gymnasium-robotics) are fetched
+with ``pip download --no-deps`` into pytest's cache (pip's own cache makes it a copy after the first time) and only
+their description folders unpacked; nothing of them enters the repository or the environment. Each file is one test:
+``relacc compare FILE --states 5 --json`` in this process, from an empty directory, must print exactly the row the
+docs show, exit 2 with exactly one line on stderr and nothing else, and leave the directory empty.
+"""
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+from relacc.cli import main
+
+SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "corpus.py"
+_spec = importlib.util.spec_from_file_location("corpus", SCRIPT)
+corpus = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(corpus)
+SHOWN = corpus.shown_rows(corpus.DOC.read_text())
+
+
+@pytest.fixture(scope="session")
+def roots(request):
+    return corpus.fetch(Path(request.config.cache.mkdir("relacc-corpus")))
+
+
+@pytest.mark.slow
+def test_the_table_has_every_file_of_the_pinned_wheels(roots):
+    """One row per description file of the three wheels, no more, no fewer."""
+    found = {(package, shown) for package, root in roots.items() for shown, _ in corpus.files(package, root)}
+    assert len(found) == 150
+    assert set(SHOWN) == found, "run python scripts/corpus.py --write"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("package, shown", sorted(SHOWN), ids=[f"{p}:{s}" for p, s in sorted(SHOWN)])
+def test_each_row_is_what_compare_gives_now(roots, package, shown, tmp_path, monkeypatch, capfd):
+    root = roots[package]
+    monkeypatch.chdir(tmp_path)
+    code = main(["compare", str(root / shown), "--states", str(corpus.STATES), "--json"])
+    out, err = capfd.readouterr()
+    row = corpus.summarize(code, out, err, root)
+    assert not row["traceback"] and row["stderr_lines"] == (1 if code == 2 else 0), err
+    assert list(tmp_path.iterdir()) == []
+    assert corpus.line(package, shown, row) == SHOWN[(package, shown)], "run python scripts/corpus.py --write"
+    if code != 2:
+        json.loads(out)  # the JSON is whole
