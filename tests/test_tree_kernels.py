@@ -114,6 +114,45 @@ def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed, algorithm):
         assert np.all(err <= bound), f"case {case}: worst {np.max(err / bound):.3g} of the bound (seed {seed})"
 
 
+@pytest.mark.parametrize("seed", [2, 5, 9])
+def test_effects_through_the_kernel_are_kanes_equations(tmp_path, seed):
+    """``auto`` forward dynamics with joint springs and dampers and sinusoidal body loads (the kernel, with the
+    effects' generalized forces applied: :func:`relacc.kernels.tree_loads.load_forces`) against Kane's equations
+    with the same effects (``reference``), every case, within the perturbation bound of a solve whose terms include
+    the loads' (``|F| max|V_b| + |T| max|Omega_b|``); a ball's or free joint's spring in cases 1 and 3 takes the
+    reference path, bit for bit."""
+    tree = read_tree(_tree_file(tmp_path, seed, 6 + seed))
+    rng = np.random.default_rng(seed)
+    st = random_states(tree, 2, 30, seed)
+    one = [j.name for _, j in tree.joints if j.type in ("hinge", "slide")]
+    balls = [j.name for _, j in tree.joints if j.type == "ball"]
+    loaded = [tree.body_names[b] for b in rng.choice(tree.nb, 2, replace=False)]
+    loads = {name: relacc.BodyLoad(force=rng.standard_normal(3), torque=rng.standard_normal(3), frequency=1.5,
+                                   phase=0.2) for name in loaded}
+    joints = {name: relacc.JointEffect(float(rng.uniform(0.5, 5)), float(rng.uniform(0.1, 1)), 0.3) for name in one}
+    effects = relacc.TreeEffects(joints=joints, bodies=loads)
+    t = rng.uniform(0, 1, 30)
+    for case in (1, 2, 3):
+        q, u, _ = convert(tree, st.q, st.u, source=2, target=case)
+        fast = relacc.tree_accelerations(tree, case, q, u, effects=effects, t=t)
+        ref = relacc.tree_accelerations(tree, case, q, u, effects=effects, t=t, backend="reference")
+        k = relacc.tree_kinematics(tree, case, q, u, backend="reference")
+        lever = np.abs(k.V).max(axis=(1, 2, 3)) + np.abs(k.Omega).max(axis=(1, 2, 3))
+        load_terms = lever * sum(np.abs(b.force).max() + np.abs(b.torque).max() for b in loads.values())
+        d = relacc.tree_dynamics(tree, case, q, u, effects=effects, t=t)
+        scale = np.array([np.linalg.norm(np.linalg.inv(M), 2) * (np.linalg.norm(M, 2) * np.abs(a).max()
+                                                                 + np.abs(f).max() + lt)
+                          for M, f, a, lt in zip(np.asarray(d.M), np.asarray(d.f), ref, load_terms)])
+        bound = scale * 64 * 2.2e-16 * max(tree.depth)
+        err = np.abs(fast - ref).max(axis=1)
+        assert np.all(err <= bound), f"case {case}: worst {np.max(err / bound):.3g} of the bound (seed {seed})"
+        if balls and case != 2:  # a ball's spring in cases 1 and 3: the reference path itself
+            springs = relacc.TreeEffects(joints={balls[0]: relacc.JointEffect(2.0, 0.5)}, bodies=loads)
+            np.testing.assert_array_equal(
+                relacc.tree_accelerations(tree, case, q, u, effects=springs, t=t),
+                relacc.tree_accelerations(tree, case, q, u, effects=springs, t=t, backend="reference"))
+
+
 def test_the_dynamics_kernel_says_what_is_wrong():
     tree = relacc.Tree("t", [relacc.Body("a", joints=[relacc.Joint.hinge("spin", (0, 0, 1))]),
                              relacc.Body("b", parent="a", pos=(1, 0, 0), joints=[relacc.Joint.hinge("h", (0, 1, 0))],

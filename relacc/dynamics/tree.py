@@ -134,15 +134,16 @@ def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
         f[:, da:da + 3] += mv(np.swapaxes(B, -1, -2), tau2)
 
 
-def joint_forces(tree, q, v, effects, joint_effects=None) -> np.ndarray:
+def joint_forces(tree, q, v, effects, joint_effects=None, case: int = 2) -> np.ndarray:
     """``(n, nv)`` the generalized forces of ``effects``' joint springs and dampers alone at case-2 states
     ``q (n, nq)``, ``v (n, nv)`` (MuJoCo's ``qpos``, ``qvel``): what MuJoCo's passive force gives for them (N, N m
     per speed). Only the positions and speeds of joints with an effect are read. ``joint_effects``: the second
-    item of ``effects.resolve(tree)`` when the caller has it already (a stepper calls this at every stage)."""
+    item of ``effects.resolve(tree)`` when the caller has it already (a stepper calls this at every stage).
+    ``case`` 1 or 3: states of that case, the effects on hinges and slides only (their speeds are every case's)."""
     if joint_effects is None:
         _, joint_effects, _ = effects.resolve(tree)
     f = np.zeros((q.shape[0], tree.nv))
-    qadr = tree.qadr(2)
+    qadr = tree.qadr(case)
     for k, eff, rest in joint_effects:
         kind, a, d = tree.joints[k][1].type, qadr[k], tree.dofadr[k]
         k_v = {"free": 6, "ball": 3}.get(kind, 1)
@@ -177,9 +178,10 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
 
     Args:
         tau: ``(..., nv)`` generalized forces conjugate to ``u`` (N or N m), default zero.
-        backend: ``"auto"`` (the compiled kernel of :mod:`relacc.kernels.tree_dynamics` unless ``effects`` name
-            joints or bodies, which the reference path applies), ``"fast"`` or ``"reference"`` (Kane's
-            equations of :func:`tree_dynamics`, solved by Cholesky); the two agree to rounding.
+        backend: ``"auto"`` (the compiled kernel of :mod:`relacc.kernels.tree_dynamics`, with the generalized
+            forces of ``effects``' joints and body loads evaluated apart and applied; the reference path where a
+            ball's or free joint's spring or damper acts in case 1 or 3), ``"fast"`` (the kernel, gravity only) or
+            ``"reference"`` (Kane's equations of :func:`tree_dynamics`, solved by Cholesky); they agree to rounding.
         out: a writable C-contiguous float64 ``(..., nv)`` array to write into (fast backend), returned.
         (the others as in :func:`tree_dynamics`)
 
@@ -197,6 +199,11 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
         raise InputError("backend 'fast' applies gravity only: joint and body effects take backend 'reference'")
     if backend == "fast" or (backend == "auto" and simple):
         return _fast(tree, case, q, u, tau, effects, out)
+    if backend == "auto" and isinstance(effects, TreeEffects) and isinstance(tree, Tree):
+        applied = _effect_forces(tree, case, q, u, effects, t)
+        if applied is not None:  # the effects' forces as applied ones, the kernel for the rest
+            return _fast(tree, case, q, u, applied if tau is None else np.add(tau, applied),
+                         TreeEffects(gravity=effects.gravity), out)
     if out is not None:
         raise InputError("out= is for the fast backend")
     _, q, u, _, batch = inputs(tree, case, q, u, values=False)
@@ -208,6 +215,32 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
     if d.case == 3:
         check_invertible(tree, np.asarray(q, dtype=float))
     return solve(tree, d.M, rhs)
+
+
+def _effect_forces(tree, case, q, u, effects, t):
+    """``(..., nv)`` the generalized forces of ``effects``' joint springs and dampers and body loads in the case's
+    speeds, evaluated apart for the compiled kernel (numpy, batched); None where that needs the walk's joint frames (a
+    ball's or free joint's spring or damper in cases 1 and 3, whose case-2 speeds are ``[B] u``).
+
+    Loads act at the bodies' mass centres: ``[V_b]^T F + [Omega_b]^T T``, compiled
+    (:func:`relacc.kernels.tree_loads.load_forces`); joints' as :func:`joint_forces` (a hinge's or slide's speed is
+    the same in every case)."""
+    c, q, u, _, batch = inputs(tree, case, q, u, values=False)
+    _, joint_effects, loads = effects.resolve(tree)
+    if int(c) != 2 and any(tree.joints[k][1].type in ("ball", "free") for k, _, _ in joint_effects):
+        return None
+    n = int(np.prod(batch))
+    qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
+    f = joint_forces(tree, qf, uf, effects, joint_effects, case=int(c))
+    if loads:
+        from relacc.kernels.tree_loads import load_forces
+
+        tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
+        s = np.stack([np.broadcast_to(load.factor(tt), (n,)) for _, load in loads], axis=1)[..., None]  # (n, L, 1)
+        force = s * np.array([load.force for _, load in loads])
+        torque = s * np.array([load.torque for _, load in loads])
+        f += load_forces(tree, int(c), qf, uf, [b for b, _ in loads], force, torque)
+    return f.reshape(batch + (tree.nv,))
 
 
 def _tau(tree, tau, batch, nq):

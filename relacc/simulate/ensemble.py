@@ -134,18 +134,20 @@ def _relacc(scene, q0, u0, steps, threads, name):
 def _relacc_tree(scene, q0, u0, steps, threads, name):
     """A model: relacc's tree stepper (:func:`relacc.simulate.subjects.tree_stepper`) on every member at once."""
     from relacc.dynamics.tree import tree_accelerations
+    from relacc.kernels.jit import threads as kernel_threads
     from relacc.simulate.subjects import tree_point, tree_stepper
 
     integrator, _ = scene.integrator_for("relacc")
     stepper = tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator)
-    Q, U, seconds = _batched(stepper, q0, u0, steps, scene, "relacc")
+    with kernel_threads(threads):  # every stage's forward dynamics over the members, compiled, on these threads
+        Q, U, seconds = _batched(stepper, q0, u0, steps, scene, "relacc")
     n, m = Q.shape[:2]
     flat_q, flat_u = Q.reshape(n * m, -1), U.reshape(n * m, -1)
     t = np.tile(steps * scene.dt, n)
     pos, vel, acc = tree_point(scene, flat_q, flat_u, tree_accelerations(scene.tree, scene.case, flat_q, flat_u,
                                                                           effects=scene.effects, t=t))
     return Ensemble("relacc", steps * scene.dt, Q, U, pos.reshape(n, m, 3), vel.reshape(n, m, 3),
-                    acc.reshape(n, m, 3), seconds, n * int(steps[-1]), 1)
+                    acc.reshape(n, m, 3), seconds, n * int(steps[-1]), threads)
 
 
 def _batched(stepper, x, v, steps, scene, who):
