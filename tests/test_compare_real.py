@@ -261,6 +261,39 @@ def test_a_directory_is_every_model_in_it(tmp_path, capsys):
     assert "no .xml or .urdf file" in capsys.readouterr().err
 
 
+def test_several_models_make_one_page_with_a_row_each_linked_to_its_sections(tmp_path, capsys):
+    """``relacc compare DIR --out page.html``: one page; a summary row per model (a file that cannot be compared says
+    why on its row), each compared model's row linking to its own sections, every id on the page unique."""
+    from html.parser import HTMLParser
+
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "robots" / "unnamed.xml").write_text(UNNAMED)
+    (tmp_path / "robots" / "table_first.xml").write_text(PINOCCHIO_SEES_NOTHING)
+    (tmp_path / "robots" / "include.xml").write_text("<mujocoinclude/>")
+    page = tmp_path / "page.html"
+    assert main(["compare", str(tmp_path / "robots"), "--states", "2", "--out", str(page)]) == 2
+    assert f"wrote {page}" in capsys.readouterr().out
+
+    class Ids(HTMLParser):
+        ids, links, rows = [], [], 0
+
+        def handle_starttag(self, tag, attrs):
+            a = dict(attrs)
+            if "id" in a:
+                self.ids.append(a["id"])
+            if tag == "a" and a.get("href", "").startswith("#"):
+                self.links.append(a["href"][1:])
+
+    html = page.read_text()
+    parsed = Ids()
+    parsed.feed(html)
+    assert len(parsed.ids) == len(set(parsed.ids)), "an id repeats"
+    assert {"m1", "m2", "m1-engines", "m2-dynamics", "models"} <= set(parsed.ids)
+    assert "m0" not in parsed.ids and "cannot be compared:" in html and "include.xml" in html
+    assert set(parsed.links) <= set(parsed.ids) and {"m1", "m2"} <= set(parsed.links)
+    assert html.count("<article") == 2 and "relacc compare: 3 models" in html
+
+
 def test_the_page_draws_each_engines_robot_and_rings_what_differs(tmp_path):
     """The geometry behind the drawing is each engine's reading: Pinocchio, which puts the jointless root at the
     world frame, has every mass centre at MuJoCo's expressed in that root's frame (p, R from the file: an independent

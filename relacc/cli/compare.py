@@ -8,7 +8,6 @@ from relacc.core.tolerances import EPS
 
 
 def cmd_compare(args) -> int:
-    from relacc.errors import InputError
     from relacc.validation.robots import compare
 
     args.model = models(args.model)
@@ -16,8 +15,6 @@ def cmd_compare(args) -> int:
     if args.out is not None:
         from relacc import files
 
-        if len(args.model) > 1:
-            raise InputError("--out writes one model's page; give one MODEL.xml, or use --json for several")
         out = files.check_output_file(args.out)  # before the work: a bad path is a one-line error up front
     if len(args.model) > 1 or args.scheduler:
         return _many(args)
@@ -76,13 +73,17 @@ def _many(args) -> int:
                                                seed=args.seed)))
             except RelaccError as exc:
                 results.append((model, exc))
-    if args.out is not None:
+    if args.out is not None and len(results) == 1:  # one model on a cluster: its own page
         from relacc.report.robot import write
 
         _, only = results[0]
         if isinstance(only, RelaccError):
             raise only
         write(only, args.out)
+    elif args.out is not None:
+        from relacc.report.robot import write_many
+
+        write_many(results, args.out)
     codes = [2 if isinstance(r, RelaccError) else r.exit_code for _, r in results]
     if args.json:
         print(json.dumps([{"model": m, "error": str(r), "exit": 2} if isinstance(r, RelaccError)
@@ -92,7 +93,7 @@ def _many(args) -> int:
             print(f"{model}: error: {r}" if isinstance(r, RelaccError) else text(r))
             print()
         print(f"{len(results)} models: {codes.count(0)} agree, {codes.count(1)} disagree, {codes.count(2)} cannot "
-              "be compared")
+              "be compared" + (f"\nwrote {args.out}" if args.out is not None else ""))
     return max(codes)
 
 

@@ -296,7 +296,8 @@ def build_parser() -> argparse.ArgumentParser:
     _states(p, 20, "random states besides the reference configuration")
     _seed(p)
     _json(p, "the summary")
-    p.add_argument("--out", metavar="PAGE.html", help="also write a self-contained HTML page, atomically (one model)")
+    p.add_argument("--out", metavar="PAGE.html", help="also write a self-contained HTML page, atomically (several "
+                   "models: one page, a row per model linked to its sections)")
     _scheduler(p, "one task per model")
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",

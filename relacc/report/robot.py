@@ -1,4 +1,5 @@
-"""The self-contained HTML page of ``relacc compare --out``: the model, the engines, the audit, the dynamics.
+"""The self-contained HTML page of ``relacc compare --out``: the model, the engines, the audit, the dynamics (several
+models: one page, a row per model linked to its sections).
 
 Plain data from :class:`relacc.validation.robots.RobotComparison` rendered by the report's Jinja2
 environment (autoescaped) with the report's style; no script, no external reference.
@@ -70,4 +71,26 @@ def write(result, out) -> str:
     """Write the page atomically; returns its path."""
     path = files.check_output_file(out)
     files.write_text(path, render(result))
+    return str(path)
+
+
+def render_many(results) -> str:
+    """One page for several models: ``results`` ``[(model path, RobotComparison or the RelaccError that stopped
+    it)]``; a summary table with a row per model, linked to each compared model's sections."""
+    rows = []
+    for model, r in results:
+        if isinstance(r, Exception):
+            rows.append({"model": str(model), "exit": 2, "error": str(r), "d": None})
+        else:
+            rows.append({"model": str(model), "exit": r.exit_code, "error": None, "d": page_data(r)})
+    codes = [r["exit"] for r in rows]
+    summary = f"{codes.count(0)} agree, {codes.count(1)} disagree, {codes.count(2)} cannot be compared"
+    return environment().get_template("robots.html.j2").render(
+        rows=rows, summary=summary, created=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"))
+
+
+def write_many(results, out) -> str:
+    """Write the page of several models atomically; returns its path."""
+    path = files.check_output_file(out)
+    files.write_text(path, render_many(results))
     return str(path)
