@@ -136,6 +136,48 @@ def test_drake_reads_an_mjcf_whose_meshes_it_cannot_read_when_every_inertia_is_e
     assert result.audit == [] and failing(result) == {}, f"seed {result.seed}"
 
 
+def test_drake_reads_an_mjcf_that_includes_others_inlined_as_mujoco_reads_it(tmp_path, capsys):
+    """gymnasium-robotics' adroit hands: the model ``<include>``s its assets and its robot, whose meshes are ``.stl``.
+    relacc inlines the included files (nested ones too, names from the main file's directory) before dropping the
+    meshes, and Drake takes part with every quantity agreeing, the file's lack of a model name notwithstanding. A
+    file that includes itself: MuJoCo refuses it (the reference reads the file first), one line."""
+    _stl(tmp_path / "part.stl")
+    (tmp_path / "parts").mkdir()
+    (tmp_path / "parts" / "assets.xml").write_text('<mujocoinclude><asset><mesh name="part" file="part.stl"/></asset>'
+                                                   "</mujocoinclude>")
+    robot = MESHED.format(inertial1='<inertial pos="0.05 0 0" mass="1" diaginertia="0.01 0.02 0.03"/>')
+    body = robot[robot.index("<body name=\"link1\">"):robot.index("</worldbody>")]
+    (tmp_path / "parts" / "robot.xml").write_text('<mujoco><include file="parts/arm.xml"/></mujoco>')
+    (tmp_path / "parts" / "arm.xml").write_text(f"<mujocoinclude>{body}</mujocoinclude>")
+    path = tmp_path / "scene.xml"
+    path.write_text('<mujoco><include file="parts/assets.xml"/>'  # no model name either (Drake needs one)
+                    '<worldbody><include file="parts/robot.xml"/></worldbody></mujoco>')
+    result = compare(path, engines=["drake"], n_states=4, seed=3)
+    assert result.compared == ["mujoco", "drake"]
+    assert any("the 3 files it includes were inlined first" in w for w in result.engines["drake"].warnings)
+    assert result.audit == [] and failing(result) == {}, f"seed {result.seed}"
+    (tmp_path / "parts" / "arm.xml").write_text('<mujocoinclude><include file="parts/arm.xml"/></mujocoinclude>')
+    assert main(["compare", str(path), "--engines", "drake"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "MuJoCo cannot read it" in err and "already included" in err, err
+    from relacc.engines.mjcf import without_meshes
+
+    with pytest.raises(ModelError, match="includes nested more than 20 deep"):  # and the inliner stops on its own
+        without_meshes(path)
+
+
+def test_drake_dropping_a_free_joints_damping_is_a_known_reading(tmp_path):
+    """gymnasium-robotics' hand scenes give their free objects damping; Drake's MJCF parser drops it (and warns). The
+    audit's row for it has the reproduced cause (MuJoCo recompiled without the free joints' damping gives Drake's
+    zeros), and nothing else differs."""
+    path = tmp_path / "damped.xml"
+    path.write_text(UNNAMED.replace("<freejoint/>", '<joint name="root" type="free" damping="0.2"/>'))
+    result = compare(path, engines=["drake"], n_states=3, seed=5)
+    rows = [a.as_json() for a in result.audit]
+    assert [(r["item"], r["mujoco"], r["drake"]) for r in rows] == [("damping", [0.2] * 6, [0.0] * 6)], rows
+    assert "drops a free joint's damping" in rows[0]["cause"] and failing(result) == {}, f"seed {result.seed}"
+
+
 def test_a_mesh_that_gives_a_body_its_inertia_is_named_not_dropped(tmp_path, capsys):
     _stl(tmp_path / "part.stl")
     path = tmp_path / "meshed.xml"

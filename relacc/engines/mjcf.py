@@ -4,8 +4,9 @@ Drake's MJCF parser reads ``.obj`` meshes only and refuses a file naming any oth
 gymnasium-robotics' ``.stl`` meshes). Where every body's inertia is explicit (an ``<inertial>``, unless
 ``<compiler inertiafromgeom="true">`` makes MuJoCo take it from the geoms anyway; or ``inertiafromgeom="false"``),
 meshes have no part in the dynamics: :func:`without_meshes` gives the text with its mesh geoms and mesh assets
-removed and a note saying so. Where a body's inertia would come from a mesh, the meshes cannot be dropped without
-changing the dynamics, and it says which body.
+removed and a note saying so; files it includes are inlined first (MuJoCo's ``<include>``: the included file's
+top-level children in place of the element). Where a body's inertia would come from a mesh, the meshes cannot be
+dropped without changing the dynamics, and it says which body.
 """
 
 from __future__ import annotations
@@ -24,15 +25,11 @@ def without_meshes(path) -> tuple[str, str]:
     """``(text, note)``: the MJCF at ``path`` without mesh geoms and mesh assets, and a one-line note.
 
     Raises:
-        ModelError: the file does not parse, includes other files, or a body's inertia comes from a mesh (named).
+        ModelError: the file or one it includes does not parse, or a body's inertia comes from a mesh (named).
     """
     path = Path(path)
-    try:
-        root = ET.parse(path).getroot()
-    except (ET.ParseError, OSError) as exc:
-        raise ModelError(f"{path}: not readable XML: {' '.join(str(exc).split())}") from None
-    if root.find(".//include") is not None:
-        raise ModelError(f"{path}: includes other files; relacc drops meshes from a single file only")
+    root = _read(path)
+    included = _inline(root, path.parent, path)
     mode = "auto"
     for compiler in root.iter("compiler"):  # the last one given holds
         mode = compiler.get("inertiafromgeom", mode)
@@ -56,5 +53,38 @@ def without_meshes(path) -> tuple[str, str]:
     if root.get("model") is None:
         root.set("model", path.stem)
     note = (f"relacc dropped the file's {geoms} mesh geoms and {assets} mesh assets for this engine, which cannot "
-            "read the meshes: every body's inertia is explicit, so they have no part in the dynamics")
+            "read the meshes: every body's inertia is explicit, so they have no part in the dynamics"
+            + (f"; the {included} files it includes were inlined first, as MuJoCo reads them" if included else ""))
     return ET.tostring(root, encoding="unicode"), note
+
+
+def _read(path: Path):
+    try:
+        return ET.parse(path).getroot()
+    except (ET.ParseError, OSError) as exc:
+        raise ModelError(f"{path}: not readable XML: {' '.join(str(exc).split())}") from None
+
+
+MAX_DEPTH = 20
+"""Includes nested deeper than this are refused (a file that includes itself)."""
+
+
+def _inline(root, directory: Path, path: Path, depth: int = 0) -> int:
+    """Replace every ``<include file="...">`` under ``root`` by the children of the included file's root element,
+    recursively, as MuJoCo does (a relative name is taken from the main file's directory); returns how many files."""
+    count = 0
+    for parent in list(root.iter()):
+        for k, child in reversed(list(enumerate(parent))):
+            if child.tag != "include":
+                continue
+            if depth >= MAX_DEPTH:
+                raise ModelError(f"{path}: includes nested more than {MAX_DEPTH} deep (a file that includes itself?)")
+            name = child.get("file")
+            if not name:
+                raise ModelError(f"{path}: an <include> without a file")
+            included = _read(directory / name)
+            count += 1 + _inline(included, directory, directory / name, depth + 1)
+            parent.remove(child)
+            for i, grandchild in enumerate(list(included)):
+                parent.insert(k + i, grandchild)
+    return count

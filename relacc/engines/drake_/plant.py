@@ -72,6 +72,19 @@ def _parse(path, named: bool, text: str | None = None):
     return plant, welded
 
 
+def _without_meshes(path, handler):
+    """Drake's plant of the MJCF's text without its meshes (:func:`relacc.engines.mjcf.without_meshes`), its note
+    among the warnings."""
+    try:
+        text, note = without_meshes(path)
+    except ModelError as why:
+        raise ModelError(f"{path}: Drake cannot read it: it reads .obj meshes only, and "
+                         f"{str(why).removeprefix(f'{path}: ')}") from None
+    plant, welded = _parse(path, named=False, text=text)
+    handler.lines.append(note)
+    return plant, welded
+
+
 def _weld_roots(plant, instance) -> list[str]:
     """Weld to the world, where it is, each body of a URDF that no joint carries: URDF's root link, which MuJoCo
     and Pinocchio fix to the world and Drake's parser alone would leave free (six more degrees of freedom)."""
@@ -99,22 +112,20 @@ def parse(path):
         try:
             plant, welded = _parse(path, named=False)
         except Exception as exc:
+            plant, failure = None, exc
             if NO_MODEL_NAME in str(exc):
                 handler.lines.clear()
-                plant, welded = _parse(path, named=True)
-                handler.lines.append(f"the file has no model name, which Drake's parser requires: relacc loaded it "
-                                     f"through a model directive naming it {Path(path).stem!r} (the name only)")
-            elif OBJ_ONLY in str(exc) and not is_urdf(path):
-                handler.lines.clear()
                 try:
-                    text, note = without_meshes(path)
-                except ModelError as why:
-                    raise ModelError(f"{path}: Drake cannot read it: it reads .obj meshes only, and "
-                                     f"{str(why).removeprefix(f'{path}: ')}") from None
-                plant, welded = _parse(path, named=False, text=text)
-                handler.lines.append(note)
-            else:
-                raise
+                    plant, welded = _parse(path, named=True)
+                    handler.lines.append(f"the file has no model name, which Drake's parser requires: relacc loaded "
+                                         f"it through a model directive naming it {Path(path).stem!r} (the name only)")
+                except Exception as again:
+                    failure = again
+            if plant is None and OBJ_ONLY in str(failure) and not is_urdf(path):
+                handler.lines.clear()  # the text without meshes names the model too
+                plant, welded = _without_meshes(path, handler)
+            elif plant is None:
+                raise failure from None
     except ModelError:
         raise
     except Exception as exc:  # Drake raises RuntimeError with its parser's message (file and line)

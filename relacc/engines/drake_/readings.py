@@ -80,6 +80,17 @@ def _joints_at_parent(spec):
             joint.axis = R.T @ np.asarray(joint.axis, dtype=float)
 
 
+def _damped_free(spec):
+    """Free joints with damping: Drake's MJCF parser drops it (it warns "not supported for free bodies"). MuJoCo's
+    joint type 0 is the free joint."""
+    return [j for j in spec.joints if int(j.type) == 0 and np.any(np.asarray(j.damping) != 0)]
+
+
+def _undamp_free(spec):
+    for j in _damped_free(spec):
+        j.damping = np.zeros_like(np.asarray(j.damping, dtype=float))
+
+
 MJCF_READINGS = (
     ("stacked_joints", "Drake's MJCF parser reads the position and axis of every joint but the last of a body with "
      "several joints in the parent body's frame instead of the body's",
@@ -87,6 +98,8 @@ MJCF_READINGS = (
     ("armature", "Drake's MJCF parser keeps a joint's armature only as the reflected inertia of an actuator it "
      "reads on that joint (<motor> or <position>); joints without one lose it",
      lambda spec: bool(unactuated(spec)), drop_armature),
+    ("free_damping", "Drake's MJCF parser drops a free joint's damping (it warns that damping is not supported for "
+     "free bodies)", lambda spec: bool(_damped_free(spec)), _undamp_free),
     ("settotalmass", "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
      lambda spec: spec.compiler.settotalmass > 0, lambda spec: setattr(spec.compiler, "settotalmass", -1.0)),
     ("free_root", "Drake's URDF parser leaves a root link that no joint attaches to the world free (a floating "
