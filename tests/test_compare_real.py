@@ -178,6 +178,22 @@ def test_drake_dropping_a_free_joints_damping_is_a_known_reading(tmp_path):
     assert "drops a free joint's damping" in rows[0]["cause"] and failing(result) == {}, f"seed {result.seed}"
 
 
+def test_a_body_of_zero_mass_is_read_by_drake_as_mujoco_reads_it(tmp_path):
+    """robosuite's panda, jaco and sawyer mount their arm on a body with ``<inertial mass="0" diaginertia="0 0 0">``,
+    and fetch's gripper links have one: Drake's parser aborts on it (its ``mass > 0`` assertion). relacc gives Drake
+    the file without that inertial and its body's geoms (no mass in either reading), with a note; every quantity
+    agrees."""
+    path = tmp_path / "mounted.xml"
+    mount = ('<body name="mount" pos="0 0 0.1"><inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>'
+             '<geom type="box" size="0.1 0.1 0.1"/><body name="thigh"')
+    path.write_text(UNNAMED.replace('<body name="thigh"', mount).replace("</body>\n    </body>",
+                                                                        "</body></body>\n    </body>"))
+    result = compare(path, engines=["drake"], n_states=4, seed=2)
+    assert result.compared == ["mujoco", "drake"]
+    assert any("the zero <inertial> of 1 bodies went with their geoms" in w for w in result.engines["drake"].warnings)
+    assert result.audit == [] and failing(result) == {}, f"seed {result.seed}"
+
+
 def test_a_mesh_that_gives_a_body_its_inertia_is_named_not_dropped(tmp_path, capsys):
     _stl(tmp_path / "part.stl")
     path = tmp_path / "meshed.xml"

@@ -6,7 +6,8 @@ gymnasium-robotics' ``.stl`` meshes). Where every body's inertia is explicit (an
 meshes have no part in the dynamics: :func:`without_meshes` gives the text with its mesh geoms and mesh assets
 removed and a note saying so; files it includes are inlined first (MuJoCo's ``<include>``: the included file's
 top-level children in place of the element). Where a body's inertia would come from a mesh, the meshes cannot be
-dropped without changing the dynamics, and it says which body.
+dropped without changing the dynamics, and it says which body. A body whose ``<inertial>`` is zero (mass and
+inertia), which Drake's parser cannot take, loses it with its geoms: it has no mass in either reading.
 """
 
 from __future__ import annotations
@@ -22,7 +23,8 @@ def _mesh_geom(geom) -> bool:
 
 
 def without_meshes(path) -> tuple[str, str]:
-    """``(text, note)``: the MJCF at ``path`` without mesh geoms and mesh assets, and a one-line note.
+    """``(text, note)``: the MJCF at ``path`` (its includes inlined) without mesh geoms and mesh assets, and without
+    zero inertials and their bodies' geoms, and a one-line note.
 
     Raises:
         ModelError: the file or one it includes does not parse, or a body's inertia comes from a mesh (named).
@@ -39,6 +41,7 @@ def without_meshes(path) -> tuple[str, str]:
             why = 'inertiafromgeom="true"' if mode == "true" else "no <inertial>"
             raise ModelError(f"{path}: body {body.get('name', '(unnamed)')!r} takes its inertia from a mesh "
                              f"({why}), so the meshes cannot be dropped")
+    massless = _drop_zero_inertials(root) if mode != "true" else 0
     geoms = assets = 0
     for parent in list(root.iter()):
         for child in list(parent):
@@ -54,8 +57,42 @@ def without_meshes(path) -> tuple[str, str]:
         root.set("model", path.stem)
     note = (f"relacc dropped the file's {geoms} mesh geoms and {assets} mesh assets for this engine, which cannot "
             "read the meshes: every body's inertia is explicit, so they have no part in the dynamics"
-            + (f"; the {included} files it includes were inlined first, as MuJoCo reads them" if included else ""))
+            + (f"; the {included} files it includes were inlined first, as MuJoCo reads them" if included else "")
+            + (f"; and the zero <inertial> of {massless} bodies went with their geoms: Drake's parser cannot take a "
+               "zero mass (its mass > 0 assertion), and a body with neither has no mass in Drake, as the zero "
+               "inertial gives it none in MuJoCo" if massless else ""))
     return ET.tostring(root, encoding="unicode"), note
+
+
+def _zero(inertial) -> bool:
+    """An ``<inertial>`` of zero mass and zero inertia (robosuite's mounts and fetch's gripper links)."""
+    values = [inertial.get("mass", "0"), inertial.get("diaginertia", "0 0 0"), inertial.get("fullinertia", "0")]
+    try:
+        return all(float(x) == 0 for v in values for x in v.split())
+    except ValueError:
+        return False
+
+
+def has_zero_inertial(path) -> bool:
+    """Whether the MJCF at ``path`` gives a body a zero ``<inertial>`` (False for a file that does not parse)."""
+    try:
+        return any(_zero(i) for i in ET.parse(path).getroot().iter("inertial"))
+    except (ET.ParseError, OSError):
+        return False
+
+
+def _drop_zero_inertials(root) -> int:
+    """Remove each zero ``<inertial>`` and its body's geoms (explicit inertia: the geoms have no part in the
+    dynamics); returns how many bodies."""
+    count = 0
+    for body in root.iter("body"):
+        inertial = body.find("inertial")
+        if inertial is not None and _zero(inertial):
+            body.remove(inertial)
+            for geom in body.findall("geom"):
+                body.remove(geom)
+            count += 1
+    return count
 
 
 def _read(path: Path):

@@ -25,7 +25,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, QuaternionFloatingJoint, RotationalInertia, SpatialInertia
 
 from relacc.engines.base import NQ, NV, Match
-from relacc.engines.mjcf import without_meshes
+from relacc.engines.mjcf import has_zero_inertial, without_meshes
 from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import EngineError, ModelError
 
@@ -72,13 +72,14 @@ def _parse(path, named: bool, text: str | None = None):
     return plant, welded
 
 
-def _without_meshes(path, handler):
-    """Drake's plant of the MJCF's text without its meshes (:func:`relacc.engines.mjcf.without_meshes`), its note
-    among the warnings."""
+def _without_meshes(path, handler, reason: str):
+    """Drake's plant of the MJCF's text without its meshes and zero inertials
+    (:func:`relacc.engines.mjcf.without_meshes`), its note among the warnings; ``reason``: why the file's own text
+    cannot be read."""
     try:
         text, note = without_meshes(path)
     except ModelError as why:
-        raise ModelError(f"{path}: Drake cannot read it: it reads .obj meshes only, and "
+        raise ModelError(f"{path}: Drake cannot read it: {reason}, and "
                          f"{str(why).removeprefix(f'{path}: ')}") from None
     plant, welded = _parse(path, named=False, text=text)
     handler.lines.append(note)
@@ -110,7 +111,12 @@ def parse(path):
     log.propagate = False
     try:
         try:
-            plant, welded = _parse(path, named=False)
+            if not is_urdf(path) and has_zero_inertial(path):  # Drake's parser would abort on the zero mass
+                plant, welded = _without_meshes(path, handler, "its parser cannot take a body of zero mass")
+            else:
+                plant, welded = _parse(path, named=False)
+        except ModelError:
+            raise
         except Exception as exc:
             plant, failure = None, exc
             if NO_MODEL_NAME in str(exc):
@@ -123,7 +129,7 @@ def parse(path):
                     failure = again
             if plant is None and OBJ_ONLY in str(failure) and not is_urdf(path):
                 handler.lines.clear()  # the text without meshes names the model too
-                plant, welded = _without_meshes(path, handler)
+                plant, welded = _without_meshes(path, handler, "it reads .obj meshes only")
             elif plant is None:
                 raise failure from None
     except ModelError:
