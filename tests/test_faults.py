@@ -261,3 +261,39 @@ def test_an_interrupt_lost_in_a_gc_callback_is_pending_and_quiet(monkeypatch):
             files.check_interrupt()
         files.clear_interrupt()
     assert seen == []
+
+
+@pytest.mark.parametrize("how", ["chained", "pending"])
+def test_an_interrupt_a_compiled_caller_turned_into_its_own_error_is_an_interrupt(monkeypatch, capsys, how):
+    """SIGTERM landing while numba's dispatcher unpickles a cached kernel (the report's fault test at 15 s caught it
+    once): numba raises ``SystemError`` from the ``KeyboardInterrupt``. The command ends as interrupted, exit 130 and
+    one line, whether the interrupt is among the error's causes or only pending (the signal handler's record)."""
+    from relacc import files
+    from relacc.cli import commands, main
+
+    def interrupted(args):
+        if how == "pending":
+            files.PENDING[0] = signal.SIGTERM
+            raise SystemError("CPUDispatcher(<function advance>) returned a result with an exception set")
+        try:
+            raise KeyboardInterrupt(f"signal {signal.SIGTERM}")
+        except KeyboardInterrupt as exc:
+            raise SystemError("<function _numba_unpickle> returned a result with an exception set") from exc
+
+    monkeypatch.setattr(commands, "cmd_check", interrupted)
+    assert main(["check", "--quiet"]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "interrupted" in err and "Traceback" not in err, err
+    assert files.PENDING[0] is None
+
+
+def test_an_error_without_an_interrupt_is_not_taken_for_one(monkeypatch):
+    """Only an interrupt is turned into exit 130: any other error of a command still surfaces (a bug, not news)."""
+    from relacc.cli import commands, main
+
+    def broken(args):
+        raise SystemError("a bug")
+
+    monkeypatch.setattr(commands, "cmd_check", broken)
+    with pytest.raises(SystemError):
+        main(["check", "--quiet"])

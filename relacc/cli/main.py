@@ -4,7 +4,8 @@
   a request too large for memory) prints one line on stderr and exits 2.
 * SIGINT and SIGTERM interrupt the command as :class:`KeyboardInterrupt`, so
   that files being written are cleaned up (:mod:`relacc.files`); one line,
-  exit 130.
+  exit 130, also when a compiled caller turned the interrupt into its own
+  error (numba's dispatcher raises ``SystemError`` from it).
 * numpy's floating-point warnings do not reach the user as warnings: inside
   a command they are errors, and relacc's own checks (non-finite results,
   conditioning) are what reports them; one that escapes those checks is
@@ -59,6 +60,25 @@ def main(argv=None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # the reader has gone: drop what is still buffered
         return 141
+    except Exception as exc:  # an interrupt a compiled caller turned into its own error (numba: SystemError)
+        if files.PENDING[0] is None and not _interrupt_in(exc):
+            raise
+        files.clear_interrupt()
+        end_line()
+        print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
+        return 130
+
+
+def _interrupt_in(exc) -> bool:
+    """Whether a :class:`KeyboardInterrupt` is among the causes of ``exc`` (numba's dispatcher, interrupted while it
+    unpickles a cached kernel, raises ``SystemError`` from it)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
 
 
 def entry() -> None:
