@@ -25,6 +25,8 @@ import zipfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from relacc.files import write_text
+
 DOC = Path(__file__).resolve().parents[1] / "docs" / "compare.md"
 STATES = 5
 PINS = {"example-robot-data": "6.0.0", "robosuite": "1.5.2", "gymnasium-robotics": "1.4.2"}
@@ -144,10 +146,10 @@ def main(argv=None) -> int:
     if args.write:
         text = DOC.read_text()
         head, rest = text.split(BEGIN, 1)
-        DOC.write_text(head + BEGIN + "\n" + HEADER + "\n" + "\n".join(lines) + "\n" + END + rest.split(END, 1)[1])
+        write_text(DOC, head + BEGIN + "\n" + HEADER + "\n" + "\n".join(lines) + "\n" + END + rest.split(END, 1)[1])
     if args.json:
-        args.json.write_text(json.dumps([{"package": p, "file": s, **r} for (p, s, _), r in zip(todo, rows)],
-                                        indent=2) + "\n")
+        write_text(args.json, json.dumps([{"package": p, "file": s, **r} for (p, s, _), r in zip(todo, rows)],
+                                         indent=2) + "\n")
     return 0
 
 

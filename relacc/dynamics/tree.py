@@ -23,7 +23,7 @@ from relacc.core.rotations import quaternion_from_123, tilde
 from relacc.core.so3 import SO3
 from relacc.core.tree.coordinates import check_invertible, rotations
 from relacc.core.tree.kinematics import flat, inputs
-from relacc.core.tree.model import Tree
+from relacc.core.tree.model import NQ, NQ_ANGLES, NV, Tree
 from relacc.core.tree.walk import mv, walk
 from relacc.dynamics.tree_effects import NO_EFFECTS, TreeEffects
 from relacc.errors import InputError, SingularityError
@@ -143,11 +143,10 @@ def joint_forces(tree, q, v, effects, joint_effects=None, case: int = 2) -> np.n
     if joint_effects is None:
         _, joint_effects, _ = effects.resolve(tree)
     f = np.zeros((q.shape[0], tree.nv))
-    qadr = tree.qadr(case)
+    qadr, nq = tree.qadr(case), NQ_ANGLES if int(case) == 3 else NQ
     for k, eff, rest in joint_effects:
         kind, a, d = tree.joints[k][1].type, qadr[k], tree.dofadr[k]
-        k_v = {"free": 6, "ball": 3}.get(kind, 1)
-        f[:, d:d + k_v] = _passive(kind, eff, rest, q[:, a:a + (4 if kind == "ball" else 1)], v[:, d:d + k_v])
+        f[:, d:d + NV[kind]] = _passive(kind, eff, rest, q[:, a:a + nq[kind]], v[:, d:d + NV[kind]])
     return f
 
 

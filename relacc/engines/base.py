@@ -208,6 +208,7 @@ class Adapter(abc.ABC):
         self.dofs = np.array(sorted(i for m in self.matches for i in m.ref_v), dtype=int)
         self.qdofs = np.array(sorted(i for m in self.matches for i in m.ref_q), dtype=int)
         self.extra_dofs = self.nv_e - len(self.dofs)
+        self._joint_plan = None  # (effects, resolved joint effects, matches): see _joint_forces
 
     # --- what each engine implements -------------------------------------------------------------------------
 
@@ -361,7 +362,7 @@ class Adapter(abc.ABC):
         """
         from relacc.dynamics.tree import joint_forces
 
-        cached = getattr(self, "_joint_plan", None)
+        cached = self._joint_plan
         if cached is None or cached[0] is not effects:
             _, resolved, _ = effects.resolve(self.reference)
             joints = {k for k, _, _ in resolved}
@@ -396,15 +397,9 @@ class Adapter(abc.ABC):
         qe, ve, _, T, Td = self.to_engine(q, v)
         Me, fe = self.equations(qe, ve)
         _, ge = self.equations(qe, np.zeros_like(ve))
-        Tt = np.swapaxes(T, 1, 2)
         Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
-        M = Tt @ Me @ T
-        bias = np.einsum("nij,nj->ni", Tt, -fe + np.einsum("nij,nj->ni", Me, Tdv))
-        gravity = np.einsum("nij,nj->ni", Tt, -ge)
-        forward = None
-        if self.extra_dofs == 0:
-            forward = np.linalg.solve(T, (self.forward(qe, ve) - Tdv)[..., None])[..., 0]
-        return first(Dynamics(M, bias, gravity, forward), one)
+        forward = self.forward(qe, ve) if self.extra_dofs == 0 else None
+        return first(mapped_dynamics(Me, fe, ge, forward, T, Tdv), one)
 
     def kinematics(self, q, v, a, links) -> Points:
         """Each named link's centre of mass at reference states ``q (n, nq)``, ``v (n, nv)``, rates ``a (n, nv)``, over
@@ -415,6 +410,18 @@ class Adapter(abc.ABC):
         Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
         return first(Points(p.position, p.J @ T[:, None], None, p.Jdot_v + np.einsum("nlij,nj->nli", p.J, Tdv),
                              p.acceleration), one)
+
+
+def mapped_dynamics(M, f, g, forward, T, Tdv) -> Dynamics:
+    """:class:`Dynamics` in the reference's speeds ``(n, k)`` from an evaluator's own: ``M (n, m, m)``, ``f (n, m)``
+    (generalized forces minus the Coriolis and centrifugal terms), ``g (n, m)`` (``f`` at zero speeds: gravity),
+    ``forward (n, m)`` or None, through ``v_e = T v`` (``T (n, m, k)``) and ``T_dot v`` (``Tdv (n, m)``):
+    ``M_ref = T^T M T``, ``bias = T^T (-f + M T_dot v)``, ``gravity = -T^T g``, ``a = T^-1 (a_e - T_dot v)``."""
+    Tt = np.swapaxes(T, 1, 2)
+    bias = np.einsum("nij,nj->ni", Tt, -f + np.einsum("nij,nj->ni", M, Tdv))
+    if forward is not None:
+        forward = np.linalg.solve(T, (forward - Tdv)[..., None])[..., 0]
+    return Dynamics(Tt @ M @ T, bias, np.einsum("nij,nj->ni", Tt, -g), forward)
 
 
 def first(result, one: bool):

@@ -24,7 +24,7 @@ def _mesh_geom(geom) -> bool:
 
 def without_meshes(path) -> tuple[str, str]:
     """``(text, note)``: the MJCF at ``path`` (its includes inlined) without mesh geoms and mesh assets, and without
-    zero inertials and their bodies' geoms, and a one-line note.
+    zero inertials and their bodies' geoms, and a one-line note of what of that was done.
 
     Raises:
         ModelError: the file or one it includes does not parse, or a body's inertia comes from a mesh (named).
@@ -55,13 +55,17 @@ def without_meshes(path) -> tuple[str, str]:
         compiler.attrib.pop("meshdir", None)
     if root.get("model") is None:
         root.set("model", path.stem)
-    note = (f"relacc dropped the file's {geoms} mesh geoms and {assets} mesh assets for this engine, which cannot "
-            "read the meshes: every body's inertia is explicit, so they have no part in the dynamics"
-            + (f"; the {included} files it includes were inlined first, as MuJoCo reads them" if included else "")
-            + (f"; and the zero <inertial> of {massless} bodies went with their geoms: Drake's parser cannot take a "
-               "zero mass (its mass > 0 assertion), and a body with neither has no mass in Drake, as the zero "
-               "inertial gives it none in MuJoCo" if massless else ""))
-    return ET.tostring(root, encoding="unicode"), note
+    said = []
+    if geoms or assets:
+        said.append(f"relacc dropped the file's {geoms} mesh geoms and {assets} mesh assets for this engine, which "
+                    "cannot read the meshes: every body's inertia is explicit, so they have no part in the dynamics")
+    if included:
+        said.append(f"the {included} files it includes were inlined first, as MuJoCo reads them")
+    if massless:
+        said.append(f"the zero <inertial> of {massless} bodies went with their geoms: Drake's parser cannot take a "
+                    "zero mass (its mass > 0 assertion), and a body with neither has no mass in Drake, as the zero "
+                    "inertial gives it none in MuJoCo")
+    return ET.tostring(root, encoding="unicode"), "; ".join(said) or "relacc gave this engine the file's own text"
 
 
 def _zero(inertial) -> bool:
@@ -74,11 +78,15 @@ def _zero(inertial) -> bool:
 
 
 def has_zero_inertial(path) -> bool:
-    """Whether the MJCF at ``path`` gives a body a zero ``<inertial>`` (False for a file that does not parse)."""
+    """Whether the MJCF at ``path`` or a file it includes gives a body a zero ``<inertial>`` (False for a file that
+    does not parse: the engine's parser then says why)."""
+    path = Path(path)
     try:
-        return any(_zero(i) for i in ET.parse(path).getroot().iter("inertial"))
-    except (ET.ParseError, OSError):
+        root = _read(path)
+        _inline(root, path.parent, path)
+    except ModelError:
         return False
+    return any(_zero(i) for i in root.iter("inertial"))
 
 
 def _drop_zero_inertials(root) -> int:

@@ -52,11 +52,11 @@ def version() -> str:
     return pin.__version__
 
 
-
 def six(J) -> np.ndarray:
     """A Pinocchio Jacobian as ``(6, nv)``: its bindings give a model with one speed a ``(6,)`` vector."""
     J = np.asarray(J)
     return J.reshape(6, -1) if J.ndim == 1 else J
+
 
 class PinocchioAdapter(Adapter):
     """A model file in Pinocchio (its MJCF parser, or ``urdf`` by its URDF parser), matched to ``reference``."""

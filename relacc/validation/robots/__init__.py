@@ -377,17 +377,19 @@ def _mujoco_cause(quantity, reference, evaluator, states) -> str:
     acceleration routine, ``mj_rnePostConstraint`` at zero rates, rather than ``mj_jacDot``) agrees with relacc."""
     if quantity in ("J_dot v", "classical acceleration"):
         from relacc.engines.base import com
-        from relacc.validation.robots.agreement import point_terms, shared_links
+        from relacc.validation.robots.agreement import CHUNK, point_terms, shared_links
 
         links = shared_links(reference.structure, evaluator.structure, 0.0)
         tol = robot_tolerance(len(reference.structure.links))
         worst = 0.0
-        mine = evaluator.kinematics(states.q, states.u, states.udot, links)
-        theirs = reference.points(states.q, states.u, np.zeros_like(states.u), [com(name) for name in links])
-        for i, (v, a) in enumerate(zip(states.u, states.udot)):
-            scale, _ = point_terms(mine.J[i], mine.position[i], v, a)  # J_dot v: MuJoCo's acceleration at zero rates
-            x, y = mine.Jdot_v[i], theirs.acceleration[i]
-            worst = max(worst, float((np.abs(x - y).max(axis=1) / np.maximum(scale, np.finfo(float).tiny)).max()))
+        for start in range(0, len(states.q), CHUNK):  # batched, a chunk of states at a time (as compare_dynamics)
+            q, u, udot = (x[start:start + CHUNK] for x in (states.q, states.u, states.udot))
+            mine = evaluator.kinematics(q, u, udot, links)
+            theirs = reference.points(q, u, np.zeros_like(u), [com(name) for name in links])
+            for i, (v, a) in enumerate(zip(u, udot)):
+                scale, _ = point_terms(mine.J[i], mine.position[i], v, a)  # J_dot v: MuJoCo's acceleration, zero rates
+                x, y = mine.Jdot_v[i], theirs.acceleration[i]
+                worst = max(worst, float((np.abs(x - y).max(axis=1) / np.maximum(scale, np.finfo(float).tiny)).max()))
         if worst <= tol:
             return MUJOCO_JACDOT if _ball_then_slide(reference.model) else (
                 "MuJoCo's mj_jacDot differs from its own acceleration routine (mj_rnePostConstraint), which agrees "

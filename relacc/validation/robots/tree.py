@@ -18,7 +18,7 @@ import numpy as np
 
 from relacc.core.tree import convert, tree_kinematics
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
-from relacc.engines.base import Dynamics, Points, first
+from relacc.engines.base import Dynamics, Points, first, mapped_dynamics
 
 
 class TreeRobot:
@@ -56,11 +56,8 @@ class TreeRobot:
         q_c, u_c, T, Tdv = self._map(q, v)
         d = tree_dynamics(self.tree, self.case, q_c, u_c)
         rest = tree_dynamics(self.tree, self.case, q_c, np.zeros_like(u_c))
-        Tt = np.swapaxes(T, 1, 2)
-        M = Tt @ d.M @ T
-        bias = np.einsum("nij,nj->ni", Tt, -d.f + np.einsum("nij,nj->ni", d.M, Tdv))
-        forward = np.linalg.solve(T, (tree_accelerations(self.tree, self.case, q_c, u_c) - Tdv)[..., None])[..., 0]
-        return first(Dynamics(M, bias, np.einsum("nij,nj->ni", Tt, -rest.f), forward), one)
+        forward = tree_accelerations(self.tree, self.case, q_c, u_c)
+        return first(mapped_dynamics(d.M, d.f, rest.f, forward, T, Tdv), one)
 
     def kinematics(self, q, v, a, links) -> Points:
         """:class:`Points` ``(n, L, ...)`` of the named links' mass centres (one state: ``(L, ...)``)."""
