@@ -10,6 +10,11 @@
   into place, and a failed rename puts the earlier ones back.
 * :func:`check_output_file` / :func:`check_new_directory`: what ``--out``
   names is checked before a command does its work.
+* :func:`inputs`: the files a command reads are registered for its duration;
+  an output that resolves to one of them (the same path after symbolic links,
+  or the same file by a hard link) is refused, by the checks above before any
+  work and again by every writer before anything is replaced: no input file is
+  ever an output.
 """
 
 from __future__ import annotations
@@ -49,10 +54,12 @@ def write_bytes(path, data: bytes) -> Path:
     """Write ``data`` to ``path`` atomically (see the module docstring).
 
     Raises:
+        InputError: ``path`` is one of the command's inputs (:func:`inputs`).
         OutputError: the file cannot be written (the message names it and why);
             the previous file, if any, is unchanged.
     """
     path = Path(path)
+    check_not_input(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)  # --out creates its parents, in every command
         tmp = _stage(path, data)
@@ -82,8 +89,11 @@ def replace_all(files: dict) -> list[Path]:
     back from copies of their previous contents.
 
     Raises:
+        InputError: one of the paths is one of the command's inputs (:func:`inputs`): nothing is written.
         OutputError: naming the file that could not be written.
     """
+    for path in files:
+        check_not_input(Path(path))
     staged = {}
     try:
         for path, text in files.items():
@@ -112,6 +122,8 @@ def streams(paths):
         OutputError: a file cannot be created or written.
     """
     paths = [Path(p) for p in paths]
+    for path in paths:
+        check_not_input(path)
     handles, temps = {}, {}
     try:
         for path in paths:
@@ -202,6 +214,7 @@ def check_output_file(path, what: str = "--out") -> Path:
     path = _named(path, what, "a file name such as reports/page.html")
     if path.is_dir():
         raise InputError(f"{what} {path}: is a directory; give a file name such as {path / 'agreement.html'}")
+    check_not_input(path, what)
     _check_parent(path, what)
     return path
 
@@ -213,24 +226,80 @@ def _named(path, what: str, example: str) -> Path:
     return Path(path)
 
 
-def check_new_directory(path, what: str = "--out") -> Path:
-    """Check, before any work, that ``path`` can be made a directory for new files.
+def check_new_directory(path, what: str = "--out", names=()) -> Path:
+    """Check, before any work, that ``path`` can be made a directory for new files (``names``, when known).
 
     It may be an existing directory (files in it are replaced atomically) or
     not exist yet (it is created then, with its parents).
 
     Raises:
-        InputError: ``path`` is an existing file, its parent is a file, or it is not writable.
+        InputError: ``path`` is an existing file, its parent is a file, or it is not writable; or one of the files
+            ``names`` it would hold is one of the command's inputs (:func:`inputs`).
     """
     path = _named(path, what, "a directory name such as runs/")
     if path.exists() and not path.is_dir():
         raise InputError(f"{what} {path}: is an existing file; give a directory (new or existing)")
+    for name in names:
+        check_not_input(path / name, what)
     if path.is_dir():
         if not os.access(path, os.W_OK | os.X_OK):
             raise InputError(f"{what} {path}: the directory is not writable")
         return path
     _check_parent(path, what)
     return path
+
+
+_INPUTS: list = []
+"""The inputs of the running command: ``(given path, resolved path, (st_dev, st_ino) or None)``."""
+
+
+def _identity(path: Path):
+    """``(resolved path, (st_dev, st_ino) or None)``: the file a path names, after symbolic links."""
+    resolved = path.resolve()
+    try:
+        st = os.stat(resolved)
+        return resolved, (st.st_dev, st.st_ino)
+    except OSError:
+        return resolved, None
+
+
+@contextlib.contextmanager
+def inputs(paths):
+    """Inside the block, the files ``paths`` (None entries skipped) are inputs: no write may replace one (see the
+    module docstring). Blocks nest; each removes only its own entries."""
+    added = []
+    for given in paths:
+        if given is None or not str(given).strip() or str(given) == "-":
+            continue
+        try:
+            resolved, inode = _identity(Path(given))
+        except (OSError, RuntimeError, ValueError):  # a path that cannot be resolved cannot be written over either
+            continue
+        added.append((str(given), resolved, inode))
+    _INPUTS.extend(added)
+    try:
+        yield
+    finally:
+        for entry in added:
+            _INPUTS.remove(entry)
+
+
+def check_not_input(path, what: str = "output") -> None:
+    """Refuse ``path`` when it is one of the running command's inputs (:func:`inputs`).
+
+    Raises:
+        InputError: naming the input and saying what to do.
+    """
+    if not _INPUTS:
+        return
+    try:
+        resolved, inode = _identity(Path(path))
+    except (OSError, RuntimeError, ValueError):
+        return
+    for given, other, other_inode in _INPUTS:
+        if resolved == other or (inode is not None and inode == other_inode):
+            raise InputError(f"{what} {path}: is {given}, an input of this command; relacc never writes over its "
+                             "inputs: give another path")
 
 
 def _check_parent(path: Path, what: str) -> None:

@@ -83,7 +83,7 @@ def test_a_graded_function_gets_copies(tmp_path):
     """A function that zeroes the u and udot it is given and returns zeros is wrong; a right one that scribbles on
     q after using it is right: relacc's truth never reads what the user's function touched."""
     from relacc.testing import check_formula
-    from relacc.testing.grade import load_function
+    from relacc.testing.user import load_function
 
     liar = load_function(_module(tmp_path, "def fn(chain, q, u, udot):\n    u[...] = 0\n    udot[...] = 0\n"
                                            "    return np.zeros(3)\n", "liar"))
@@ -124,7 +124,7 @@ def test_a_graded_sys_exit_is_one_line(tmp_path, where):
 
 def test_a_complex_result_is_not_graded_right(tmp_path):
     from relacc.testing import check_formula
-    from relacc.testing.grade import CallError, load_function
+    from relacc.testing.user import CallError, load_function
 
     fn = load_function(_module(tmp_path, "import relacc\ndef fn(chain, q, u, udot):\n"
                                          "    return relacc.g2_kinematics(chain, 1, q, u).velocity + 1e-3j\n"))

@@ -13,9 +13,10 @@ PACKAGE = Path(__file__).resolve().parents[1] / "relacc"
 HEAVY = ("numba", "pinocchio", "mujoco", "matplotlib", "scipy", "jinja2", "pydantic", "hypothesis", "pydrake",
          "dask", "distributed")
 
-BASE = {"errors", "files", "limits"}
+BASE = {"errors", "files", "limits", "isolate"}
 LAYERS = {
     "errors": set(),
+    "isolate": set(),
     "files": {"errors"},
     "limits": {"errors"},
     "core": BASE,

@@ -15,7 +15,7 @@ import relacc
 from relacc.cli import main
 from relacc.engines import ENGINES, load_engine
 from relacc.testing import assert_agrees, check_formula
-from relacc.testing.grade import load_function
+from relacc.testing.user import load_function
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "examples"
@@ -84,16 +84,27 @@ def test_examples_are_diagnosed_as_documented(spec, quantity, ok, columns, match
     assert set(grade.sources) == {"relacc"} | {f"{e}/quaternion" for e in ENGINES}
 
 
-def test_a_batched_formula_is_graded_as_one(relacc_chain):
-    """A function that takes whole batches is called once per batch, and graded alike."""
-    calls = []
+def test_a_batched_formula_is_graded_in_both_forms(relacc_chain):
+    """A function that takes whole batches is graded one state at a time and on the batch: right both ways is
+    right; right on batches and wrong for one state (or the reverse) is wrong, and the grade says how it was
+    called."""
 
     def velocity(chain, q, u, udot):
-        calls.append(np.shape(q))
         return relacc.g2_kinematics(chain, 2, q, u).velocity
 
+    def wrong_alone(chain, q, u, udot):
+        v = relacc.g2_kinematics(chain, 2, q, u).velocity
+        return v + 1e-6 if np.ndim(q) == 1 else v
+
+    def wrong_batched(chain, q, u, udot):
+        v = relacc.g2_kinematics(chain, 2, q, u).velocity
+        return v if np.ndim(q) == 1 else v + 1e-6
+
     assert check_formula(velocity, quantity="velocity", case=2, n=20).ok
-    assert (40, 14) in calls and len(calls) <= 3
+    alone = check_formula(wrong_alone, quantity="velocity", case=2, n=20)
+    batched = check_formula(wrong_batched, quantity="velocity", case=2, n=20)
+    assert not alone.ok and alone.called == "one state at a time"
+    assert not batched.ok and batched.called == "a batch"
 
 
 def test_grade_cli_exit_codes_and_json(capsys):

@@ -46,7 +46,7 @@ def test_check_on_ant_agrees_in_every_case(tmp_path):
 
 def test_grade_a_students_arm():
     """The example's correct formulas pass; its slip is wrong, with the two joints whose speeds show it."""
-    from relacc.testing.grade import load_function
+    from relacc.testing.user import load_function
 
     module = str(ROOT / "examples" / "student_arm.py")
     for fn, q in (("position", "position"), ("velocity", "velocity"), ("acceleration", "acceleration")):

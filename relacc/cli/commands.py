@@ -209,7 +209,8 @@ def cmd_grade(args) -> int:
 
 
 def _grade(args):
-    from relacc.testing.grade import check_formula, load_function
+    from relacc.testing.grade import check_formula
+    from relacc.testing.user import load_function
 
     fn = load_function(args.function)
     if _is_robot(args) or args.body is not None:

@@ -8,13 +8,19 @@ from relacc.core.tolerances import EPS
 
 
 def cmd_compare(args) -> int:
-    from relacc.validation.robots import compare
+    from relacc import files
 
     args.model = models(args.model)
+    with files.inputs(args.model):  # a directory's files are inputs too: --out may be none of them
+        return _compare(args)
+
+
+def _compare(args) -> int:
+    from relacc import files
+    from relacc.validation.robots import compare
+
     out = None
     if args.out is not None:
-        from relacc import files
-
         out = files.check_output_file(args.out)  # before the work: a bad path is a one-line error up front
     if len(args.model) > 1 or args.scheduler:
         return _many(args)

@@ -35,7 +35,7 @@ def main(argv=None) -> int:
 
     name = f"relacc {args.command}"
     try:
-        with files.terminate_as_interrupt(), warnings.catch_warnings():
+        with files.terminate_as_interrupt(), warnings.catch_warnings(), files.inputs(input_paths(args)):
             warnings.simplefilter("error", RuntimeWarning)
             code = getattr(commands, f"cmd_{args.command}")(args)
             files.check_interrupt()  # an interrupt a C library's callback swallowed on the way
@@ -67,6 +67,32 @@ def main(argv=None) -> int:
         end_line()
         print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
         return 130
+
+
+def input_paths(args) -> list[str]:
+    """Every file a command's arguments name as an input (model files, a chain's engine files beside its TOML, a
+    URDF, a scene, a state, the module of a graded function): no output may be one of them
+    (:func:`relacc.files.inputs`). A directory given to ``compare`` is expanded there."""
+    from pathlib import Path
+
+    out = []
+    model = getattr(args, "model", None)
+    for given in model if isinstance(model, list) else [model]:
+        if given is None:
+            continue
+        out.append(given)
+        if Path(given).suffix.lower() == ".toml":  # a chain's source: its engine files beside it are read too
+            from relacc.fixtures import MODEL_FILES
+
+            out += [Path(given).parent / name for name in MODEL_FILES]
+    for key in ("urdf", "scene", "state"):
+        value = getattr(args, key, None)
+        if isinstance(value, str):
+            out.append(value)
+    function = getattr(args, "function", None)
+    if isinstance(function, str) and ":" in function:
+        out.append(function.rpartition(":")[0])
+    return out
 
 
 def _interrupt_in(exc) -> bool:

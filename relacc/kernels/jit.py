@@ -9,6 +9,7 @@ when called from jitted code (``numba.extending.register_jitable``).
 from __future__ import annotations
 
 import contextlib
+import os
 import types
 
 try:  # numba is a dependency; without it the functions stay plain Python
@@ -19,6 +20,15 @@ try:  # numba is a dependency; without it the functions stay plain Python
 except ImportError:  # pragma: no cover - exercised only without numba
     numba = None
     HAVE_NUMBA = False
+
+THREADING_LAYER = "workqueue"
+"""numba's threading layer for relacc's parallel kernels, unless ``NUMBA_THREADING_LAYER`` says otherwise: numba's own
+pool. It survives ``fork`` (``relacc grade`` runs a user's function, which may call relacc, in a forked child; GNU
+OpenMP, numba's first choice where it is installed, ends such a child: "fork() called from a process already using
+GNU OpenMP"), and it does not spin while waiting for work, which costs a loaded machine's other processes."""
+
+if HAVE_NUMBA and "NUMBA_THREADING_LAYER" not in os.environ:
+    numba.config.THREADING_LAYER = THREADING_LAYER
 
 
 def jitable(fn=None, *, inline=False):

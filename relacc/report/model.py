@@ -12,6 +12,8 @@ Layer rule: as the report's sections, plain data from the layers below, rendered
 
 from __future__ import annotations
 
+import os
+
 from relacc import files
 from relacc.core.conventions import CASE_NAMES, MODEL_MEANINGS, TREE_ENGINE_SPEEDS, TREE_JOINTS
 from relacc.report import environment
@@ -104,8 +106,9 @@ def _simulation(run) -> dict:
 
 def write(model, out, *, n_states=None, seed: int = 0, quick: bool = False, progress=None):
     """Run everything and write the page atomically; returns ``(path, agree)``. The output path is checked first."""
-    path = files.check_output_file(out)
-    data = build(model, n_states=n_states, seed=seed, quick=quick, progress=progress)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    files.write_text(path, environment().get_template("model.html.j2").render(d=data))
+    with files.inputs([model] if isinstance(model, (str, os.PathLike)) else []):  # the page never replaces the model
+        path = files.check_output_file(out)
+        data = build(model, n_states=n_states, seed=seed, quick=quick, progress=progress)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        files.write_text(path, environment().get_template("model.html.j2").render(d=data))
     return path, data["agree"]

@@ -31,14 +31,11 @@ from relacc.core.note.equations import EQUATIONS
 from relacc.core.scales import term_scales
 from relacc.core.states import States
 from relacc.core.tolerances import normalized_error, rounding_tolerance
-from relacc.errors import InputError, RelaccError
+from relacc.errors import InputError
 from relacc.testing.agree import SPEED_NAMES
 from relacc.testing.truth import states as draw_states
 from relacc.testing.truth import truth
-
-
-class CallError(RelaccError):
-    """The user's function cannot be called as a formula (it raised, or returned the wrong shape)."""
+from relacc.testing.user import CallError, evaluate_user
 
 
 @dataclass(frozen=True)
@@ -67,6 +64,8 @@ class Grade:
     sources: tuple = field(default=())
     body: str | None = None
     """A model's body (then ``columns`` names joints, and there are no printed slips to match), or None: G2."""
+    called: str = "one state at a time"
+    """How the function was called for its worst value: ``one state at a time`` or ``a batch``."""
 
     def as_dict(self) -> dict:
         """``relacc grade --json``."""
@@ -74,14 +73,14 @@ class Grade:
         return {"ok": self.ok, "worst_error": worst, "columns": list(self.columns),
                 "matches": list(self.matches), "seed": self.seed, "quantity": self.quantity, "case": self.case,
                 "worst_source": self.worst_source, "worst_state": self.worst_state, "n_states": self.n_states,
-                "sources": list(self.sources), "body": self.body}
+                "sources": list(self.sources), "body": self.body, "called": self.called}
 
     def text(self) -> str:
         """The human-readable verdict."""
         what = self.quantity if self.body is None else f"{self.quantity} of body {self.body}"
         head = (f"{what} for case {self.case}: {'right' if self.ok else 'WRONG'} on {self.n_states} states "
                 f"(seed {self.seed}; ordinary and hard), against {', '.join(self.sources)}; worst normalized error "
-                f"{self.worst_error:.3g} ({self.worst_source}, state {self.worst_state})")
+                f"{self.worst_error:.3g} ({self.worst_source}, state {self.worst_state}, called {self.called})")
         if self.ok:
             return head
         cols = ", ".join(self.columns) if self.columns else "none found by the probes"
@@ -89,53 +88,6 @@ class Grade:
             return f"{head}\njoints whose speeds show it: {cols}"
         slips = ", ".join(self.matches) if self.matches else "none of the note's known slips"
         return f"{head}\ncolumns that disagree: {cols}\nreproduced by: {slips}"
-
-
-def evaluate_user(fn, chain, case, q, u, udot, shape):
-    """The user's values for a batch, ``(n,) + shape``; batched when ``fn`` takes batches.
-
-    The function gets copies of every state: whatever it writes into its arguments never reaches relacc's own
-    states or truth. Its result must be real numbers: a complex one is refused, not cut to its real part.
-
-    Raises:
-        CallError: it raised (or called ``sys.exit``), or returned the wrong shape, complex or non-numeric values.
-    """
-    name = getattr(fn, "__name__", repr(fn))
-
-    def result(value, what):
-        arr = np.asarray(value)
-        if arr.dtype.kind == "c":
-            raise CallError(f"{name} returned complex numbers for {what}; return real numbers (relacc does not drop "
-                            "an imaginary part)")
-        if arr.dtype.kind not in "iufb" or arr.dtype.kind == "b":
-            raise CallError(f"{name} returned {arr.dtype} values for {what}; expected real numbers")
-        return arr.astype(float)
-
-    def call(*args, what="one state"):
-        try:
-            return result(fn(chain, *(np.array(a) for a in args)), what)
-        except CallError:
-            raise
-        except SystemExit as exc:  # the user's code ends the process: report it, do not exit
-            raise CallError(f"{name} called sys.exit({exc.code!r}) (called as {name}(chain, q, u, udot) with "
-                            f"{what} of case {case})") from None
-        except Exception as exc:  # the user's code: any failure is reported, in one line
-            raise CallError(f"{name} raised {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
-                            f" (called as {name}(chain, q, u, udot) with {what} of case {case})") from None
-
-    first = call(q[0], u[0], udot[0])
-    if first.shape != shape:
-        raise CallError(f"{name} returned shape {first.shape} for one state; expected {shape} (see relacc grade "
-                        "--help for the conventions)")
-    try:
-        batch = call(q, u, udot, what="a batch")
-    except CallError as exc:
-        if "complex" in str(exc) or "sys.exit" in str(exc):
-            raise
-        batch = None
-    if batch is not None and batch.shape == (len(q),) + shape:
-        return batch
-    return np.stack([first] + [call(q[i], u[i], udot[i]) for i in range(1, len(q))])
 
 
 def _column_diagnosis(fn, chain, case, quantity, s: States, tol, shape) -> tuple:
@@ -152,10 +104,10 @@ def _column_diagnosis(fn, chain, case, quantity, s: States, tol, shape) -> tuple
         return ()
 
     def disagrees(u, ud, part=Ellipsis):
-        mine = evaluate_user(fn, chain, case, s.q, u, ud, shape)
         ref = getattr(g2_kinematics(chain, case, s.q, u, ud), quantity)
         scale = term_scales(chain, case, s.q, u, ud).of(quantity)
-        return bool(np.any(normalized_error(mine[part], ref[part], scale) > tol))
+        return any(bool(np.any(normalized_error(mine[part], ref[part], scale) > tol))
+                   for _, mine in evaluate_user(fn, chain, case, s.q, u, ud, shape).each())
 
     def only(x, *sls):
         out = np.zeros_like(x)
@@ -235,60 +187,30 @@ def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain
     s = States(ordinary.case, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
                seed)
     shape = (3,) if quantity in ("position", "velocity", "acceleration") else (3, 12)
-    mine = evaluate_user(fn, chain, c, s.q, s.u, s.udot, shape)
+    # the truth first, and apart from anything the user's code touches (it runs in a child process, on copies)
+    truths = [truth(s, name, chain=chain).of(quantity)
+              for name in ("relacc",) + tuple(available() if engines is None else engines)]
+    forms = evaluate_user(fn, chain, c, s.q, s.u, s.udot, shape)
     tol = rounding_tolerance()
-    worst = (-1.0, "", 0, 0.0)
-    sources = []
-    for name in ("relacc",) + tuple(available() if engines is None else engines):
-        t = truth(s, name, chain=chain).of(quantity)
-        sources.append(t.source)
-        err = np.atleast_1d(normalized_error(mine, t.values, t.scale))
-        err = np.where(np.all(np.isfinite(mine.reshape(len(s), -1)), axis=1), err, np.inf)
-        ratio = err / (tol + t.bound)
-        i = int(np.argmax(ratio))
-        if ratio[i] > worst[0]:
-            worst = (float(ratio[i]), t.source, i, float(err[i]))
+    worst = worst_against([(t.source, t.values, t.scale, t.bound) for t in truths], forms, tol)
     ok = worst[0] <= 1.0
     columns = () if ok else _column_diagnosis(fn, chain, c, quantity, s, tol, shape)
-    matches = () if ok else _matches(mine, chain, c, quantity, s, tol)
-    return Grade(ok, quantity, c, worst[3], worst[1], worst[2], columns, matches, seed, len(s), tuple(sources))
+    matches = () if ok else _matches(forms.one, chain, c, quantity, s, tol)
+    return Grade(ok, quantity, c, worst[3], worst[1], worst[2], columns, matches, seed, len(s),
+                 tuple(t.source for t in truths), called=worst[4])
 
 
-def load_function(spec: str):
-    """``MODULE:FUNCTION`` (a dotted module, or a path to a ``.py`` file) -> the function.
-
-    Raises:
-        CallError: the module cannot be imported, or has no such function.
-    """
-    import importlib
-    import importlib.util
-    import sys
-    from pathlib import Path
-
-    module_name, sep, func = spec.rpartition(":")
-    if not sep or not module_name or not func:
-        raise CallError(f"{spec!r}: expected MODULE:FUNCTION, e.g. examples/student_correct.py:velocity")
-    try:
-        if module_name.endswith(".py") or "/" in module_name:
-            path = Path(module_name)
-            if not path.is_file():
-                raise CallError(f"{module_name}: no such file")
-            loader = importlib.util.spec_from_file_location(path.stem, path)
-            module = importlib.util.module_from_spec(loader)
-            sys.path.insert(0, str(path.resolve().parent))  # as running the file would: its siblings import
-            try:
-                loader.loader.exec_module(module)
-            finally:
-                sys.path.remove(str(path.resolve().parent))
-        else:
-            module = importlib.import_module(module_name)
-    except CallError:
-        raise
-    except SystemExit as exc:  # the user's module ends the process on import: report it, do not exit
-        raise CallError(f"{module_name}: calls sys.exit({exc.code!r}) when imported") from None
-    except Exception as exc:  # the user's module: any failure to import is reported in one line
-        raise CallError(f"{module_name}: cannot be imported ({type(exc).__name__}: {exc})") from None
-    fn = getattr(module, func, None)
-    if not callable(fn):
-        raise CallError(f"{module_name} has no function {func!r}")
-    return fn
+def worst_against(truths, forms, tol) -> tuple:
+    """``(ratio, source, state, normalized error, how called)`` of the user's worst value over every form of the call
+    (:class:`relacc.testing.user.Forms`) against every reference ``(source, values, scale, bound)``: the ratio of the
+    normalized error to ``tol + bound`` (at most 1: right). A non-finite value is infinitely wrong."""
+    worst = (-1.0, "", 0, 0.0, "")
+    for how, mine in forms.each():
+        finite = np.all(np.isfinite(mine.reshape(len(mine), -1)), axis=1)
+        for source, values, scale, bound in truths:
+            err = np.where(finite, np.atleast_1d(normalized_error(mine, values, scale)), np.inf)
+            ratio = err / (tol + bound)
+            i = int(np.argmax(ratio))
+            if ratio[i] > worst[0]:
+                worst = (float(ratio[i]), source, i, float(err[i]), how)
+    return worst

@@ -20,6 +20,7 @@ from relacc.core.tree import tree_kinematics
 from relacc.core.tree.scales import tree_scales
 from relacc.errors import InputError
 from relacc.testing.trees import PHYSICAL, TREE_QUANTITIES, as_tree, model_states, model_truth
+from relacc.testing.user import CallError, evaluate_user
 
 
 def _joint_columns(tree):
@@ -36,7 +37,7 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     Raises:
         CallError: ``fn`` cannot be called as a formula. InputError: an unknown body, quantity or case.
     """
-    from relacc.testing.grade import CallError, Grade, evaluate_user
+    from relacc.testing.grade import Grade, worst_against
 
     if quantity not in TREE_QUANTITIES:
         raise InputError(f"unknown quantity {quantity!r} for a model's body: accepted are {', '.join(TREE_QUANTITIES)}")
@@ -50,38 +51,30 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     s = States(ordinary.case, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
                seed, tree)
     shape = (3,) if quantity in PHYSICAL else (3, tree.nv)
-    mine = evaluate_user(fn, tree, c, s.q, s.u, s.udot, shape)
-    tol = rounding_tolerance()
-    worst, sources = (-1.0, "", 0, 0.0), []
+    # the truth first, and apart from anything the user's code touches (it runs in a child process, on copies)
+    truths = []
     for engine in ("relacc",) + tuple(("mujoco",) if engines is None else engines):
         t = model_truth(s, engine, (quantity,))
-        if quantity not in t:
-            continue  # this evaluator has no such quantity in this case (MuJoCo's V of case 1, say)
-        e = t[quantity]
-        sources.append(engine)
-        err = np.atleast_1d(normalized_error(mine, e.values[:, b], e.scale[:, b]))
-        err = np.where(np.all(np.isfinite(mine.reshape(len(s), -1)), axis=1), err, np.inf)
-        ratio = err / (tol + e.bound[:, b])
-        i = int(np.argmax(ratio))
-        if ratio[i] > worst[0]:
-            worst = (float(ratio[i]), engine, i, float(err[i]))
+        if quantity in t:  # an evaluator may lack the quantity in this case (MuJoCo's V of case 1, say)
+            e = t[quantity]
+            truths.append((engine, e.values[:, b], e.scale[:, b], e.bound[:, b]))
+    forms = evaluate_user(fn, tree, c, s.q, s.u, s.udot, shape, called="f(tree, q, u, udot)")
+    tol = rounding_tolerance()
+    worst = worst_against(truths, forms, tol)
     ok = worst[0] <= 1.0
     columns = () if ok else _columns(fn, tree, c, b, quantity, s, tol, shape)
-    return Grade(ok, quantity, c, worst[3], worst[1], worst[2], columns, (), seed, len(s), tuple(sources),
-                 body=tree.body_names[b])
+    return Grade(ok, quantity, c, worst[3], worst[1], worst[2], columns, (), seed, len(s),
+                 tuple(t[0] for t in truths), body=tree.body_names[b], called=worst[4])
 
 
 def _columns(fn, tree, c, b, quantity, s, tol, shape) -> tuple:
     """The joints whose speeds show the disagreement with relacc's tree."""
-    from relacc.testing.grade import evaluate_user
-
     def disagrees(u, ud, cols=None):
-        mine = evaluate_user(fn, tree, c, s.q, u, ud, shape)
         ref = getattr(tree_kinematics(tree, c, s.q, u, ud), quantity)[:, b]
         scale = tree_scales(tree, c, s.q, u, ud).of(quantity)[:, b]
-        if cols is not None:
-            mine, ref = mine[..., cols], ref[..., cols]
-        return bool(np.any(normalized_error(mine, ref, scale) > tol))
+        part = Ellipsis if cols is None else (Ellipsis, cols)
+        return any(bool(np.any(normalized_error(mine[part], ref[part], scale) > tol))
+                   for _, mine in evaluate_user(fn, tree, c, s.q, u, ud, shape, called="f(tree, q, u, udot)").each())
 
     def only(x, *groups):
         out = np.zeros_like(x)

@@ -1,0 +1,137 @@
+"""A step run in a forked child process, its result brought back by value (engine-free, POSIX).
+
+Two uses, one mechanism:
+
+* an engine's C++ abort contained (:func:`relacc.engines.contain.survives`): the child's output goes nowhere and
+  only how it ended matters;
+* a user's own code run apart from relacc's (``relacc grade``): whatever it does to the objects it is given, to the
+  process (``os._exit``, a signal) or to file descriptor 1 (``os.write(1, ...)``, which would corrupt ``--json``)
+  stays in the child; its result comes back pickled through a pipe, and its output goes to stderr.
+
+Where ``os.fork`` is missing, :func:`run` calls the step in this process (:data:`FORKS` says which).
+"""
+
+from __future__ import annotations
+
+import faulthandler
+import os
+import pickle
+import select
+import signal
+import time
+from dataclasses import dataclass
+
+FORKS = hasattr(os, "fork")
+"""Whether steps run in a child process here."""
+
+
+@dataclass(frozen=True)
+class Ended:
+    """How a child that returned no result ended: ``signal`` (its name) or ``status`` (its exit status), or
+    ``timeout`` (it was stopped after that many seconds)."""
+
+    signal: str | None = None
+    status: int | None = None
+    timeout: float | None = None
+
+    def sentence(self) -> str:
+        if self.timeout is not None:
+            return f"did not finish in {self.timeout:g} s (stopped)"
+        if self.signal is not None:
+            return f"ended its process with {self.signal}"
+        return f"ended its process (exit status {self.status}) without returning"
+
+
+@dataclass(frozen=True)
+class Raised:
+    """An exception the step raised in the child: its type's name and its message's first line."""
+
+    type: str
+    message: str
+
+
+def signal_name(sig: int) -> str:
+    try:
+        return signal.Signals(sig).name
+    except ValueError:  # a number Python has no name for
+        return f"signal {sig}"
+
+
+def run(step, *, output: str = "stderr", timeout: float | None = None):
+    """``step()`` in a forked child; returns its return value, or a :class:`Raised` or an :class:`Ended`.
+
+    ``output``: where the child's stdout and stderr go, ``"stderr"`` (both to this process' stderr) or ``"null"``.
+    The return value must pickle. An interrupt of this process (SIGINT, SIGTERM raised as KeyboardInterrupt) kills
+    the child and propagates.
+    """
+    if not FORKS:
+        try:
+            return step()
+        except Exception as exc:  # noqa: BLE001 - the caller reports the step's failure
+            return _raised(exc)
+    reader, writer = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: the step, then out without Python's exit handlers (they are the parent's)
+        code = 0
+        try:
+            os.close(reader)
+            faulthandler.disable()  # its report of a crash would be the parent's news
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            target = os.open(os.devnull, os.O_WRONLY) if output == "null" else 2
+            os.dup2(target, 1)
+            os.dup2(target, 2)
+            try:
+                payload = ("value", step())
+            except BaseException as exc:  # noqa: BLE001 - GeneratorExit, KeyboardInterrupt, SystemExit: the step's
+                payload = ("raised", _raised(exc))
+            try:
+                data = pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
+            except Exception as exc:  # noqa: BLE001 - a result that cannot travel is the step's failure
+                data = pickle.dumps(("raised", Raised(type(exc).__name__, f"its result cannot be pickled: {exc}")))
+            view = memoryview(data)
+            while view:
+                view = view[os.write(writer, view):]
+        except BaseException:  # noqa: BLE001
+            code = 70
+        finally:
+            os._exit(code)
+    os.close(writer)
+    chunks, deadline = [], None if timeout is None else time.monotonic() + timeout
+    try:
+        while True:
+            wait = 0.05 if deadline is None else max(0.0, min(0.05, deadline - time.monotonic()))
+            ready, _, _ = select.select([reader], [], [], wait)
+            if ready:
+                chunk = os.read(reader, 1 << 20)
+                if not chunk:
+                    break
+                chunks.append(chunk)
+            elif deadline is not None and time.monotonic() >= deadline:
+                _kill(pid)
+                return Ended(timeout=timeout)
+        _, status = os.waitpid(pid, 0)
+    except BaseException:
+        _kill(pid)  # interrupted (SIGTERM, Ctrl-C): the child goes too
+        raise
+    finally:
+        os.close(reader)
+    if chunks and os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0:
+        _, value = pickle.loads(b"".join(chunks))  # ("value", the step's value) or ("raised", a Raised)
+        return value
+    if os.WIFSIGNALED(status):
+        return Ended(signal=signal_name(os.WTERMSIG(status)))
+    return Ended(status=os.WEXITSTATUS(status))
+
+
+def _raised(exc: BaseException) -> Raised:
+    text = str(exc)
+    return Raised(type(exc).__name__, text.splitlines()[0] if text else "")
+
+
+def _kill(pid: int) -> None:
+    try:
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+    except (ProcessLookupError, ChildProcessError):
+        pass

@@ -1,0 +1,102 @@
+"""``relacc grade``: the truth is computed before, and apart from, anything a user's function touches; whatever the
+function does to the objects it gets, to the process or to stdout, the verdict is relacc's and one line says what
+went wrong."""
+
+import json
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from relacc.cli import main
+from relacc.testing import check_formula
+from relacc.testing.user import CallError, load_function
+
+ROOT = Path(__file__).resolve().parents[1]
+ARM = ROOT / "examples" / "three_link_arm.xml"
+
+
+def _module(tmp_path, body: str, name: str = "student") -> str:
+    path = tmp_path / f"{name}.py"
+    path.write_text("import numpy as np\nimport relacc\n" + textwrap.dedent(body))
+    return f"{path}:fn"
+
+
+def test_a_function_that_edits_the_chain_cannot_make_its_own_truth(tmp_path):
+    """The formula leaves out r2' (wrong) and then sets the chain's r2' to zero, read-only flag flipped, so that a
+    truth computed afterwards on the same chain would agree with it: graded wrong, at the size of the r2' terms."""
+    fn = load_function(_module(tmp_path, """
+        def fn(chain, q, u, udot):
+            chain.r2.flags.writeable = True
+            chain.r2[:] = 0.0
+            return relacc.g2_kinematics(chain, 1, q, u, udot).acceleration
+    """))
+    grade = check_formula(fn, quantity="acceleration", case=1, n=10)
+    assert not grade.ok and grade.worst_error > 1e-3, grade.text()
+
+
+def test_a_function_that_edits_the_tree_cannot_make_its_own_truth(tmp_path):
+    fn = load_function(_module(tmp_path, """
+        def fn(tree, q, u, udot):
+            b = tree.body("forearm")
+            tree.bodies[b].com.flags.writeable = True
+            tree.bodies[b].com[:] = 0.0
+            return relacc.tree_kinematics(tree, 2, q, u, udot).V[b]
+    """))
+    grade = check_formula(fn, quantity="V", case=2, n=10, model=str(ARM), body="forearm")
+    assert not grade.ok and grade.worst_error > 1e-3, grade.text()
+
+
+@pytest.mark.parametrize("body,said", [
+    ("raise GeneratorExit('bye')", "GeneratorExit"),
+    ("raise KeyboardInterrupt('from the function')", "KeyboardInterrupt"),
+    ("import os; os._exit(3)", "exit status 3"),
+    ("import os, signal; os.kill(os.getpid(), signal.SIGKILL)", "SIGKILL"),
+])
+def test_whatever_the_function_does_to_the_process_is_one_line(tmp_path, capsys, body, said):
+    """Exit 2 and one line naming what the function did; a KeyboardInterrupt the function raises is its error, not
+    an interrupt of relacc (exit 130 is for signals relacc receives)."""
+    spec = _module(tmp_path, f"def fn(chain, q, u, udot):\n    {body}\n")
+    assert main(["grade", spec, "--quantity", "velocity", "--case", "1", "--states", "2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and said in err[0] and "fn" in err[0], err
+
+
+@pytest.mark.slow
+def test_writing_to_file_descriptor_1_does_not_corrupt_json(tmp_path):
+    """``os.write(1, ...)`` in the module and in the function goes to stderr: stdout is relacc's JSON alone."""
+    spec = _module(tmp_path, """
+        import os
+        os.write(1, b"module writes to fd 1\\n")
+        def fn(chain, q, u, udot):
+            os.write(1, b"fn writes to fd 1\\n")
+            return relacc.g2_kinematics(chain, 1, q, u).velocity
+    """)
+    out = subprocess.run([sys.executable, "-m", "relacc", "grade", spec, "--quantity", "velocity", "--case", "1",
+                          "--states", "2", "--json"], capture_output=True, text=True, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["ok"] is True
+    assert "fn writes to fd 1" in out.stderr and "module writes to fd 1" in out.stderr
+
+
+def test_a_tree_grade_names_the_tree_in_its_call(tmp_path):
+    fn = load_function(_module(tmp_path, "def fn(tree, q, u, udot):\n    raise ValueError('nope')\n"))
+    with pytest.raises(CallError, match=r"called as fn\(tree, q, u, udot\)"):
+        check_formula(fn, quantity="V", case=2, n=2, model=str(ARM), body="forearm")
+
+
+def test_the_chain_and_states_the_user_gets_are_copies_each_call(tmp_path):
+    """A function that zeroes the state it is given on its first call still gets the right state on the next."""
+    fn = load_function(_module(tmp_path, """
+        def fn(chain, q, u, udot):
+            v = relacc.g2_kinematics(chain, 1, q, u).velocity
+            q[...] = 0.0
+            u[...] = 0.0
+            chain.q2.flags.writeable = True
+            chain.q2[:] = 9.0
+            return v
+    """))
+    grade = check_formula(fn, quantity="velocity", case=1, n=5)
+    assert grade.ok, grade.text()

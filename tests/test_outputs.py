@@ -1,0 +1,84 @@
+"""No input file is ever an output: ``--out`` that resolves to an input (the same path, a symbolic link to it, or
+a hard link) is refused before any work, in every command, and the input stays byte for byte."""
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from relacc import files
+from relacc.cli import main
+from relacc.errors import InputError
+
+ROOT = Path(__file__).resolve().parents[1]
+BALL = """<mujoco model="ball"><worldbody><body name="bob" pos="0 0 1"><joint name="j" type="ball"/>
+<geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05"/></body></worldbody></mujoco>
+"""
+
+
+@pytest.fixture
+def model(tmp_path):
+    path = tmp_path / "ball.xml"
+    path.write_text(BALL)
+    return path
+
+
+def _refused(capsys, argv, kept: Path, before: bytes):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "an input of this command" in err[0], err
+    assert kept.read_bytes() == before
+
+
+@pytest.mark.parametrize("how", ["same", "relative", "symlink", "hardlink"])
+def test_compare_out_is_never_the_model(tmp_path, model, capsys, monkeypatch, how):
+    before = model.read_bytes()
+    out = {"same": str(model), "relative": "./ball.xml", "symlink": str(tmp_path / "page.html"),
+           "hardlink": str(tmp_path / "hard.html")}[how]
+    if how == "symlink":
+        os.symlink(model, out)
+    if how == "hardlink":
+        os.link(model, out)
+    monkeypatch.chdir(tmp_path)
+    _refused(capsys, ["compare", str(model), "--out", out, "--states", "1"], model, before)
+
+
+def test_compare_out_is_never_a_file_of_the_directory_given(tmp_path, model, capsys):
+    other = tmp_path / "sub" / "other.xml"
+    other.parent.mkdir()
+    other.write_text(BALL)
+    before = other.read_bytes()
+    _refused(capsys, ["compare", str(tmp_path), "--out", str(other), "--states", "1"], other, before)
+
+
+def test_report_out_is_never_the_model(tmp_path, model, capsys):
+    _refused(capsys, ["report", "--model", str(model), "--out", str(model), "--quick"], model, model.read_bytes())
+
+
+def test_fixtures_never_rewrites_its_source(tmp_path, capsys):
+    """``fixtures --model DIR/two_body.toml --out DIR`` would replace the source TOML (and the engine files made from
+    it) with the changed chain's: refused, every file of DIR unchanged."""
+    for name in ("two_body.toml", "two_body.xml", "two_body_euler.xml", "two_body_euler.urdf"):
+        shutil.copy(ROOT / "models" / name, tmp_path / name)
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    _refused(capsys, ["fixtures", "--model", str(tmp_path / "two_body.toml"), "--out", str(tmp_path), "--m2", "3"],
+             tmp_path / "two_body.toml", before["two_body.toml"])
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_every_writer_refuses_an_input(tmp_path):
+    """The writers themselves check (the last guard, whatever a command forgot to check first)."""
+    kept = tmp_path / "model.xml"
+    kept.write_text("x")
+    with files.inputs([kept]):
+        for write in (lambda: files.write_text(kept, "y"), lambda: files.replace_all({kept: "y"}),
+                      lambda: files.check_output_file(tmp_path / "." / "model.xml"),
+                      lambda: files.check_new_directory(tmp_path, names=["model.xml"])):
+            with pytest.raises(InputError, match="an input of this command"):
+                write()
+        with files.streams([tmp_path / "other.csv"]) as handles:  # another file is fine
+            handles[tmp_path / "other.csv"].write("1\n")
+    assert kept.read_text() == "x"
+    files.write_text(kept, "y")  # outside the block it is an ordinary file
+    assert kept.read_text() == "y"
