@@ -318,15 +318,16 @@ def cmd_simulate(args) -> int:
     end_line()
     if args.json:
         print(json.dumps(result.summary(), indent=2))
-        return 0
+        return result.exit_code
     for path in result.csv:
         print(f"wrote {path}")
     print(simulate.format_text(result))
-    return 0
+    return result.exit_code
 
 
 def _ensemble(scene, args) -> int:
-    """``relacc simulate --ensemble N``: every engine's steps per second and its members' G2 differences."""
+    """``relacc simulate --ensemble N``: every engine's steps per second and its members' G2 differences; the
+    verdict: every engine's acceleration against relacc's at the members' initial states (exit 1 when one differs)."""
     from relacc.simulate.members import run_members
 
     if args.out is not None:
@@ -343,10 +344,21 @@ def _ensemble(scene, args) -> int:
                                 progress=None if args.quiet else bar)
     else:
         part = run_members(scene, 0, args.ensemble, args.spread, args.seed, progress=say)
-    summary = part.summary(scene, args.spread, args.seed)
+    from relacc.simulate.members import acceleration_check
+
+    check = acceleration_check(scene, args.ensemble, args.spread, args.seed)
+    differing = {k: c for k, c in check.items() if not c["error"] <= c["bound"]}
+    verdict = ("nothing to judge: only one evaluator ran" if not check else
+               f"every engine's acceleration agrees with relacc's at the members' initial states ({', '.join(check)})"
+               if not differing else "DISAGREE: at the members' initial states the acceleration differs from "
+               "relacc's: " + "; ".join(f"{k} by {c['error']:.2e} (bound {c['bound']:.1e})"
+                                        for k, c in differing.items()))
+    summary = {**part.summary(scene, args.spread, args.seed), "acceleration_vs_engines": check,
+               "agree": not differing, "verdict": verdict}
+    code = 1 if differing else 0
     if args.json:
         print(json.dumps(summary, indent=2))
-        return 0
+        return code
     print(f"{scene.title} ({scene.name}): an ensemble of {args.ensemble} members (spread {args.spread}, seed "
           f"{args.seed}), {scene.n_steps} steps of {scene.dt} s each, {scene.integrator}")
     print(f"{'engine':10s} {'steps/s':>12s} {'seconds':>9s} {'threads':>7s}   (integration only, summed over "
@@ -356,7 +368,8 @@ def _ensemble(scene, args) -> int:
     print(f"largest {'G2' if scene.is_chain else scene.observe} position difference over the run, per member (m):")
     for k, v in summary[f"largest_{'g2' if scene.is_chain else 'point'}_position_difference"].items():
         print(f"  {k:20s} max {v['max']:.3e} (member {v['worst_member']}), median {v['median']:.3e}")
-    return 0
+    print(f"verdict: {verdict}")
+    return code
 
 
 def cmd_tradeoff(args) -> int:
@@ -368,7 +381,7 @@ def cmd_tradeoff(args) -> int:
 
         result = models.run(args.model, quick=args.quick, seed=args.seed, progress=progress)
         print(json.dumps(result.as_json(), indent=2) if args.json else models.format_text(result))
-        return 0
+        return result.exit_code
     result = tradeoff.run(quick=args.quick, seed=args.seed, progress=progress, fixture=fixtures.load(args.model))
     if args.json:
         print(json.dumps(result.as_json(), indent=2))

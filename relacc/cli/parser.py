@@ -248,7 +248,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = _sub(sub, "simulate", "run a scene on relacc and the engines and compare them",
              "Integrate a scene (which chain, from which state, under which effects, for how long) on every "
              "engine it lists and compare G2 along the runs. SCENE is a TOML file or the name of a shipped "
-             "scene.",
+             "scene. The verdict: at the same states every engine's acceleration must be relacc's within c eps "
+             "kappa(M) (the trajectories differ by each integrator's truncation: shown, not judged); exit 1 when one "
+             "is not (that engine reads the model or the scene's effects differently).",
              ["relacc simulate tumbling", "relacc simulate my_scene.toml --out runs/ --json",
               "relacc simulate gimbal_spin --engines relacc,mujoco --dt 1e-4",
               "relacc simulate tumbling --ensemble 1000 --spread 0.05 --engines relacc,mujoco",

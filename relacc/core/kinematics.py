@@ -91,18 +91,21 @@ def resolve_variant(variant) -> frozenset:
     return ids
 
 
-def check_finite_result(arrays, q, u, udot=None) -> None:
+def check_finite_result(arrays, q, u, udot=None, model=None) -> None:
     """Raise :class:`InputError` if finite inputs produced a non-finite result (float64 overflow).
 
     relacc never returns inf or NaN: results beyond about 1e308 mean the
-    inputs are out of float64's range for these formulas.
+    inputs are out of float64's range for these formulas. ``model``: ``(what, largest magnitude)`` of the model's
+    own numbers (masses, inertias), named too.
     """
     for a in arrays:
         if a is not None and not np.all(np.isfinite(a)):
-            big = max(float(np.max(np.abs(x))) for x in (q, u, udot) if x is not None)
+            big = max(float(np.max(np.abs(x), initial=0.0)) for x in (q, u, udot) if x is not None)
+            own = "" if model is None else f" and {model[0]} {model[1]:.3g}"
             raise InputError(
-                f"the result overflowed float64 (largest input magnitude {big:.3g}); accelerations grow "
-                "with the square of the speeds: keep |u| below about 1e150 and positions below 1e300"
+                f"the result overflowed float64 (largest input magnitude {big:.3g}{own}); accelerations grow "
+                "with the square of the speeds and forces with the masses: keep |u| below about 1e150, positions "
+                "below 1e300 and the products of masses and squared speeds within float64's range"
             )
 
 

@@ -52,6 +52,18 @@ the condition number of ``W(theta)``, ``(1 + |sin theta2|) / |cos theta2|``; at
 (within about 2e-8 rad of gimbal lock) relacc raises instead of answering.
 """
 
+PIVOT_FLOOR = ROUNDING_FACTOR * EPS
+"""Smallest accepted ratio ``d_k / M_kk`` of a pivot of the mass matrix's factorization (any elimination order: the
+compiled kernels' ``L^T D L`` and articulated-body pivots, numpy's Cholesky) to its diagonal entry before elimination.
+
+``lambda_min(M) <= d_k`` and ``M_kk <= lambda_max(M)``, so a ratio below the floor proves
+``kappa(M) > 1 / (c eps)``: the accelerations' bound ``c eps kappa(M)`` (:mod:`relacc.validation.robots.agreement`)
+then exceeds 1, and no digit of them is certain. Such a matrix is singular to working precision (two ball joints on
+one body, a speed that moves no inertia): relacc raises :class:`relacc.SingularityError` naming the speeds instead
+of answering. Exactly singular matrices leave pivots of a few eps times the diagonal in cases 1 and 3 (their speed
+maps round), so a test for pivots ``<= 0`` alone misses them.
+"""
+
 TRIG_ULPS = 2
 """Largest difference, in ulps of the result, between :func:`relacc.kernels.trig.sincos` and libm's ``sin``/``cos``.
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from relacc.core.kinematics import check_finite_result
 from relacc.core.rotations import quaternion_from_123, tilde
 from relacc.core.so3 import SO3
 from relacc.core.tree.coordinates import check_invertible, rotations
@@ -165,11 +166,18 @@ def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
     c, q, u, _, batch = inputs(tree, case, q, u, bytes_per_state=8.0 * (nv * nv + 4 * nb * 3 * nv * 3),
                                what="Kane's equations of")
     tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
-    M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one sentence
+        M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
+    check_finite_result((M, f), q, u, model=_model_magnitude(tree))
     M, f = M.reshape(batch + (tree.nv, tree.nv)), f.reshape(batch + (tree.nv,))
     M.setflags(write=False)
     f.setflags(write=False)
     return TreeDynamics(M, f, c)
+
+
+def _model_magnitude(tree) -> tuple[str, float]:
+    """``("largest mass or inertia", its magnitude)`` of a tree, for the overflow message."""
+    return "largest mass or inertia", max(max(b.mass, float(np.abs(b.inertia).max())) for b in tree.bodies)
 
 
 def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backend="auto", out=None):
@@ -289,9 +297,7 @@ def _fast(tree, case, q, u, tau, effects, out):
         qs, us, ts = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), flat(tau, batch, tree.nv)
         d = tree_dynamics(tree, c, qs[bad], us[bad], effects=effects)
         res[bad] = solve(tree, d.M, np.array(d.f) + ts[bad])  # raises SingularityError naming the speeds
-        from relacc.core.kinematics import check_finite_result
-
-        check_finite_result((res,), q, u)
+        check_finite_result((res,), q, u, model=_model_magnitude(tree))
     if out is not None:
         return out
     res = res.reshape(batch + (tree.nv,))
@@ -300,17 +306,31 @@ def _fast(tree, case, q, u, tau, effects, out):
 
 
 def solve(tree, M, rhs):
-    """``M^-1 rhs`` by Cholesky, batched; SingularityError naming the speeds without inertia where ``M`` is singular."""
+    """``M^-1 rhs`` by Cholesky, batched; SingularityError naming the speeds where ``M`` is singular to working
+    precision: not positive definite, or a pivot at most :data:`relacc.core.tolerances.PIVOT_FLOOR` times its
+    diagonal entry (then ``kappa(M) > 1 / (c eps)`` and no digit of the answer is certain)."""
+    from relacc.core.tolerances import PIVOT_FLOOR
+
+    flatM = M.reshape(-1, tree.nv, tree.nv)
+    names = tree.speed_names()
     try:
         L = np.linalg.cholesky(M)
     except np.linalg.LinAlgError:
-        flatM = M.reshape(-1, tree.nv, tree.nv)
-        names = tree.speed_names()
         dead = sorted({names[i] for Mi in flatM for i in np.flatnonzero(np.abs(Mi).max(axis=1) == 0)})
         raise SingularityError(
             "the mass matrix is singular" + (f": no inertia moves with {', '.join(dead)}" if dead else
                                              " (not positive definite)")
             + "; give those bodies mass or inertia, or lock those joints") from None
+    pivots = np.diagonal(L, axis1=-2, axis2=-1).reshape(-1, tree.nv) ** 2
+    low = pivots <= PIVOT_FLOOR * np.diagonal(flatM, axis1=-2, axis2=-1)
+    if low.any():
+        state = int(np.flatnonzero(low.any(axis=1))[0])
+        speeds = [names[i] for i in np.flatnonzero(low[state])]
+        raise SingularityError(
+            f"the mass matrix is singular to working precision (state {state}): the speeds {', '.join(speeds)} move "
+            "no inertia that the speeds before them do not already move (a pivot of its factorization is below "
+            f"{PIVOT_FLOOR:.1e} of its diagonal entry, so kappa(M) > 1/(c eps) and no digit of the accelerations is "
+            "certain); lock or remove the redundant joints, or give their bodies inertia")
     y = np.linalg.solve(L, rhs[..., None])
     out = np.linalg.solve(np.swapaxes(L, -1, -2), y)[..., 0]
     out.setflags(write=False)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from relacc.core.tolerances import PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
 from relacc.kernels.tree import FREE, HINGE, SLIDE
 from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, rank_one, spd_inverse, sym_mv
@@ -19,13 +20,22 @@ BLOCK = 64
 """States per parallel task."""
 
 
+@jitable
+def _composite_diagonal(Ic, b, S, d):
+    """``S_d^T Ic_b S_d``: the mass matrix's diagonal entry of speed ``d`` (without armature: at most the entry),
+    from the composite rigid inertia ``Ic`` of body ``b``'s subtree."""
+    c0, c1, c2, c3, c4, c5 = sym_mv(Ic, b, S, d)
+    return S[d, 0] * c0 + S[d, 1] * c1 + S[d, 2] * c2 + S[d, 3] * c3 + S[d, 4] * c4 + S[d, 5] * c5
+
+
 @jitable(inline=True)
-def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent):
-    """A hinge or slide (one speed ``d``) across the articulated inertia of body ``b``, in scalars."""
+def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent, Ic, floor):
+    """A hinge or slide (one speed ``d``) across the articulated inertia of body ``b``, in scalars. Returns 1 when
+    its pivot ``D`` is not above ``floor`` times the speed's diagonal entry of the mass matrix."""
     U0, U1, U2, U3, U4, U5 = sym_mv(IA, b, S, d)
     U[d, 0], U[d, 1], U[d, 2], U[d, 3], U[d, 4], U[d, 5] = U0, U1, U2, U3, U4, U5
     D = S[d, 0] * U0 + S[d, 1] * U1 + S[d, 2] * U2 + S[d, 3] * U3 + S[d, 4] * U4 + S[d, 5] * U5 + arm[d]
-    if not D > 0.0:
+    if not D > floor * _composite_diagonal(Ic, b, S, d):
         return 1
     ud = tau[i, d] - (S[d, 0] * pA[b, 0] + S[d, 1] * pA[b, 1] + S[d, 2] * pA[b, 2] + S[d, 3] * pA[b, 3]
                       + S[d, 4] * pA[b, 4] + S[d, 5] * pA[b, 5])
@@ -47,15 +57,17 @@ def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent):
 
 
 @jitable
-def _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp):
-    """The articulated inertias, leaves to root (module docstring). Returns 1 when a joint's ``D`` is not positive
-    definite (a speed that moves no inertia), else 0."""
+def _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd, floor):
+    """The articulated inertias, leaves to root (module docstring), and the composite rigid inertias ``Ic`` (from
+    the bodies' own, in ``Ic`` on entry) for the pivots' test. Returns 1 when a joint's ``D`` is not positive
+    definite to working precision (a pivot not above ``floor`` times its speed's diagonal entry of the mass matrix:
+    :data:`relacc.core.tolerances.PIVOT_FLOOR`), else 0. ``cd``: scratch ``(6,)``."""
     for b in range(T.parent.shape[0] - 1, -1, -1):
         js, jn = T.jstart[b], T.jnum[b]
         for k in range(js + jn - 1, js - 1, -1):
             kind, d = T.jtype[k], T.dofadr[k]
             if kind == HINGE or kind == SLIDE:
-                if _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free[b] and k == js):
+                if _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free[b] and k == js, Ic, floor):
                     return 1
                 continue
             nd = 6 if kind == FREE else 3
@@ -91,7 +103,9 @@ def _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu,
                                 + tmp[53 + 3 * x] * u[i, d + at + 2]
                             s += tmp[42 + 3 * x + r] * arm[d + at + x] * bd
                         uu[d + at + r] -= s
-            if spd_inverse(tmp, nd, Dinv, k):
+            for r in range(nd):
+                cd[r] = _composite_diagonal(Ic, b, S, d + r)
+            if spd_inverse(tmp, nd, Dinv, k, cd, floor):
                 return 1
             if free[b] and k == js:
                 break  # nothing moves a free joint's parent side
@@ -120,6 +134,7 @@ def _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu,
         if p >= 0 and not free[b]:
             for x in range(21):
                 IA[p, x] += IA[b, x]
+                Ic[p, x] += Ic[b, x]
             for x in range(6):
                 pA[p, x] += pA[b, x]
     return 0
@@ -173,11 +188,16 @@ if HAVE_NUMBA:
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA, acc = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6))
         U, uu, Dinv, tmp = np.empty((nv, 6)), np.empty(nv), np.empty((max(nj, 1), 36)), np.empty(60)
+        Ic, cd = np.empty((nb, 21)), np.empty(6)
         bad_in, singular = 0, 0
         for i in range(start, stop):
             bad_in += bad_inputs(case, q, u, i, T, qadr)
             forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
-            failed = _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp)
+            for b in range(nb):  # the bodies' own spatial inertias: the composite ones grow from them
+                for x in range(21):
+                    Ic[b, x] = IA[b, x]
+            failed = _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd,
+                               PIVOT_FLOOR)
             if failed:
                 for c in range(nv):
                     out[i, c] = np.nan

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from relacc.core.tolerances import PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
 from relacc.kernels.tree import BALL, FREE, HINGE, SLIDE
 from relacc.kernels.tree_spatial import bad_inputs, forward, joint_B, sym_mv
@@ -114,14 +115,17 @@ def _rotational_armature(case, q, u, i, T, qadr, k, b, at, depth, arm, R, V, M, 
 
 
 @jitable
-def factor_solve(M, x, anc, depth):
+def factor_solve(M, x, anc, depth, diag, floor):
     """``x = M^-1 x`` through ``M = L^T D L`` on the speeds' paths, in place; each update a contiguous loop (an
-    earlier speed's path is a prefix of a later one's). Returns 1 when a pivot is not positive, else 0."""
+    earlier speed's path is a prefix of a later one's). Returns 1 when a pivot is not above ``floor`` times its
+    diagonal entry before elimination (``diag``, scratch ``(nv,)``): :data:`relacc.core.tolerances.PIVOT_FLOOR`."""
     nv = x.shape[0]
+    for k in range(nv):
+        diag[k] = M[k, depth[k]]
     for k in range(nv - 1, -1, -1):
         dk = depth[k]
         piv = M[k, dk]
-        if not piv > 0.0:
+        if not piv > floor * diag[k]:
             return 1
         for t in range(dk - 1, -1, -1):
             i = anc[k, t]
@@ -154,13 +158,13 @@ if HAVE_NUMBA:
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
         A, f = np.empty((nb, 6)), np.empty((nb, 6))
-        M, x, tmp = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18)
+        M, x, tmp, diag = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18), np.empty(nv)
         bad_in, singular = 0, 0
         for i in range(start, stop):
             bad_in += bad_inputs(case, q, u, i, T, qadr)
             forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
             mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x, tmp)
-            failed = factor_solve(M, x, anc, depth)
+            failed = factor_solve(M, x, anc, depth, diag, PIVOT_FLOOR)
             for c in range(nv):
                 out[i, c] = np.nan if failed else x[c]
             singular += failed

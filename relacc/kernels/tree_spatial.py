@@ -210,14 +210,15 @@ def sym_mv(P, b, x, j):
 
 
 @jitable
-def spd_inverse(D, n, out, slot):
+def spd_inverse(D, n, out, slot, diag, floor):
     """``out[slot]`` (n x n, row-major) = ``D^-1`` for a symmetric positive definite ``D`` (row-major, n <= 6), by
-    Cholesky; ``D`` is overwritten. Returns 1 when a pivot is not positive, else 0."""
+    Cholesky; ``D`` is overwritten. Returns 1 when a pivot is not above ``floor`` times ``diag[j]`` (the mass matrix's
+    diagonal entry of that speed, :data:`relacc.core.tolerances.PIVOT_FLOOR`), else 0."""
     for j in range(n):
         s = D[j * n + j]
         for k in range(j):
             s -= D[j * n + k] * D[j * n + k]
-        if not s > 0.0:
+        if not s > floor * diag[j]:
             return 1
         s = np.sqrt(s)
         D[j * n + j] = s

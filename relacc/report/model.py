@@ -45,7 +45,7 @@ def build(model, *, n_states=None, seed: int = 0, quick: bool = False, progress=
     data = page_data(result)
     data.update(title="relacc report", cases=_cases(check), bodies=_bodies(check), check_passed=check.passed,
                 not_loaded=check.not_loaded, simulation=_simulation(run), conventions=_conventions(result),
-                agree=result.agree and check.passed)
+                agree=result.agree and check.passed and run.agree)
     return data
 
 
@@ -101,7 +101,10 @@ def _simulation(run) -> dict:
             "engines": [{"engine": e, "seconds": s.get("seconds"), "energy_drift": s.get("energy_drift")}
                         for e, s in summary["engines"].items()],
             "pairs": [{"pair": k, "position": v["position"], "velocity": v["velocity"]}
-                      for k, v in run.differences()[2].items()]}
+                      for k, v in run.differences()[2].items()],
+            "agree": run.agree, "verdict": run.verdict(),
+            "checks": [{"engine": e, "error": c["error"], "bound": c["bound"], "ok": c["error"] <= c["bound"]}
+                       for e, c in run.note_check.items()]}
 
 
 def write(model, out, *, n_states=None, seed: int = 0, quick: bool = False, progress=None):

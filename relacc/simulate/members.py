@@ -128,6 +128,20 @@ class Part:
                     for k, v in self.differences.items()}}
 
 
+def acceleration_check(scene: Scene, n: int, spread: float, seed: int) -> dict:
+    """``{engine: {"error", "bound"}}``: relacc's acceleration of the scene's point against each engine's at the
+    initial states of the ensemble's first members (at most :data:`relacc.simulate.runs.NOTE_CHECK_STATES`), as
+    :func:`relacc.simulate.subjects.note_check` judges a single run: the verdict of ``relacc simulate --ensemble``."""
+    from relacc.simulate import subjects
+    from relacc.simulate.runs import NOTE_CHECK_STATES
+
+    q0, u0 = perturbed(scene, min(int(n), NOTE_CHECK_STATES), spread, seed)
+    engines = {name: subjects.adapter(scene, name) for name in scene.engines if name != "relacc"}
+    if not engines:
+        return {}
+    return subjects.note_check(scene, [(q0[i], u0[i], 0.0) for i in range(len(q0))], engines)
+
+
 def run_members(scene: Scene, start: int, n: int, spread: float, seed: int, threads: int | None = None,
                 progress=None) -> Part:
     """Members ``start .. start + n - 1`` on every engine of the scene (:func:`relacc.simulate.ensemble.ensemble`)."""

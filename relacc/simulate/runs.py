@@ -52,8 +52,14 @@ class SimulationResult:
         tracks: ``{engine: Track}``, the running summaries of each run.
         trajectories: ``{engine: Trajectory}`` with every record, or ``{}`` when run with ``keep=False``.
         pairs: ``{"a-b": {"position": m, "velocity": m/s}}``, the largest G2 differences over the run.
-        note_check: ``{engine: {"error", "bound"}}``, the note's acceleration against each engine's.
+        note_check: ``{engine: {"error", "bound"}}``, the note's acceleration against each engine's (at relacc's
+            states, or the first engine's when relacc does not run).
         csv: the CSV files written (``out``), else ``[]``.
+
+    The verdict (:attr:`agree`) is the acceleration check's: the engines integrate with their own schemes in their
+    own coordinates, so their trajectories differ by their truncation errors (shown, not judged), but at the same
+    state every engine's acceleration must be relacc's to rounding, ``c eps kappa(M)``. An engine that is not reads
+    the model (or applies the scene's effects) differently, and the run exits 1.
     """
 
     scene: Scene
@@ -62,6 +68,32 @@ class SimulationResult:
     pairs: dict
     note_check: dict
     csv: list
+
+    @property
+    def differing(self) -> dict:
+        """``{engine: check}`` of the engines whose acceleration is not relacc's within the bound."""
+        return {name: c for name, c in self.note_check.items() if not c["error"] <= c["bound"]}
+
+    @property
+    def agree(self) -> bool:
+        return not self.differing
+
+    @property
+    def exit_code(self) -> int:
+        return 0 if self.agree else 1
+
+    def verdict(self) -> str:
+        """One sentence: whether every engine's acceleration is relacc's at the same states."""
+        who = "the note's" if self.scene.is_chain else "relacc's"
+        if not self.note_check:
+            return "nothing to judge: only one evaluator ran"
+        if self.agree:
+            return (f"every engine's acceleration agrees with {who} at the same states "
+                    f"({', '.join(self.note_check)}); the trajectories differ by their integrators' truncation only")
+        parts = [f"{name} by {c['error']:.2e} (bound {c['bound']:.1e})" for name, c in self.differing.items()]
+        return (f"DISAGREE: at the same states the acceleration differs from {who}: {'; '.join(parts)}: "
+                f"{'that engine reads' if len(parts) == 1 else 'those engines read'} the model or the scene's effects "
+                "differently (relacc compare FILE says where)")
 
     def differences(self):
         """Largest G2 position (m) and velocity (m/s) difference over the run, over every pair; and the pairs."""
@@ -92,7 +124,7 @@ class SimulationResult:
             "record_every": self.scene.record_every, "effects": eff.describe(), "point": self.scene.observe,
             "engines": engines, f"max_{p}_position_difference": pos, f"max_{p}_velocity_difference": vel,
             "pairs": pairs, ("note" if self.scene.is_chain else "relacc") + "_acceleration_vs_engines": self.note_check,
-            "csv": [str(c) for c in self.csv],
+            "agree": self.agree, "verdict": self.verdict(), "csv": [str(c) for c in self.csv],
         }
 
 
@@ -167,15 +199,19 @@ def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=Non
             chunk = steps[start:start + RECORD_BLOCK]
             blocks_ = {n: r.block(scene.dt) for n, r in runs.items()}
             _compare_pairs(blocks_, pairs)
-            if "relacc" in blocks_:
-                note_states += [(blocks_["relacc"]["q"][j - start], blocks_["relacc"]["u"][j - start],
-                                 blocks_["relacc"]["t"][j - start]) for j in range(start, start + len(chunk))
-                                if j in note_at]
+            first = blocks_["relacc" if "relacc" in blocks_ else names[0]]
+            note_states += [(first["q"][j - start], first["u"][j - start], first["t"][j - start])
+                            for j in range(start, start + len(chunk)) if j in note_at]
             for n, w in writers.items():
                 b = blocks_[n]
                 w.writerows(np.column_stack([b["t"], b["q"], b["u"], b["position"], b["velocity"],
                                              b["acceleration"], b["energy"]]).tolist())
-    note = subjects.note_check(scene, note_states, loaded) if note_states and loaded else {}
+    if "relacc" not in names and note_states:  # the first engine's states, in the reference's case-2 coordinates
+        q, v = loaded[names[0]].from_engine(np.array([x[0] for x in note_states]),
+                                            np.array([x[1] for x in note_states]))
+        note_states = [(q[i], v[i], x[2]) for i, x in enumerate(note_states)]
+    case = scene.case if "relacc" in names else 2
+    note = subjects.note_check(scene, note_states, loaded, case=case) if note_states and loaded else {}
     tracks = {n: r.track for n, r in runs.items()}
     trajectories = {n: t.trajectory() for n, t in tracks.items()} if keep else {}
     return SimulationResult(scene, tracks, trajectories, pairs, note, paths)
@@ -228,4 +264,5 @@ def format_text(result: SimulationResult) -> str:
                    f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
     out.append("energy drift: max |E - E0| / max (T + |V_g| + V_s) over the run, where only conservative effects "
                "act; momentum drift: max |p - p0| (kg m/s) where no external force acts")
+    out.append(f"verdict: {result.verdict()}")
     return "\n".join(out)

@@ -29,16 +29,18 @@ def _observation(position, velocity, acceleration, energy_terms, momentum, angul
             "energy_scale": T + np.abs(g) + s, "momentum": momentum, "angular_momentum": angular_momentum}
 
 
-def reference_state(scene, q, u) -> tuple[np.ndarray, np.ndarray]:
-    """States of the scene's case ``(n, nq)``, ``(n, nv)`` in the reference's coordinates (the adapters')."""
+def reference_state(scene, q, u, case=None) -> tuple[np.ndarray, np.ndarray]:
+    """States of ``case`` (default the scene's) ``(n, nq)``, ``(n, nv)`` in the reference's coordinates (the
+    adapters')."""
+    case = scene.case if case is None else case
     if scene.is_chain:
         from relacc.core.speeds import to_body_speeds
 
-        q14, nu, _ = to_body_speeds(scene.case, q, u)
+        q14, nu, _ = to_body_speeds(case, q, u)
         return q14, nu
     from relacc.core.tree.coordinates import convert
 
-    q2, u2, _ = convert(scene.tree, q, u, source=scene.case, target=2)
+    q2, u2, _ = convert(scene.tree, q, u, source=case, target=2)
     return q2, u2
 
 
@@ -91,17 +93,18 @@ def _chain_run(scene, integrator):
             {"equations": "Newton-Euler per body (Kane's, solved), " + (", ".join(eff.active()) or "no effects")})
 
 
-def tree_point(scene, Q, U, Udot):
+def tree_point(scene, Q, U, Udot, case=None):
     """``(position, velocity, acceleration)``, each ``(n, 3)``, of the scene's point (a body's mass centre or a named
-    point) by relacc's tree from states ``Q, U, Udot`` in the scene's case: fixed-frame components, m, m/s and m/s^2
-    (classical)."""
+    point) by relacc's tree from states ``Q, U, Udot`` in ``case`` (default the scene's): fixed-frame components, m,
+    m/s and m/s^2 (classical)."""
     from relacc.core.tree import tree_kinematics
 
+    case = scene.case if case is None else case
     kind, name = scene.point
     if kind == "point":
-        k = tree_kinematics(scene.tree, scene.case, Q, U, Udot, points=[name])
+        k = tree_kinematics(scene.tree, case, Q, U, Udot, points=[name])
         return k.points.position[:, 0], k.points.velocity[:, 0], k.points.acceleration[:, 0]
-    k = tree_kinematics(scene.tree, scene.case, Q, U, Udot)
+    k = tree_kinematics(scene.tree, case, Q, U, Udot)
     b = scene.tree.body(name)
     return k.position[:, b], k.velocity[:, b], k.acceleration[:, b]
 
@@ -145,8 +148,9 @@ def tree_stepper(tree, case, effects, dt: float, integrator: str):
     return space_stepper(TreeSpace(tree, case), derivs, dt, integrator)
 
 
-def note_check(scene, states, engines: dict) -> dict:
-    """relacc's acceleration of the scene's point against each engine's, at relacc's states: error and bound.
+def note_check(scene, states, engines: dict, case=None) -> dict:
+    """relacc's acceleration of the scene's point against each engine's, at states ``[(q, u, t)]`` of ``case``
+    (default the scene's; 2: the reference's coordinates): error and bound.
 
     Both sides solve their own equations of motion, so rounding is amplified by the conditioning of the mass
     matrix: the bound is ``c eps kappa(M)`` with ``M`` in case-2 speeds (the point's acceleration does not depend
@@ -157,9 +161,10 @@ def note_check(scene, states, engines: dict) -> dict:
 
     Q, U = np.array([s[0] for s in states]), np.array([s[1] for s in states])
     t = np.array([s[2] for s in states])
-    mine, scale, M2 = _relacc_acceleration(scene, t, Q, U)
+    case = scene.case if case is None else int(case)
+    mine, scale, M2 = _relacc_acceleration(scene, t, Q, U, case)
     bound = float(rounding_tolerance() * np.max(np.linalg.cond(M2)))
-    q2, v2 = reference_state(scene, Q, U)
+    q2, v2 = reference_state(scene, Q, U, case)
     out = {}
     for name, engine in engines.items():
         qe, ve, _, _, _ = engine.to_engine(q2, v2)
@@ -168,15 +173,16 @@ def note_check(scene, states, engines: dict) -> dict:
     return out
 
 
-def _relacc_acceleration(scene, t, Q, U):
-    """``(acceleration (n, 3), term scale (n,), M in case-2 speeds (n, nv, nv))`` of the point, by relacc."""
+def _relacc_acceleration(scene, t, Q, U, case):
+    """``(acceleration (n, 3), term scale (n,), M in case-2 speeds (n, nv, nv))`` of the point, by relacc, at states
+    of ``case``."""
     if scene.is_chain:
         from relacc import dynamics
         from relacc.core.kinematics import g2_kinematics
         from relacc.core.scales import term_scales
         from relacc.core.speeds import to_body_speeds
 
-        chain, case, eff = scene.fixture.chain, scene.case, scene.effects
+        chain, eff = scene.fixture.chain, scene.effects
         Udot = dynamics.accelerations(chain, case, Q, U, eff)
         q14, nu, _ = to_body_speeds(case, Q, U)
         return (g2_kinematics(chain, case, Q, U, Udot).acceleration, term_scales(chain, case, Q, U, Udot).acceleration,
@@ -184,9 +190,9 @@ def _relacc_acceleration(scene, t, Q, U):
     from relacc.core.tree.scales import tree_scales
     from relacc.dynamics.tree import tree_accelerations, tree_dynamics
 
-    tree, case, eff = scene.tree, scene.case, scene.effects
+    tree, eff = scene.tree, scene.effects
     Udot = tree_accelerations(tree, case, Q, U, effects=eff, t=t)
-    _, _, acc = tree_point(scene, Q, U, Udot)
+    _, _, acc = tree_point(scene, Q, U, Udot, case)
     kind, name = scene.point
     if kind == "point":  # the scale of the point's own offset on its body
         pt = tree.points[tree.point_names.index(name)]
@@ -195,5 +201,5 @@ def _relacc_acceleration(scene, t, Q, U):
     else:
         at, b = None, tree.body(name)
     scale = tree_scales(tree, case, Q, U, Udot, at=at).of("acceleration")[:, b]
-    q2, v2 = reference_state(scene, Q, U)
+    q2, v2 = reference_state(scene, Q, U, case)
     return acc, scale, tree_dynamics(tree, 2, q2, v2, effects=eff, t=t).M

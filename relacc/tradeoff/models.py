@@ -3,10 +3,15 @@
 The model's default scene (:func:`relacc.simulate.scenes.model_scene`: tumbling in space from its reference
 configuration, seeded speeds, nothing acting) run by every engine's fixed-step integrators over a sweep of steps.
 The error of a run is the distance of the observed point (the first body's mass centre) at the final time from
-the reference's, in m; the reference is MuJoCo's RK4 at a sixteenth of the scene's step, checked against an
-independent one, Drake's error-controlled fifth-order Runge-Kutta at accuracy 1e-12 (their distance is part of
-the output). Seconds are each engine's integration alone. Orders are read as in
-:func:`relacc.tradeoff.integrators.observed_order`.
+the reference's, in m; the reference is RK4 at a sixteenth of the scene's step (MuJoCo's, or the first engine that
+reads the model as relacc does), checked against an independent one, Drake's error-controlled fifth-order
+Runge-Kutta at accuracy 1e-12 (their distance is part of the output). Seconds are each engine's integration alone.
+Orders are read as in :func:`relacc.tradeoff.integrators.observed_order`.
+
+First, every engine's acceleration is checked against relacc's along one run of the scene
+(:attr:`relacc.simulate.runs.SimulationResult.differing`): an engine that reads the model differently integrates a
+different system, so its rows measure that misreading, not its integrator. Its rows are kept and marked, it is not
+the reference or the check, it has no observed order, and the command exits 1.
 """
 
 from __future__ import annotations
@@ -38,11 +43,18 @@ class ModelTradeoff:
     rows: list
     reference: dict
     orders: dict
+    differing: dict = None
+    """``{engine: {"error", "bound"}}``: engines whose acceleration is not relacc's at the same states."""
+
+    @property
+    def exit_code(self) -> int:
+        return 1 if self.differing else 0
 
     def as_json(self) -> dict:
         """The ``relacc tradeoff --model FILE --json`` object."""
         return {"model": self.model, "point": self.point, "duration": self.duration, "integrators": self.rows,
-                "reference": self.reference, "orders": self.orders}
+                "reference": self.reference, "orders": self.orders, "misread": self.differing or {},
+                "agree": not self.differing}
 
 
 def _final(scene):
@@ -55,16 +67,22 @@ def _final(scene):
 
 def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTradeoff:
     """Sweep every engine's fixed-step integrators on ``model``'s default scene (module docstring)."""
+    from relacc import simulate
     from relacc.simulate import scenes
 
     base = scenes.model_scene(model, seed=seed, duration=DURATION[bool(quick)], dt=DT)
     if progress:
-        progress(f"reference: mujoco rk4 at dt/{REFERENCE_DIVISOR}, checked by drake runge_kutta5 at "
+        progress("every engine's acceleration against relacc's along one run")
+    differing = simulate.run(base, keep=False).differing
+    chosen = next((e for e in ("mujoco", "pinocchio", "relacc") if e in base.engines and e not in differing),
+                  "relacc")
+    if progress:
+        progress(f"reference: {chosen} rk4 at dt/{REFERENCE_DIVISOR}, checked by drake runge_kutta5 at "
                  f"accuracy {CHECK_ACCURACY}")
-    ref = _final(base.replace(engines=("mujoco",), dt=DT / REFERENCE_DIVISOR, integrator="rk4",
-                              record_every=10**6))["mujoco"][0]
-    reference = {"reference": f"mujoco rk4 at dt = {DT / REFERENCE_DIVISOR} s"}
-    if "drake" in base.engines:
+    ref = _final(base.replace(engines=(chosen,), dt=DT / REFERENCE_DIVISOR, integrator="rk4",
+                              record_every=10**6))[chosen][0]
+    reference = {"reference": f"{chosen} rk4 at dt = {DT / REFERENCE_DIVISOR} s"}
+    if "drake" in base.engines and "drake" not in differing:
         check = _final(base.replace(engines=("drake",), drake_integrator="runge_kutta5",
                                     drake_accuracy=CHECK_ACCURACY, record_every=10**6))["drake"][0]
         reference.update(check=f"drake runge_kutta5, accuracy {CHECK_ACCURACY}",
@@ -83,17 +101,17 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTra
                                      **({"drake_integrator": integrator} if engine == "drake"
                                         else {"integrator": integrator}))
                 row = {"engine": engine, "integrator": integrator, "dt": scene.dt, "kind": "fixed",
-                       "dt_or_tol": scene.dt, "diverged": False}
+                       "dt_or_tol": scene.dt, "diverged": False, "misread": engine in differing}
                 try:
                     position, seconds = _final(scene)[engine]
                     row.update(error=float(np.linalg.norm(position - ref)), seconds=float(seconds))
                 except IntegrationError:  # a diverged run is a result: infinite error, left out of fits
                     row.update(error=float("inf"), seconds=None, diverged=True)
                 rows.append(row)
-    runs = dict.fromkeys((r["engine"], r["integrator"]) for r in rows)
+    runs = dict.fromkeys((r["engine"], r["integrator"]) for r in rows if not r["misread"])
     orders = {f"{e}/{i}": observed_order(rows, e, i) for e, i in runs}
     return ModelTradeoff(str(model), base.observe, base.duration, rows, reference,
-                         {k: v for k, v in orders.items() if v is not None})
+                         {k: v for k, v in orders.items() if v is not None}, differing)
 
 
 def format_text(result: ModelTradeoff) -> str:
@@ -106,8 +124,13 @@ def format_text(result: ModelTradeoff) -> str:
     for r in result.rows:
         err = "diverged" if r["diverged"] else f"{r['error']:10.1e}"
         sec = "-" if r["seconds"] is None else f"{r['seconds']:9.4f}"
-        out.append(f"  {r['engine']:10s} {r['integrator']:14s} {r['dt']:9.1e} {err:>10s} {sec:>9s}")
+        out.append(f"  {r['engine']:10s} {r['integrator']:14s} {r['dt']:9.1e} {err:>10s} {sec:>9s}"
+                   + ("  misread: not an integrator error" if r.get("misread") else ""))
     out.append("\nObserved order of convergence vs theory:")
     for key, order in result.orders.items():
         out.append(f"  {key:26s} {order:5.2f}   (theory {THEORY[key.split('/')[1]]})")
+    for engine, c in (result.differing or {}).items():
+        out.append(f"DISAGREE: {engine} reads this model differently: at the same states its acceleration differs "
+                   f"from relacc's by {c['error']:.2e} (bound {c['bound']:.1e}), so its rows measure that, not its "
+                   "integrator, and it has no order (relacc compare FILE says where)")
     return "\n".join(out)
