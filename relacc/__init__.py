@@ -50,7 +50,7 @@ from relacc.errors import (
 
 __version__ = "0.2.0"
 
-_SUBPACKAGES = ("core", "kernels", "dynamics", "simulate", "engines", "validation", "fixtures", "report",
+_SUBPACKAGES = ("core", "reading", "kernels", "dynamics", "simulate", "engines", "validation", "fixtures", "report",
                 "tradeoff", "testing", "cluster", "cli")
 
 

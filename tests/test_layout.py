@@ -14,33 +14,36 @@ HEAVY = ("numba", "pinocchio", "mujoco", "matplotlib", "scipy", "jinja2", "pydan
          "dask", "distributed")
 
 BASE = {"errors", "files", "limits", "isolate"}
+ABOVE_ENGINES = BASE | {"core", "kernels", "dynamics", "fixtures", "reading", "engines"}
 LAYERS = {
     "errors": set(),
     "isolate": set(),
     "files": {"errors"},
     "limits": {"errors"},
     "core": BASE,
+    "reading": BASE | {"core"},
     "kernels": BASE | {"core"},
     "dynamics": BASE | {"core", "kernels"},
     "fixtures": BASE | {"core"},
-    "engines": BASE | {"core", "kernels", "dynamics", "fixtures"},
-    "simulate": BASE | {"core", "kernels", "dynamics", "fixtures", "engines"},
-    "validation": BASE | {"core", "kernels", "dynamics", "fixtures", "engines"},
-    "tradeoff": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation"},
-    "report": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation", "tradeoff"},
-    "testing": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "validation"},
-    "cluster": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation"},
-    "cli": BASE | {"core", "kernels", "dynamics", "fixtures", "engines", "simulate", "validation", "tradeoff",
-                   "report", "testing", "cluster"},
+    "engines": BASE | {"core", "kernels", "dynamics", "fixtures", "reading"},
+    "simulate": ABOVE_ENGINES,
+    "validation": ABOVE_ENGINES,
+    "tradeoff": ABOVE_ENGINES | {"simulate", "validation"},
+    "report": ABOVE_ENGINES | {"simulate", "validation", "tradeoff"},
+    "testing": ABOVE_ENGINES | {"validation"},
+    "cluster": ABOVE_ENGINES | {"simulate", "validation"},
+    "cli": ABOVE_ENGINES | {"simulate", "validation", "tradeoff", "report", "testing", "cluster"},
 }
 """Which layers each layer may import (besides itself). ``cli`` and ``relacc/__init__`` may import any."""
 
 ENGINE_PACKAGES = {"mujoco": "mujoco_", "pinocchio": "pinocchio_", "pydrake": "drake_"}
 """Each engine's Python package and the one adapter package of ``relacc.engines`` that may import it."""
 
-LAZY_ONLY = {("core", "kernels"), ("relacc.core.tree.model", "engines"), ("relacc.core.tree.model", "fixtures")}
-"""Imports allowed inside functions only: the core loads the kernels at the first batched call; one reader,
-``Tree.from_file``, hands a model file to MuJoCo's compiler (engines) or a chain TOML to the fixtures."""
+LAZY_ONLY = {("core", "kernels"), ("relacc.core.tree.model", "reading"), ("relacc.core.tree.model", "fixtures"),
+             ("relacc.reading.read", "engines")}
+"""Imports allowed inside functions only: the core loads the kernels at the first batched call; ``Tree.from_file``
+hands a model file to relacc's reading or a chain TOML to the fixtures; the reading asks MuJoCo for a mesh's mass
+properties, the one thing it takes from an engine (and says so per body)."""
 
 
 def _modules():

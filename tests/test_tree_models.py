@@ -65,7 +65,7 @@ def test_shipped_models_agree_with_mujoco(path):
 
 def test_a_model_without_bodies_is_refused():
     """MuJoCo's mesh test model has no body besides the world: one line naming the file."""
-    with pytest.raises(ModelError, match="msh.xml: MuJoCo reads no body besides the world"):
+    with pytest.raises(ModelError, match="msh.xml: the MJCF has no <body> in its <worldbody>"):
         relacc.Tree.from_file(MUJOCO_TESTDATA / "msh.xml")
 
 
@@ -84,29 +84,29 @@ URDF = """<robot name="arm">
 """
 
 
-def test_urdf_fixed_links_are_named_points(tmp_path):
-    """A URDF's fixed link, fused away by MuJoCo's compiler, is a point of the link that took it: its position
-    and velocity are those of the unfused model's body (MuJoCo with fusestatic off)."""
+def test_urdf_fixed_links_are_welded_bodies(tmp_path):
+    """A URDF's fixed link, which MuJoCo's compiler fuses away, is a body of relacc's reading without joints, moving
+    with its parent: its position and velocity are those of the unfused model's body (MuJoCo with fusestatic off)."""
     path = tmp_path / "arm.urdf"
     path.write_text(URDF)
     tree = relacc.Tree.from_file(path)
-    assert "tool" in tree.point_names and "tool" not in tree.body_names
+    assert "tool" in tree.body_names and not tree.bodies[tree.body("tool")].joints
     spec = mujoco.MjSpec.from_file(str(path))
     spec.compiler.fusestatic = False
     full = spec.compile()
     data = mujoco.MjData(full)
     rng = np.random.default_rng(3)
     q, u = rng.uniform(-1, 1, (5, tree.nv)), rng.standard_normal((5, tree.nv))
-    k = relacc.tree_kinematics(tree, 2, q, u, points=["tool"])
-    tool = full.body("tool").id
+    k = relacc.tree_kinematics(tree, 2, q, u)
+    b, tool = tree.body("tool"), full.body("tool").id
     for i in range(5):
         data.qpos[:], data.qvel[:] = q[i], u[i]
         mujoco.mj_kinematics(full, data)
         mujoco.mj_comPos(full, data)
         J = np.zeros((3, full.nv))
         mujoco.mj_jac(full, data, J, None, data.xpos[tool], tool)
-        np.testing.assert_allclose(k.points.position[i, 0], data.xpos[tool], rtol=0, atol=64 * EPS)
-        np.testing.assert_allclose(k.points.velocity[i, 0], J @ u[i], rtol=0, atol=64 * EPS * (1 + np.abs(u[i]).sum()))
+        np.testing.assert_allclose(k.position[i, b], data.xpos[tool], rtol=0, atol=64 * EPS)  # massless: its origin
+        np.testing.assert_allclose(k.velocity[i, b], J @ u[i], rtol=0, atol=64 * EPS * (1 + np.abs(u[i]).sum()))
 
 
 def test_effects_agree_with_mujoco(tmp_path):

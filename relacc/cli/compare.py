@@ -131,8 +131,12 @@ def text(result) -> str:
     if data["referee"]:
         lines.append("referee (MuJoCo, the engines and relacc's tree, pairwise):")
         lines += [f"  {v['verdict']}" for v in data["referee"]]
-    lines.append("every engine sees the same robot and the dynamics agree" if data["agree"] else
-                 "the engines DISAGREE (exit 1)")
+    absent = [name for name, e in data["engines"].items() if not e["loaded"]]
+    took = ", ".join(data["compared"])
+    lines.append(("the engines DISAGREE (exit 1)" if not data["agree"] else
+                  "every engine sees the same robot and the dynamics agree" if not absent else
+                  f"every engine that took part ({took}) sees the same robot and the dynamics agree; "
+                  f"{', '.join(absent)} did not take part (see engines above)"))
     return "\n".join(lines)
 
 

@@ -137,9 +137,12 @@ def fixed_vector(owner: str, name: str, value, n: int = 3) -> np.ndarray:
         InputError: naming ``owner`` and ``name``, what was given and what is accepted.
     """
     try:
+        kind = np.asarray(value).dtype.kind
         arr = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise InputError(f"{owner}: {name} must be {n} real numbers, got {value!r:.80}") from None
+    if kind not in "iuf":  # strings, booleans, objects: not numbers, even where numpy would convert them
+        raise InputError(f"{owner}: {name} must be {n} real numbers, got {np.asarray(value).tolist()!r:.80}")
     if arr.shape != (n,) or not np.all(np.isfinite(arr)):
         raise InputError(f"{owner}: {name} must be {n} finite numbers, got {np.asarray(value).tolist()!r:.80}")
     arr.setflags(write=False)

@@ -83,6 +83,17 @@ subtractive cancellation, so the derivative is exact to rounding.
 """
 
 
+def triangle_violation(moments) -> str:
+    """The first triangle inequality a rigid body's principal moments ``(3,)`` (kg m^2) break, as text
+    (``"A + B = ... < C = ..."``), or ``""``: ``A + B >= C`` for every ordering, to ``ROUNDING_FACTOR * eps`` of the
+    largest moment (the moments come from an eigen-decomposition, which rounds at that level)."""
+    m = np.sort(np.asarray(moments, dtype=float))
+    tol = ROUNDING_FACTOR * EPS * float(np.abs(m).max(initial=0.0))
+    if m[0] + m[1] < m[2] - tol:
+        return f"A + B = {m[0] + m[1]:.6g} < C = {m[2]:.6g}"
+    return ""
+
+
 def rounding_tolerance(factor: float = ROUNDING_FACTOR) -> float:
     """Tolerance on a normalized error that comes from rounding only: ``factor * eps``."""
     return factor * EPS

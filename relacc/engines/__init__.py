@@ -79,6 +79,17 @@ def load(name: str, path, reference=None, **options) -> Adapter:
     return module.load(path, reference, **options)
 
 
+def mesh_inertia(mesh):
+    """MuJoCo's mass properties of one mesh geom of an MJCF (:mod:`relacc.engines.mujoco_.meshes`): what relacc's own
+    reading asks an engine for (:func:`relacc.reading.read`; the bodies concerned are named in its ``taken``).
+
+    Raises:
+        EngineError: MuJoCo is not installed. ModelError: MuJoCo cannot compile the geom alone.
+    """
+    module = adapter_module("mujoco")
+    return importlib.import_module(f"{module.__name__}.meshes").mesh_inertia(mesh)
+
+
 def load_engine(name: str, fixture=None, **options) -> ChainEngine:
     """The note's chain (``fixture``; default the shipped ``two_body.toml``) in one engine, both routes.
 
@@ -94,4 +105,4 @@ def load_engine(name: str, fixture=None, **options) -> ChainEngine:
 
 
 __all__ = ["ENGINES", "ROUTES", "Adapter", "ChainEngine", "adapter_module", "available", "installed", "load",
-           "load_engine", "readings"]
+           "load_engine", "mesh_inertia", "readings"]

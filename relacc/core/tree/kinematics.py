@@ -134,7 +134,8 @@ def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_p
 
 def flat(a, batch, width):
     """``a`` broadcast to ``batch + (width,)`` as a C-contiguous ``(n, width)`` array."""
-    return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width))
+    n = int(np.prod(batch, dtype=np.int64))  # explicit: a width of 0 (a tree where nothing moves) leaves -1 undefined
+    return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(n, width))
 
 
 BACKENDS = ("auto", "fast", "reference")

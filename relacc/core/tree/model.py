@@ -1,4 +1,4 @@
-"""relacc's tree: bodies, joints and named points of any kinematic tree, as MuJoCo places them.
+"""relacc's tree: bodies, joints and named points of any kinematic tree, placed as MuJoCo places them.
 
 A :class:`Tree` is a list of :class:`Body` in MuJoCo's body order (parents first, the world left
 out: parent ``-1``). Each body is placed in its parent's frame (``pos``, ``quat``) and then moved by
@@ -132,7 +132,10 @@ class Body:
         quat: ``(4,)`` unit quaternion ``(w, x, y, z)``, the body frame in the parent's frame.
         joints: the joints moving it relative to its parent, applied in order.
         mass: kg (0 for a massless body). com: ``(3,)`` mass centre, body frame, m.
-        inertia: ``(3, 3)`` about the mass centre, body components, kg m^2.
+        inertia: ``(3, 3)`` about the mass centre, body components, kg m^2: symmetric, positive semidefinite, its
+            principal moments meeting the triangle inequality ``A + B >= C`` (to ``c eps`` of the largest).
+        physical: False only for a body read from a file that breaks those conditions (or has a negative mass): the
+            reader names it (:mod:`relacc.reading.physical`), and its dynamics are evaluated as written.
     """
 
     name: str
@@ -143,6 +146,7 @@ class Body:
     mass: float = 0.0
     com: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
     inertia: np.ndarray = field(default=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)), repr=False)
+    physical: bool = field(default=True, repr=False)
 
     def __post_init__(self):
         who = f"body {self.name!r}"
@@ -160,17 +164,30 @@ class Body:
         if any(j.type == "free" for j in joints) and len(joints) > 1:
             raise InputError(f"{who}: a free joint must be the body's only joint (as in MuJoCo)")
         object.__setattr__(self, "joints", joints)
-        object.__setattr__(self, "mass", _number(who, "mass", self.mass, minimum=0.0))
+        if not isinstance(self.physical, bool):
+            raise InputError(f"{who}: physical must be True or False, got {self.physical!r}")
+        object.__setattr__(self, "mass", _number(who, "mass", self.mass, minimum=0.0 if self.physical else None))
         object.__setattr__(self, "com", fixed_vector(who, "com", self.com))
         try:
             inertia = np.array(self.inertia, dtype=np.float64)
         except (TypeError, ValueError):
             raise InputError(f"{who}: inertia must be a 3x3 tensor of real numbers") from None
-        if inertia.shape != (3, 3) or not np.all(np.isfinite(inertia)):
+        if inertia.dtype.kind != "f" or inertia.shape != (3, 3) or not np.all(np.isfinite(inertia)):
             raise InputError(f"{who}: inertia must be a finite 3x3 tensor (kg m^2), got shape {inertia.shape}")
         scale = float(np.abs(inertia).max())
-        if np.abs(inertia - inertia.T).max() > 1e-12 * scale or np.linalg.eigvalsh(inertia)[0] < -1e-12 * scale:
-            raise InputError(f"{who}: inertia must be symmetric positive semidefinite, got {inertia.tolist()}")
+        if np.abs(inertia - inertia.T).max() > 1e-12 * scale:
+            raise InputError(f"{who}: inertia must be symmetric, got {inertia.tolist()}")
+        if self.physical:
+            from relacc.core.tolerances import triangle_violation
+
+            moments = np.linalg.eigvalsh(0.5 * (inertia + inertia.T))
+            if moments[0] < -1e-12 * scale:
+                raise InputError(f"{who}: inertia must be positive semidefinite; its principal moments are "
+                                 f"{moments.tolist()} kg m^2")
+            broken = triangle_violation(moments)
+            if broken:
+                raise InputError(f"{who}: inertia's principal moments {moments.tolist()} break the triangle inequality "
+                                 f"({broken}): no rigid body has them")
         inertia.setflags(write=False)
         object.__setattr__(self, "inertia", inertia)
 
@@ -361,21 +378,23 @@ class Tree:
     # ---- readers ------------------------------------------------------------------------------
     @classmethod
     def from_file(cls, path) -> "Tree":
-        """Read a model file: an MJCF (``.xml``) or a URDF (``.urdf``) through MuJoCo's compiler (the reading
-        ``relacc compare`` takes as its reference), or a chain TOML (``.toml``).
+        """Read a model file: an MJCF (``.xml``) or a URDF (``.urdf``) by relacc's own reading of the format
+        (:func:`relacc.reading.read`, which says what it read, took from elsewhere or left out), or a chain TOML
+        (``.toml``).
 
         Raises:
-            ModelError: the file cannot be read or compiled (the message names the file and element).
+            ModelError: the file cannot be read (the message names the file, the element and its line).
         """
+        import os
         from pathlib import Path
 
-        if Path(path).suffix.lower() == ".toml":
+        if isinstance(path, (str, os.PathLike)) and Path(path).suffix.lower() == ".toml":
             from relacc.fixtures import load
 
             return cls.from_chain(load(path).chain, name=Path(path).stem, source=str(path))
-        from relacc.engines import adapter_module
+        from relacc.reading import read
 
-        return adapter_module("mujoco").read_tree(path)
+        return read(path).tree
 
     @classmethod
     def from_chain(cls, chain, name: str = "two_body", source: str = "python") -> "Tree":

@@ -39,6 +39,7 @@ from relacc.engines.mujoco_.spec import (
     rigid_groups,
     tree_from,
 )
+from relacc.errors import EngineError
 
 __all__ = ["MujocoAdapter", "captured_warnings", "load", "read_tree", "version"]
 
@@ -62,7 +63,7 @@ class MujocoAdapter(Adapter):
     engine = "mujoco"
     global_coordinates = frozenset({"velocity", "acceleration", "V", "Vdot"})
 
-    def __init__(self, path, spec=None):
+    def __init__(self, path, spec=None, reference=None):
         path = Path(path)
         self.spec = load_spec(path) if spec is None else spec
         # a copy is compiled: compiling edits a spec in place where it fuses static bodies (compiler fusestatic,
@@ -71,18 +72,60 @@ class MujocoAdapter(Adapter):
         self.data = mujoco.MjData(self.model)
         self.original = run.Original(self.model)
         m = self.model
-        tree = tree_from(self.spec, m, path)
-        matches = []
-        for j in range(m.njnt):
-            kind, qa, da = TYPES[int(m.jnt_type[j])], int(m.jnt_qposadr[j]), int(m.jnt_dofadr[j])
-            nq, nv = {"free": (7, 6), "ball": (4, 3)}.get(kind, (1, 1))
-            matches.append(Match(kind, (j,), tuple(range(qa, qa + nq)), tuple(range(da, da + nv)),
-                                 tuple(range(qa, qa + nq)), tuple(range(da, da + nv))))
-        super().__init__(tree, matches, m.nq, m.nv, path, warnings)
+        self.joint_names = [joint_name(m, j) for j in range(m.njnt)]
+        self.own = tree_from(self.spec, m, path)
+        """MuJoCo's reading of the file as a :class:`relacc.Tree` (its compiled model's numbers)."""
+        tree = self.own if reference is None else reference
+        super().__init__(tree, self._match(tree), m.nq, m.nv, path, warnings)
         self.path = path
         self.groups = rigid_groups(m)
-        self.joint_names = [joint_name(m, j) for j in range(m.njnt)]
         self.structure = self._structure()
+
+    def _match(self, tree) -> list[Match]:
+        """Each joint of ``tree`` MuJoCo has, of the same type: by name, else by the body it moves and its place among
+        that body's joints (MuJoCo's own reading: every joint, in order)."""
+        m, out, taken = self.model, [], set()
+        ids = {name: j for j, name in enumerate(self.joint_names)}
+        on_body: dict[str, list[int]] = {}
+        for j in range(m.njnt):
+            on_body.setdefault(body_name(m, int(m.jnt_bodyid[j])), []).append(j)
+        for k, ((b, joint), qa, da) in enumerate(zip(tree.joints, tree.qadr(2), tree.dofadr)):
+            j = ids.get(joint.name)
+            if j is None:
+                place = tree.body_joints[b].index(k)
+                mine = on_body.get(tree.bodies[b].name, [])
+                j = mine[place] if place < len(mine) else None
+            if j is None or j in taken or TYPES[int(m.jnt_type[j])] != joint.type:
+                continue  # the audit reports a missing joint or another type
+            taken.add(j)
+            qe, ve = int(m.jnt_qposadr[j]), int(m.jnt_dofadr[j])
+            nq, nv = {"free": (7, 6), "ball": (4, 3)}.get(joint.type, (1, 1))
+            out.append(Match(joint.type, (k,), tuple(range(qa, qa + nq)), tuple(range(da, da + nv)),
+                             tuple(range(qe, qe + nq)), tuple(range(ve, ve + nv))))
+        return out
+
+    def joint_id(self, name: str) -> int:
+        """MuJoCo's index of the reference's joint ``name``.
+
+        Raises:
+            EngineError: MuJoCo has no such joint.
+        """
+        k = self.reference.joint(name)
+        for match in self.matches:
+            if k in match.joints:
+                return int(self.model.dof_jntid[match.v[0]])
+        raise EngineError(f"MuJoCo has no joint {name!r} of the reference")
+
+    def body_id(self, name: str) -> int:
+        """MuJoCo's index of the body ``name``.
+
+        Raises:
+            EngineError: MuJoCo has no such body (its compiler fused it into another: ``fusestatic``).
+        """
+        b = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
+        if b < 0:
+            raise EngineError(f"MuJoCo has no body {name!r}: its compiler fused it into another (fusestatic)")
+        return int(b)
 
     @property
     def version(self) -> str:
@@ -92,7 +135,7 @@ class MujocoAdapter(Adapter):
         """This model compiled again after ``change(spec)`` on a copy of its spec (the file is not touched)."""
         spec = self.spec.copy()
         change(spec)
-        return MujocoAdapter(self.path, spec)
+        return MujocoAdapter(self.path, spec, None if self.reference is self.own else self.reference)
 
     def default_q(self) -> np.ndarray:
         return self.model.qpos0.copy()
@@ -177,7 +220,7 @@ class MujocoAdapter(Adapter):
         kind, name = spec
         m = self.model
         if kind == "body":
-            b = self.reference.body(name) + 1
+            b = self.body_id(name)
             return b, [(b, 1.0)], -1, None
         if kind == "com":
             b = next(b for b in self.groups if self.body_name(b) == name)
@@ -186,8 +229,12 @@ class MujocoAdapter(Adapter):
         s = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, name)
         if s >= 0:
             return int(m.site_bodyid[s]), [], s, None
+        own = self.own
+        if name in own.point_names:  # a body the compiler fused, at its place on the body that took it
+            p = own.points[own.point_names.index(name)]
+            return p.body + 1, [], -1, p.pos
         p = self.reference.points[self.reference.point_names.index(name)]
-        return p.body + 1, [], -1, p.pos
+        return self.body_id(self.reference.bodies[p.body].name), [], -1, p.pos
 
     def points(self, qe, ve, ae, specs, *, jdot=False):
         m, d = self.model, self.data
@@ -357,9 +404,10 @@ def _classical(m, d, b, p) -> np.ndarray:
 
 
 def load(path, reference=None, **options) -> MujocoAdapter:
-    """The one loader signature: a model file in MuJoCo (``reference`` is MuJoCo's own reading; ignored).
+    """The one loader signature: a model file in MuJoCo, matched to ``reference`` (a :class:`relacc.Tree`; None:
+    MuJoCo's own reading, every joint matched to itself).
 
     Raises:
         ModelError: MuJoCo cannot read or compile the file.
     """
-    return MujocoAdapter(path)
+    return MujocoAdapter(path, reference=reference)

@@ -20,6 +20,7 @@ from mujoco import rollout as mj_rollout
 
 from relacc.dynamics.steps import Stepper
 from relacc.engines.base import fixed_step_only
+from relacc.engines.mujoco_.spec import TYPES
 from relacc.errors import EngineError, IntegrationError
 
 UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQVEL", "mjWARN_BADQPOS")
@@ -88,10 +89,9 @@ def configure(adapter, effects, t: float = 0.0) -> list[str]:
     m.actuator_biasprm[:] = 0.0 if timed else own.bias
     springs = dampers = False
     if effects is not None:
-        tree = adapter.reference
         for name, eff in effects.joints.items():
-            k = tree.joint(name)
-            kind = tree.joints[k][1].type
+            k = adapter.joint_id(name)
+            kind = TYPES[int(m.jnt_type[k])]
             qa, da = int(m.jnt_qposadr[k]), int(m.jnt_dofadr[k])
             nv = {"free": 6, "ball": 3}.get(kind, 1)
             if eff.stiffness:
@@ -117,9 +117,8 @@ def set_loads(adapter, effects, t, d) -> None:
     d.xfrc_applied[:] = 0.0
     if effects is None:
         return
-    tree = adapter.reference
     for name, load in effects.bodies.items():
-        b = tree.body(name) + 1
+        b = adapter.body_id(name)
         s = float(load.factor(t))
         d.xfrc_applied[b, 0:3] = s * load.force
         d.xfrc_applied[b, 3:6] = s * load.torque

@@ -163,7 +163,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
         urdf = model
     reports = {"mujoco": EngineReport("mujoco", True, reference.model.nq, reference.model.nv,
                                       warnings=tuple(reference.warnings))}
-    robots = []
+    robots, unshared = [], []
     for name in names:
         try:
             adapter_module(name)  # imported here once, not in the probe
@@ -180,6 +180,8 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
                                          error=f"{name} shares no speed with MuJoCo: it read nq "
                                                f"{robot.structure.nq}, nv {robot.structure.nv} and none of its "
                                                "joints is one of MuJoCo's", warnings=tuple(robot.warnings))
+            if name == "pinocchio" and urdf is not None and Path(urdf).resolve() != Path(model).resolve():
+                unshared.append(robot)  # the user's URDF describes another robot: that is a finding, audited
             continue
         robots.append(robot)
         reports[name] = EngineReport(name, True, robot.structure.nq, robot.structure.nv,
@@ -188,6 +190,8 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     scales = Scales.of(reference.structure)
     states = random_states(reference, n_states, seed)
     audits, dynamics = [], {q: {} for q in QUANTITIES}
+    for robot in unshared:  # what differs, element by element, though no dynamics can be compared
+        audits.append(explain(reference, robot, (), scales, URDF_CAUSE)[0])
     for robot in robots:
         from_urdf = robot.engine == "pinocchio" and urdf is not None
         other_file = from_urdf and Path(urdf).resolve() != Path(model).resolve()  # a URDF beside an MJCF

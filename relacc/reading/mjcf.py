@@ -1,0 +1,465 @@
+"""An MJCF read by relacc itself, by MuJoCo's XML reference (mujoco.readthedocs.io/en/stable/XMLreference.html), into
+a :class:`relacc.reading.model.Reading`. What is read and how, element by element, is tabled in docs/reading.md; in
+short:
+
+* **The text**: ``<include file>`` replaced by the included file's top-level children (names from the main file's
+  directory, nested); the sections ``<compiler>``, ``<option>``, ``<default>`` and ``<worldbody>`` may come several
+  times and are taken together, in order.
+* **Defaults**: a ``<joint>``, ``<geom>`` or ``<site>`` takes the attributes of its class (its ``class``, else the
+  nearest ``childclass`` of the bodies and frames around it, else ``main``), each class those of the classes it is
+  nested in, then its own. ``<freejoint>`` takes none (MuJoCo's parser gives it no class).
+* **Frames**: a body's, a geom's, an inertial's and a ``<frame>``'s ``pos`` and orientation (``quat``, ``axisangle``,
+  ``euler`` by ``<compiler eulerseq>``, ``xyaxes``, ``zaxis``; angles in degrees unless ``<compiler angle="radian">``):
+  :mod:`relacc.reading.frames`. A ``<frame>`` moves what it holds, with its ``childclass``.
+* **Inertia**: an ``<inertial>`` (``mass``, ``pos``, orientation, ``diaginertia`` or ``fullinertia`` in the order
+  Ixx Iyy Izz Ixy Ixz Iyz) where ``<compiler inertiafromgeom>`` is ``auto`` (its default) or ``false``; else the
+  geoms whose ``group`` lies in ``inertiagrouprange`` (and, with ``discardvisual``, that collide): each a primitive
+  (:mod:`relacc.reading.inertia`; ``fromto`` for capsules, cylinders, boxes and ellipsoids; ``shellinertia`` for
+  shells) of its ``mass``, else ``density`` times its volume; a mesh's mass properties come from the caller
+  (``meshes``, MuJoCo's by default through the adapter), and the body says so in ``taken``. Then, as the compiler
+  does: ``boundmass`` and ``boundinertia`` (every body but the world: its mass, its principal moments, from below),
+  ``balanceinertia`` (moments that break the triangle inequality replaced by their mean) and ``settotalmass`` (every
+  mass and inertia scaled so that the bodies' masses sum to it).
+* **Joints**: ``type`` (hinge by default), ``pos``, ``axis`` (normalized), ``ref`` (a hinge's in the compiler's
+  angle unit), ``armature``, ``damping``, ``stiffness`` with ``springref``, ``range`` where limited (``limited``, or
+  ``autolimits``: a range given); ``<freejoint>``; a ``mocap`` body is welded to the world.
+* **Gravity**: ``<option gravity>``, zero with ``<flag gravity="disable"/>``. **Points**: every ``<site>``.
+* Left out, and said (``unevaluated``): ``<equality>`` constraints, ``<tendon>`` elements, actuators with activation
+  dynamics. Refused: ``<replicate>``, ``<attach>``, ``<composite>``, ``<flexcomp>``, ``<compiler coordinate=
+  "global">`` (relacc cannot read them yet: the message says so).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from relacc.core.tree.model import Body, Joint, Point, Tree
+from relacc.errors import ModelError
+from relacc.reading import frames, inertia, physical
+from relacc.reading.model import Reading
+from relacc.reading.xml import Node, number, numbers, parse_file
+
+MAX_INCLUDE_DEPTH = 20
+"""Includes nested deeper than this are refused (a file that includes itself)."""
+
+REFUSED = ("replicate", "attach", "composite", "flexcomp")
+"""Elements that build bodies procedurally: relacc does not read them yet."""
+
+DYNAMIC_ACTUATORS = ("cylinder", "muscle", "adhesion")
+"""Actuator shortcuts with activation dynamics (``<general dyntype>`` other than ``none`` too)."""
+
+GEOM_TYPES = ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder", "box", "mesh", "sdf")
+
+
+@dataclass(frozen=True)
+class MeshGeom:
+    """A mesh geom whose mass properties relacc asks the caller for: the file, the geom's element, its mesh asset's
+    element (or None), the compiler's ``meshdir`` and angle unit, the geom's density or mass (kg/m^3 or kg, None:
+    not given) and whether it is a shell."""
+
+    file: str
+    geom: Node
+    mesh: Node | None
+    meshdir: str
+    degree: bool
+    attributes: dict
+
+
+def read(path, meshes=None) -> Reading:
+    """relacc's reading of the MJCF at ``path`` (module docstring). ``meshes``: a callable ``MeshGeom ->
+    (mass kg, centre (3,), inertia about it (3, 3))`` in the frame the geom is placed in (its body's, or the
+    ``<frame>`` holding it), its own ``pos`` and orientation included; without one, a body whose inertia needs a mesh
+    is refused (the message names it).
+
+    Raises:
+        ModelError: the file (or one it includes) cannot be read, holds an element relacc does not read yet, or a
+            value that is not one (the message names the element and its line).
+    """
+    path = Path(path)
+    notes: list[str] = []
+    root = parse_file(path, notes)
+    if root.tag != "mujoco":
+        raise ModelError(f"{root.place}: the root element is <{root.tag}>; an MJCF's is <mujoco>")
+    _inline(root, path.parent, 0)
+    for node in root.iter():
+        if node.tag in REFUSED:
+            raise ModelError(f"{node.place}: <{node.tag}> builds bodies procedurally; relacc does not read it yet "
+                             "(compare the file MuJoCo writes out, mujoco.MjSpec.to_xml, instead)")
+    reader = _Reader(path, root, notes, meshes)
+    return reader.reading()
+
+
+def _inline(node: Node, directory: Path, depth: int) -> None:
+    """Every ``<include file>`` below ``node`` replaced by the included file's top-level children, recursively."""
+    k = 0
+    while k < len(node.children):
+        child = node.children[k]
+        if child.tag != "include":
+            _inline(child, directory, depth)
+            k += 1
+            continue
+        if depth >= MAX_INCLUDE_DEPTH:
+            raise ModelError(f"{child.place}: includes nested more than {MAX_INCLUDE_DEPTH} deep (a file that "
+                             "includes itself?)")
+        name = child.get("file")
+        if not name:
+            raise ModelError(f"{child.place}: an <include> without a file")
+        included = parse_file(directory / name)
+        _inline(included, directory, depth + 1)
+        node.children[k:k + 1] = included.children
+        k += len(included.children)
+
+
+class _Reader:
+    """One file's reading in progress (the module docstring, step by step)."""
+
+    def __init__(self, path: Path, root: Node, notes: list, meshes):
+        self.path, self.root, self.notes, self.meshes = path, root, notes, meshes
+        self.normalized = frames.Normalized()
+        self.compiler = {}
+        for node in root.findall("compiler"):
+            self.compiler.update(node.attrib)
+        if self.compiler.get("coordinate", "local") != "local":
+            raise ModelError(f"{path}: <compiler coordinate={self.compiler['coordinate']!r}>: relacc reads local "
+                             "coordinates only (MuJoCo 2.3.3 and later do too)")
+        self.degree = self.compiler.get("angle", "degree") == "degree"
+        self.eulerseq = self.compiler.get("eulerseq", "xyz")
+        if len(self.eulerseq) != 3 or any(c not in "xyzXYZ" for c in self.eulerseq):
+            raise ModelError(f"{path}: <compiler eulerseq={self.eulerseq!r}>: expected three of x, y, z, X, Y, Z")
+        self.fromgeom = self.compiler.get("inertiafromgeom", "auto")
+        groups = self._compiler_numbers("inertiagrouprange", [0, 5])
+        self.groups = (int(groups[0]), int(groups[1]))
+        self.discardvisual = self.compiler.get("discardvisual", "false") == "true"
+        self.autolimits = self.compiler.get("autolimits", "true") == "true"
+        self.meshdir = self.compiler.get("meshdir", "")
+        self.classes = self._classes()
+        self.assets = {m.get("name") or Path(m.get("file", "")).stem: m
+                       for a in root.findall("asset") for m in a.findall("mesh")}
+        self.bodies: list[Body] = []
+        self.points: list[Point] = []
+        self.places, self.ranges, self.damping, self.stiffness, self.taken = {}, {}, {}, {}, {}
+        self.findings = []
+        self.njoints = 0
+
+    def _compiler_numbers(self, key, default):
+        text = self.compiler.get(key)
+        if text is None:
+            return default
+        try:
+            return [float(x) for x in text.split()]
+        except ValueError:
+            raise ModelError(f"{self.path}: <compiler {key}={text!r}> is not numbers") from None
+
+    # ---- defaults --------------------------------------------------------------------------------------------
+    def _classes(self) -> dict:
+        """``{class: {tag: attrib}}``, each class with everything it inherits."""
+        classes = {"main": {}}
+
+        def visit(node: Node, name: str, inherited: dict):
+            own = {tag: dict(attrib) for tag, attrib in inherited.items()}
+            for child in node.children:
+                if child.tag != "default":
+                    own.setdefault(child.tag, {}).update(child.attrib)
+            classes[name] = own
+            for child in node.findall("default"):
+                cls = child.get("class")
+                if not cls:
+                    raise ModelError(f"{child.place}: a nested <default> needs a class name")
+                if cls in classes and cls != "main":
+                    raise ModelError(f"{child.place}: a second default class named {cls!r}")
+                visit(child, cls, own)
+
+        for top in self.root.findall("default"):
+            merged = classes["main"]
+            for child in top.children:
+                if child.tag != "default":
+                    merged.setdefault(child.tag, {}).update(child.attrib)
+            for child in top.findall("default"):
+                cls = child.get("class")
+                if not cls:
+                    raise ModelError(f"{child.place}: a nested <default> needs a class name")
+                visit(child, cls, merged)
+        return classes
+
+    def attrs(self, node: Node, childclass: str) -> Node:
+        """The element with its class's attributes under its own (``<freejoint>``: its own only)."""
+        if node.tag == "freejoint":
+            return node
+        cls = node.get("class") or childclass
+        if cls not in self.classes:
+            raise ModelError(f"{node.place}: <{node.tag}> names class {cls!r}, which no <default> defines")
+        merged = dict(self.classes[cls].get(node.tag, {}))
+        merged.update(node.attrib)
+        return Node(node.tag, merged, node.file, node.line, node.children)
+
+    # ---- frames ----------------------------------------------------------------------------------------------
+    def angle(self, x: float) -> float:
+        return np.deg2rad(x) if self.degree else x
+
+    def rotation(self, node: Node) -> np.ndarray:
+        """The element's orientation (child to parent), from whichever form it gives."""
+        given = [k for k in ("quat", "axisangle", "euler", "xyaxes", "zaxis") if node.get(k) is not None]
+        if len(given) > 1:
+            raise ModelError(f"{node.place}: <{node.tag}> gives its orientation twice ({', '.join(given)})")
+        if not given:
+            return np.eye(3)
+        key = given[0]
+        if key == "quat":
+            return frames.quaternion(numbers(node, "quat", 4), self.normalized, node.place)
+        if key == "axisangle":
+            v = numbers(node, "axisangle", 4)
+            return frames.axis_angle(self.normalized.unit("axisangle axis", v[:3], node.place), self.angle(v[3]))
+        if key == "euler":
+            return frames.euler(self.eulerseq, [self.angle(x) for x in numbers(node, "euler", 3)])
+        if key == "xyaxes":
+            return frames.xyaxes(numbers(node, "xyaxes", 6), self.normalized, node.place)
+        return frames.zaxis(numbers(node, "zaxis", 3), self.normalized, node.place)
+
+    def pose(self, node: Node) -> tuple[np.ndarray, np.ndarray]:
+        return np.array(numbers(node, "pos", 3, [0.0, 0.0, 0.0])), self.rotation(node)
+
+    # ---- the tree --------------------------------------------------------------------------------------------
+    def reading(self) -> Reading:
+        worlds = self.root.findall("worldbody")
+        for world in worlds:
+            self._children(world, -1, np.zeros(3), np.eye(3), "main")
+            for site in world.findall("site"):  # the world's sites: points of the world
+                self._site(site, -1, np.zeros(3), np.eye(3), "main")
+        if not self.bodies:
+            raise ModelError(f"{self.path}: the MJCF has no <body> in its <worldbody>: there is nothing to evaluate")
+        self._compiler_masses()
+        gravity = np.array([0.0, 0.0, -9.81])
+        for option in self.root.findall("option"):
+            gravity = np.array(numbers(option, "gravity", 3, list(gravity)))
+            for flag in option.findall("flag"):
+                if flag.get("gravity") == "disable":
+                    gravity = np.zeros(3)
+        name = self.root.get("model") or self.path.stem
+        tree = Tree(name, tuple(self.bodies), gravity=gravity, points=tuple(self.points), source=str(self.path))
+        return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
+                       self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
+                       tuple(self.findings))
+
+    def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
+        """Bodies and frames directly in ``node`` (a body, a frame or the world), placed by ``(at, R)`` in the parent
+        body's frame (a frame's own pose composed in)."""
+        for child in node.children:
+            if child.tag == "body":
+                self._body(child, parent, at, R, childclass)
+            elif child.tag == "frame":
+                pos, Rf = self.pose(child)
+                self._children(child, parent, at + R @ pos, R @ Rf, child.get("childclass") or childclass)
+
+    def _body(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
+        name = node.get("name") or f"body {len(self.bodies) + 1}"  # MuJoCo's index: the world is body 0
+        if ("body", name) in self.places:
+            raise ModelError(f"{node.place}: a second body named {name!r} (the first: {self.places[('body', name)]})")
+        self.places[("body", name)] = node.place
+        cls = node.get("childclass") or childclass
+        pos, Rb = self.pose(node)
+        pos, Rb = at + R @ pos, R @ Rb
+        index = len(self.bodies)
+        joints = self._joints(node, cls, name)
+        if node.get("mocap") == "true" and joints:
+            raise ModelError(f"{node.place}: mocap body {name!r} has joints; MuJoCo's mocap bodies have none")
+        mass, com, I = self._mass(node, cls, name)
+        found = physical.check(name, mass, I, self.places.get(("inertial", name), node.place))
+        self.findings += found
+        self.bodies.append(Body(name, parent, pos=pos, quat=frames.quaternion_of(Rb), joints=tuple(joints), mass=mass,
+                                com=com, inertia=I,
+                                physical=not any(f.condition != "no mass but an inertia" for f in found)))
+        self._sites(node, index, np.zeros(3), np.eye(3), cls)
+        self._children(node, index, np.zeros(3), np.eye(3), cls)
+
+    def _sites(self, node: Node, body: int, at, R, cls) -> None:
+        for child in node.children:
+            if child.tag == "site":
+                self._site(child, body, at, R, cls)
+            elif child.tag == "frame":
+                pos, Rf = self.pose(child)
+                self._sites(child, body, at + R @ pos, R @ Rf, child.get("childclass") or cls)
+
+    def _site(self, node, body, at, R, cls) -> None:
+        site = self.attrs(node, cls)
+        name = site.get("name")
+        if not name or name in {p.name for p in self.points}:
+            return  # an unnamed site cannot be asked for; MuJoCo refuses a repeated name
+        self.points.append(Point(name, body, at + R @ np.array(numbers(site, "pos", 3, [0.0, 0.0, 0.0]))))
+
+    def _elements(self, node: Node, tag: str, cls: str, at=None, R=None):
+        """``(element with defaults, its frame's (at, R) in the body)`` of every ``tag`` in the body, frames
+        included."""
+        at = np.zeros(3) if at is None else at
+        R = np.eye(3) if R is None else R
+        for child in node.children:
+            if child.tag == tag or (tag == "joint" and child.tag == "freejoint"):
+                yield self.attrs(child, cls), at, R
+            elif child.tag == "frame":
+                pos, Rf = self.pose(child)
+                yield from self._elements(child, tag, child.get("childclass") or cls, at + R @ pos, R @ Rf)
+
+    def _joints(self, node: Node, cls: str, body: str) -> list[Joint]:
+        out = []
+        for j, at, R in self._elements(node, "joint", cls):
+            kind = "free" if j.tag == "freejoint" else j.get("type", "hinge")
+            if kind not in ("free", "ball", "slide", "hinge"):
+                raise ModelError(f"{j.place}: joint type {kind!r}; MJCF's are free, ball, slide, hinge")
+            name = j.get("name") or f"joint {self.njoints}"  # MuJoCo's index among the model's joints
+            if ("joint", name) in self.places:
+                first = self.places[("joint", name)]
+                raise ModelError(f"{j.place}: a second joint named {name!r} (the first: {first})")
+            self.njoints += 1
+            self.places[("joint", name)] = j.place
+            nv = {"free": 6, "ball": 3}.get(kind, 1)
+            armature = number(j, "armature", 0.0)
+            damping = number(j, "damping", 0.0)
+            if damping:
+                self.damping[name] = np.full(nv, damping)
+            if kind == "free":
+                out.append(Joint.free(name, armature=armature))
+                continue
+            pos = at + R @ np.array(numbers(j, "pos", 3, [0.0, 0.0, 0.0]))
+            scale = self.angle(1.0) if kind in ("hinge", "ball") else 1.0
+            stiffness = number(j, "stiffness", 0.0)
+            if stiffness:
+                self.stiffness[name] = (stiffness, number(j, "springref", 0.0) * (scale if kind == "hinge" else 1.0))
+            rng = numbers(j, "range", 2)
+            limited = j.get("limited", "auto")
+            if rng is not None and kind in ("hinge", "slide") and (limited == "true" or (
+                    limited == "auto" and self.autolimits)) and rng[0] < rng[1]:
+                self.ranges[name] = (rng[0] * scale, rng[1] * scale)
+            if kind == "ball":
+                out.append(Joint.ball(name, pos=pos, armature=armature))
+                continue
+            axis = R @ self.normalized.unit("joint axis", numbers(j, "axis", 3, [0.0, 0.0, 1.0]), j.place)
+            ref = number(j, "ref", 0.0) * (scale if kind == "hinge" else 1.0)
+            joint = Joint.hinge(name, axis, pos=pos, ref=ref, armature=armature) if kind == "hinge" else \
+                Joint(name, "slide", pos=pos, axis=axis, ref=ref, armature=armature)
+            out.append(joint)
+        return out
+
+    # ---- mass properties -------------------------------------------------------------------------------------
+    def _mass(self, node: Node, cls: str, body: str) -> tuple[float, np.ndarray, np.ndarray]:
+        """``(mass, mass centre (3,), inertia about it (3, 3))`` in the body's frame, before the compiler's bounds."""
+        inertial = node.find("inertial")
+        if inertial is not None and self.fromgeom != "true":
+            self.places[("inertial", body)] = inertial.place
+            pos, R = self.pose(inertial)
+            mass = number(inertial, "mass")
+            if mass is None:
+                raise ModelError(f"{inertial.place}: <inertial> without a mass")
+            full, diag = numbers(inertial, "fullinertia", 6), numbers(inertial, "diaginertia", 3)
+            if (full is None) == (diag is None):
+                raise ModelError(f"{inertial.place}: <inertial> gives diaginertia or fullinertia, one of them")
+            if full is not None:
+                xx, yy, zz, xy, xz, yz = full
+                I = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+            else:
+                I = np.diag(diag)
+            I = R @ I @ R.T
+            return mass, pos, 0.5 * (I + I.T)
+        if self.fromgeom == "false":
+            return 0.0, np.zeros(3), np.zeros((3, 3))
+        parts, meshy = [], []
+        for g, at, R in self._elements(node, "geom", cls):
+            part = self._geom(g, at, R, body)
+            if part is not None:
+                parts.append(part[:3])
+                if part[3]:
+                    meshy.append(part[3])
+        if meshy:
+            self.taken[body] = f"inertia from {', '.join(meshy)}: computed by MuJoCo, not by relacc"
+        return inertia.combine(parts)
+
+    def _geom(self, g: Node, at, R, body: str):
+        """``(mass, centre, inertia (3, 3), mesh or "")`` of one geom in the body frame, or None when it adds none."""
+        group = int(number(g, "group", 0))
+        if not self.groups[0] <= group <= self.groups[1]:
+            return None
+        if self.discardvisual and number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0:
+            return None
+        kind = g.get("type", "mesh" if g.get("mesh") else "sphere")
+        if kind not in GEOM_TYPES:
+            raise ModelError(f"{g.place}: geom type {kind!r}; MJCF's are {', '.join(GEOM_TYPES)}")
+        if kind in ("plane", "hfield"):
+            return None  # no volume: MuJoCo allows them in static bodies only, with no mass
+        shell = g.get("shellinertia") == "true"
+        mass_given = number(g, "mass")
+        if kind in ("mesh", "sdf") or g.get("mesh"):  # a mesh, or a primitive MuJoCo fits to a mesh
+            if self.meshes is None:
+                raise ModelError(f"{g.place}: body {body!r} takes mass properties from a mesh geom, which relacc does "
+                                 "not compute; give the body an <inertial>, or read the file with a mesh reader")
+            name = g.get("mesh")
+            asset = self.assets.get(name)
+            asset = None if asset is None else self.attrs(asset, asset.get("class") or "main")
+            mass, com, I = self.meshes(MeshGeom(str(self.path), g, asset, self.meshdir, self.degree, dict(g.attrib)))
+            return mass, at + R @ np.asarray(com), R @ np.asarray(I) @ R.T, f"mesh {name!r}"
+        size = numbers(g, "size", None, [0.0, 0.0, 0.0])
+        size = list(size) + [0.0] * (3 - len(size))
+        pos, Rg = self.pose(g)
+        fromto = numbers(g, "fromto", 6)
+        if fromto is not None:
+            if kind not in ("capsule", "cylinder", "box", "ellipsoid"):
+                raise ModelError(f"{g.place}: fromto is for capsules, cylinders, boxes and ellipsoids, not {kind}s")
+            a, b = np.array(fromto[:3]), np.array(fromto[3:])
+            half = float(np.linalg.norm(b - a)) / 2
+            if half == 0:
+                raise ModelError(f"{g.place}: fromto with both ends at one point")
+            pos, Rg = (a + b) / 2, frames.zaxis(b - a, frames.Normalized(), g.place)
+            size[1 if kind in ("capsule", "cylinder") else 2] = half
+        try:
+            measure, moments = inertia.shape(kind, size, shell)
+        except inertia.NoClosedForm as what:
+            raise ModelError(f"{g.place}: relacc has no closed form for {what}; give body {body!r} an "
+                             "<inertial>") from None
+        mass = mass_given if mass_given is not None else number(g, "density", 1000.0) * measure
+        Rw = R @ Rg
+        return mass, at + R @ pos, Rw @ np.diag(mass * moments) @ Rw.T, ""
+
+    def _compiler_masses(self) -> None:
+        """``boundmass``, ``boundinertia``, ``balanceinertia``, ``settotalmass`` (module docstring)."""
+        boundmass = self._compiler_numbers("boundmass", [0.0])[0]
+        boundinertia = self._compiler_numbers("boundinertia", [0.0])[0]
+        balance = self.compiler.get("balanceinertia", "false") == "true"
+        total = self._compiler_numbers("settotalmass", [-1.0])[0]
+        if not (boundmass > 0 or boundinertia > 0 or balance or total > 0):
+            return
+        changed = []
+        for b in self.bodies:
+            mass, I = b.mass, np.array(b.inertia)
+            if boundmass > 0:
+                mass = max(mass, boundmass)
+            if boundinertia > 0 or balance:
+                w, V = np.linalg.eigh(I)
+                if boundinertia > 0:
+                    w = np.maximum(w, boundinertia)
+                if balance and w[0] + w[1] < w[2]:
+                    w = np.full(3, w.mean())
+                I = V @ np.diag(w) @ V.T
+            changed.append([mass, 0.5 * (I + I.T)])
+        if total > 0:
+            scale = total / sum(m for m, _ in changed) if sum(m for m, _ in changed) > 0 else 1.0
+            changed = [[m * scale, I * scale] for m, I in changed]
+        self.bodies = [Body(b.name, b.parent, pos=b.pos, quat=b.quat, joints=b.joints, mass=m, com=b.com, inertia=I,
+                            physical=b.physical) for b, (m, I) in zip(self.bodies, changed)]
+
+    def _unevaluated(self) -> list[str]:
+        out = []
+        equality = [e for s in self.root.findall("equality") for e in s.children]
+        if equality:
+            kinds = sorted({e.tag for e in equality})
+            out.append(f"{len(equality)} equality constraint{'s' if len(equality) > 1 else ''} ({', '.join(kinds)}): "
+                       "the comparisons are the tree's without constraints")
+        tendons = [t for s in self.root.findall("tendon") for t in s.children]
+        if tendons:
+            out.append(f"{len(tendons)} tendon{'s' if len(tendons) > 1 else ''}: their lengths, springs and "
+                       "dampers are not evaluated")
+        dynamic = [a for s in self.root.findall("actuator") for a in s.children
+                   if a.tag in DYNAMIC_ACTUATORS or (a.tag == "general" and a.get("dyntype", "none") != "none")]
+        if dynamic:
+            out.append(f"{len(dynamic)} actuator{'s' if len(dynamic) > 1 else ''} with activation dynamics: their "
+                       "states are not evaluated")
+        return out

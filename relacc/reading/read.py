@@ -1,0 +1,57 @@
+"""The one entry: a description file, by its suffix, to relacc's reading of it."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from relacc.errors import ModelError
+from relacc.reading.model import Reading
+
+SUFFIXES = {".xml": "mjcf", ".urdf": "urdf"}
+"""Description formats by file suffix (lower case; ``BALL.XML`` is an MJCF too)."""
+
+
+def read(path, meshes="mujoco") -> Reading:
+    """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file.
+
+    ``meshes``: where an MJCF's mesh geoms' mass properties come from (:func:`relacc.reading.mjcf.read`): ``"mujoco"``
+    (default) asks MuJoCo for each (:mod:`relacc.engines.mujoco_.meshes`, imported only then; the bodies concerned are
+    named in ``taken``); a callable; or None, which refuses such a body.
+
+    Raises:
+        ModelError: not a path, another suffix, or a file that cannot be read (the message names the file, the
+            element and its line).
+    """
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise ModelError(f"a model file: expected a path (str or pathlib.Path), got {type(path).__name__} "
+                         f"{path!r:.60}")
+    path = Path(path)
+    kind = SUFFIXES.get(path.suffix.lower())
+    if kind is None:
+        raise ModelError(f"{path}: a model file ends in .xml (MJCF) or .urdf (URDF)")
+    if kind == "urdf":
+        from relacc.reading import urdf
+
+        return urdf.read(path)
+    from relacc.reading import mjcf
+
+    return mjcf.read(path, _mesh_reader if meshes == "mujoco" else meshes)
+
+
+def _mesh_reader(mesh):
+    """MuJoCo's mass properties of one mesh geom: the one thing relacc's reading asks an engine for (declared per
+    body in ``taken``)."""
+    from relacc.engines import mesh_inertia
+    from relacc.errors import EngineError
+
+    try:
+        return mesh_inertia(mesh)
+    except EngineError as exc:
+        raise ModelError(f"{mesh.geom.place}: a body takes mass properties from a mesh, which relacc asks MuJoCo for: "
+                         f"{exc}; or give the body an <inertial>") from None
+
+
+def read_tree(path, meshes="mujoco"):
+    """The :class:`relacc.Tree` of relacc's reading of a file (:func:`read`)."""
+    return read(path, meshes).tree

@@ -1,0 +1,187 @@
+"""A URDF read by relacc itself, by the URDF specification (wiki.ros.org/urdf/XML), into a :class:`Reading`.
+
+* ``<link>``: a body. Its ``<inertial>`` gives its mass (``<mass value>``), its mass centre (``<origin xyz>``) and its
+  inertia about that centre (``<inertia ixx ixy ixz iyy iyz izz>``) in the frame of the inertial's ``<origin rpy>``,
+  turned here into the link's components: ``I_link = R I R^T``. No ``<inertial>``: a massless link. ``<visual>`` and
+  ``<collision>`` are geometry for drawing and contact and have no part in the dynamics.
+* ``<joint>``: the child link's frame is the parent link's moved by the joint's ``<origin xyz rpy>`` (rpy: fixed-axis
+  roll, pitch, yaw), then by the joint: ``revolute`` and ``continuous`` a hinge, ``prismatic`` a slide, along
+  ``<axis xyz>`` (joint frame, default ``1 0 0``; a direction: normalized as the engines do, and noted);
+  ``floating`` a free joint; ``fixed`` welds the child to the parent (relacc keeps it a body of its own, without
+  joints). ``<limit lower upper>`` bounds revolute and prismatic joints (random states are drawn inside);
+  ``<dynamics damping>`` is a damper. ``planar`` joints are refused (relacc has no planar joint).
+* The root link (the one that is no joint's child) is welded to the world, as MuJoCo, Pinocchio and Drake read a
+  URDF by default; a root link named ``world`` is the world itself.
+* Bodies are ordered depth first from the root, children in the order of their joints in the file.
+* ``<mimic>`` couples a joint to another: a constraint, which relacc's comparisons (the tree without constraints,
+  every joint free) leave out: said in ``unevaluated``. ``<transmission>`` and ``<gazebo>`` have no part in the
+  dynamics compared.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from relacc.core.tree.model import Body, Joint, Tree
+from relacc.errors import ModelError
+from relacc.reading import frames, physical
+from relacc.reading.model import Reading
+from relacc.reading.xml import Node, number, numbers, parse_file
+
+JOINTS = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide", "floating": "free", "fixed": None}
+"""URDF joint types and relacc's joint of each (``fixed``: none, the child is welded)."""
+
+
+def read(path) -> Reading:
+    """relacc's reading of the URDF at ``path`` (module docstring).
+
+    Raises:
+        ModelError: the file cannot be read, is not a URDF, or describes no tree (a link twice a child, a joint
+            naming a missing link, a loop, a planar joint): the message names the element and its line.
+    """
+    path = Path(path)
+    notes: list[str] = []
+    root = parse_file(path, notes)
+    if root.tag != "robot":
+        raise ModelError(f"{root.place}: the root element is <{root.tag}>; a URDF's is <robot>")
+    normalized = frames.Normalized()
+    links = {}
+    for link in root.findall("link"):
+        name = link.get("name")
+        if not name:
+            raise ModelError(f"{link.place}: a <link> without a name")
+        if name in links:
+            raise ModelError(f"{link.place}: a second link named {name!r} (the first: {links[name].place})")
+        links[name] = link
+    if not links:
+        raise ModelError(f"{root.place}: the URDF has no <link>")
+    joints, parent_of, children = {}, {}, {name: [] for name in links}
+    for joint in root.findall("joint"):
+        name, kind = joint.get("name"), joint.get("type")
+        if not name:
+            raise ModelError(f"{joint.place}: a <joint> without a name")
+        if name in joints:
+            raise ModelError(f"{joint.place}: a second joint named {name!r}")
+        if kind == "planar":
+            raise ModelError(f"{joint.place}: joint {name!r} is planar; relacc reads revolute, continuous, prismatic, "
+                             "floating and fixed joints")
+        if kind not in JOINTS:
+            raise ModelError(f"{joint.place}: joint {name!r} has type {kind!r}; accepted: {', '.join(JOINTS)}")
+        parent, child = _link_of(joint, "parent"), _link_of(joint, "child")
+        for end in (parent, child):
+            if end not in links:
+                raise ModelError(f"{joint.place}: joint {name!r} names link {end!r}, which the file does not define")
+        if child in parent_of:
+            raise ModelError(f"{joint.place}: link {child!r} is the child of two joints ({parent_of[child][0]!r} "
+                             f"and {name!r}): a URDF is a tree")
+        joints[name] = joint
+        parent_of[child] = (name, parent)
+        children[parent].append(child)
+    roots = [name for name in links if name not in parent_of]
+    if len(roots) != 1:
+        raise ModelError(f"{path}: a URDF has one root link (no joint's child); this one has "
+                         f"{len(roots)}: {', '.join(roots) or 'none (a loop)'}")
+    order = _depth_first(roots[0], children)
+    if len(order) != len(links):
+        lost = sorted(set(links) - set(order))
+        raise ModelError(f"{path}: links {', '.join(lost)} are not reachable from the root {roots[0]!r} (a loop)")
+    world = roots[0] == "world"
+    index = {}
+    bodies, places, ranges, damping, findings = [], {}, {}, {}, []
+    unevaluated = []
+    mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None]
+    if mimics:
+        unevaluated.append(f"{len(mimics)} mimic joint{'s' if len(mimics) > 1 else ''} ({', '.join(mimics)}): "
+                           "a constraint coupling joints; the comparisons are the tree's without constraints, every "
+                           "joint free")
+    for name in order:
+        if world and name == roots[0]:
+            continue  # a root link named world is the world
+        link = links[name]
+        places[("body", name)] = link.place
+        pos, R, joint_list, parent = np.zeros(3), np.eye(3), (), -1
+        if name in parent_of:
+            jname, pname = parent_of[name]
+            node = joints[jname]
+            parent = index.get(pname, -1)  # the world's children: parent -1
+            pos, R = _origin(node, normalized)
+            places[("joint", jname)] = node.place
+            kind = JOINTS[node.get("type")]
+            if kind is not None:
+                joint_list = (_joint(jname, kind, node, normalized),)
+                lim = node.find("limit")
+                if node.get("type") in ("revolute", "prismatic") and lim is not None:
+                    lo, hi = number(lim, "lower", 0.0), number(lim, "upper", 0.0)
+                    if lo < hi:
+                        ranges[jname] = (lo, hi)
+                dyn = node.find("dynamics")
+                d = number(dyn, "damping", 0.0) if dyn is not None else 0.0
+                if d:
+                    damping[jname] = np.full(joint_list[0].nv, d)
+        mass, com, inertia, where = _inertial(link, normalized)
+        if where:
+            places[("inertial", name)] = where
+        found = physical.check(name, mass, inertia, where or link.place)
+        findings += found
+        index[name] = len(bodies)
+        bodies.append(Body(name, parent, pos=pos, quat=frames.quaternion_of(R), joints=joint_list, mass=mass, com=com,
+                           inertia=inertia, physical=not any(f.condition != "no mass but an inertia" for f in found)))
+    if not bodies:
+        raise ModelError(f"{path}: the URDF has no link besides the world")
+    tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=(0.0, 0.0, -9.81), source=str(path))
+    notes += normalized.notes("URDF")
+    return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
+                   tuple(findings))
+
+
+def _link_of(joint: Node, end: str) -> str:
+    node = joint.find(end)
+    if node is None or not node.get("link"):
+        raise ModelError(f"{joint.place}: joint {joint.get('name')!r} has no <{end} link=...>")
+    return node.get("link")
+
+
+def _depth_first(root: str, children: dict) -> list[str]:
+    out, stack = [], [root]
+    while stack:
+        name = stack.pop()
+        out.append(name)
+        stack.extend(reversed(children[name]))
+    return out
+
+
+def _origin(node: Node, normalized) -> tuple[np.ndarray, np.ndarray]:
+    """``(xyz (3,), R (3, 3))`` of an element's ``<origin>`` (zeros and the identity when absent)."""
+    origin = node.find("origin")
+    if origin is None:
+        return np.zeros(3), np.eye(3)
+    return np.array(numbers(origin, "xyz", 3, [0.0, 0.0, 0.0])), frames.rpy(*numbers(origin, "rpy", 3, [0.0] * 3))
+
+
+def _joint(name: str, kind: str, node: Node, normalized) -> Joint:
+    if kind == "free":
+        return Joint.free(name)
+    axis = node.find("axis")
+    xyz = numbers(axis, "xyz", 3, [1.0, 0.0, 0.0]) if axis is not None else [1.0, 0.0, 0.0]
+    unit = normalized.unit("joint axis", xyz, node.place)
+    return Joint.hinge(name, unit) if kind == "hinge" else Joint.slide(name, unit)
+
+
+def _inertial(link: Node, normalized) -> tuple[float, np.ndarray, np.ndarray, str]:
+    """``(mass, mass centre (3,), inertia about it in the link's components (3, 3), place)``."""
+    inertial = link.find("inertial")
+    if inertial is None:
+        return 0.0, np.zeros(3), np.zeros((3, 3)), ""
+    pos, R = _origin(inertial, normalized)
+    mass_node, tensor = inertial.find("mass"), inertial.find("inertia")
+    mass = number(mass_node, "value", 0.0) if mass_node is not None else 0.0
+    I = np.zeros((3, 3))
+    if tensor is not None:
+        v = {k: number(tensor, k, 0.0) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+        I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
+    I = R @ I @ R.T
+    return mass, pos, 0.5 * (I + I.T), inertial.place
+
+
