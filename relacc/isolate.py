@@ -1,6 +1,7 @@
 """A step run in a forked child process, its result brought back by value (engine-free, POSIX).
 
-Two uses, one mechanism:
+Two uses of a forked child, one mechanism (and :func:`captured_stderr` for C code that writes to stderr in this
+process):
 
 * an engine's C++ abort contained (:func:`relacc.engines.contain.survives`): the child's output goes nowhere and
   only how it ended matters;
@@ -13,11 +14,14 @@ Where ``os.fork`` is missing, :func:`run` calls the step in this process (:data:
 
 from __future__ import annotations
 
+import contextlib
 import faulthandler
 import os
 import pickle
 import select
 import signal
+import sys
+import tempfile
 import time
 from dataclasses import dataclass
 
@@ -135,3 +139,23 @@ def _kill(pid: int) -> None:
         os.waitpid(pid, 0)
     except (ProcessLookupError, ChildProcessError):
         pass
+
+
+@contextlib.contextmanager
+def captured_stderr():
+    """Inside the block, what C and C++ code writes to file descriptor 2 (a parser's own error lines, which no Python
+    handler sees) goes to a temporary file; the list yielded receives its lines (stripped, non-empty) at the end, for
+    the caller to say in its own words. Python's ``sys.stderr`` is flushed before and after."""
+    sys.stderr.flush()
+    lines: list[str] = []
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as sink:
+        os.dup2(sink.fileno(), 2)
+        try:
+            yield lines
+        finally:
+            sys.stderr.flush()
+            os.dup2(saved, 2)
+            os.close(saved)
+            sink.seek(0)
+            lines.extend(x.strip() for x in sink.read().decode("utf-8", "replace").splitlines() if x.strip())

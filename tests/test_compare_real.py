@@ -15,7 +15,7 @@ import pytest
 from relacc.cli import main
 from relacc.core.tolerances import robot_tolerance
 from relacc.errors import ModelError
-from relacc.validation import robots
+from relacc.validation.robots import comparison as robots
 from relacc.validation.robots import compare
 from relacc.validation.robots.agreement import KINEMATIC
 
@@ -44,11 +44,11 @@ def failing(result):
 
 def test_unnamed_free_root_and_hinge_are_matched_by_the_body_they_move(tmp_path):
     """An unnamed <freejoint/> (Pinocchio names it base_free) and an unnamed hinge (Pinocchio: shinJoint_0, Drake:
-    thigh-shin) are the same joints as MuJoCo's: no joint missing, every quantity within tolerance."""
+    thigh-shin) are the same joints as relacc's and MuJoCo's: no joint missing, every quantity within tolerance."""
     path = tmp_path / "unnamed.xml"
     path.write_text(UNNAMED)
     result = compare(path, n_states=6, seed=4)
-    assert result.compared == ["mujoco", "pinocchio", "drake"]
+    assert result.compared == ["relacc", "pinocchio", "mujoco", "drake"]
     assert result.audit == [], [a.as_json() for a in result.audit]
     assert failing(result) == {}, f"seed {result.seed}"
     assert result.exit_code == 0
@@ -140,7 +140,7 @@ def test_drake_reads_an_mjcf_that_includes_others_inlined_as_mujoco_reads_it(tmp
     """gymnasium-robotics' adroit hands: the model ``<include>``s its assets and its robot, whose meshes are ``.stl``.
     relacc inlines the included files (nested ones too, names from the main file's directory) before dropping the
     meshes, and Drake takes part with every quantity agreeing, the file's lack of a model name notwithstanding. A
-    file that includes itself: MuJoCo refuses it (the reference reads the file first), one line."""
+    file that includes itself: relacc's reading refuses it, one line naming the element."""
     _stl(tmp_path / "part.stl")
     (tmp_path / "parts").mkdir()
     (tmp_path / "parts" / "assets.xml").write_text('<mujocoinclude><asset><mesh name="part" file="part.stl"/></asset>'
@@ -153,13 +153,13 @@ def test_drake_reads_an_mjcf_that_includes_others_inlined_as_mujoco_reads_it(tmp
     path.write_text('<mujoco><include file="parts/assets.xml"/>'  # no model name either (Drake needs one)
                     '<worldbody><include file="parts/robot.xml"/></worldbody></mujoco>')
     result = compare(path, engines=["drake"], n_states=4, seed=3)
-    assert result.compared == ["mujoco", "drake"]
+    assert result.compared == ["relacc", "drake"]
     assert any("the 3 files it includes were inlined first" in w for w in result.engines["drake"].warnings)
     assert result.audit == [] and failing(result) == {}, f"seed {result.seed}"
     (tmp_path / "parts" / "arm.xml").write_text('<mujocoinclude><include file="parts/arm.xml"/></mujocoinclude>')
     assert main(["compare", str(path), "--engines", "drake"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "MuJoCo cannot read it" in err and "already included" in err, err
+    assert err.count("\n") == 1 and "includes nested more than 20 deep" in err and "arm.xml:1" in err, err
     from relacc.engines.mjcf import without_meshes
 
     with pytest.raises(ModelError, match="includes nested more than 20 deep"):  # and the inliner stops on its own
@@ -174,7 +174,7 @@ def test_drake_dropping_a_free_joints_damping_is_a_known_reading(tmp_path):
     path.write_text(UNNAMED.replace("<freejoint/>", '<joint name="root" type="free" damping="0.2"/>'))
     result = compare(path, engines=["drake"], n_states=3, seed=5)
     rows = [a.as_json() for a in result.audit]
-    assert [(r["item"], r["mujoco"], r["drake"]) for r in rows] == [("damping", [0.2] * 6, [0.0] * 6)], rows
+    assert [(r["item"], r["relacc"], r["drake"]) for r in rows] == [("damping", [0.2] * 6, [0.0] * 6)], rows
     assert "drops a free joint's damping" in rows[0]["cause"] and failing(result) == {}, f"seed {result.seed}"
 
 
@@ -189,7 +189,7 @@ def test_a_body_of_zero_mass_is_read_by_drake_as_mujoco_reads_it(tmp_path):
     path.write_text(UNNAMED.replace('<body name="thigh"', mount).replace("</body>\n    </body>",
                                                                         "</body></body>\n    </body>"))
     result = compare(path, engines=["drake"], n_states=4, seed=2)
-    assert result.compared == ["mujoco", "drake"]
+    assert result.compared == ["relacc", "drake"]
     assert any("the zero <inertial> of 1 bodies went with their geoms" in w for w in result.engines["drake"].warnings)
     assert result.audit == [] and failing(result) == {}, f"seed {result.seed}"
 
@@ -232,16 +232,16 @@ PINOCCHIO_SEES_NOTHING = """<mujoco model="table_first">
 
 def test_exit_2_unless_two_engines_share_a_speed(tmp_path, capsys):
     """Pinocchio reads only the first world body, a table: nothing it has moves. It takes no part (the JSON says
-    who did); with Drake beside MuJoCo the comparison stands, with Pinocchio alone there is none: exit 2."""
+    who did); with MuJoCo and Drake the comparison stands, with Pinocchio alone there is none: exit 2."""
     path = tmp_path / "table_first.xml"
     path.write_text(PINOCCHIO_SEES_NOTHING)
     assert main(["compare", str(path), "--json", "--states", "3"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["compared"] == ["mujoco", "drake"]
-    assert "shares no speed with MuJoCo" in data["engines"]["pinocchio"]["error"]
+    assert data["compared"] == ["relacc", "mujoco", "drake"]
+    assert "shares no speed with relacc's reading" in data["engines"]["pinocchio"]["error"]
     assert main(["compare", str(path), "--engines", "pinocchio"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "pinocchio shares no speed with MuJoCo" in err, err
+    assert err.count("\n") == 1 and "pinocchio shares no speed with relacc's reading" in err, err
 
 
 def test_an_engine_that_aborts_the_process_is_contained(tmp_path, monkeypatch):
@@ -259,7 +259,7 @@ def test_an_engine_that_aborts_the_process_is_contained(tmp_path, monkeypatch):
 
     monkeypatch.setattr(robots, "load_robot", aborting)
     result = compare(xml, n_states=3, seed=8)
-    assert result.compared == ["mujoco", "pinocchio"]
+    assert result.compared == ["relacc", "pinocchio", "mujoco"]
     error = result.engines["drake"].error
     assert "SIGABRT" in error and "\n" not in error, error
     assert result.exit_code == 0
@@ -296,7 +296,7 @@ def test_seven_joint_arms_stay_inside_the_error_model_at_200_states(tmp_path, se
     path = tmp_path / "arm7.xml"
     path.write_text(arm7(seed))
     result = compare(path, n_states=200, seed=seed)
-    assert result.compared == ["mujoco", "pinocchio", "drake"]
+    assert result.compared == ["relacc", "pinocchio", "mujoco", "drake"]
     assert result.audit == [] and failing(result) == {}, f"arm seed {seed}, states seed {result.seed}"
 
 
@@ -355,7 +355,7 @@ def test_several_models_make_one_page_with_a_row_each_linked_to_its_sections(tmp
 def test_the_page_draws_each_engines_robot_and_rings_what_differs(tmp_path):
     """The geometry behind the drawing is each engine's reading: Pinocchio, which puts the jointless root at the
     world frame, has every mass centre at MuJoCo's expressed in that root's frame (p, R from the file: an independent
-    reference); the drawing rings exactly Pinocchio's links and joints the audit names, never MuJoCo's."""
+    reference); the drawing rings exactly Pinocchio's links and joints the audit names, never relacc's."""
     from scipy.spatial.transform import Rotation
 
     from relacc.report.drawing import flagged
@@ -364,7 +364,7 @@ def test_the_page_draws_each_engines_robot_and_rings_what_differs(tmp_path):
     result = compare(path, engines=["pinocchio"], n_states=2, seed=9)
     geometry = result.as_json()["geometry"]
     R, p = Rotation.from_euler("xyz", [0, 0, 0.7]).as_matrix(), np.array([0.3, -0.2, 0.5])
-    mine = {x["name"]: np.array(x["com"]) for x in geometry["mujoco"]["links"]}
+    mine = {x["name"]: np.array(x["com"]) for x in geometry["relacc"]["links"]}
     theirs = {x["name"]: np.array(x["com"]) for x in geometry["pinocchio"]["links"]}
     assert set(mine) == set(theirs) == {"link1", "link2", "link3"}
     scale = max(np.abs(c).max() for c in mine.values()) + np.abs(p).max()  # the terms' magnitude (m)

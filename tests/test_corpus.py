@@ -48,3 +48,30 @@ def test_each_row_is_what_compare_gives_now(roots, package, shown, tmp_path, mon
     assert corpus.line(package, shown, row) == SHOWN[(package, shown)], "run python scripts/corpus.py --write"
     if code != 2:
         json.loads(out)  # the JSON is whole
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("package, shown", sorted(SHOWN), ids=[f"{p}:{s}" for p, s in sorted(SHOWN)])
+def test_relaccs_reading_is_mujocos_compiled_model_where_mujoco_reads_the_file(roots, package, shown):
+    """Issue 32's measure of relacc's own reading: on every file of the three packages that MuJoCo compiles, body by
+    body and joint by joint (mass, mass centre, inertia, joint axes and anchors, armature, damping, gravity, the joint
+    order), relacc's reading is MuJoCo's model to c eps, once MuJoCo's known readings of a file that is not physical
+    are applied (relacc.validation.robots.causes.READINGS: MuJoCo drops the inertia of a massless body; each such file
+    has a finding). A file relacc cannot read is one MuJoCo cannot either."""
+    from relacc.engines import load
+    from relacc.errors import ModelError
+    from relacc.reading import read
+    from relacc.validation.robots.causes import READINGS
+    from tests.test_reading import differences
+
+    path = roots[package] / shown
+    try:
+        mujoco = load("mujoco", path)
+    except ModelError:
+        return  # MuJoCo's refusal: tests/test_corpus.py's rows say what relacc answers then
+    reading = read(path)
+    for key, _, applies, change in READINGS["mujoco"]:
+        if key == "massless_inertia" and applies(reading):
+            assert any(f.condition == "no mass but an inertia" for f in reading.findings)
+            reading = change(reading)
+    assert differences(reading, mujoco) == []

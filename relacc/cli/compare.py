@@ -103,41 +103,70 @@ def _many(args) -> int:
     return max(codes)
 
 
+AUDIT_META = ("item", "where", "cause", "cause_kind", "place")
+"""An audit row's keys that are not a reading's value."""
+
+
 def text(result) -> str:
-    """The comparison as lines of text: engines, audit rows with causes, dynamics per quantity and engine."""
+    """The comparison as lines of text: the readings, findings, audit rows with causes and places, dynamics per
+    quantity and evaluator (aligned), the referee, the verdict."""
     data = result.as_json()
     lines = [f"relacc compare {data['model']}" + (f" (Pinocchio: {data['urdf']})" if data["urdf"] else "")
              + f"; {data['states']} random states and the reference configuration, seed {data['seed']}",
-             "engines (MuJoCo is the reference; coordinates: MuJoCo's, through each engine's speed map):"]
+             "readings (relacc reads the file itself and holds every engine to it; coordinates: relacc's case 2, the "
+             "file's joints in order, through each engine's speed map):"]
     for name, e in data["engines"].items():
-        status = f"nq {e['nq']}, nv {e['nv']}" if e["loaded"] else f"not loaded: {e['error']}"
+        status = f"nq {e['nq']}, nv {e['nv']}" if e["loaded"] else f"not taking part: {e['error']}"
         n = len(e["warnings"])
-        warned = f"; {n} parser warning{'s' if n != 1 else ''} (in --json)" if n else ""
+        warned = f"; {n} {'note' if name == 'relacc' else 'parser warning'}{'s' if n != 1 else ''} (in --json)" \
+            if n else ""
         lines.append(f"  {name:9s} {status}{warned}")
     lines.append(f"compared: {', '.join(data['compared'])}")
+    for f in data["findings"]:
+        lines.append(f"finding: body {f['body']} ({f['place']}): {f['condition']}: {f['numbers']}")
+    for body, why in data["taken"].items():
+        lines.append(f"taken: body {body}: {why}")
+    for line in data["unevaluated"]:
+        lines.append(f"not evaluated: {line}")
     lines.append(f"audit: {len(data['audit'])} difference{'s' if len(data['audit']) != 1 else ''}")
     for a in data["audit"]:
-        values = ", ".join(f"{k} {_short(v)}" for k, v in a.items() if k not in ("item", "where", "cause"))
+        values = ", ".join(f"{k} {_short(v)}" for k, v in a.items() if k not in AUDIT_META)
         lines.append(f"  {a['item']}: {a['where']}: {values}")
-        lines.append(f"    cause: {a['cause']}")
-    lines.append("dynamics (normalized error at the worst state; tolerance c eps per link):")
+        lines.append(f"    cause: {a['cause']}" + (f" [{a['place']}]" if a.get("place") else ""))
+    lines.append("dynamics against relacc's reading (normalized error at the worst state; tolerance c eps per link):")
+    width = max([len(e) for row in data["dynamics"].values() for e in row["engines"]] + [9])
     for quantity, row in data["dynamics"].items():
         for engine, r in row["engines"].items():
             verdict = "agree" if r["ok"] else "DIFFER"
-            error = ("undefined (" if r["max_error"] is None else
-                     f"{r['max_error']:9.3g} ({r['max_error'] / EPS:.3g} eps; ")
-            lines.append(f"  {quantity:22s} {engine:9s} {error}tolerance {r['tolerance']:.3g})  {verdict}"
+            error = f"{r['max_error']:9.3g} ({r['max_error'] / EPS:9.3g} eps)" if r["max_error"] is not None \
+                else f"{'inf':>9s} ({'':>9s}    )"
+            lines.append(f"  {quantity:22s} {engine:{width}s} {error}  tolerance {r['tolerance']:.3g}  {verdict}"
                          + (f": {r['cause']}" if r["cause"] else ""))
     if data["referee"]:
-        lines.append("referee (MuJoCo, the engines and relacc's tree, pairwise):")
+        lines.append("referee (relacc's reading and every engine, pair by pair):")
         lines += [f"  {v['verdict']}" for v in data["referee"]]
+    lines.append(verdict_line(data))
+    return "\n".join(lines)
+
+
+def verdict_line(data: dict) -> str:
+    """The comparison's last line: its verdict in one sentence."""
     absent = [name for name, e in data["engines"].items() if not e["loaded"]]
     took = ", ".join(data["compared"])
-    lines.append(("the engines DISAGREE (exit 1)" if not data["agree"] else
-                  "every engine sees the same robot and the dynamics agree" if not absent else
-                  f"every engine that took part ({took}) sees the same robot and the dynamics agree; "
-                  f"{', '.join(absent)} did not take part (see engines above)"))
-    return "\n".join(lines)
+    if not data["agree"]:
+        parts = []
+        if data["audit"]:
+            parts.append(f"{len(data['audit'])} audit difference{'s' if len(data['audit']) != 1 else ''}")
+        bad = sum(not r["ok"] for row in data["dynamics"].values() for r in row["engines"].values())
+        if bad:
+            parts.append(f"{bad} dynamics row{'s' if bad != 1 else ''} outside tolerance")
+        if data["findings"]:
+            parts.append(f"{len(data['findings'])} finding{'s' if len(data['findings']) != 1 else ''} about the file")
+        return f"DISAGREE (exit 1): {', '.join(parts)}"
+    if not absent:
+        return "every engine reads the file as relacc does and the dynamics agree"
+    return (f"every engine that took part ({took}) reads the file as relacc does and the dynamics agree; "
+            f"{', '.join(absent)} did not take part (see above)")
 
 
 def _short(value) -> str:

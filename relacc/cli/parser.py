@@ -276,13 +276,16 @@ def build_parser() -> argparse.ArgumentParser:
     _quiet(p)
     _scheduler(p, "an --ensemble (one task per 1,024 members)")
 
-    p = _sub(sub, "compare", "does Pinocchio (and Drake) see the same robot as MuJoCo?",
-             "Load an MJCF model in MuJoCo (the reference), Pinocchio (its MJCF parser, or --urdf) and Drake (its "
-             "MJCF parser); audit what each made of it (joints, axes, masses, inertias, armature, damping, gravity), "
-             "each difference with its cause, and compare their dynamics (mass matrix, bias and gravity forces, "
-             "forward dynamics, each link's centre-of-mass Jacobian, J_dot v and classical acceleration) at the "
-             "reference configuration and at random states, in MuJoCo's coordinates through speed maps. Exit 1 "
-             "when anything differs, 2 when the model cannot be compared.",
+    p = _sub(sub, "compare", "does each engine read the robot the file describes?",
+             "relacc reads the MJCF or URDF itself, by the format's specification, and holds MuJoCo, Pinocchio (its "
+             "MJCF parser, or --urdf) and Drake to that reading: it audits what each made of the file (joints, axes, "
+             "masses, inertias, armature, damping, gravity), each difference with its cause and its place in the "
+             "file, compares their dynamics (mass matrix, bias and gravity forces, forward dynamics, each link's "
+             "centre-of-mass Jacobian, J_dot v and classical acceleration) at the reference configuration and at "
+             "random states through speed maps, names the odd one out (engine against engine too), and names the "
+             "bodies that are not physical. An engine that refuses the file is one line; the others are compared. "
+             "Exit 1 when anything differs or a body is not physical, 2 when relacc cannot read the file or no "
+             "engine takes part.",
              ["relacc compare robot.xml", "relacc compare robot.xml --urdf robot.urdf --engines pinocchio",
               "relacc compare robot.xml --json --out robot.html",
               "relacc compare models/*.xml --scheduler local:2 --json > all.json",
@@ -293,8 +296,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "alone, one summary (exit: the highest of theirs)")
     p.add_argument("--urdf", metavar="MODEL.urdf",
                    help="a URDF of the same robot for Pinocchio (links named as the MJCF's bodies)")
-    p.add_argument("--engines", type=_choices_list("--engines", ("pinocchio", "drake")), metavar="ENGINES",
-                   help="comma-separated subset of pinocchio,drake (default: those installed)")
+    p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), metavar="ENGINES",
+                   help="comma-separated subset of pinocchio,mujoco,drake (default: those installed)")
     _states(p, 20, "random states besides the reference configuration")
     _seed(p)
     _json(p, "the summary")

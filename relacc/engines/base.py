@@ -302,6 +302,18 @@ class Adapter(abc.ABC):
         """Metres by which the engine's model misplaces the named point (0 unless an engine rounds the model)."""
         return 0.0
 
+    @property
+    def mjcf_readings(self) -> tuple:
+        """How this engine's MJCF parser reads a file differently from MuJoCo, as changes to MuJoCo's spec
+        (``(key, text, applies(spec), change(spec))``; :func:`relacc.validation.robots.audit.explain`): none by
+        default."""
+        return ()
+
+    @property
+    def tree(self):
+        """The :class:`relacc.Tree` this adapter is matched to (:attr:`reference`)."""
+        return self.reference
+
     # --- built here, once for every engine ------------------------------------------------------------------
 
     def engine_q(self, q) -> np.ndarray:

@@ -14,7 +14,8 @@ short:
 * **Inertia**: an ``<inertial>`` (``mass``, ``pos``, orientation, ``diaginertia`` or ``fullinertia`` in the order
   Ixx Iyy Izz Ixy Ixz Iyz) where ``<compiler inertiafromgeom>`` is ``auto`` (its default) or ``false``; else the
   geoms whose ``group`` lies in ``inertiagrouprange`` (and, with ``discardvisual``, that collide): each a primitive
-  (:mod:`relacc.reading.inertia`; ``fromto`` for capsules, cylinders, boxes and ellipsoids; ``shellinertia`` for
+  (:mod:`relacc.reading.inertia`; ``fromto`` for capsules, cylinders, boxes and ellipsoids, a box's or ellipsoid's
+  cross-section then of half-sizes both its first size; ``shellinertia`` for
   shells) of its ``mass``, else ``density`` times its volume; a mesh's mass properties come from the caller
   (``meshes``, MuJoCo's by default through the adapter), and the body says so in ``taken``. Then, as the compiler
   does: ``boundmass`` and ``boundinertia`` (every body but the world: its mass, its principal moments, from below),
@@ -233,6 +234,8 @@ class _Reader:
         self._compiler_masses()
         gravity = np.array([0.0, 0.0, -9.81])
         for option in self.root.findall("option"):
+            if option.get("gravity") is not None or option.findall("flag"):
+                self.places[("option", "gravity")] = option.place
             gravity = np.array(numbers(option, "gravity", 3, list(gravity)))
             for flag in option.findall("flag"):
                 if flag.get("gravity") == "disable":
@@ -354,6 +357,10 @@ class _Reader:
             full, diag = numbers(inertial, "fullinertia", 6), numbers(inertial, "diaginertia", 3)
             if (full is None) == (diag is None):
                 raise ModelError(f"{inertial.place}: <inertial> gives diaginertia or fullinertia, one of them")
+            turned = [k for k in ("quat", "axisangle", "euler", "xyaxes", "zaxis") if inertial.get(k) is not None]
+            if full is not None and turned:
+                raise ModelError(f"{inertial.place}: <inertial> gives fullinertia and {turned[0]}: the full tensor is "
+                                 "in the body's frame, and MJCF allows no orientation with it")
             if full is not None:
                 xx, yy, zz, xy, xz, yz = full
                 I = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
@@ -409,7 +416,10 @@ class _Reader:
             if half == 0:
                 raise ModelError(f"{g.place}: fromto with both ends at one point")
             pos, Rg = (a + b) / 2, frames.zaxis(b - a, frames.Normalized(), g.place)
-            size[1 if kind in ("capsule", "cylinder") else 2] = half
+            if kind in ("capsule", "cylinder"):
+                size[1] = half
+            else:  # a box's or ellipsoid's cross-section: both half-sizes are the first size (MuJoCo's reading)
+                size[1], size[2] = size[0], half
         try:
             measure, moments = inertia.shape(kind, size, shell)
         except inertia.NoClosedForm as what:

@@ -50,6 +50,8 @@ class Reading:
         unevaluated: one line per kind of element the file has that relacc's comparisons leave out.
         notes: what relacc did as the format specifies (normalized quaternions, left-out whitespace), one line each.
         findings: :class:`Finding` per body that is not physical.
+        turned_inertials: ``{body name: (3, 3) inertia as written}`` of the URDF inertials whose ``<origin rpy>``
+            turns them (kg m^2, in the inertial's own axes): to reproduce an engine that drops the rotation.
     """
 
     tree: Tree
@@ -63,6 +65,7 @@ class Reading:
     unevaluated: tuple = ()
     notes: tuple = ()
     findings: tuple = ()
+    turned_inertials: dict = field(default_factory=dict)
 
     def place(self, kind: str, name: str) -> str:
         """``file:line`` of an element, or the file when unknown."""

@@ -11,7 +11,8 @@
   joints). ``<limit lower upper>`` bounds revolute and prismatic joints (random states are drawn inside);
   ``<dynamics damping>`` is a damper. ``planar`` joints are refused (relacc has no planar joint).
 * The root link (the one that is no joint's child) is welded to the world, as MuJoCo, Pinocchio and Drake read a
-  URDF by default; a root link named ``world`` is the world itself.
+  URDF by default; a root link named ``world`` is the world itself, and a joint may name ``world`` as its parent
+  without a link of that name (the world, as Gazebo and Drake read it).
 * Bodies are ordered depth first from the root, children in the order of their joints in the file.
 * ``<mimic>`` couples a joint to another: a constraint, which relacc's comparisons (the tree without constraints,
   every joint free) leave out: said in ``unevaluated``. ``<transmission>`` and ``<gazebo>`` have no part in the
@@ -70,6 +71,9 @@ def read(path) -> Reading:
         if kind not in JOINTS:
             raise ModelError(f"{joint.place}: joint {name!r} has type {kind!r}; accepted: {', '.join(JOINTS)}")
         parent, child = _link_of(joint, "parent"), _link_of(joint, "child")
+        if parent == "world" and "world" not in links:  # the world named without a link (Gazebo's, Drake's usage)
+            links["world"] = Node("link", {"name": "world"}, joint.file, joint.line)
+            children["world"] = []
         for end in (parent, child):
             if end not in links:
                 raise ModelError(f"{joint.place}: joint {name!r} names link {end!r}, which the file does not define")
@@ -89,7 +93,7 @@ def read(path) -> Reading:
         raise ModelError(f"{path}: links {', '.join(lost)} are not reachable from the root {roots[0]!r} (a loop)")
     world = roots[0] == "world"
     index = {}
-    bodies, places, ranges, damping, findings = [], {}, {}, {}, []
+    bodies, places, ranges, damping, findings, turned = [], {}, {}, {}, [], {}
     unevaluated = []
     mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None]
     if mimics:
@@ -120,7 +124,9 @@ def read(path) -> Reading:
                 d = number(dyn, "damping", 0.0) if dyn is not None else 0.0
                 if d:
                     damping[jname] = np.full(joint_list[0].nv, d)
-        mass, com, inertia, where = _inertial(link, normalized)
+        mass, com, inertia, where, written = _inertial(link, normalized)
+        if written is not None:
+            turned[name] = written
         if where:
             places[("inertial", name)] = where
         found = physical.check(name, mass, inertia, where or link.place)
@@ -133,7 +139,7 @@ def read(path) -> Reading:
     tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=(0.0, 0.0, -9.81), source=str(path))
     notes += normalized.notes("URDF")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
-                   tuple(findings))
+                   tuple(findings), turned)
 
 
 def _link_of(joint: Node, end: str) -> str:
@@ -169,11 +175,12 @@ def _joint(name: str, kind: str, node: Node, normalized) -> Joint:
     return Joint.hinge(name, unit) if kind == "hinge" else Joint.slide(name, unit)
 
 
-def _inertial(link: Node, normalized) -> tuple[float, np.ndarray, np.ndarray, str]:
-    """``(mass, mass centre (3,), inertia about it in the link's components (3, 3), place)``."""
+def _inertial(link: Node, normalized) -> tuple:
+    """``(mass, mass centre (3,), inertia about it in the link's components (3, 3), place, the inertia as written
+    when its origin turns it, else None)``."""
     inertial = link.find("inertial")
     if inertial is None:
-        return 0.0, np.zeros(3), np.zeros((3, 3)), ""
+        return 0.0, np.zeros(3), np.zeros((3, 3)), "", None
     pos, R = _origin(inertial, normalized)
     mass_node, tensor = inertial.find("mass"), inertial.find("inertia")
     mass = number(mass_node, "value", 0.0) if mass_node is not None else 0.0
@@ -181,7 +188,8 @@ def _inertial(link: Node, normalized) -> tuple[float, np.ndarray, np.ndarray, st
     if tensor is not None:
         v = {k: number(tensor, k, 0.0) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
         I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
+    written = None if np.array_equal(R, np.eye(3)) else I
     I = R @ I @ R.T
-    return mass, pos, 0.5 * (I + I.T), inertial.place
+    return mass, pos, 0.5 * (I + I.T), inertial.place, written
 
 

@@ -3,7 +3,7 @@
 Two orthographic views of the reference configuration (front: x-z, side: y-z, world components, m). For each
 engine that took part, its joints' anchors (squares) with their axes (a short segment) and its links' mass centres
 (circles), one marker style per engine so that agreeing engines overlay exactly; where an audit row names a joint
-or a link, each engine whose value differs from MuJoCo's has it ringed in red and labelled.
+or a link, each engine whose value differs from the reference reading's (relacc's) has it ringed in red and labelled.
 """
 
 from __future__ import annotations
@@ -12,16 +12,17 @@ import re
 
 import numpy as np
 
-STYLES = {"mujoco": ("black", "o", 7), "pinocchio": ("tab:blue", "x", 6), "drake": ("tab:orange", "+", 8)}
+STYLES = {"relacc": ("black", "o", 7), "mujoco": ("tab:green", "d", 6), "pinocchio": ("tab:blue", "x", 6),
+          "drake": ("tab:orange", "+", 8)}
 """Each engine's colour, marker and size (others: grey dots)."""
 
 
-def flagged(audit) -> set[tuple[str, str, str]]:
+def flagged(audit, reference: str = "relacc") -> set[tuple[str, str, str]]:
     """``{(engine, "joint" | "link", name)}``: what the audit rows' ``where`` ("joint NAME (...)", "link NAME ...")
-    names, for each engine whose value in the row differs from MuJoCo's."""
+    names, for each engine whose value in the row differs from the reference reading's."""
     out = set()
     for row in audit:
-        engines = set(row) - {"item", "where", "cause", "mujoco"}
+        engines = set(row) - {"item", "where", "cause", "cause_kind", "place", reference}
         if m := re.match(r"joint (.+?) \(", row["where"]):
             out |= {(e, "joint", m.group(1)) for e in engines}
         elif m := re.match(r"link (\S+)", row["where"]):
@@ -29,7 +30,7 @@ def flagged(audit) -> set[tuple[str, str, str]]:
     return out
 
 
-def drawing(geometry: dict, audit: list) -> str | None:
+def drawing(geometry: dict, audit: list, reference: str = "relacc") -> str | None:
     """The two views as an SVG data URI, or None when no engine gave a joint or a link."""
     points = [x["anchor"] for g in geometry.values() for x in g["joints"] if x["anchor"] is not None]
     points += [x["com"] for g in geometry.values() for x in g["links"]]
@@ -38,7 +39,7 @@ def drawing(geometry: dict, audit: list) -> str | None:
     from relacc.report.svg import figure, legend_below, plt
 
     size = max(float(np.ptp(np.array(points), axis=0).max()), 1e-3)
-    bad = flagged(audit)
+    bad = flagged(audit, reference)
     fig, axes = plt.subplots(1, 2, figsize=(8.0, 4.2))
     for ax, (i, j, title) in zip(axes, ((0, 2, "front (x, z)"), (1, 2, "side (y, z)"))):
         for engine, g in geometry.items():

@@ -15,30 +15,33 @@ from relacc.report import environment
 
 
 def page_data(result) -> dict:
-    """Plain data for ``robot.html.j2``."""
+    """Plain data for ``robot.html.j2``: relacc's reading first, then each engine; every dynamics row (relacc's cases
+    1 and 3 included) in a column of its evaluator."""
     data = result.as_json()
-    engines = list(data["engines"])
-    others = [e for e in engines if e != "mujoco" and data["engines"][e]["loaded"]]
+    names = list(data["engines"])
+    columns = [e for e in names if e != data["reference"] and data["engines"][e]["loaded"]]
+    columns += sorted({e for row in data["dynamics"].values() for e in row["engines"]} - set(columns))
     rows = []
     for quantity, row in data["dynamics"].items():
         cells = []
-        for e in others:
+        for e in columns:
             r = row["engines"].get(e)
             cells.append(None if r is None else {**r, "eps": None if r["max_error"] is None else r["max_error"] / EPS})
         rows.append({"quantity": quantity, "cells": cells})
-    audit = [{"item": a["item"], "where": a["where"], "cells": [_cell(a.get(e)) for e in engines],
-              "cause": a["cause"]} for a in data["audit"]]
+    audit = [{"item": a["item"], "where": a["where"], "cells": [_cell(a.get(e)) for e in names],
+              "cause": a["cause"], "kind": a["cause_kind"], "place": a["place"]} for a in data["audit"]]
     bad = [c for r in rows for c in r["cells"] if c is not None and not c["ok"]]
-    unexplained = [c for c in bad if c["cause"].startswith("not explained")]
-    unexplained += [a for a in audit if "not explained" in a["cause"]]
+    unexplained = [c for c in bad if c["cause_kind"] == "not explained"]
+    unexplained += [a for a in audit if "not explained" in a["kind"]]
     from relacc.report.drawing import drawing
 
     return {"n_bad": len(bad), "compared": data["compared"], "digits": SHOWN_DIGITS,
-            "drawing": drawing(data["geometry"], data["audit"]),
+            "drawing": drawing(data["geometry"], data["audit"], data["reference"]),
             "n_unexplained": len(unexplained), "model": data["model"], "urdf": data["urdf"],
-            "engines": data["engines"], "names": engines,
-            "others": others, "audit": audit, "dynamics": rows, "agree": data["agree"], "states": data["states"],
-            "seed": data["seed"], "referee": data["referee"],
+            "engines": data["engines"], "names": names, "reference": data["reference"],
+            "others": columns, "audit": audit, "dynamics": rows, "agree": data["agree"], "states": data["states"],
+            "seed": data["seed"], "referee": data["referee"], "findings": data["findings"], "taken": data["taken"],
+            "unevaluated": data["unevaluated"], "notes": data["notes"],
             "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
 
 

@@ -72,6 +72,9 @@ class Comparison:
     cause: str = ""
     singular: dict = field(default_factory=dict)
     per_link: dict = field(default_factory=dict)
+    cause_kind: str = ""
+    """What kind of cause ``cause`` is (:mod:`relacc.validation.robots.causes`): ``explained``, ``not explained``,
+    ``finding``, ``taken``, ``singular``, ``urdf`` or empty."""
 
     @property
     def evaluator(self) -> str:
@@ -127,7 +130,8 @@ class Comparison:
     def as_row(self) -> dict:
         """A model's row (``relacc compare --json``): worst error and state, tolerance, largest difference, cause."""
         row = {"max_error": _finite(self.max_error), "tolerance": self.tolerance, "ok": self.passed,
-               "state": self.worst_state, "max_difference": _finite(self.max_difference), "cause": self.cause}
+               "state": self.worst_state, "max_difference": _finite(self.max_difference), "cause": self.cause,
+               "cause_kind": self.cause_kind}
         if self.singular:
             row["singular"] = self.singular
         return row

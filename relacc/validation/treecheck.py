@@ -1,7 +1,7 @@
 """``relacc check --model robot.xml``: relacc's tree of any MJCF or URDF against every engine, in all three cases.
 
-relacc reads the file through MuJoCo's compiler (:class:`relacc.validation.robots.tree.TreeRobot`) and is the
-reference here: each engine (MuJoCo itself, and Pinocchio and Drake through their parsers and speed maps, as
+relacc reads the file itself (:mod:`relacc.reading`; :class:`relacc.validation.robots.tree.TreeRobot`) and is the
+reference here: each engine (MuJoCo, Pinocchio and Drake through their parsers and speed maps, as
 ``relacc compare`` loads them) is compared with relacc's evaluation in case 1, 2 and 3 on the same seeded
 states (the reference configuration and random ones), quantity by quantity: the mass matrix, bias and gravity
 forces, forward dynamics, and each link's centre of mass, its Jacobian, ``J_dot v`` and classical acceleration.
@@ -13,9 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
-from relacc.engines import installed
+from relacc.engines import ENGINES, installed
 from relacc.errors import ModelError
-from relacc.validation.robots import OTHERS
 from relacc.validation.robots.agreement import compare as compare_dynamics
 from relacc.validation.robots.agreement import random_states
 from relacc.validation.robots.tree import TreeRobot
@@ -48,28 +47,25 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
         engines: among ``mujoco``, ``pinocchio``, ``drake`` (default: those installed).
 
     Raises:
-        ModelError: MuJoCo cannot read the file (relacc reads it through MuJoCo's compiler).
+        ModelError: relacc cannot read the file, or nothing in it moves.
     """
-    from relacc.engines import load
+    from relacc.reading import read
     from relacc.validation.robots import load_robot
 
-    reference = load("mujoco", model)
-    if reference.model.nbody < 2:
-        raise ModelError(f"{model}: MuJoCo reads no body besides the world in it: there is nothing to check")
-    names = [e for e in ("mujoco",) + OTHERS if installed(e)] if engines is None else list(engines)
+    reading = read(model)
+    if reading.tree.nv == 0:
+        raise ModelError(f"{model}: no joint in it (relacc's reading): nothing moves, so there is nothing to check")
+    names = [e for e in ENGINES if installed(e)] if engines is None else list(engines)
     robots, not_loaded = [], {}
     for name in names:
-        if name == "mujoco":
-            robots.append(reference)
-            continue
         try:
-            robots.append(load_robot(name, model, reference))
+            robots.append(load_robot(name, model, reading.tree))
         except ModelError as exc:
             not_loaded[name] = str(exc)
-    states = random_states(reference, n_states, seed)
+    states = random_states(TreeRobot(reading, 2), n_states, seed)
     rows = []
     for case in cases:
-        tree = TreeRobot(reference, case)
+        tree = TreeRobot(reading, case)
         for robot in robots:
             if progress:
                 progress(f"case {case}: {robot.engine}")

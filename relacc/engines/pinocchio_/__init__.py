@@ -65,6 +65,9 @@ class PinocchioAdapter(Adapter):
     global_coordinates = frozenset({"velocity", "V", "Vdot"})
 
     def __init__(self, path, reference, urdf=None, split=False):
+        if urdf is None and Path(path).suffix.lower() == ".urdf":  # a URDF goes to Pinocchio's URDF parser
+            urdf = path
+        self.from_urdf = urdf is not None
         root_free = bool(reference.joints) and reference.joints[0][1].type == "free"
         loaded = parse(path, urdf, root_free)
         self.args, self.composite_model = (path, reference, urdf), loaded
@@ -154,6 +157,13 @@ class PinocchioAdapter(Adapter):
         return reference_q(self.reference, 2)
 
     # --- conversions ----------------------------------------------------------------------------------------
+
+    @property
+    def mjcf_readings(self) -> tuple:
+        """Pinocchio's MJCF readings (:mod:`relacc.engines.pinocchio_.readings`); none for a URDF it read."""
+        from relacc.engines.pinocchio_.readings import MJCF_READINGS
+
+        return () if self.from_urdf else MJCF_READINGS
 
     def default_q(self) -> np.ndarray:
         return pin.neutral(self.model)

@@ -38,14 +38,19 @@ def parse(path, urdf=None, root_free: bool = False) -> "pin.Model":
     Raises:
         ModelError: the parser's message.
     """
+    from relacc.isolate import captured_stderr
+
     text = dynamics_text(urdf)[0] if urdf is not None else None  # its kinematics and inertials only
     try:
-        if text is not None:
-            return pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free else \
-                pin.buildModelFromXML(text)
-        return pin.buildModelFromMJCF(str(path))
+        with captured_stderr() as printed:  # urdfdom prints its errors to stderr itself: they go in the message
+            if text is not None:
+                return pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free else \
+                    pin.buildModelFromXML(text)
+            return pin.buildModelFromMJCF(str(path))
     except Exception as exc:  # Pinocchio raises ValueError/RuntimeError with its parser's message
-        raise ModelError(f"{urdf or path}: Pinocchio cannot read it: {' '.join(str(exc).split())}") from None
+        said = " ".join(" ".join(printed).split())
+        raise ModelError(f"{urdf or path}: Pinocchio cannot read it: {' '.join(str(exc).split())}"
+                         + (f" ({said})" if said else "")) from None
 
 
 def split_composites(model: "pin.Model") -> "pin.Model":

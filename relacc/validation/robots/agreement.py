@@ -26,12 +26,16 @@ otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from relacc.core.cases import Case
 from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
+from relacc.core.tree.coordinates import reference_q
 from relacc.validation.compare import Comparison
+from relacc.validation.robots.audit import Scales
 
 QUANTITIES = ("mass matrix", "bias forces", "gravity forces", "forward dynamics", "COM position", "COM Jacobian",
               "J_dot v", "classical acceleration")
@@ -45,7 +49,8 @@ CHUNK = 64
 
 def random_states(reference, n: int, seed: int) -> States:
     """The reference configuration at rest, then ``n`` random states (``numpy.random.default_rng(seed)``): case-2
-    :class:`relacc.core.states.States` of the reference's tree (``u``, ``udot``: speeds and rates).
+    :class:`relacc.core.states.States` of the reference's tree (``u``, ``udot``: speeds and rates). ``reference``:
+    relacc's reading as an evaluator (:class:`relacc.validation.robots.tree.TreeRobot`).
 
     Per joint: free, a position within the model's size of the origin and a uniformly random unit
     quaternion; ball, a random unit quaternion; hinge and slide, uniform in their range when limited,
@@ -53,15 +58,16 @@ def random_states(reference, n: int, seed: int) -> States:
     """
     from relacc.limits import require_memory
 
-    m, rng = reference.model, np.random.default_rng(seed)
-    require_memory(8.0 * (n + 1) * (m.nq + 2 * m.nv + 8), f"{n} random states of {reference.path.name}",
+    tree, rng = reference.tree, np.random.default_rng(seed)
+    nq, nv = tree.nq(2), tree.nv
+    require_memory(8.0 * (n + 1) * (nq + 2 * nv + 8), f"{n} random states of {Path(reference.path).name}",
                    "ask for fewer states (--states)")
     size = max([np.linalg.norm(link.com) for link in reference.structure.links] + [1.0])
     q = np.repeat(reference.default_q()[None], n + 1, axis=0)
-    v, a = np.zeros((n + 1, m.nv)), np.zeros((n + 1, m.nv))
-    v[1:], a[1:] = rng.standard_normal((n, m.nv)), rng.standard_normal((n, m.nv))
-    for j, joint in enumerate(reference.structure.joints):
-        at = int(m.jnt_qposadr[j])
+    v, a = np.zeros((n + 1, nv)), np.zeros((n + 1, nv))
+    v[1:], a[1:] = rng.standard_normal((n, nv)), rng.standard_normal((n, nv))
+    ranges = reference.reading.ranges
+    for (_, joint), at in zip(tree.joints, tree.qadr(2)):
         if joint.type in ("free", "ball"):
             quat = rng.standard_normal((n, 4))
             quat /= np.linalg.norm(quat, axis=1, keepdims=True)
@@ -69,12 +75,12 @@ def random_states(reference, n: int, seed: int) -> States:
                 q[1:, at:at + 3] = rng.uniform(-size, size, (n, 3))
                 at += 3
             q[1:, at:at + 4] = quat
-        elif m.jnt_limited[j]:
-            lo, hi = m.jnt_range[j]
+        elif joint.name in ranges:
+            lo, hi = ranges[joint.name]
             q[1:, at] = rng.uniform(lo, hi, n)
         else:
             q[1:, at] = rng.uniform(-np.pi, np.pi, n) if joint.type == "hinge" else rng.uniform(-size, size, n)
-    return States(Case.BODY_FRAME, q, v, a, seed, reference.reference)
+    return States(Case.BODY_FRAME, q, v, a, seed, tree)
 
 
 def _gravity_terms(reference, q, v, a, dofs, gravity) -> np.ndarray:
@@ -113,11 +119,13 @@ def _solve(M, rhs):
 
 
 def inertialess(reference, M, dofs) -> list[str]:
-    """The joints (by name, or their body's) of the speeds whose row of ``M`` is zero: no inertia moves with them."""
+    """The joints (by name, and their body's) of the speeds whose row of ``M`` is zero: no inertia moves with them."""
+    tree = reference.tree
+    joint_of = [k for k, (_, j) in enumerate(tree.joints) for _ in range(j.nv)]
     names = []
     for i in np.flatnonzero(~np.any(M != 0, axis=1)):
-        k = int(reference.model.dof_jntid[dofs[i]])
-        name = f"{reference.joint_names[k]} (body {reference.structure.joints[k].body})"
+        b, joint = tree.joints[joint_of[dofs[i]]]
+        name = f"{joint.name} (body {tree.bodies[b].name})"
         if name not in names:
             names.append(name)
     return names
@@ -129,8 +137,8 @@ def compare(reference, robot, states: States) -> dict:
     absolute difference over the states in the quantity's units. Quantities a robot cannot give (no shared link)
     are left out.
     """
-    dofs = robot.dofs
-    solve = len(dofs) != reference.model.nv or robot.extra_dofs > 0
+    dofs = np.intersect1d(reference.dofs, robot.dofs)  # the speeds both have
+    solve = len(dofs) != reference.tree.nv or robot.extra_dofs > 0 or reference.extra_dofs > 0
     n_links = len(reference.structure.links)
     gravity = max(np.linalg.norm(reference.structure.gravity), np.linalg.norm(robot.structure.gravity))
     links = shared_links(reference.structure, robot.structure, robot_tolerance(n_links))
@@ -138,6 +146,8 @@ def compare(reference, robot, states: States) -> dict:
     diffs = {k: 0.0 for k in QUANTITIES}
     per_link = {k: dict.fromkeys(links, 0.0) for k in KINEMATIC}  # the worst normalized error of each link
     singular = {}  # engine -> joints with no inertia, where its M over the shared speeds is exactly singular
+
+    sc = Scales.of(reference.structure).larger(Scales.of(robot.structure))
 
     def _ratio(d, scale):
         if d == 0:
@@ -157,9 +167,10 @@ def compare(reference, robot, states: States) -> dict:
             worst = max(worst, r)
         return worst
 
-    held = np.setdiff1d(np.arange(states.q.shape[1]), robot.qdofs)  # positions of joints the robot lacks
+    shared_q = np.intersect1d(reference.qdofs, robot.qdofs)
+    held = np.setdiff1d(np.arange(states.q.shape[1]), shared_q)  # positions of joints one of the two lacks
     Q, V, A = states.q.copy(), np.zeros_like(states.u), np.zeros_like(states.udot)
-    Q[:, held] = reference.default_q()[held]  # unshared joints locked at rest, at MuJoCo's qpos0 in both
+    Q[:, held] = reference_q(states.tree, 2)[held]  # unshared joints locked at rest (MuJoCo's qpos0) in both
     V[:, dofs], A[:, dofs] = states.u[:, dofs], states.udot[:, dofs]
     for start in range(0, len(Q), CHUNK):  # each evaluator batched over a chunk of states
         at = slice(start, start + CHUNK)
@@ -173,30 +184,36 @@ def compare(reference, robot, states: States) -> dict:
             M1, b1, g1, f1 = _restrict(D1, i, dofs, solve)
             vs = np.abs(v[i, dofs]).max(initial=0)
             # the terms' magnitude: gravity's sum_l m_l |g| |J_l| and the velocity terms' max_i M_ii |v|^2, which
-            # stay when the results cancel (a planar model's gravity forces, a symmetric one's Coriolis forces)
+            # stay when the results cancel (a planar model's gravity forces, a symmetric one's Coriolis forces); at
+            # least the model's floor (docs/error-model.md): its inertia at unit speed, its weight times its size
             terms = G[i] + np.abs(np.diag(M0)).max(initial=0) * vs**2
-            bias_scale = terms + max(np.abs(g).max(initial=0) + np.abs(b - g).max(initial=0)
-                                     for b, g in ((b0, g0), (b1, g1)))
+            bias_scale = max(terms + max(np.abs(g).max(initial=0) + np.abs(b - g).max(initial=0)
+                                         for b, g in ((b0, g0), (b1, g1))),
+                             sc.inertia * max(vs, 1.0) ** 2 + sc.mass * sc.length * gravity)
             sigma = np.linalg.svd(M0, compute_uv=False)
             inv = 1.0 / sigma[-1] if sigma.size and sigma[-1] > 0 else np.inf  # ||M^-1||_2
-            for name, M, f in (("mujoco", M0, f0), (robot.engine, M1, f1)):
+            for name, M, f in ((reference.engine, M0, f0), (robot.engine, M1, f1)):
                 if np.isnan(f).any():
                     singular.setdefault(name, [])
                     singular[name] += [j for j in inertialess(reference, M, dofs) if j not in singular[name]]
-            errors["mass matrix"].append(_err(M1, M0, max(np.abs(np.diag(M0)).max(initial=0),
-                                                          np.abs(np.diag(M1)).max(initial=0)), "mass matrix"))
+            m_scale = max(np.abs(np.diag(M0)).max(initial=0), np.abs(np.diag(M1)).max(initial=0))
+            errors["mass matrix"].append(_err(M1, M0, m_scale if m_scale > 0 else sc.inertia, "mass matrix"))
             errors["bias forces"].append(_err(b1, b0, bias_scale, "bias forces"))
-            errors["gravity forces"].append(_err(g1, g0, G[i] + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0),
+            g_scale = G[i] + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0)
+            errors["gravity forces"].append(_err(g1, g0, max(g_scale, sc.mass * sc.length * gravity),
                                                  "gravity forces"))
             f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
             errors["forward dynamics"].append(_err(f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
                                                    "forward dynamics"))
             if links:
                 J0 = k0.J[i][:, :, dofs]
-                jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs])
+                jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length)
+                # positions and Jacobians: at least the model's size (a lever arm is a difference of positions)
                 errors["COM position"].append(_err(k1.position[i], k0.position[i],
-                                                   np.abs(k0.position[i]).max(initial=0), "COM position"))
-                errors["COM Jacobian"].append(_err(k1.J[i], J0, np.abs(J0).max(initial=0), "COM Jacobian"))
+                                                   max(np.abs(k0.position[i]).max(initial=0), sc.length),
+                                                   "COM position"))
+                errors["COM Jacobian"].append(_err(k1.J[i], J0, max(np.abs(J0).max(initial=0), sc.length),
+                                                   "COM Jacobian"))
                 errors["J_dot v"].append(_err(k1.Jdot_v[i], k0.Jdot_v[i], jdv, "J_dot v"))
                 errors["classical acceleration"].append(_err(k1.acceleration[i], k0.acceleration[i], acc,
                                                              "classical acceleration"))
@@ -211,7 +228,7 @@ def compare(reference, robot, states: States) -> dict:
     return out
 
 
-def point_terms(J, position, v, a) -> tuple[np.ndarray, np.ndarray]:
+def point_terms(J, position, v, a, length: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """The magnitude of the terms summed in each link's ``J_dot v`` and classical acceleration: ``(L,)`` each, m/s^2.
 
     ``J``: ``(L, 3, n)`` each link's mass-centre Jacobian over the shared speeds (world components; m/s per unit
@@ -225,12 +242,17 @@ def point_terms(J, position, v, a) -> tuple[np.ndarray, np.ndarray]:
     the link's own distance); the terms' sum is that lever times ``(sum_i |v_i|)^2``, which on a 7-joint arm is
     several times ``max |v|^2``. The classical acceleration adds ``J a``, terms the same lever times
     ``sum_i |a_i|`` (a Jacobian's entries are lever arms too).
+
+    The floor (docs/error-model.md): a link whose mass centre lies on its joints' axes has a Jacobian of exactly zero,
+    and its ``J_dot v`` and acceleration are still sums of such terms; the lever is then at least ``length`` (m, the
+    model's size) and its speeds are all the shared ones.
     """
     path = np.any(J != 0, axis=1)  # (L, nv): the speeds that move each link
+    path[~path.any(axis=1)] = True  # none seen (a mass centre on its joints' axes): every shared speed
     speed = (path * np.abs(v)).sum(axis=1)
     rate = (path * np.abs(a)).sum(axis=1)
     jmax = np.abs(J).max(axis=(1, 2), initial=0)
-    lever = np.maximum(jmax, np.linalg.norm(position, axis=1).max(initial=0))
+    lever = np.maximum(np.maximum(jmax, np.linalg.norm(position, axis=1).max(initial=0)), length)
     jdv = lever * speed**2
     return jdv, jdv + lever * rate
 

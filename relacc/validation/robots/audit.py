@@ -1,4 +1,5 @@
-"""The model audit: what an engine made of a model file, against MuJoCo's reading of it, with causes.
+"""The model audit: what an engine made of a model file, against a reference reading of it (relacc's own in
+``relacc compare``; MuJoCo's model where a parser's reading is reproduced), with causes.
 
 Differences (:func:`differences`) are found element by element at the reference configuration:
 degrees of freedom; joints missing or of another type, their axes and positions, armature and
@@ -15,7 +16,7 @@ at a time and cumulatively, and a change is the cause of the differences it make
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -25,19 +26,25 @@ from relacc.errors import ModelError
 
 @dataclass(frozen=True)
 class Item:
-    """One audit difference: ``item`` (what), ``where`` (the element), each engine's value, its cause."""
+    """One audit difference: ``item`` (what), ``where`` (the element), each reading's value (``values``: the
+    reference's first), its cause (``cause``, ``kind``: :mod:`relacc.validation.robots.causes`), the element's place
+    in the file (``file:line``) and ``subject``: ``("joint" | "link" | "model", name)``."""
 
     item: str
     where: str
     values: dict = field(default_factory=dict)
     cause: str = ""
+    kind: str = ""
+    place: str = ""
+    subject: tuple = ("model", "")
 
     @property
     def key(self) -> tuple[str, str]:
         return self.item, self.where
 
     def as_json(self) -> dict:
-        return {"item": self.item, "where": self.where, **self.values, "cause": self.cause}
+        return {"item": self.item, "where": self.where, **self.values, "cause": self.cause, "cause_kind": self.kind,
+                "place": self.place}
 
 
 @dataclass(frozen=True)
@@ -74,28 +81,32 @@ def _value(x):
     return float(arr) if arr.ndim == 0 else arr.tolist()
 
 
-def differences(ref, other, engine: str, sc: Scales) -> list[Item]:
-    """Every difference between the reference's structure ``ref`` and an engine's ``other`` (causes empty)."""
+def differences(ref, other, ref_name: str, engine: str, sc: Scales) -> list[Item]:
+    """Every difference between the structure ``ref`` of reading ``ref_name`` and an engine's ``other`` (causes
+    empty)."""
     items = []
 
     def differ(a, b, scale):
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
         return a.shape != b.shape or bool(np.max(np.abs(a - b), initial=0.0) > sc.tolerance * scale)
 
+    subject = ("model", "")
+
     def add(item, where, a, b):
-        items.append(Item(item, where, {"mujoco": _value(a), engine: _value(b)}))
+        items.append(Item(item, where, {ref_name: _value(a), engine: _value(b)}, subject=subject))
 
     if ref.nv != other.nv:
         add("degrees of freedom", "model", ref.nv, other.nv)
     theirs = {j.name: j for j in other.joints}
     for j in ref.joints:
         where = f"joint {j.name} ({j.type}, body {j.body})"
+        subject = ("joint", j.name)
         o = theirs.get(j.name)
         if o is None:
-            items.append(Item("joint missing", where, {"mujoco": j.type, engine: "absent"}))
+            items.append(Item("joint missing", where, {ref_name: j.type, engine: "absent"}, subject=subject))
             continue
         if o.type != j.type:
-            items.append(Item("joint type", where, {"mujoco": j.type, engine: o.type}))
+            items.append(Item("joint type", where, {ref_name: j.type, engine: o.type}, subject=subject))
             continue
         if j.axis is not None and differ(j.axis, o.axis, 1.0):
             add("joint axis (world, at the reference configuration)", where, j.axis, o.axis)
@@ -110,9 +121,10 @@ def differences(ref, other, engine: str, sc: Scales) -> list[Item]:
     links = {link.name: link for link in other.links}
     for link in ref.links:
         where = f"link {link.name}" + (f" (bodies {', '.join(link.bodies)})" if len(link.bodies) > 1 else "")
+        subject = ("link", link.name)
         o = links.get(link.name)
         if o is None:
-            items.append(Item("body missing", where, {"mujoco": link.mass, engine: "absent"}))
+            items.append(Item("body missing", where, {ref_name: link.mass, engine: "absent"}, subject=subject))
             continue
         if differ(link.mass, o.mass, sc.mass):
             add("mass (kg)", where, link.mass, o.mass)
@@ -122,6 +134,7 @@ def differences(ref, other, engine: str, sc: Scales) -> list[Item]:
             add("centre of mass (world, m)", where, link.com, o.com)
         if differ(link.inertia, o.inertia, sc.inertia):
             add("inertia about the centre of mass (world, kg m^2)", where, link.inertia, o.inertia)
+    subject = ("model", "")
     if differ(ref.total_mass, other.total_mass, sc.mass):
         add("total mass (kg)", "model", ref.total_mass, other.total_mass)
     if differ(ref.gravity, other.gravity, max(np.linalg.norm(ref.gravity), np.linalg.norm(other.gravity), 1e-300)):
@@ -129,20 +142,20 @@ def differences(ref, other, engine: str, sc: Scales) -> list[Item]:
     return items
 
 
-def explain(reference, robot, readings, sc: Scales, unexplained: str | None = None) -> tuple[list[Item], object,
-                                                                                           list[str]]:
-    """The audit of ``robot`` against ``reference`` with causes; ``(items, explained reference, applied keys)``.
+def explain(mujoco, robot, readings, sc: Scales) -> tuple[list[Item], object, list[str]]:
+    """An engine's parser readings reproduced on MuJoCo's model: ``(items, explained model, applied keys)``.
 
-    ``readings``: the engine's ``MJCF_READINGS``. The explained reference is MuJoCo recompiled with every
-    reading that made a difference disappear, the model the dynamics are then compared against to see
-    whether the readings explain them too. ``unexplained``: the cause to give what no reading explains
-    (default: that no known difference of the engine's parser explains it).
+    ``readings``: the engine's ``MJCF_READINGS``, each a change to MuJoCo's spec. MuJoCo recompiles the model with the
+    changes that apply, one at a time and cumulatively, and a change is the cause of the differences between MuJoCo's
+    model and the engine's that it makes disappear; ``items`` are those differences (against MuJoCo: ``values`` keyed
+    ``mujoco``), each with its cause (empty when none), and the explained model is MuJoCo's with every change that
+    made one disappear: the dynamics are compared against it to see whether the readings explain them too.
     """
     engine = robot.engine
     sc = sc.larger(Scales.of(robot.structure))
-    left = differences(reference.structure, robot.structure, engine, sc)
+    left = differences(mujoco.structure, robot.structure, "mujoco", engine, sc)
     causes: dict = {}
-    current, applied = reference, []
+    current, applied = mujoco, []
     for key, text, applies, change in readings:
         if not left or not applies(current.spec):
             continue
@@ -150,33 +163,32 @@ def explain(reference, robot, readings, sc: Scales, unexplained: str | None = No
             candidate = current.recompiled(change)
         except ModelError:
             continue
-        after = differences(candidate.structure, robot.structure, engine, sc)
+        after = differences(candidate.structure, robot.structure, "mujoco", engine, sc)
         gone = {i.key for i in left} - {i.key for i in after}
         if gone:
             for k in gone:
                 causes[k] = text
             current, applied = candidate, applied + [key]
             left = after
-    still = {i.key for i in left}
-    items = [Item(i.item, i.where, i.values, causes.get(i.key, "")) for i in
-             differences(reference.structure, robot.structure, engine, sc)]
-    return [i if i.key not in still else Item(i.item, i.where, i.values, unexplained or _unknown(i, engine))
-            for i in items], current, applied
-
-
-def _unknown(item: Item, engine: str) -> str:
-    if item.item == "joint type":
-        return f"{engine} maps this joint to another type"
-    return f"not explained by a known difference between {engine}'s reading of the file and MuJoCo's"
+    items = [replace(i, cause=causes.get(i.key, ""), kind="explained" if i.key in causes else "")
+             for i in differences(mujoco.structure, robot.structure, "mujoco", engine, sc)]
+    return items, current, applied
 
 
 def merge(per_engine: list[list[Item]]) -> list[Item]:
-    """One row per (item, where) over the engines: every engine's value, their causes joined."""
+    """One row per (item, where) over the engines: every reading's value (the reference's first), the engines' causes
+    joined, the row's kind the least explained of theirs."""
+    from relacc.validation.robots.causes import KINDS
+
     rows: dict = {}
     for items in per_engine:
         for i in items:
-            row = rows.setdefault(i.key, {"values": {}, "causes": []})
-            row["values"].update(i.values)
-            engine = next(k for k in i.values if k != "mujoco")
+            row = rows.setdefault(i.key, {"values": {}, "causes": [], "kinds": [], "item": i})
+            reference, engine = list(i.values)[:2]
+            row["values"].setdefault(reference, i.values[reference])
+            row["values"][engine] = i.values[engine]
             row["causes"].append(f"{engine}: {i.cause}")
-    return [Item(item, where, r["values"], "; ".join(r["causes"])) for (item, where), r in rows.items()]
+            row["kinds"].append(i.kind)
+    return [replace(r["item"], values=r["values"], cause="; ".join(r["causes"]),
+                    kind=max(r["kinds"], key=lambda k: KINDS.index(k) if k in KINDS else -1))
+            for r in rows.values()]

@@ -1,15 +1,16 @@
-"""relacc's own tree as an evaluator in ``relacc compare``: the note's method on the model MuJoCo compiled.
+"""relacc's own reading of a model as an evaluator in ``relacc compare``: the note's method on relacc's tree.
 
-relacc reads the model through MuJoCo's compiler (the reference adapter's tree,
-:attr:`relacc.engines.base.Adapter.reference`), so its *structure* is MuJoCo's by construction and it takes no
-part in the audit. What it adds is an independent *evaluation*: positions, partial velocities, their rates and Kane's
-equations by :mod:`relacc.core.tree` and :mod:`relacc.dynamics.tree`, sharing no code with any engine.
+relacc reads the file itself (:mod:`relacc.reading`), so its *structure* (:func:`relacc.validation.robots.reading.
+structure`) is a fourth, independent opinion of what the file describes, and its *evaluation*: positions, partial
+velocities, their rates and Kane's equations by :mod:`relacc.core.tree` and :mod:`relacc.dynamics.tree`, shares no
+code with any engine. Its case-2 coordinates are the comparison's common coordinates (MuJoCo's ``qpos``/``qvel``
+layout for an MJCF: the joints in the file's order).
 
-:class:`TreeRobot` answers in the common (MuJoCo's, case 2) coordinates for any of the three cases: the
-state goes to the case's coordinates (:func:`relacc.core.tree.convert`), relacc evaluates there, and the
-answer comes back through the case's speed map ``u_c = T u_2`` (``T`` per ball or free joint from
-:func:`relacc.core.tree.walk.angular_map`): ``M = T^T M_c T``, ``bias = T^T (b_c + M_c T_dot u_2)``,
-``J = J_c T``, ``J_dot u_2 = Vdot_c u_c + J_c T_dot u_2``, exactly as the engines' adapters map theirs.
+:class:`TreeRobot` answers in those (case 2) coordinates for any of the three cases: the state goes to the case's
+coordinates (:func:`relacc.core.tree.convert`), relacc evaluates there, and the answer comes back through the case's
+speed map ``u_c = T u_2`` (``T`` per ball or free joint from :func:`relacc.core.tree.walk.angular_map`):
+``M = T^T M_c T``, ``bias = T^T (b_c + M_c T_dot u_2)``, ``J = J_c T``, ``J_dot u_2 = Vdot_c u_c + J_c T_dot u_2``,
+exactly as the engines' adapters map theirs.
 """
 
 from __future__ import annotations
@@ -17,25 +18,33 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tree import convert, tree_kinematics
+from relacc.core.tree.coordinates import reference_q
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
 from relacc.engines.base import Dynamics, Points, first, mapped_dynamics
+from relacc.validation.robots.reading import groups, structure
 
 
 class TreeRobot:
-    """relacc's tree of ``reference``'s compiled model, evaluated in ``case`` and answered in MuJoCo's coordinates
-    (the interface of :class:`relacc.engines.base.Adapter` that a comparison uses: ``dynamics``, ``kinematics``)."""
+    """relacc's reading of a file (a :class:`relacc.reading.Reading`), evaluated in ``case`` and answered in its
+    case-2 coordinates (the interface of :class:`relacc.engines.base.Adapter` that a comparison uses:
+    ``structure``, ``dynamics``, ``kinematics``, ``default_q``)."""
 
-    def __init__(self, reference, case: int = 2):
+    def __init__(self, reading, case: int = 2):
         self.case = int(case)
-        self.engine = f"relacc (case {self.case})"
-        self.tree = reference.reference
-        self.model, self.joint_names, self.path = reference.model, reference.joint_names, reference.path
-        self.default_q = reference.default_q  # MuJoCo's qpos0
-        self.structure = reference.structure
+        self.engine = "relacc" if self.case == 2 else f"relacc (case {self.case})"
+        self.reading = reading
+        self.tree = self.reference = reading.tree
+        self.path = reading.source
+        self.structure = structure(reading)
         self.dofs, self.qdofs = np.arange(self.tree.nv), np.arange(self.tree.nq(2))
         self.extra_dofs = 0
-        self.warnings: list[str] = []
-        self.links = {reference.body_name(b): [c - 1 for c in bodies] for b, bodies in reference.groups.items()}
+        self.warnings: list[str] = list(reading.notes)
+        self.links = {self.tree.bodies[b].name: members for b, members in groups(self.tree).items()}
+
+    def default_q(self) -> np.ndarray:
+        """``(nq,)`` the reference configuration (hinges and slides at ``ref``, balls at identity, free bodies as
+        placed: MuJoCo's ``qpos0``)."""
+        return reference_q(self.tree, 2)
 
     def _map(self, q, v):
         """``(q_c, u_c, T (n, nv, nv), T_dot v (n, nv))``: states ``(n, nq)``, ``(n, nv)`` in the case's coordinates
@@ -56,7 +65,10 @@ class TreeRobot:
         q_c, u_c, T, Tdv = self._map(q, v)
         d = tree_dynamics(self.tree, self.case, q_c, u_c)
         rest = tree_dynamics(self.tree, self.case, q_c, np.zeros_like(u_c))
-        forward = tree_accelerations(self.tree, self.case, q_c, u_c)
+        try:
+            forward = tree_accelerations(self.tree, self.case, q_c, u_c)
+        except Exception:  # noqa: BLE001 - a singular M: the comparison solves the shared speeds itself and says so
+            forward = np.full(u_c.shape, np.nan)
         return first(mapped_dynamics(d.M, d.f, rest.f, forward, T, Tdv), one)
 
     def kinematics(self, q, v, a, links) -> Points:

@@ -1,0 +1,420 @@
+"""``relacc compare``: what each engine made of a robot description, against relacc's own reading of it.
+
+relacc reads the file itself (:mod:`relacc.reading`), by the format's specification; MuJoCo, Pinocchio and Drake each
+read it with their own parser. relacc's reading is the comparison's common ground (its case-2 coordinates, each
+engine's matched joint by joint through its speed map) and one of four independent opinions:
+
+1. the **audit** (:mod:`relacc.validation.robots.audit`): structure, inertias, armature, damping, gravity of each
+   engine against relacc's reading, each difference with its cause (:mod:`relacc.validation.robots.causes`): a known
+   engine behaviour reproduced (relacc's reading changed as the engine reads it, or MuJoCo's model recompiled with a
+   parser's reading), a finding about the file, or not explained, with the place in the file;
+2. the **dynamics** (:mod:`relacc.validation.robots.agreement`) at the reference configuration and random states,
+   each engine and relacc's cases 1 and 3 against relacc's case 2;
+3. the **referee** (:mod:`relacc.validation.robots.referee`): every pair of evaluators compared, engine against
+   engine too, and the odd one out named, whoever it is.
+
+Physical findings (:mod:`relacc.reading.physical`), what relacc took from an engine and what the file has that relacc
+does not evaluate are part of the result. Where MuJoCo (or any engine) refuses the file, the others are still
+compared with relacc's reading, and the refusal is one line of the result.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from relacc.engines import ENGINES, adapter_module, installed, readings
+from relacc.engines import load as load_adapter
+from relacc.engines.contain import survives
+from relacc.errors import EngineError, ModelError
+from relacc.reading import read
+from relacc.validation.robots.agreement import QUANTITIES, random_states
+from relacc.validation.robots.agreement import compare as compare_dynamics
+from relacc.validation.robots.audit import Item, Scales, differences, explain, merge
+from relacc.validation.robots.causes import READINGS, Cause
+from relacc.validation.robots.reading import structure
+from relacc.validation.robots.referee import referee, voters
+from relacc.validation.robots.tree import TreeRobot
+
+URDF_CAUSE = "the URDF (Pinocchio's input) and the MJCF describe this element differently"
+
+REFERENCE = "relacc"
+"""The evaluator every row is measured against: relacc's own reading, case 2."""
+
+
+@dataclass(frozen=True)
+class EngineReport:
+    """What one evaluator made of the file: read or not (``error``), its sizes, its parser's warnings."""
+
+    name: str
+    loaded: bool
+    nq: int | None = None
+    nv: int | None = None
+    error: str | None = None
+    warnings: tuple[str, ...] = ()
+
+    def as_json(self) -> dict:
+        return {"loaded": self.loaded, "nq": self.nq, "nv": self.nv, "error": self.error,
+                "warnings": list(self.warnings)}
+
+
+@dataclass(frozen=True)
+class RobotComparison:
+    """The result of :func:`compare`.
+
+    Attributes:
+        model, urdf: the files. engines: ``{name: EngineReport}``, relacc's reading first.
+        audit: :class:`relacc.validation.robots.audit.Item` rows, one per element that differs, every reading's
+            value (relacc's, then each engine's), the cause and the place in the file.
+        dynamics: ``{quantity: {evaluator: Comparison}}`` against relacc's case 2: each engine, and relacc's cases 1
+            and 3 as ``relacc (case 1)``, ``relacc (case 3)``.
+        n_states, seed: the random states (plus the reference configuration, state 0).
+        referee: one :class:`relacc.validation.robots.referee.Verdict` per quantity with a disagreement.
+        geometry: what each evaluator made of the model at the reference configuration (the page's drawing).
+        findings: :class:`relacc.reading.Finding` per body of the file that is not physical.
+        taken: ``{body: what relacc took from an engine}``. unevaluated, notes: relacc's reading's lines.
+    """
+
+    model: str
+    urdf: str | None
+    engines: dict
+    audit: list = field(default_factory=list)
+    dynamics: dict = field(default_factory=dict)
+    n_states: int = 0
+    seed: int = 0
+    referee: list = field(default_factory=list)
+    geometry: dict = field(default_factory=dict)
+    findings: tuple = ()
+    taken: dict = field(default_factory=dict)
+    unevaluated: tuple = ()
+    notes: tuple = ()
+
+    @property
+    def agree(self) -> bool:
+        """No audit difference, no finding about the file, every dynamics quantity within tolerance."""
+        return (not self.audit and not self.findings
+                and all(r.passed for rows in self.dynamics.values() for r in rows.values()))
+
+    @property
+    def compared(self) -> list[str]:
+        """The evaluators that took part: relacc's reading and each engine that read the file, shares at least one of
+        its speeds and evaluated it (at least one engine, or :func:`compare` raises)."""
+        return [name for name, e in self.engines.items() if e.loaded]
+
+    @property
+    def exit_code(self) -> int:
+        return 0 if self.agree else 1
+
+    def as_json(self) -> dict:
+        dynamics = {}
+        for quantity, rows in self.dynamics.items():
+            worst = max(rows.values(), key=lambda r: r.max_ratio)
+            dynamics[quantity] = {"max_error": _finite(worst.max_error), "tolerance": worst.tolerance,
+                                  "ok": all(r.passed for r in rows.values()),
+                                  "engines": {e: r.as_row() for e, r in rows.items()}}
+        return {"model": self.model, "urdf": self.urdf, "reference": REFERENCE, "compared": self.compared,
+                "engines": {k: e.as_json() for k, e in self.engines.items()},
+                "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
+                "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree,
+                "findings": [f.as_json() for f in self.findings], "taken": dict(self.taken),
+                "unevaluated": list(self.unevaluated), "notes": list(self.notes), "geometry": self.geometry}
+
+
+def _one_line(engine: str, what: str, exc: BaseException) -> str:
+    """An engine's failure as one line: the engine, what failed, the exception's type and message."""
+    return f"{engine} {what}: {type(exc).__name__}: {' '.join(str(exc).split())}"
+
+
+def _finite(x: float) -> float | None:
+    """JSON has no infinity: an infinite error or difference is written ``null`` (the row's cause says why)."""
+    return x if np.isfinite(x) else None
+
+
+def load_robot(engine, path, tree, urdf=None):
+    """``path`` in one engine, matched to ``tree`` (relacc's reading; Pinocchio: from ``urdf`` when given).
+
+    Raises:
+        ModelError: the engine cannot read the file. EngineError: an unknown or missing engine.
+    """
+    options = {"urdf": urdf} if engine == "pinocchio" and urdf is not None else {}
+    return load_adapter(engine, path, tree, **options)
+
+
+def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0) -> RobotComparison:
+    """Compare every engine's reading of ``model`` (an MJCF or a URDF) with relacc's own (module docstring).
+
+    Args:
+        urdf: a URDF of the same robot for Pinocchio (links named as the MJCF's bodies, joints as its joints);
+            when ``model`` itself is a URDF, Pinocchio reads it by its URDF parser.
+        engines: among :data:`relacc.engines.ENGINES` (default: those installed).
+        n_states: random states besides the reference configuration; seed: their seed.
+
+    Raises:
+        ModelError: relacc cannot read the file, nothing in it moves, or no engine takes part (the messages name the
+            file, the element and each engine's reason). EngineError: an unknown or missing engine.
+    """
+    names = [e for e in ENGINES if installed(e)] if engines is None else list(engines)
+    for name in names:
+        if name not in ENGINES:
+            raise EngineError(f"unknown engine {name!r} for compare: accepted are {', '.join(ENGINES)}")
+    if urdf is not None and not Path(urdf).is_file():
+        raise ModelError(f"{urdf}: no such file")
+    reading = read(model)
+    if reading.tree.nv == 0:
+        raise ModelError(f"{model}: no joint in it (relacc's reading): nothing moves, so there are no dynamics to "
+                         "compare")
+    if urdf is None and Path(model).suffix.lower() == ".urdf":
+        urdf = model
+    reference = TreeRobot(reading, 2)
+    reports = {REFERENCE: EngineReport(REFERENCE, True, reading.tree.nq(2), reading.tree.nv,
+                                       warnings=tuple(reading.notes))}
+    robots, unshared = _load(model, names, reading, urdf, reports)
+    other_file = urdf is not None and Path(urdf).resolve() != Path(model).resolve()
+    states = random_states(reference, n_states, seed)
+    scales = Scales.of(reference.structure)
+    mujoco = next((r for r in robots if r.engine == "mujoco"), None) or _explainer(model, reading)
+    audits, dynamics = [], {q: {} for q in QUANTITIES}
+    for robot in unshared:  # the user's URDF describes another robot: what differs, element by element
+        audits.append(_audit(reading, reference, robot, None, scales, URDF_CAUSE)[0])
+    for robot in list(robots):
+        from_urdf = robot.engine == "pinocchio" and urdf is not None
+        try:
+            items, explained, texts = _audit(reading, reference, robot, None if from_urdf else mujoco, scales,
+                                             URDF_CAUSE if other_file and from_urdf else None)
+            rows = compare_dynamics(reference, robot, states)
+            for quantity, row in rows.items():
+                cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, robot,
+                                                                         explained, texts, states, n_states, seed)
+                if other_file and from_urdf and items and not cause.explained:
+                    cause = Cause("urdf", "the URDF and the MJCF describe the robot differently (see the audit)")
+                dynamics[quantity][robot.engine] = replace(row, cause=str(cause), cause_kind=cause.kind)
+        except (Exception, SystemExit) as exc:  # an engine that fails to evaluate takes no part, and says why
+            reports[robot.engine] = EngineReport(robot.engine, False, robot.structure.nq, robot.structure.nv,
+                                                 error=_one_line(robot.engine, "fails to evaluate it", exc),
+                                                 warnings=tuple(robot.warnings))
+            robots.remove(robot)
+            for rows_ in dynamics.values():
+                rows_.pop(robot.engine, None)
+            continue
+        audits.append(items)
+    _at_least_one(model, reports, robots)
+    for case in (1, 3):  # relacc's own evaluation in the other cases, against its case 2
+        evaluator = TreeRobot(reading, case)
+        for quantity, row in compare_dynamics(reference, evaluator, states).items():
+            cause = Cause("", "") if row.passed else Cause("not explained", "relacc's case differs from its case 2 "
+                                                           "on its own reading", reading.source)
+            dynamics[quantity][evaluator.engine] = replace(row, case=case, cause=str(cause), cause_kind=cause.kind)
+    verdicts = referee(voters(reference, robots, states, reading), states, dynamics, reading)
+    geometry = {r.engine: _geometry(r.structure) for r in [reference, *robots]}
+    return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
+                           {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts, geometry,
+                           tuple(reading.findings), dict(reading.taken), tuple(reading.unevaluated),
+                           tuple(reading.notes))
+
+
+def _load(model, names, reading, urdf, reports) -> tuple[list, list]:
+    """``(robots, unshared)``: each engine's adapter matched to relacc's reading (loaded first in a probe process, so
+    that a C++ abort ends only the probe), and those that read a user's URDF but share no speed with it."""
+    robots, unshared = [], []
+    for name in names:
+        try:
+            adapter_module(name)  # imported here once, not in the probe
+            survives(f"{model}: {name} cannot load it", lambda: load_robot(name, model, reading.tree, urdf))  # noqa: B023
+            robot = load_robot(name, model, reading.tree, urdf)
+        except ModelError as exc:
+            reports[name] = EngineReport(name, False, error=str(exc))
+            continue
+        except (Exception, SystemExit) as exc:  # whatever an engine raises is that engine not taking part
+            reports[name] = EngineReport(name, False, error=_one_line(name, "cannot load it", exc))
+            continue
+        if not len(robot.dofs):
+            reports[name] = EngineReport(name, False, robot.structure.nq, robot.structure.nv,
+                                         error=f"{name} shares no speed with relacc's reading: it read nq "
+                                               f"{robot.structure.nq}, nv {robot.structure.nv} and none of its "
+                                               "joints is one of the file's", warnings=tuple(robot.warnings))
+            if name == "pinocchio" and urdf is not None and Path(urdf).resolve() != Path(model).resolve():
+                unshared.append(robot)
+            continue
+        robots.append(robot)
+        reports[name] = EngineReport(name, True, robot.structure.nq, robot.structure.nv,
+                                     warnings=tuple(robot.warnings))
+    return robots, unshared
+
+
+def _explainer(model, reading):
+    """MuJoCo's model of the file, matched to relacc's reading, when MuJoCo is not among the engines compared: the
+    engines' parser readings are reproduced on it (:func:`relacc.validation.robots.audit.explain`); None where MuJoCo
+    is not installed or cannot read the file."""
+    if not installed("mujoco"):
+        return None
+    try:
+        return load_robot("mujoco", model, reading.tree)
+    except (ModelError, EngineError):
+        return None
+
+
+def _at_least_one(model, reports, robots) -> None:
+    """A comparison needs relacc's reading and at least one engine over at least one shared speed.
+
+    Raises:
+        ModelError: no engine took part; the message says, engine by engine, why.
+    """
+    if not robots:
+        why = "; ".join(r.error for r in reports.values() if r.error) or "no engine is installed"
+        raise ModelError(f"{model}: nothing to compare relacc's reading with: {why}")
+
+
+def _audit(reading, reference, robot, mujoco, scales, unexplained: str | None):
+    """``(items, explained MuJoCo model or None, cause texts applied)``: ``robot``'s audit against relacc's reading,
+    each difference with its cause (:mod:`relacc.validation.robots.causes`), in this order: a reading of
+    :data:`relacc.validation.robots.causes.READINGS` (relacc's reading changed as the engine reads it) that makes it
+    disappear; a parser reading of the engine's ``MJCF_READINGS`` reproduced by recompiling MuJoCo's model (when
+    MuJoCo read the file and agrees with relacc there); ``unexplained`` (a user's URDF); what relacc took from the
+    engine; a finding about the file; else not explained, with the element's place in the file."""
+    engine = robot.engine
+    sc = scales.larger(Scales.of(robot.structure))
+    items = differences(reference.structure, robot.structure, REFERENCE, engine, sc)
+    if not items:
+        return [], None, []
+    causes: dict = {}
+    left = {i.key for i in items}
+    current = reading
+    for key, text, applies, change in READINGS.get(engine, ()):
+        if not left or not applies(current):
+            continue
+        candidate = change(current)
+        after = {i.key for i in differences(structure(candidate), robot.structure, REFERENCE, engine, sc)}
+        gone = left - after
+        for k in gone:
+            causes[k] = Cause("explained", text)
+        if gone:
+            current, left = candidate, after
+    explained, texts = None, []
+    if mujoco is not None and left and engine != "mujoco":
+        parser = robot.mjcf_readings
+        mj_items, explained, applied = explain(mujoco, robot, parser, sc)
+        mj_causes = {i.key: i.cause for i in mj_items if i.kind == "explained"}
+        mujoco_differs = {i.key for i in differences(reference.structure, mujoco.structure, REFERENCE, "mujoco", sc)}
+        for k in list(left):
+            if k in mj_causes and k not in mujoco_differs:  # MuJoCo reads it as relacc does: its recompile explains
+                causes[k] = Cause("explained", mj_causes[k])
+                left.discard(k)
+        texts = [text for key, text, _, _ in parser if key in applied]
+    out = []
+    for item in items:
+        cause = causes.get(item.key) or _fallback(item, reading, engine, unexplained)
+        out.append(replace(item, cause=str(cause), kind=cause.kind, place=cause.place or _place(item, reading)))
+    return out, explained, texts
+
+
+def _place(item: Item, reading) -> str:
+    """The element of the file an audit item comes from (``file:line``), or the file."""
+    kind, name = item.subject
+    if kind == "link":
+        return reading.places.get(("inertial", name)) or reading.place("body", name)
+    if item.item.startswith("gravity"):
+        return reading.place("option", "gravity")
+    return reading.place(kind, name) if kind in ("joint", "body") else reading.source
+
+
+def _fallback(item: Item, reading, engine: str, unexplained: str | None) -> Cause:
+    """A difference no reading reproduces: a user's URDF, what relacc took, a finding about the file, or not
+    explained."""
+    if unexplained:
+        return Cause("urdf", unexplained)
+    kind, name = item.subject
+    members = _link_bodies(reading, name) if kind == "link" else []
+    taken = [b for b in members if b in reading.taken]
+    if taken:
+        return Cause("taken", f"relacc took the mass properties of {', '.join(taken)} from MuJoCo "
+                              f"({reading.taken[taken[0]]}): it cannot judge {engine} there")
+    found = [f for f in reading.findings if f.body in members]
+    if found:
+        return Cause("finding", f"the file gives body {found[0].body} {found[0].condition} "
+                                f"({found[0].numbers}): each engine reads that its own way", found[0].place)
+    if item.item == "joint type":
+        return Cause("not explained", f"{engine} maps this joint to another type", _place(item, reading))
+    return Cause("not explained", f"not explained by a known difference between {engine}'s reading of the file and "
+                                  "the format's", _place(item, reading))
+
+
+def _link_bodies(reading, name: str) -> list[str]:
+    from relacc.validation.robots.reading import groups
+
+    tree = reading.tree
+    for head, members in groups(tree).items():
+        if tree.bodies[head].name == name:
+            return [tree.bodies[b].name for b in members]
+    return [name]
+
+
+EXPLAINED = 1e-6
+"""A cause explains a dynamics disagreement when, applied, it leaves the quantity within tolerance or its largest
+absolute difference at most this fraction of what it was (the residue of readings that need MuJoCo's minimum
+body mass, 1e-14 kg, against an engine's zero)."""
+
+
+def _explained(again: dict, quantity: str, before) -> bool:
+    row = again.get(quantity)
+    if row is None:
+        return False
+    return row.passed or (np.isfinite(before.max_difference)
+                          and row.max_difference <= EXPLAINED * before.max_difference)
+
+
+def _dynamics_cause(quantity, before, reading, reference, robot, explained, texts, states, n_states, seed) -> Cause:
+    """Why ``quantity`` disagrees: relacc's reading changed as the engine reads it (the audit's causes), MuJoCo's model
+    with the engine's parser readings, a known difference in the engine's algorithms, MuJoCo's own ``mj_jacDot``, a
+    singular mass matrix; else not explained."""
+    from relacc.validation.robots.mujoco_causes import mujoco_cause
+
+    engine = robot.engine
+    changed = [(text, change) for _, text, applies, change in READINGS.get(engine, ()) if applies(reading)]
+    if changed:
+        current = reading
+        for _, change in changed:
+            current = change(current)
+        again = compare_dynamics(TreeRobot(current, 2), robot, states)
+        if _explained(again, quantity, before):
+            return Cause("explained", "explained by the audit: " + "; ".join(t for t, _ in changed))
+    if explained is not None and texts:
+        again = compare_dynamics(explained, robot, random_states(reference, n_states, seed))
+        if _explained(again, quantity, before):
+            return Cause("explained", "explained by the audit: " + "; ".join(texts))
+    for key, text, applies, rebuild in readings(engine)[1]:
+        if applies(robot):
+            try:
+                fixed = rebuild(robot)
+            except (ModelError, EngineError):
+                continue
+            if _explained(compare_dynamics(reference, fixed, states), quantity, before):
+                return Cause("explained", text)
+    if engine == "mujoco":
+        text = mujoco_cause(quantity, reference, robot, states)
+        if text:
+            return Cause("explained", text)
+    if before.singular:
+        return Cause("singular", "forward dynamics undefined: " + "; ".join(
+            f"{'relacc' if e == REFERENCE else e}'s mass matrix over the shared speeds is singular (no inertia moves "
+            f"with {', '.join(joints) or 'a combination of speeds'})" for e, joints in before.singular.items()))
+    found = [f for f in reading.findings]
+    if found:
+        return Cause("finding", f"the file has bodies that are not physical (first: body {found[0].body}, "
+                                f"{found[0].condition}): each engine reads them its own way", found[0].place)
+    taken = list(reading.taken)
+    if taken and engine == "mujoco":
+        return Cause("taken", f"relacc took the mass properties of {', '.join(taken)} from MuJoCo: it cannot judge "
+                              "MuJoCo there")
+    return Cause("not explained", f"not explained by a known difference of {engine}"
+                 + (f" (the audit's causes were applied: {'; '.join(texts)})" if texts else ""), reading.source)
+
+
+def _geometry(structure_) -> dict:
+    """Plain data of a :class:`relacc.engines.base.Structure`'s joints and links (``RobotComparison.geometry``)."""
+    listed = lambda x: None if x is None else [float(c) for c in x]  # noqa: E731
+    return {"joints": [{"name": j.name, "type": j.type, "anchor": listed(j.anchor), "axis": listed(j.axis)}
+                       for j in structure_.joints],
+            "links": [{"name": link.name, "mass": float(link.mass), "com": listed(link.com)}
+                      for link in structure_.links]}

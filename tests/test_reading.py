@@ -1,0 +1,327 @@
+"""relacc's own reading of MJCF and URDF files (relacc.reading): the format's rules, element by element, held to
+MuJoCo's compiled model where MuJoCo reads the file right, to an independent computation where it does not, and to
+physics where the file is wrong."""
+
+import json
+from pathlib import Path
+
+import gymnasium
+import mujoco
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import relacc
+from relacc.cli import main
+from relacc.core.tolerances import EPS
+from relacc.engines import load
+from relacc.errors import ModelError
+from relacc.reading import read
+from relacc.validation.robots import compare
+from relacc.validation.robots.reading import structure
+
+GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+TOL = 64 * EPS
+"""c eps: relacc's reading and MuJoCo's compile are each a few dependent roundings of the file's numbers (a frame's
+rotation, a product of inertias, an eigen-decomposition in MuJoCo), relative to the quantity's own scale."""
+
+
+def differences(reading, adapter) -> list[str]:
+    """Every joint (axis, anchor, armature, damping) and link (mass, mass centre, inertia) of relacc's reading that
+    differs from an engine's structure by more than c eps of its scale, and the joint order; an empty list agrees."""
+    a, b = structure(reading), adapter.structure
+    out = []
+    size = max([np.linalg.norm(x.com) for x in b.links] + [1.0])
+    theirs = {j.name: j for j in b.joints}
+    if [j.name for j in a.joints] != [j.name for j in b.joints]:
+        out.append(f"joint order {[j.name for j in a.joints]} vs {[j.name for j in b.joints]}")
+    for j in a.joints:
+        o = theirs.get(j.name)
+        if o is None or o.type != j.type:
+            out.append(f"joint {j.name}: {j.type} vs {None if o is None else o.type}")
+            continue
+        if j.axis is not None and np.abs(j.axis - o.axis).max() > TOL:
+            out.append(f"joint {j.name} axis {j.axis} vs {o.axis}")
+        if j.anchor is not None and np.abs(j.anchor - o.anchor).max() > TOL * size:
+            out.append(f"joint {j.name} anchor {j.anchor} vs {o.anchor}")
+        for what in ("armature", "damping"):
+            x, y = getattr(j, what), getattr(o, what)
+            if np.abs(x - y).max() > TOL * max(1.0, np.abs(y).max()):
+                out.append(f"joint {j.name} {what} {x} vs {y}")
+    links = {x.name: x for x in b.links}
+    mass = max(b.total_mass, 1e-12)
+    inertia = max([np.abs(x.inertia).max() for x in b.links] + [1e-12])
+    for x in a.links:
+        o = links.get(x.name)
+        if o is None:
+            out.append(f"link {x.name} missing")
+            continue
+        if abs(x.mass - o.mass) > TOL * mass:
+            out.append(f"link {x.name} mass {x.mass!r} vs {o.mass!r}")
+        if min(x.mass, o.mass) > TOL * mass:
+            if np.abs(x.com - o.com).max() > TOL * size:
+                out.append(f"link {x.name} com {x.com} vs {o.com}")
+            if np.abs(x.inertia - o.inertia).max() > TOL * inertia:
+                out.append(f"link {x.name} inertia {x.inertia.tolist()} vs {o.inertia.tolist()}")
+    if np.abs(a.gravity - b.gravity).max() > TOL:
+        out.append(f"gravity {a.gravity} vs {b.gravity}")
+    return out
+
+
+def agrees_with_mujoco(path):
+    reading = read(path)
+    assert differences(reading, load("mujoco", path)) == [], path
+    return reading
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in GYM.glob("*.xml")))
+def test_every_gymnasium_model_is_read_as_mujoco_compiles_it(name):
+    """Body by body and joint by joint, relacc's reading of each gymnasium asset (defaults, fromto capsules, euler and
+    axis-angle frames, settotalmass, armature, damping, gravity) is MuJoCo's compiled model to c eps."""
+    agrees_with_mujoco(GYM / name)
+
+
+FEATURES = {
+    "orientations": """<mujoco><compiler angle="degree" eulerseq="zYx"/><worldbody>
+      <body name="a" pos="0.1 0.2 0.3" euler="10 20 30"><joint name="ja" axis="1 2 3"/>
+        <geom type="box" size=".1 .2 .3" euler="5 -40 70"/>
+        <body name="b" axisangle="1 1 0 60" pos="0 0 -0.4"><joint name="jb" type="slide" axis="0 0 2"/>
+          <geom type="ellipsoid" size=".1 .05 .2" xyaxes="1 1 0 -1 2 0.5"/>
+          <body name="c" zaxis="1 -1 1"><joint name="jc" type="ball" pos="0.1 0 0"/>
+            <geom type="cylinder" size=".05 .2" quat="0.8 0.1 0.2 0.3"/></body></body></body>
+    </worldbody></mujoco>""",
+    "defaults": """<mujoco><default><joint damping="0.3" armature="0.02"/><geom density="500"/>
+        <default class="heavy"><geom density="3000"/><joint damping="1.5"/></default>
+        <default class="light"><geom density="10" type="box" size=".1 .1 .1"/></default></default>
+      <worldbody><body name="a" childclass="heavy"><freejoint name="root"/><geom type="sphere" size=".1"/>
+        <body name="b" pos="0 0 -.3"><joint name="jb" axis="0 1 0"/><geom class="light"/>
+          <geom type="capsule" fromto="0 0 0 .2 .1 -.3" size=".03"/></body>
+        <body name="c" pos=".2 0 0" childclass="light"><joint name="jc" type="slide"/><geom/></body></body>
+      </worldbody></mujoco>""",
+    "frames_and_fromto": """<mujoco><compiler angle="radian"/><worldbody>
+      <body name="a" pos="0 0 1"><joint name="ja" type="hinge" axis="0 1 0" ref="0.4" armature="0.1"/>
+        <frame pos="0.2 0 0" euler="0 0.5 0"><geom type="box" fromto="0 0 0 0.3 0.1 0" size="0.05 0.02 0"/>
+          <geom type="cylinder" fromto="0 0 0 0 0 -0.4" size="0.04" mass="0.7"/>
+          <frame pos="0 0.1 0" quat="0.9 0 0.3 0.1"><body name="b"><joint name="jb" axis="1 0 0"/>
+            <geom type="ellipsoid" fromto="0 0 0 0.1 0.2 0.3" size="0.05 0.03 0"/></body></frame></frame></body>
+    </worldbody></mujoco>""",
+    "shells": """<mujoco><worldbody><body name="a"><freejoint/>
+      <geom type="sphere" size=".1" shellinertia="true"/><geom type="box" size=".1 .2 .3" pos=".3 0 0"
+       shellinertia="true" density="10"/><geom type="cylinder" size=".05 .2" pos="0 .4 0" shellinertia="true"/>
+      <geom type="capsule" size=".05 .1" pos="0 0 .5" shellinertia="true" mass="2"/></body></worldbody></mujoco>""",
+    "compiler_masses": """<mujoco><compiler boundmass="0.3" boundinertia="0.004" balanceinertia="true"
+        settotalmass="7"/><worldbody><body name="s" pos="1 0 0"><geom type="sphere" size=".05" mass="0.01"/></body>
+      <body name="a"><joint name="ja"/><inertial pos="0 0 0" mass="1" diaginertia="1 1 5"/>
+        <body name="b"><joint name="jb" type="slide"/><geom type="box" size=".01 .01 .01" mass="0.1"/></body>
+      </body></worldbody></mujoco>""",
+    "inertia_sources": """<mujoco><compiler inertiafromgeom="auto" inertiagrouprange="1 3"/><worldbody>
+      <body name="a"><joint name="ja"/><geom type="sphere" size=".1" group="0"/><geom type="box" size=".1 .1 .1"
+        group="2" pos=".2 0 0"/><body name="b"><joint name="jb"/><inertial pos=".1 0 0" mass="2"
+        fullinertia="0.3 0.2 0.25 0.01 -0.02 0.03"/><geom type="sphere" size="1" group="2"/>
+        <body name="c" pos="0 .3 0"><joint name="jc" type="ball"/><inertial pos="0 0 .1" mass=".5"
+          diaginertia=".01 .02 .025" quat="0.9 0.1 0 0.2"/></body>
+      </body></body></worldbody></mujoco>""",
+    "gravity_off": """<mujoco><option gravity="0 1 -3"><flag gravity="disable"/></option><worldbody>
+      <body name="a"><joint name="ja" axis="1 0 0"/><geom type="capsule" size=".05 .2"/></body>
+    </worldbody></mujoco>""",
+}
+
+
+@pytest.mark.parametrize("name", sorted(FEATURES))
+def test_each_mjcf_rule_is_read_as_mujoco_compiles_it(tmp_path, name):
+    """One file per group of rules (docs/reading.md): every orientation form with a mixed-case eulerseq, defaults with
+    nested classes and childclass (a <freejoint> takes none), <frame>s and fromto for every shape that takes it,
+    shell inertias, boundmass/boundinertia/balanceinertia/settotalmass, inertiagrouprange with explicit and full
+    inertials, a disabled gravity: relacc's reading is MuJoCo's compiled model to c eps."""
+    path = tmp_path / f"{name}.xml"
+    path.write_text(FEATURES[name])
+    agrees_with_mujoco(path)
+
+
+def test_includes_comments_whitespace_and_nul_are_read_as_mujoco_reads_them(tmp_path):
+    """An included file (nested, names from the main file's directory), a comment holding ``--`` (XML forbids it,
+    MuJoCo and relacc's own example allow it), whitespace before the XML declaration and NUL bytes after the
+    document: read, with notes, and places name the included file's own lines."""
+    (tmp_path / "parts").mkdir()
+    (tmp_path / "parts" / "arm.xml").write_text('<mujoco>\n<body name="b" pos="0 0 .5"><joint name="jb"/>\n'
+                                                '<geom type="sphere" size=".1"/></body></mujoco>')
+    (tmp_path / "parts" / "robot.xml").write_text('<mujoco><include file="parts/arm.xml"/></mujoco>')
+    path = tmp_path / "scene.xml"
+    path.write_bytes(b'\n  <?xml version="1.0"?>\n<!-- run: relacc compare --states 3 -->\n<mujoco><worldbody>'
+                     b'<body name="a"><joint name="ja"/><geom type="box" size=".1 .1 .1"/>'
+                     b'<include file="parts/robot.xml"/></body></worldbody></mujoco>\x00\x00')
+    reading = read(path)
+    assert any("NUL" in n for n in reading.notes) and any("whitespace" in n for n in reading.notes)
+    assert reading.place("body", "b") == f"{tmp_path / 'parts' / 'arm.xml'}:2"
+    assert reading.place("body", "a") == f"{path}:4"
+    assert reading.tree.body_names == ("a", "b")
+    mj_text = path.read_bytes().strip(b"\x00").strip()  # MuJoCo's parser reads the same document
+    (tmp_path / "plain.xml").write_bytes(mj_text)
+    assert differences(reading, load("mujoco", tmp_path / "plain.xml")) == []
+
+
+def _urdf(rpy="0 0 1.570796", extra=""):
+    return f"""<robot name="turned">
+  <link name="base"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.2" rpy="0.2 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <link name="l1"><inertial><origin xyz="0.1 0 -0.2" rpy="{rpy}"/><mass value="1"/>
+    <inertia ixx="1" iyy="2" izz="2.5" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j2" type="continuous"><parent link="l1"/><child link="l2"/><origin xyz="0 0 -0.4"/>
+    <axis xyz="1 0 0"/></joint>
+  <link name="l2"><inertial><origin xyz="0 0.05 -0.2" rpy="0.3 -0.1 0.5"/><mass value="0.5"/>
+    <inertia ixx="0.1" iyy="0.2" izz="0.25" ixy="0.01" ixz="0" iyz="0"/></inertial></link>{extra}
+</robot>
+"""
+
+
+def test_a_urdf_inertial_origin_turns_the_inertia(tmp_path):
+    """URDF: the inertia is written in the frame of the inertial's <origin rpy>, R = Rz(yaw) Ry(pitch) Rx(roll):
+    relacc's link-frame inertia is R I R^T, computed here by scipy from the file's numbers (the independent
+    reference: google-deepmind/mujoco#3559 is MuJoCo dropping exactly this rotation)."""
+    path = tmp_path / "turned.urdf"
+    path.write_text(_urdf())
+    tree = read(path).tree
+    R = Rotation.from_euler("xyz", [0, 0, 1.570796]).as_matrix()  # extrinsic x, y, z: URDF's rpy
+    np.testing.assert_allclose(tree.bodies[tree.body("l1")].inertia, R @ np.diag([1, 2, 2.5]) @ R.T, rtol=0,
+                               atol=TOL * 2.5)
+    R2 = Rotation.from_euler("xyz", [0.3, -0.1, 0.5]).as_matrix()
+    I2 = np.array([[0.1, 0.01, 0], [0.01, 0.2, 0], [0, 0, 0.25]])
+    np.testing.assert_allclose(tree.bodies[tree.body("l2")].inertia, R2 @ I2 @ R2.T, rtol=0, atol=TOL * 0.25)
+
+
+def test_mujoco_misreading_a_turned_inertial_is_named_the_odd_one_out(tmp_path, monkeypatch, capsys):
+    """The headline case of issue 32, planted in the installed MuJoCo (which reads it right): MuJoCo given the URDF
+    with its inertials' rotation dropped, as MuJoCo up to 3.17 does. relacc, Pinocchio and Drake agree; the referee
+    names MuJoCo alone on every quantity that differs, the audit gives the reproduced cause and the file's line, and
+    the run exits 1. Unplanted: exit 0."""
+    from relacc.engines.mujoco_ import spec
+
+    path = tmp_path / "turned.urdf"
+    path.write_text(_urdf())
+    assert main(["compare", str(path), "--states", "4", "--json"]) == 0
+    capsys.readouterr()
+    real = spec.dynamics_text
+
+    def unturned(p):
+        text, note = real(p)
+        return text.replace('rpy="0 0 1.570796"', 'rpy="0 0 0"').replace('rpy="0.3 -0.1 0.5"', 'rpy="0 0 0"'), note
+
+    monkeypatch.setattr(spec, "dynamics_text", unturned)
+    assert main(["compare", str(path), "--states", "4", "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    assert data["referee"] and all(v["odd_ones_out"] == ["mujoco"] for v in data["referee"]), data["referee"]
+    assert all(set(v["agreeing"]) == {"relacc", "pinocchio", "drake"} for v in data["referee"])
+    assert {a["where"] for a in data["audit"]} == {"link l1", "link l2"}
+    for a in data["audit"]:
+        assert set(a) >= {"relacc", "mujoco"} and "pinocchio" not in a and "drake" not in a
+        assert "mujoco#3559" in a["cause"] and a["cause_kind"] == "explained"
+        assert a["place"] == f"{path}:{5 if a['where'] == 'link l1' else 9}"
+    for quantity, row in data["dynamics"].items():
+        bad = [e for e, r in row["engines"].items() if not r["ok"]]
+        assert bad in ([], ["mujoco"]), (quantity, bad)
+
+
+def test_urdf_world_parent_fixed_links_and_mimic(tmp_path):
+    """A joint whose parent is ``world`` with no such link (Gazebo's and Drake's files) hangs its child on the world;
+    a fixed link is a body of its own without joints; a mimic joint is said in ``unevaluated``."""
+    extra = """
+  <link name="world_anchor"/>
+  <joint name="tool_mount" type="fixed"><parent link="l2"/><child link="tool"/><origin xyz="0 0 -0.3"/></joint>
+  <link name="tool"><inertial><mass value="0.2"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0"
+    iyz="0"/></inertial></link>
+  <joint name="j3" type="prismatic"><parent link="l2"/><child link="finger"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="0.1" effort="1" velocity="1"/><mimic joint="j2" multiplier="0.5"/></joint>
+  <link name="finger"><inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0"
+    iyz="0"/></inertial></link>"""
+    text = _urdf(extra=extra).replace('<link name="base"/>', "").replace('<parent link="base"/>',
+                                                                       '<parent link="world"/>')
+    text = text.replace('<link name="world_anchor"/>', "")
+    path = tmp_path / "world.urdf"
+    path.write_text(text)
+    reading = read(path)
+    assert reading.tree.bodies[0].name == "l1" and reading.tree.bodies[0].parent == -1
+    tool = reading.tree.bodies[reading.tree.body("tool")]
+    assert tool.joints == () and reading.tree.body_names[tool.parent] == "l2"
+    assert any("mimic" in u and "j3" in u for u in reading.unevaluated)
+
+
+def test_unphysical_bodies_are_findings_and_mujocos_refusal_is_one_line(tmp_path):
+    """A link whose moments break the triangle inequality and one with no mass but an inertia: relacc reads the
+    file (MuJoCo refuses the first), names both bodies with the condition and the numbers, compares Pinocchio and
+    Drake with its reading, and exits 1 for the file's own fault."""
+    text = _urdf(rpy="0 0 0").replace('ixx="1" iyy="2" izz="2.5"', 'ixx="1" iyy="1" izz="5"')
+    text = text.replace('<mass value="0.5"/>', '<mass value="0"/>')
+    path = tmp_path / "bad.urdf"
+    path.write_text(text)
+    result = compare(path, n_states=3, seed=0)
+    found = {f.body: f for f in result.findings}
+    assert set(found) == {"l1", "l2"}
+    assert "triangle inequality" in found["l1"].condition and "C = 5" in found["l1"].numbers
+    assert found["l2"].condition == "no mass but an inertia" and found["l1"].place == f"{path}:5"
+    assert not result.engines["mujoco"].loaded and "A + B >= C" in result.engines["mujoco"].error
+    assert {"pinocchio", "drake"} <= set(result.compared) and result.exit_code == 1
+
+
+def test_a_body_relacc_takes_from_mujoco_says_so(tmp_path):
+    """A mesh geom's mass properties come from MuJoCo (relacc does not compute meshes): the body is named in
+    ``taken`` and the reading still agrees with MuJoCo's compiled model."""
+    import struct
+
+    stl = tmp_path / "tet.stl"
+    tri = [((0, 0, 0), (0, 1, 0), (1, 0, 0)), ((0, 0, 0), (1, 0, 0), (0, 0, 1)), ((0, 0, 0), (0, 0, 1), (0, 1, 0)),
+           ((1, 0, 0), (0, 1, 0), (0, 0, 1))]
+    data = bytearray(80) + struct.pack("<I", len(tri))
+    for t in tri:
+        data += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *v) for v in t) + b"\0\0"
+    stl.write_bytes(bytes(data))
+    path = tmp_path / "meshed.xml"
+    path.write_text('<mujoco><asset><mesh name="tet" file="tet.stl" scale="0.2 0.2 0.2"/></asset><worldbody>'
+                    '<body name="a"><joint name="ja"/><geom type="mesh" mesh="tet" pos="0.1 0 0" euler="0 30 0"/>'
+                    '<geom type="sphere" size="0.05" pos="0 0.2 0"/></body></worldbody></mujoco>')
+    reading = agrees_with_mujoco(path)
+    assert set(reading.taken) == {"a"} and "mesh 'tet'" in reading.taken["a"]
+
+
+@pytest.mark.parametrize("given,message", [(None, "expected a path"), (3, "expected a path"),
+                                           (b"robot.xml", "expected a path"), ("robot.obj", "ends in .xml")])
+def test_a_model_file_that_is_not_a_path_is_one_error(given, message):
+    """Tree.from_file(None | 3 | bytes) raised a bare TypeError before."""
+    with pytest.raises(ModelError, match=message):
+        relacc.Tree.from_file(given)
+
+
+def test_the_chain_tree_is_unchanged_by_the_reading():
+    """models/two_body.xml read by relacc is the note's chain (Tree.from_chain of the shipped TOML), body by body."""
+    from relacc.fixtures import load as load_fixture
+    from relacc.fixtures.shipped import models_dir
+
+    mine = read(models_dir() / "two_body.xml").tree
+    chain = relacc.Tree.from_chain(load_fixture().chain)
+    for a, b in zip(mine.bodies, chain.bodies):
+        np.testing.assert_allclose(a.com, b.com, rtol=0, atol=TOL)
+        np.testing.assert_allclose(a.inertia, b.inertia, rtol=0, atol=TOL * np.abs(b.inertia).max())
+        assert a.mass == pytest.approx(b.mass, rel=TOL, abs=0)
+    assert [j.type for _, j in mine.joints] == [j.type for _, j in chain.joints]
+
+
+def test_mujoco_compiles_what_relacc_reads_for_every_shape(tmp_path):
+    """The primitives' closed forms (relacc.reading.inertia) against MuJoCo's for a spread of sizes, solid and
+    shell: mass and moments to c eps (the independent reference for each formula)."""
+    from relacc.reading.inertia import SHAPES, shape
+
+    rng = np.random.default_rng(20261124)
+    for kind in SHAPES:
+        for shell in (False, True):
+            if kind == "ellipsoid" and shell:
+                continue
+            size = rng.uniform(0.05, 0.5, 3)
+            attr = ' shellinertia="true"' if shell else ""
+            m = mujoco.MjModel.from_xml_string(f'<mujoco><worldbody><body><freejoint/><geom type="{kind}" size="'
+                                               f'{" ".join(repr(float(x)) for x in size)}" density="700"{attr}/></body>'
+                                               "</worldbody></mujoco>")
+            measure, moments = shape(kind, size, shell)
+            mass = 700 * measure
+            assert m.body_mass[1] == pytest.approx(mass, rel=TOL, abs=0), (kind, shell)
+            np.testing.assert_allclose(np.sort(m.body_inertia[1]), np.sort(mass * moments), rtol=TOL, atol=0,
+                                       err_msg=f"{kind} shell={shell} size {size}")
