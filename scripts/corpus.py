@@ -95,9 +95,10 @@ def summarize(code: int, stdout: str, stderr: str, root: Path) -> dict:
     data = json.loads(stdout)
     bad = [r for q in data["dynamics"].values() for r in q["engines"].values() if not r["ok"]]
     row.update(compared=data["compared"], audit=len(data["audit"]), dynamics=len(bad),
-               unexplained=sum("not explained" in r["cause"] for r in bad)
-               + sum("not explained" in a["cause"] for a in data["audit"]),
-               absent=sorted(k for k, e in data["engines"].items() if not e["loaded"]))
+               unexplained=sum(r["cause_kind"] == "not explained" for r in bad)
+               + sum("not explained" in a["cause_kind"] for a in data["audit"]),
+               absent=sorted(k for k, e in data["engines"].items() if not e["loaded"]),
+               findings=len(data["findings"]))
     return row
 
 
@@ -115,9 +116,10 @@ def line(package: str, shown: str, row: dict) -> str:
     if "message" in row:
         what = row["message"].replace("|", "\\|")
         return f"| {package} | `{shown}` | {row['exit']} | - | - | - | - | {what} |"
-    absent = f"not taking part: {', '.join(row['absent'])}" if row["absent"] else ""
+    said = [f"findings: {row['findings']}"] if row.get("findings") else []
+    said += [f"not taking part: {', '.join(row['absent'])}"] if row["absent"] else []
     return (f"| {package} | `{shown}` | {row['exit']} | {', '.join(row['compared'])} | {row['audit']} | "
-            f"{row['dynamics']} | {row['unexplained']} | {absent} |")
+            f"{row['dynamics']} | {row['unexplained']} | {'; '.join(said)} |")
 
 
 def shown_rows(text: str) -> dict[tuple[str, str], str]:

@@ -105,7 +105,7 @@ def test_planted_faults_are_found_and_attributed(tmp_path, fault, item, where, v
     ({"compiler": '\n  <compiler settotalmass="5"/>'}, ("pinocchio", "drake"), "model", "settotalmass"),
     ({"extra": '\n    <body name="puck" pos="1 0 0"><joint name="px" type="slide" axis="1 0 0"/>'
                '<geom type="sphere" size="0.05"/></body>'}, ("pinocchio",), "joint px (slide, body puck)",
-     "reads only the first <body> under <worldbody>"),
+     "reads only the first <body> written directly in the main file"),
     ({"visual": ' contype="0" conaffinity="0"', "armature": ""}, ("pinocchio",), "link link3",
      "contype=0 and conaffinity=0"),
 ])

@@ -15,8 +15,8 @@ import pytest
 from relacc.cli import main
 from relacc.core.tolerances import robot_tolerance
 from relacc.errors import ModelError
-from relacc.validation.robots import comparison as robots
 from relacc.validation.robots import compare
+from relacc.validation.robots import comparison as robots
 from relacc.validation.robots.agreement import KINEMATIC
 
 UNNAMED = """<mujoco model="unnamed">

@@ -113,9 +113,16 @@ def _is_robot(args) -> bool:
     return args.model is not None and Path(args.model).suffix.lower() in (".xml", ".urdf")
 
 
+CHAIN_STATES, MODEL_STATES = 1000, 20
+"""``relacc check``'s default states per case: the chain's, a model file's (a full dynamics evaluation per engine
+each). An explicit ``--states`` is always what runs."""
+
+
 def cmd_check(args) -> int:
     if _is_robot(args):
         return _check_tree(args)
+    if args.states is None:
+        args.states = CHAIN_STATES
     harness = _harness(args)
     if args.scheduler:
         from relacc.cluster.sweeps import check
@@ -154,7 +161,7 @@ def _check_tree(args) -> int:
     if args.scheduler:
         raise InputError("--scheduler runs the chain's sweeps; for a model file, run relacc check --model FILE here "
                          "or relacc compare FILE... --scheduler")
-    states = 20 if args.states == 1000 else args.states  # each state is a full dynamics evaluation per engine
+    states = MODEL_STATES if args.states is None else args.states  # each is a full dynamics evaluation per engine
     report = check_tree(args.model, engines=args.engines, cases=args.cases, n_states=states, seed=args.seed,
                         progress=_progress(args))
     if args.json:

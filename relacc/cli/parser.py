@@ -135,9 +135,9 @@ def _scheduler(p, what):
                         "the same answer")
 
 
-def _states(p, default, what="states per case"):
+def _states(p, default, what="states per case", shown=None):
     p.add_argument("--states", type=_int_in(1, MAX_STATES), default=default, metavar="N",
-                   help=f"{what} (default {default})")
+                   help=f"{what} (default {default if shown is None else shown})")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -181,7 +181,8 @@ def build_parser() -> argparse.ArgumentParser:
              ["relacc check", "relacc check --states 100000 --cases 3 --engines mujoco",
               "relacc check --json --seed 7 > check.json",
               "relacc check --states 100000000 --scheduler tcp://10.0.0.5:8786"])
-    _states(p, 1000)
+    _states(p, None, shown="1000 for the chain, 20 for a model file: each of its states is a full dynamics "
+                           "evaluation per engine")
     _seed(p)
     p.add_argument("--cases", type=_cases, default=(1, 2, 3), metavar="1,2,3",
                    help="comma-separated subset of 1,2,3 (default all)")

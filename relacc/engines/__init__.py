@@ -56,13 +56,13 @@ def adapter_module(name: str):
     return importlib.import_module(f"relacc.engines.{name}_")
 
 
-def readings(name: str) -> tuple[tuple, tuple]:
-    """``(MJCF_READINGS, ENGINE_READINGS)`` of an engine: how its parser reads a model differently from MuJoCo (as
-    changes to MuJoCo's spec) and the known differences in its algorithms (MuJoCo, the reference: none)."""
+def readings(name: str) -> tuple:
+    """An engine's ``ENGINE_READINGS``: the known differences in its algorithms (rather than its reading of a file,
+    which :data:`relacc.validation.robots.causes.READINGS` reproduces), each ``(key, text, applies(adapter),
+    rebuild(adapter))``; MuJoCo: none."""
     if name == "mujoco":
-        return (), ()
-    module = importlib.import_module(f"{adapter_module(name).__name__}.readings")
-    return module.MJCF_READINGS, module.ENGINE_READINGS
+        return ()
+    return importlib.import_module(f"{adapter_module(name).__name__}.readings").ENGINE_READINGS
 
 
 def load(name: str, path, reference=None, **options) -> Adapter:

@@ -156,6 +156,24 @@ class Match:
     v: tuple
 
 
+def by_order(reference, matches, engine_joints) -> list[Match]:
+    """``matches`` completed by structure where names say nothing: the reference's unmatched joints, in order, paired
+    with the engine's unmatched joints, in order, when the two sequences have the same joint types (a file whose
+    bodies and joints are unnamed: each parser names them its own way, none the file's). ``engine_joints``: the
+    engine's joints in its order, ``(id, type, its positions (tuple), its speeds (tuple))``; those already in
+    ``matches`` (by their speeds) are skipped."""
+    used = {v for m in matches for v in m.v}
+    matched = {k for m in matches for k in m.joints}
+    mine = [(k, j, qa, da) for k, ((_, j), qa, da) in enumerate(zip(reference.joints, reference.qadr(2),
+                                                                      reference.dofadr)) if k not in matched]
+    theirs = [e for e in engine_joints if not set(e[3]) & used]
+    if not mine or [j.type for _, j, _, _ in mine] != [e[1] for e in theirs]:
+        return list(matches)
+    extra = [Match(j.type, (k,), tuple(range(qa, qa + NQ[j.type])), tuple(range(da, da + NV[j.type])), tuple(q),
+                   tuple(v)) for (k, j, qa, da), (_, _, q, v) in zip(mine, theirs)]
+    return sorted(list(matches) + extra, key=lambda m: m.joints)
+
+
 def combine(parts) -> tuple[float, np.ndarray, np.ndarray]:
     """``(mass, com, inertia about com)`` of rigid parts ``(mass, com (3,), inertia about own com (3, 3))``.
 
@@ -301,13 +319,6 @@ class Adapter(abc.ABC):
     def lost_offset(self, name: str) -> float:
         """Metres by which the engine's model misplaces the named point (0 unless an engine rounds the model)."""
         return 0.0
-
-    @property
-    def mjcf_readings(self) -> tuple:
-        """How this engine's MJCF parser reads a file differently from MuJoCo, as changes to MuJoCo's spec
-        (``(key, text, applies(spec), change(spec))``; :func:`relacc.validation.robots.audit.explain`): none by
-        default."""
-        return ()
 
     @property
     def tree(self):

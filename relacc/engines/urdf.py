@@ -20,6 +20,7 @@ from relacc.errors import ModelError
 GEOMETRY = ("visual", "collision")
 ELEMENTS = re.compile(r"<(visual|collision|mimic)\b[^>]*?/>|<(visual|collision|mimic)\b.*?</\2\s*>", re.S)
 """A self-closed or a whole element of those the dynamics do not read (none of them nests in itself)."""
+DECLARATION = re.compile(r"^<\?xml.*?\?>", re.S)
 
 
 def is_urdf(path) -> bool:
@@ -43,7 +44,11 @@ def dynamics_text(path) -> tuple[str, str | None]:
 @functools.lru_cache(maxsize=8)
 def _dynamics_text(path: Path, mtime_ns: int, size: int) -> tuple[str, str | None]:
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
+        # what MuJoCo reads: whitespace before the declaration and NUL bytes after the document left out, and the
+        # (optional) declaration itself, so that the engines' messages keep the file's line numbers
+        body = DECLARATION.sub(lambda m: "\n" * m.group(0).count("\n"), text.lstrip()).rstrip("\x00")
+        text = "\n" * text[:len(text) - len(text.lstrip())].count("\n") + body
         ET.fromstring(text)  # a parse error names its line in the user's own file
     except (ET.ParseError, OSError, UnicodeDecodeError) as exc:
         raise ModelError(f"{path}: not a readable URDF: {' '.join(str(exc).split())}") from None

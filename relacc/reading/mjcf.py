@@ -69,11 +69,40 @@ class MeshGeom:
     attributes: dict
 
 
-def read(path, meshes=None) -> Reading:
+VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored", "visual_geoms_ignored",
+            "mesh_unit_inertia", "gravity_default", "settotalmass_ignored", "gravity_flag_ignored",
+            "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped")
+"""How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
+Pinocchio's:
+
+* ``first_body_only``: only the first ``<body>`` written directly in the main file's ``<worldbody>`` (it expands no
+  ``<include>``);
+* ``first_body_unplaced``: that first body, when it has no joint, at the world frame (its pos and orientation
+  dropped);
+* ``default_geom_mass_ignored``: a geom's ``mass`` inherited from a ``<default>`` class ignored, its density used (a
+  mass written on the geom is honoured);
+* ``visual_geoms_ignored``: geoms with ``contype = conaffinity = 0`` out of the inertia;
+* ``mesh_unit_inertia``: in a body whose colliding geoms (not ``contype = conaffinity = 0``) are all meshes, each
+  of them 1 kg with a unit inertia at its frame (neither the mesh nor the geom's mass read), the others none;
+* ``gravity_default``: gravity ``(0, 0, -9.81)`` whatever ``<option>`` says;
+* ``settotalmass_ignored`` (Pinocchio's and Drake's): no scaling by ``<compiler settotalmass>``.
+
+Drake's:
+
+* ``gravity_flag_ignored``: ``<flag gravity="disable"/>`` ignored;
+* ``stacked_joints_in_parent``: in a body with several joints placed away from its parent, every joint but the last
+  read with its ``pos`` and ``axis`` in the parent's frame;
+* ``armature_without_actuator``: a joint's armature kept only where a ``<motor>`` or ``<position>`` actuator drives
+  it;
+* ``free_damping_dropped``: a free joint's damping dropped.
+"""
+
+
+def read(path, meshes=None, variant=frozenset()) -> Reading:
     """relacc's reading of the MJCF at ``path`` (module docstring). ``meshes``: a callable ``MeshGeom ->
     (mass kg, centre (3,), inertia about it (3, 3))`` in the frame the geom is placed in (its body's, or the
     ``<frame>`` holding it), its own ``pos`` and orientation included; without one, a body whose inertia needs a mesh
-    is refused (the message names it).
+    is refused (the message names it). ``variant``: names of :data:`VARIANTS`, an engine's way of reading the file.
 
     Raises:
         ModelError: the file (or one it includes) cannot be read, holds an element relacc does not read yet, or a
@@ -82,6 +111,9 @@ def read(path, meshes=None) -> Reading:
     path = Path(path)
     notes: list[str] = []
     root = parse_file(path, notes)
+    if root.tag == "mujocoinclude":
+        raise ModelError(f"{root.place}: <mujocoinclude>: a fragment for other files to <include>, not a model (compare "
+                         "the file that includes it)")
     if root.tag != "mujoco":
         raise ModelError(f"{root.place}: the root element is <{root.tag}>; an MJCF's is <mujoco>")
     _inline(root, path.parent, 0)
@@ -89,7 +121,10 @@ def read(path, meshes=None) -> Reading:
         if node.tag in REFUSED:
             raise ModelError(f"{node.place}: <{node.tag}> builds bodies procedurally; relacc does not read it yet "
                              "(compare the file MuJoCo writes out, mujoco.MjSpec.to_xml, instead)")
-    reader = _Reader(path, root, notes, meshes)
+    unknown = set(variant) - set(VARIANTS)
+    if unknown:
+        raise ModelError(f"unknown reading variants {sorted(unknown)}: accepted are {', '.join(VARIANTS)}")
+    reader = _Reader(path, root, notes, meshes, frozenset(variant))
     return reader.reading()
 
 
@@ -117,8 +152,9 @@ def _inline(node: Node, directory: Path, depth: int) -> None:
 class _Reader:
     """One file's reading in progress (the module docstring, step by step)."""
 
-    def __init__(self, path: Path, root: Node, notes: list, meshes):
+    def __init__(self, path: Path, root: Node, notes: list, meshes, variant=frozenset()):
         self.path, self.root, self.notes, self.meshes = path, root, notes, meshes
+        self.variant = variant
         self.normalized = frames.Normalized()
         self.compiler = {}
         for node in root.findall("compiler"):
@@ -144,6 +180,11 @@ class _Reader:
         self.places, self.ranges, self.damping, self.stiffness, self.taken = {}, {}, {}, {}, {}
         self.findings = []
         self.njoints = 0
+        self.default_masses = 0
+        self.first_body = None
+        self.visual_geoms = self.stacked = self.unactuated = self.damped_free = 0
+        self.driven = {a.get("joint") for s in root.findall("actuator") for a in s.children
+                       if a.tag in ("motor", "position") and a.get("joint")}
 
     def _compiler_numbers(self, key, default):
         text = self.compiler.get(key)
@@ -193,6 +234,10 @@ class _Reader:
         if cls not in self.classes:
             raise ModelError(f"{node.place}: <{node.tag}> names class {cls!r}, which no <default> defines")
         merged = dict(self.classes[cls].get(node.tag, {}))
+        if node.tag == "geom" and "mass" in merged and "mass" not in node.attrib:  # a mass from its class
+            merged["_default_mass"] = "1"  # a mark, never an MJCF attribute (they have no leading underscore)
+            if "default_geom_mass_ignored" in self.variant:
+                del merged["mass"]
         merged.update(node.attrib)
         return Node(node.tag, merged, node.file, node.line, node.children)
 
@@ -225,6 +270,10 @@ class _Reader:
     # ---- the tree --------------------------------------------------------------------------------------------
     def reading(self) -> Reading:
         worlds = self.root.findall("worldbody")
+        self.first_body = next((b for w in worlds for b in w.findall("body") if b.file == str(self.path)), None)
+        if "first_body_only" in self.variant:
+            first = self.first_body
+            worlds = [Node("worldbody", {}, str(self.path), 0, [] if first is None else [first])]
         for world in worlds:
             self._children(world, -1, np.zeros(3), np.eye(3), "main")
             for site in world.findall("site"):  # the world's sites: points of the world
@@ -232,19 +281,31 @@ class _Reader:
         if not self.bodies:
             raise ModelError(f"{self.path}: the MJCF has no <body> in its <worldbody>: there is nothing to evaluate")
         self._compiler_masses()
-        gravity = np.array([0.0, 0.0, -9.81])
+        gravity, disabled = np.array([0.0, 0.0, -9.81]), False
         for option in self.root.findall("option"):
             if option.get("gravity") is not None or option.findall("flag"):
                 self.places[("option", "gravity")] = option.place
             gravity = np.array(numbers(option, "gravity", 3, list(gravity)))
             for flag in option.findall("flag"):
-                if flag.get("gravity") == "disable":
-                    gravity = np.zeros(3)
+                disabled = disabled or flag.get("gravity") == "disable"
+        written = gravity
+        if "gravity_default" in self.variant:
+            gravity = np.array([0.0, 0.0, -9.81])
+        elif disabled and "gravity_flag_ignored" not in self.variant:
+            gravity = np.zeros(3)
         name = self.root.get("model") or self.path.stem
         tree = Tree(name, tuple(self.bodies), gravity=gravity, points=tuple(self.points), source=str(self.path))
+        first = self.first_body
+        facts = {"world_children": sum(1 for w in self.root.findall("worldbody") for b in w.findall("body")),
+                 "default_geom_masses": self.default_masses, "gravity_written": written.tolist(),
+                 "gravity_disabled": disabled, "settotalmass": self._compiler_numbers("settotalmass", [-1.0])[0] > 0,
+                 "placed_jointless_first": first is not None and not self._has_joint(first)
+                 and any(first.get(k) is not None for k in ("pos", "quat", "axisangle", "euler", "xyaxes", "zaxis")),
+                 "visual_geoms": self.visual_geoms, "mesh_bodies": bool(self.taken),
+                 "stacked": self.stacked, "unactuated_armature": self.unactuated, "damped_free": self.damped_free}
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
                        self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
-                       tuple(self.findings))
+                       tuple(self.findings), facts=facts, variant=self.variant)
 
     def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         """Bodies and frames directly in ``node`` (a body, a frame or the world), placed by ``(at, R)`` in the parent
@@ -265,7 +326,9 @@ class _Reader:
         pos, Rb = self.pose(node)
         pos, Rb = at + R @ pos, R @ Rb
         index = len(self.bodies)
-        joints = self._joints(node, cls, name)
+        joints = self._joints(node, cls, name, pos, Rb)
+        if "first_body_unplaced" in self.variant and parent == -1 and not joints and node is self.first_body:
+            pos, Rb = np.zeros(3), np.eye(3)
         if node.get("mocap") == "true" and joints:
             raise ModelError(f"{node.place}: mocap body {name!r} has joints; MuJoCo's mocap bodies have none")
         mass, com, I = self._mass(node, cls, name)
@@ -276,6 +339,10 @@ class _Reader:
                                 physical=not any(f.condition != "no mass but an inertia" for f in found)))
         self._sites(node, index, np.zeros(3), np.eye(3), cls)
         self._children(node, index, np.zeros(3), np.eye(3), cls)
+
+    @staticmethod
+    def _has_joint(node: Node) -> bool:
+        return any(c.tag in ("joint", "freejoint") for c in node.children)
 
     def _sites(self, node: Node, body: int, at, R, cls) -> None:
         for child in node.children:
@@ -304,9 +371,16 @@ class _Reader:
                 pos, Rf = self.pose(child)
                 yield from self._elements(child, tag, child.get("childclass") or cls, at + R @ pos, R @ Rf)
 
-    def _joints(self, node: Node, cls: str, body: str) -> list[Joint]:
+    def _joints(self, node: Node, cls: str, body: str, body_pos=None, Rb=None) -> list[Joint]:
+        """The body's joints; ``body_pos``, ``Rb``: its frame in its parent's (for Drake's stacked-joint reading)."""
         out = []
-        for j, at, R in self._elements(node, "joint", cls):
+        elements = list(self._elements(node, "joint", cls))
+        several = len(elements) > 1 and body_pos is not None and bool(np.any(body_pos != 0))
+        self.stacked += several
+        stacked = "stacked_joints_in_parent" in self.variant and several
+        for k, (j, at, R) in enumerate(elements):
+            if stacked and k < len(elements) - 1:  # Drake's: pos and axis taken in the parent's frame
+                at, R = Rb.T @ (at - body_pos), Rb.T @ R
             kind = "free" if j.tag == "freejoint" else j.get("type", "hinge")
             if kind not in ("free", "ball", "slide", "hinge"):
                 raise ModelError(f"{j.place}: joint type {kind!r}; MJCF's are free, ball, slide, hinge")
@@ -318,7 +392,15 @@ class _Reader:
             self.places[("joint", name)] = j.place
             nv = {"free": 6, "ball": 3}.get(kind, 1)
             armature = number(j, "armature", 0.0)
+            if armature and name not in self.driven:
+                self.unactuated += 1
+                if "armature_without_actuator" in self.variant:
+                    armature = 0.0
             damping = number(j, "damping", 0.0)
+            if kind == "free" and damping:
+                self.damped_free += 1
+                if "free_damping_dropped" in self.variant:
+                    damping = 0.0
             if damping:
                 self.damping[name] = np.full(nv, damping)
             if kind == "free":
@@ -370,13 +452,17 @@ class _Reader:
             return mass, pos, 0.5 * (I + I.T)
         if self.fromgeom == "false":
             return 0.0, np.zeros(3), np.zeros((3, 3))
-        parts, meshy = [], []
+        parts, meshy, solid = [], [], []
         for g, at, R in self._elements(node, "geom", cls):
             part = self._geom(g, at, R, body)
             if part is not None:
                 parts.append(part[:3])
                 if part[3]:
                     meshy.append(part[3])
+                if not (number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0):
+                    solid.append((bool(part[3]), at + R @ np.array(numbers(g, "pos", 3, [0.0, 0.0, 0.0]))))
+        if "mesh_unit_inertia" in self.variant and solid and all(m for m, _ in solid):  # Pinocchio's meshes
+            return inertia.combine((1.0, c, np.eye(3)) for _, c in solid)
         if meshy:
             self.taken[body] = f"inertia from {', '.join(meshy)}: computed by MuJoCo, not by relacc"
         return inertia.combine(parts)
@@ -386,8 +472,13 @@ class _Reader:
         group = int(number(g, "group", 0))
         if not self.groups[0] <= group <= self.groups[1]:
             return None
-        if self.discardvisual and number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0:
+        visual = number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0
+        if visual and self.discardvisual:
             return None
+        if visual:
+            self.visual_geoms += 1
+            if "visual_geoms_ignored" in self.variant:
+                return None
         kind = g.get("type", "mesh" if g.get("mesh") else "sphere")
         if kind not in GEOM_TYPES:
             raise ModelError(f"{g.place}: geom type {kind!r}; MJCF's are {', '.join(GEOM_TYPES)}")
@@ -395,6 +486,8 @@ class _Reader:
             return None  # no volume: MuJoCo allows them in static bodies only, with no mass
         shell = g.get("shellinertia") == "true"
         mass_given = number(g, "mass")
+        if g.get("_default_mass"):
+            self.default_masses += 1
         if kind in ("mesh", "sdf") or g.get("mesh"):  # a mesh, or a primitive MuJoCo fits to a mesh
             if self.meshes is None:
                 raise ModelError(f"{g.place}: body {body!r} takes mass properties from a mesh geom, which relacc does "
@@ -435,6 +528,8 @@ class _Reader:
         boundinertia = self._compiler_numbers("boundinertia", [0.0])[0]
         balance = self.compiler.get("balanceinertia", "false") == "true"
         total = self._compiler_numbers("settotalmass", [-1.0])[0]
+        if "settotalmass_ignored" in self.variant:
+            total = -1.0
         if not (boundmass > 0 or boundinertia > 0 or balance or total > 0):
             return
         changed = []

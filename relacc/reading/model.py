@@ -52,6 +52,10 @@ class Reading:
         findings: :class:`Finding` per body that is not physical.
         turned_inertials: ``{body name: (3, 3) inertia as written}`` of the URDF inertials whose ``<origin rpy>``
             turns them (kg m^2, in the inertial's own axes): to reproduce an engine that drops the rotation.
+        facts: what an engine's other reading depends on (an MJCF's ``world_children``, ``default_geom_masses``,
+            ``gravity_written``, ``gravity_disabled``).
+        variant: the engine's way of reading the file this reading follows (:data:`relacc.reading.mjcf.VARIANTS`;
+            empty: the format's).
     """
 
     tree: Tree
@@ -66,6 +70,8 @@ class Reading:
     notes: tuple = ()
     findings: tuple = ()
     turned_inertials: dict = field(default_factory=dict)
+    facts: dict = field(default_factory=dict)
+    variant: frozenset = frozenset()
 
     def place(self, kind: str, name: str) -> str:
         """``file:line`` of an element, or the file when unknown."""

@@ -12,8 +12,9 @@ SUFFIXES = {".xml": "mjcf", ".urdf": "urdf"}
 """Description formats by file suffix (lower case; ``BALL.XML`` is an MJCF too)."""
 
 
-def read(path, meshes="mujoco") -> Reading:
-    """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file.
+def read(path, meshes="mujoco", variant=frozenset()) -> Reading:
+    """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file; ``variant``: an engine's way of reading an
+    MJCF (:data:`relacc.reading.mjcf.VARIANTS`), for reproducing that engine.
 
     ``meshes``: where an MJCF's mesh geoms' mass properties come from (:func:`relacc.reading.mjcf.read`): ``"mujoco"``
     (default) asks MuJoCo for each (:mod:`relacc.engines.mujoco_.meshes`, imported only then; the bodies concerned are
@@ -36,7 +37,7 @@ def read(path, meshes="mujoco") -> Reading:
         return urdf.read(path)
     from relacc.reading import mjcf
 
-    return mjcf.read(path, _mesh_reader if meshes == "mujoco" else meshes)
+    return mjcf.read(path, _mesh_reader if meshes == "mujoco" else meshes, variant)
 
 
 def _mesh_reader(mesh):

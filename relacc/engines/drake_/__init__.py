@@ -43,7 +43,6 @@ from relacc.core.tree.coordinates import reference_q
 from relacc.engines.base import Adapter, Joint, Link, Points, Structure, combine, moving_mass
 from relacc.engines.drake_ import run
 from relacc.engines.drake_.plant import build_plant, match_parsed, parse, quiet
-from relacc.engines.drake_.readings import MJCF_READINGS, drop_armature, unactuated
 from relacc.errors import EngineError
 
 __all__ = ["DrakeAdapter", "load", "version"]
@@ -136,15 +135,6 @@ class DrakeAdapter(Adapter):
             parts.append((M.get_mass(), X.multiply(M.get_com()), R @ Icm @ R.T))
         mass, com, inertia = combine(parts)
         return Link(name, tuple(b.name() for b in self._group(head)), mass, com, inertia)
-
-    @property
-    def mjcf_readings(self) -> tuple:
-        """Drake's MJCF readings, the armature reading bound to the joints this plant has an actuator on."""
-        driven = frozenset(self.plant.get_joint_actuator(a).joint().name()
-                           for a in self.plant.GetJointActuatorIndices())
-        return tuple((key, text, lambda spec: bool(unactuated(spec, driven)),
-                      lambda spec: drop_armature(spec, driven)) if key == "armature" else
-                     (key, text, applies, change) for key, text, applies, change in MJCF_READINGS)
 
     def _set(self, qe, ve=None):
         p, ctx = self.plant, self.context
@@ -239,6 +229,8 @@ class DrakeAdapter(Adapter):
         return M, f
 
     def forward(self, qe, ve, effects=None, t=0.0):
+        """Drake's forward dynamics; a state where Drake finds an articulated mass matrix not positive definite (a
+        joint that moves no inertia) is NaN: its forward dynamics is undefined, as the comparison reads it."""
         p, ctx = self.plant, self.context
         tau = self.generalized_forces(qe, ve, effects, t)
         quiet(p, ctx)
@@ -248,7 +240,12 @@ class DrakeAdapter(Adapter):
             for i in range(len(qe)):
                 self._set(qe[i], ve[i])
                 p.get_applied_generalized_force_input_port().FixValue(ctx, tau[i])
-                out[i] = p.get_generalized_acceleration_output_port().Eval(ctx)
+                try:
+                    out[i] = p.get_generalized_acceleration_output_port().Eval(ctx)
+                except RuntimeError as exc:
+                    if "not positive-definite" not in str(exc):
+                        raise
+                    out[i] = np.nan
         finally:
             self._gravity(None)
             p.get_applied_generalized_force_input_port().FixValue(ctx, np.zeros(self.nv_e))

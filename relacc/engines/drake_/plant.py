@@ -24,7 +24,7 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, QuaternionFloatingJoint, RotationalInertia, SpatialInertia
 
-from relacc.engines.base import NQ, NV, Match
+from relacc.engines.base import NQ, NV, Match, by_order
 from relacc.engines.mjcf import has_zero_inertial, without_meshes
 from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import EngineError, ModelError
@@ -175,7 +175,15 @@ def match_parsed(plant, reference) -> tuple[list[Match], dict]:
                              tuple(range(dj.position_start(), dj.position_start() + dj.num_positions())),
                              tuple(range(dj.velocity_start(), dj.velocity_start() + dj.num_velocities()))))
         heads[body] = dj.child_body()  # the last joint of a body wins
-    return matches, heads
+    ordered = sorted(joints, key=lambda j: j.velocity_start())
+    spans = lambda j: (tuple(range(j.position_start(), j.position_start() + j.num_positions())),  # noqa: E731
+                       tuple(range(j.velocity_start(), j.velocity_start() + j.num_velocities())))
+    completed = by_order(reference, matches, [(j.index(), TYPES.get(j.type_name()), *spans(j)) for j in ordered])
+    for m in completed:
+        if m not in matches:  # a body matched by structure: its Drake body is the joint's child
+            j = next(j for j in ordered if spans(j)[1] == m.v)
+            heads[reference.bodies[reference.joints[m.joints[0]][0]].name] = j.child_body()
+    return completed, heads
 
 
 def _inertia(m, com, inertia) -> SpatialInertia:

@@ -26,10 +26,11 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from relacc.engines.base import Adapter, Joint, Link, Match, Points, Structure, combine, moving_mass
+from relacc.engines.base import Adapter, Joint, Link, Match, Points, Structure, by_order, combine, moving_mass
 from relacc.engines.mujoco_ import run
 from relacc.engines.mujoco_.spec import (
     TYPES,
+    VERSION,
     body_name,
     captured_warnings,
     compile_spec,
@@ -48,13 +49,17 @@ def version() -> str:
     return mujoco.__version__
 
 
+FULLM_TAKES_DATA = (3, 10, 0)
+"""From MuJoCo 3.10.0 ``mj_fullM`` takes ``(m, d, dst)``; before, ``(m, dst, d.qM)`` (3.10 still has ``d.qM``, so an
+attribute test picks the wrong form there)."""
+
+
 def full_inertia(m, d, dst):
-    """Dense joint-space inertia into ``dst`` (``mj_fullM`` takes ``(m, d, dst)`` in MuJoCo 4, ``(m, dst, qM)``
-    before)."""
-    if hasattr(d, "qM"):
-        mujoco.mj_fullM(m, dst, d.qM)
-    else:
+    """Dense joint-space inertia into ``dst`` (``mj_fullM``'s call form by version: :data:`FULLM_TAKES_DATA`)."""
+    if VERSION >= FULLM_TAKES_DATA:
         mujoco.mj_fullM(m, d, dst)
+    else:
+        mujoco.mj_fullM(m, dst, d.qM)
 
 
 class MujocoAdapter(Adapter):
@@ -102,7 +107,10 @@ class MujocoAdapter(Adapter):
             nq, nv = {"free": (7, 6), "ball": (4, 3)}.get(joint.type, (1, 1))
             out.append(Match(joint.type, (k,), tuple(range(qa, qa + nq)), tuple(range(da, da + nv)),
                              tuple(range(qe, qe + nq)), tuple(range(ve, ve + nv))))
-        return out
+        spans = [(j, TYPES[int(m.jnt_type[j])], int(m.jnt_qposadr[j]), int(m.jnt_dofadr[j])) for j in range(m.njnt)]
+        return by_order(tree, out, [(j, kind, tuple(range(qa, qa + {"free": 7, "ball": 4}.get(kind, 1))),
+                                     tuple(range(da, da + {"free": 6, "ball": 3}.get(kind, 1))))
+                                    for j, kind, qa, da in spans])
 
     def joint_id(self, name: str) -> int:
         """MuJoCo's index of the reference's joint ``name``.
@@ -130,12 +138,6 @@ class MujocoAdapter(Adapter):
     @property
     def version(self) -> str:
         return version()
-
-    def recompiled(self, change) -> "MujocoAdapter":
-        """This model compiled again after ``change(spec)`` on a copy of its spec (the file is not touched)."""
-        spec = self.spec.copy()
-        change(spec)
-        return MujocoAdapter(self.path, spec, None if self.reference is self.own else self.reference)
 
     def default_q(self) -> np.ndarray:
         return self.model.qpos0.copy()

@@ -20,8 +20,11 @@ from mujoco import rollout as mj_rollout
 
 from relacc.dynamics.steps import Stepper
 from relacc.engines.base import fixed_step_only
-from relacc.engines.mujoco_.spec import TYPES
+from relacc.engines.mujoco_.spec import TYPES, VERSION
 from relacc.errors import EngineError, IntegrationError
+
+SPLIT_PASSIVE = (3, 3, 3)
+"""From MuJoCo 3.3.3 the passive-force disable flag is two, ``mjDSBL_SPRING`` and ``mjDSBL_DAMPER``."""
 
 UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQVEL", "mjWARN_BADQPOS")
 """MuJoCo's warnings that a simulation became unstable (NaN, inf or a huge value in qacc, qvel or qpos)."""
@@ -69,8 +72,7 @@ def configure(adapter, effects, t: float = 0.0) -> list[str]:
     timed = effects is not None and any(load.frequency for load in effects.bodies.values())
     flags = D.mjDSBL_CONTACT | D.mjDSBL_CONSTRAINT | D.mjDSBL_EQUALITY | D.mjDSBL_FRICTIONLOSS | D.mjDSBL_LIMIT
     flags |= 0 if timed else D.mjDSBL_ACTUATION
-    if hasattr(D, "mjDSBL_AUTORESET"):  # never restart silently from qpos0 when unstable: we report it
-        flags |= D.mjDSBL_AUTORESET
+    flags |= D.mjDSBL_AUTORESET  # never restart silently from qpos0 when unstable: we report it
     gravity = None if effects is None else effects.gravity
     if gravity is None:
         m.opt.gravity[:] = own.gravity
@@ -102,7 +104,7 @@ def configure(adapter, effects, t: float = 0.0) -> list[str]:
             if eff.damping:
                 m.dof_damping[da:da + nv] = eff.damping
                 dampers = True
-    if hasattr(D, "mjDSBL_SPRING"):  # MuJoCo >= 3.3.3 splits the passive flag in two
+    if VERSION >= SPLIT_PASSIVE:  # the passive flag in two
         flags |= (0 if springs else D.mjDSBL_SPRING) | (0 if dampers else D.mjDSBL_DAMPER)
     elif not (springs or dampers):
         flags |= D.mjDSBL_PASSIVE

@@ -1,9 +1,8 @@
 """Reading a model file through MuJoCo's compiler: the spec, the compiled model, its warnings, relacc's tree of it.
 
 Imports only ``mujoco``. The file is parsed into an ``MjSpec`` (includes and default classes resolved) and a copy is
-compiled, so that a comparison can recompile the model with one engine's reading applied to the spec
-(:meth:`relacc.engines.mujoco_.MujocoAdapter.recompiled`). MuJoCo's warnings are collected (never printed, never
-appended to ``MUJOCO_LOG.TXT``): :func:`captured_warnings`.
+compiled (compiling edits a spec in place where it fuses static bodies). MuJoCo's warnings are collected (never
+printed, never appended to ``MUJOCO_LOG.TXT``): :func:`captured_warnings`.
 
 relacc's tree of a compiled model (:func:`tree_of`) takes MuJoCo's numbers: bodies in MuJoCo's order, their
 placement ``body_pos``/``body_quat``, joints' ``jnt_pos``/``jnt_axis``, ``qpos0`` as hinges' and slides' ``ref``,
@@ -26,6 +25,9 @@ from relacc.core.rotations import matrix_from_quaternion
 from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import ModelError
+
+VERSION = tuple(int("".join(c for c in part if c.isdigit()) or 0) for part in mujoco.__version__.split(".")[:3])
+"""MuJoCo's version as numbers: its API differences are handled by version, not guessed from attributes."""
 
 TYPES = {int(mujoco.mjtJoint.mjJNT_FREE): "free", int(mujoco.mjtJoint.mjJNT_BALL): "ball",
          int(mujoco.mjtJoint.mjJNT_SLIDE): "slide", int(mujoco.mjtJoint.mjJNT_HINGE): "hinge"}

@@ -158,13 +158,6 @@ class PinocchioAdapter(Adapter):
 
     # --- conversions ----------------------------------------------------------------------------------------
 
-    @property
-    def mjcf_readings(self) -> tuple:
-        """Pinocchio's MJCF readings (:mod:`relacc.engines.pinocchio_.readings`); none for a URDF it read."""
-        from relacc.engines.pinocchio_.readings import MJCF_READINGS
-
-        return () if self.from_urdf else MJCF_READINGS
-
     def default_q(self) -> np.ndarray:
         return pin.neutral(self.model)
 

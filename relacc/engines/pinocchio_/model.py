@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import pinocchio as pin
 
-from relacc.engines.base import NQ, NV, Match
+from relacc.engines.base import NQ, NV, Match, by_order
 from relacc.engines.urdf import dynamics_text
 from relacc.errors import ModelError
 
@@ -147,4 +147,6 @@ def match(model, reference, from_urdf: bool) -> list[Match]:
         nq, nv = NQ[joint.type], NV[joint.type]
         out.append(Match(joint.type, (k,), tuple(range(qa, qa + nq)), tuple(range(da, da + nv)),
                          tuple(range(iq, iq + jm.nq)), tuple(range(iv, iv + nv))))
-    return out
+    ordered = sorted(subs.values(), key=lambda x: x[2])  # Pinocchio's joints in its order
+    return by_order(reference, out, [(iv, kind(jm), tuple(range(iq, iq + jm.nq)), tuple(range(iv, iv + jm.nv)))
+                                     for jm, iq, iv in ordered])

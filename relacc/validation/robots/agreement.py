@@ -17,8 +17,8 @@ term plus the values for the gravity forces (the terms survive where the results
 the larger of the two engines', so that an engine that leaves out a term is measured against it);
 ``||M^-1|| (||M|| |a| + bias scale)`` for the accelerations (the perturbation bound of a linear
 solve: it carries ``kappa_2(M)``; where an engine's ``M`` over the shared speeds is exactly singular,
-a speed moving no inertia, its forward dynamics is undefined: the error is infinite and the row
-names that engine's inertia-less joints under ``singular``);
+a speed moving no inertia, its forward dynamics is undefined: the error is infinite when the other's is
+defined, zero when both are undefined, and the row names the inertia-less joints under ``singular``);
 per link, the terms summed in its ``J_dot v`` and classical acceleration (:func:`point_terms`: a lever
 arm times ``(sum |v_i|)^2`` over the speeds that move it, plus ``|J| sum |a_i|``); the values' own magnitude
 otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` per link).
@@ -203,8 +203,11 @@ def compare(reference, robot, states: States) -> dict:
             errors["gravity forces"].append(_err(g1, g0, max(g_scale, sc.mass * sc.length * gravity),
                                                  "gravity forces"))
             f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
-            errors["forward dynamics"].append(_err(f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
-                                                   "forward dynamics"))
+            if np.isnan(f0).any() and np.isnan(f1).any():  # both undefined: they agree there is no answer
+                errors["forward dynamics"].append(0.0)
+            else:
+                errors["forward dynamics"].append(_err(f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
+                                                       "forward dynamics"))
             if links:
                 J0 = k0.J[i][:, :, dofs]
                 jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length)

@@ -8,10 +8,9 @@ and inertias (world components); the total mass; gravity. A value differs when i
 than :func:`relacc.core.tolerances.robot_tolerance` times its scale (:class:`Scales`, from the
 reference model: its total mass, its size, its largest inertia).
 
-Causes are not guessed but reproduced (:func:`explain`): each engine module lists how its parser
-reads MJCF differently from MuJoCo (``MJCF_READINGS``: e.g. Pinocchio ignores ``settotalmass``),
-each as a change to the file's spec. MuJoCo recompiles the model with the changes that apply, one
-at a time and cumulatively, and a change is the cause of the differences it makes disappear.
+Causes are not guessed but reproduced (:mod:`relacc.validation.robots.causes`): relacc's reader reads the file
+the engine's way (e.g. Pinocchio ignoring ``settotalmass``), and a reading is the cause of the differences it makes
+disappear.
 """
 
 from __future__ import annotations
@@ -21,7 +20,6 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from relacc.core.tolerances import robot_tolerance
-from relacc.errors import ModelError
 
 
 @dataclass(frozen=True)
@@ -140,39 +138,6 @@ def differences(ref, other, ref_name: str, engine: str, sc: Scales) -> list[Item
     if differ(ref.gravity, other.gravity, max(np.linalg.norm(ref.gravity), np.linalg.norm(other.gravity), 1e-300)):
         add("gravity (m/s^2)", "model", ref.gravity, other.gravity)
     return items
-
-
-def explain(mujoco, robot, readings, sc: Scales) -> tuple[list[Item], object, list[str]]:
-    """An engine's parser readings reproduced on MuJoCo's model: ``(items, explained model, applied keys)``.
-
-    ``readings``: the engine's ``MJCF_READINGS``, each a change to MuJoCo's spec. MuJoCo recompiles the model with the
-    changes that apply, one at a time and cumulatively, and a change is the cause of the differences between MuJoCo's
-    model and the engine's that it makes disappear; ``items`` are those differences (against MuJoCo: ``values`` keyed
-    ``mujoco``), each with its cause (empty when none), and the explained model is MuJoCo's with every change that
-    made one disappear: the dynamics are compared against it to see whether the readings explain them too.
-    """
-    engine = robot.engine
-    sc = sc.larger(Scales.of(robot.structure))
-    left = differences(mujoco.structure, robot.structure, "mujoco", engine, sc)
-    causes: dict = {}
-    current, applied = mujoco, []
-    for key, text, applies, change in readings:
-        if not left or not applies(current.spec):
-            continue
-        try:
-            candidate = current.recompiled(change)
-        except ModelError:
-            continue
-        after = differences(candidate.structure, robot.structure, "mujoco", engine, sc)
-        gone = {i.key for i in left} - {i.key for i in after}
-        if gone:
-            for k in gone:
-                causes[k] = text
-            current, applied = candidate, applied + [key]
-            left = after
-    items = [replace(i, cause=causes.get(i.key, ""), kind="explained" if i.key in causes else "")
-             for i in differences(mujoco.structure, robot.structure, "mujoco", engine, sc)]
-    return items, current, applied
 
 
 def merge(per_engine: list[list[Item]]) -> list[Item]:

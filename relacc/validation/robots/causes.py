@@ -14,8 +14,8 @@ difference comes from. Kinds:
 :data:`READINGS` holds known engine behaviours as changes to relacc's own reading (:class:`relacc.reading.Reading`),
 so that they apply whichever engine reads the file, MuJoCo included: each ``(key, text, applies(reading),
 change(reading) -> Reading)``; the audit applies those that apply and takes ``text`` as the cause of the differences
-that disappear. (Readings of the MJCF parsers of Pinocchio and Drake written as changes to MuJoCo's spec stay in each
-adapter's ``MJCF_READINGS``; they need MuJoCo to read the file.)
+that disappear. Most are relacc's own reader reading the file the engine's way (:data:`relacc.reading.mjcf.VARIANTS`):
+they need no engine, MuJoCo included, to read the file.
 """
 
 from __future__ import annotations
@@ -65,7 +65,8 @@ def _massless_get_a_kilogram(reading):
 
 
 def _urdf_inertial_turned(reading) -> bool:
-    """A URDF whose inertials are turned (``rpy``): what MuJoCo up to 3.17 misreads (google-deepmind/mujoco#3559)."""
+    """A URDF whose inertials are turned (``rpy``): what MuJoCo up to 3.13 misreads (google-deepmind/mujoco#3559;
+    measured on the releases 3.3.1 to 4.0.0: wrong up to 3.13.0, right from 3.14.0)."""
     return reading.format == "urdf" and bool(reading.turned_inertials)
 
 
@@ -75,17 +76,64 @@ def _unturned_inertials(reading):
                    if b.name in reading.turned_inertials else None)
 
 
+def _reread(*variant):
+    """The change that reads the file again the engine's way (:data:`relacc.reading.mjcf.VARIANTS`), on top of the
+    variants the reading already follows."""
+    def change(reading):
+        from relacc.reading import read
+
+        return read(reading.source, variant=reading.variant | frozenset(variant))
+
+    return change
+
+
+def _mjcf(reading) -> bool:
+    return reading.format == "mjcf"
+
+
 READINGS = {
     "mujoco": (
         ("massless_inertia", "the file gives a body no mass but an inertia (a finding); MuJoCo's compiler drops the "
          "inertia of a massless body", _massless_with_inertia, _drop_massless_inertia),
-        ("urdf_inertial_rotation", "MuJoCo's URDF reader drops the rotation of an <inertial>'s <origin rpy> "
-         "(google-deepmind/mujoco#3559, fixed by pull request #3560): it takes the inertia as if written in the link's "
-         "axes",
+        ("urdf_inertial_rotation", "MuJoCo's URDF reader up to 3.13 drops the rotation of an <inertial>'s <origin "
+         "rpy> (google-deepmind/mujoco#3559, fixed in 3.14): it takes the inertia as if written in the link's axes",
          _urdf_inertial_turned, _unturned_inertials),
     ),
-    "pinocchio": (),
+    "pinocchio": (
+        ("first_body", "Pinocchio's MJCF parser reads only the first <body> written directly in the main file's "
+         "<worldbody> (it expands no <include>); the others are dropped",
+         lambda r: _mjcf(r) and r.facts["world_children"] > 1, _reread("first_body_only")),
+        ("fixed_root", "Pinocchio's MJCF parser drops the pos and orientation of a first <body> that has no joint (it "
+         "puts that body at the world frame)", lambda r: _mjcf(r) and r.facts["placed_jointless_first"],
+         _reread("first_body_unplaced")),
+        ("settotalmass", "Pinocchio ignores <compiler settotalmass>, which makes MuJoCo scale every mass",
+         lambda r: _mjcf(r) and r.facts["settotalmass"], _reread("settotalmass_ignored")),
+        ("default_mass", "Pinocchio's MJCF parser ignores a geom's mass inherited from a <default> class (it honours "
+         "one written on the geom) and takes the geom's density times its volume",
+         lambda r: _mjcf(r) and r.facts["default_geom_masses"] > 0, _reread("default_geom_mass_ignored")),
+        ("visual_geoms", "Pinocchio's MJCF parser takes geoms with contype=0 and conaffinity=0 as visual and leaves "
+         "them out of the inertia; MuJoCo counts every geom in inertiagrouprange",
+         lambda r: _mjcf(r) and r.facts["visual_geoms"] > 0, _reread("visual_geoms_ignored")),
+        ("mesh_inertia", "Pinocchio's MJCF parser gives a mesh geom 1 kg and a unit inertia at the geom's frame (it "
+         "reads neither the mesh's volume nor the geom's mass)", lambda r: _mjcf(r) and r.facts["mesh_bodies"],
+         _reread("mesh_unit_inertia")),
+        ("gravity", "Pinocchio's MJCF parser ignores <option gravity> and <flag gravity=\"disable\"/> and keeps "
+         "(0, 0, -9.81)", lambda r: _mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
+         _reread("gravity_default")),
+    ),
     "drake": (
+        ("stacked_joints", "Drake's MJCF parser reads the position and axis of every joint but the last of a body "
+         "with several joints in the parent body's frame instead of the body's",
+         lambda r: _mjcf(r) and r.facts["stacked"] > 0, _reread("stacked_joints_in_parent")),
+        ("armature", "Drake's MJCF parser keeps a joint's armature only as the reflected inertia of an actuator it "
+         "reads on that joint (<motor> or <position>); joints without one lose it",
+         lambda r: _mjcf(r) and r.facts["unactuated_armature"] > 0, _reread("armature_without_actuator")),
+        ("free_damping", "Drake's MJCF parser drops a free joint's damping (it warns that damping is not supported "
+         "for free bodies)", lambda r: _mjcf(r) and r.facts["damped_free"] > 0, _reread("free_damping_dropped")),
+        ("settotalmass", "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
+         lambda r: _mjcf(r) and r.facts["settotalmass"], _reread("settotalmass_ignored")),
+        ("gravity_flag", "Drake's MJCF parser ignores <flag gravity=\"disable\"/> and keeps <option gravity>",
+         lambda r: _mjcf(r) and r.facts["gravity_disabled"], _reread("gravity_flag_ignored")),
         ("massless_kilogram", "the file gives a body no mass but an inertia (a finding); Drake's URDF parser gives "
          "such a link a mass of 1 kg", lambda r: r.format == "urdf" and _massless_with_inertia(r),
          _massless_get_a_kilogram),

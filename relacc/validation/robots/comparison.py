@@ -6,8 +6,8 @@ engine's matched joint by joint through its speed map) and one of four independe
 
 1. the **audit** (:mod:`relacc.validation.robots.audit`): structure, inertias, armature, damping, gravity of each
    engine against relacc's reading, each difference with its cause (:mod:`relacc.validation.robots.causes`): a known
-   engine behaviour reproduced (relacc's reading changed as the engine reads it, or MuJoCo's model recompiled with a
-   parser's reading), a finding about the file, or not explained, with the place in the file;
+   engine behaviour reproduced (relacc's reader reading the file the engine's way), a finding about the file, or not
+   explained, with the place in the file;
 2. the **dynamics** (:mod:`relacc.validation.robots.agreement`) at the reference configuration and random states,
    each engine and relacc's cases 1 and 3 against relacc's case 2;
 3. the **referee** (:mod:`relacc.validation.robots.referee`): every pair of evaluators compared, engine against
@@ -32,7 +32,7 @@ from relacc.errors import EngineError, ModelError
 from relacc.reading import read
 from relacc.validation.robots.agreement import QUANTITIES, random_states
 from relacc.validation.robots.agreement import compare as compare_dynamics
-from relacc.validation.robots.audit import Item, Scales, differences, explain, merge
+from relacc.validation.robots.audit import Item, Scales, differences, merge
 from relacc.validation.robots.causes import READINGS, Cause
 from relacc.validation.robots.reading import structure
 from relacc.validation.robots.referee import referee, voters
@@ -174,19 +174,17 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     other_file = urdf is not None and Path(urdf).resolve() != Path(model).resolve()
     states = random_states(reference, n_states, seed)
     scales = Scales.of(reference.structure)
-    mujoco = next((r for r in robots if r.engine == "mujoco"), None) or _explainer(model, reading)
     audits, dynamics = [], {q: {} for q in QUANTITIES}
     for robot in unshared:  # the user's URDF describes another robot: what differs, element by element
-        audits.append(_audit(reading, reference, robot, None, scales, URDF_CAUSE)[0])
+        audits.append(_audit(reading, reference, robot, scales, URDF_CAUSE))
     for robot in list(robots):
         from_urdf = robot.engine == "pinocchio" and urdf is not None
         try:
-            items, explained, texts = _audit(reading, reference, robot, None if from_urdf else mujoco, scales,
-                                             URDF_CAUSE if other_file and from_urdf else None)
+            items = _audit(reading, reference, robot, scales, URDF_CAUSE if other_file and from_urdf else None)
             rows = compare_dynamics(reference, robot, states)
             for quantity, row in rows.items():
                 cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, robot,
-                                                                         explained, texts, states, n_states, seed)
+                                                                         states, items)
                 if other_file and from_urdf and items and not cause.explained:
                     cause = Cause("urdf", "the URDF and the MJCF describe the robot differently (see the audit)")
                 dynamics[quantity][robot.engine] = replace(row, cause=str(cause), cause_kind=cause.kind)
@@ -203,15 +201,32 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     for case in (1, 3):  # relacc's own evaluation in the other cases, against its case 2
         evaluator = TreeRobot(reading, case)
         for quantity, row in compare_dynamics(reference, evaluator, states).items():
-            cause = Cause("", "") if row.passed else Cause("not explained", "relacc's case differs from its case 2 "
-                                                           "on its own reading", reading.source)
+            cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, evaluator,
+                                                                     states) if row.singular else \
+                Cause("not explained", "relacc's case differs from its case 2 on its own reading", reading.source)
             dynamics[quantity][evaluator.engine] = replace(row, case=case, cause=str(cause), cause_kind=cause.kind)
     verdicts = referee(voters(reference, robots, states, reading), states, dynamics, reading)
     geometry = {r.engine: _geometry(r.structure) for r in [reference, *robots]}
+    findings = tuple(reading.findings) + _massless_speeds(reading, reference, states)
     return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
                            {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts, geometry,
-                           tuple(reading.findings), dict(reading.taken), tuple(reading.unevaluated),
-                           tuple(reading.notes))
+                           findings, dict(reading.taken), tuple(reading.unevaluated), tuple(reading.notes))
+
+
+def _massless_speeds(reading, reference, states) -> tuple:
+    """A finding per joint whose speed moves no mass or inertia (its row of relacc's mass matrix is zero at the
+    reference configuration): forward dynamics is then undefined in every reading of the file."""
+    from relacc.reading import Finding
+    from relacc.validation.robots.agreement import inertialess
+
+    M = reference.dynamics(states.q[0], np.zeros(reading.tree.nv)).M
+    out = []
+    for name in inertialess(reference, M, np.arange(reading.tree.nv)):
+        joint, _, body = name.partition(" (body ")
+        out.append(Finding(body.rstrip(")"), "a joint that moves no mass", f"joint {joint}: no body it moves has mass "
+                           "or inertia (its row of the mass matrix is zero): its acceleration is undefined",
+                           reading.place("joint", joint)))
+    return tuple(out)
 
 
 def _load(model, names, reading, urdf, reports) -> tuple[list, list]:
@@ -243,18 +258,6 @@ def _load(model, names, reading, urdf, reports) -> tuple[list, list]:
     return robots, unshared
 
 
-def _explainer(model, reading):
-    """MuJoCo's model of the file, matched to relacc's reading, when MuJoCo is not among the engines compared: the
-    engines' parser readings are reproduced on it (:func:`relacc.validation.robots.audit.explain`); None where MuJoCo
-    is not installed or cannot read the file."""
-    if not installed("mujoco"):
-        return None
-    try:
-        return load_robot("mujoco", model, reading.tree)
-    except (ModelError, EngineError):
-        return None
-
-
 def _at_least_one(model, reports, robots) -> None:
     """A comparison needs relacc's reading and at least one engine over at least one shared speed.
 
@@ -266,47 +269,43 @@ def _at_least_one(model, reports, robots) -> None:
         raise ModelError(f"{model}: nothing to compare relacc's reading with: {why}")
 
 
-def _audit(reading, reference, robot, mujoco, scales, unexplained: str | None):
-    """``(items, explained MuJoCo model or None, cause texts applied)``: ``robot``'s audit against relacc's reading,
-    each difference with its cause (:mod:`relacc.validation.robots.causes`), in this order: a reading of
-    :data:`relacc.validation.robots.causes.READINGS` (relacc's reading changed as the engine reads it) that makes it
-    disappear; a parser reading of the engine's ``MJCF_READINGS`` reproduced by recompiling MuJoCo's model (when
-    MuJoCo read the file and agrees with relacc there); ``unexplained`` (a user's URDF); what relacc took from the
-    engine; a finding about the file; else not explained, with the element's place in the file."""
+def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[Item]:
+    """``robot``'s audit against relacc's reading, each difference with its cause
+    (:mod:`relacc.validation.robots.causes`): a reading of :data:`relacc.validation.robots.causes.READINGS` (relacc's
+    reader reading the file as the engine does) that makes it disappear, applied one after the other and kept when
+    it does; ``unexplained`` (a user's URDF); what relacc took from the engine; a finding about the file; else not
+    explained, with the element's place in the file."""
     engine = robot.engine
     sc = scales.larger(Scales.of(robot.structure))
     items = differences(reference.structure, robot.structure, REFERENCE, engine, sc)
     if not items:
-        return [], None, []
+        return []
     causes: dict = {}
     left = {i.key for i in items}
     current = reading
     for key, text, applies, change in READINGS.get(engine, ()):
         if not left or not applies(current):
             continue
-        candidate = change(current)
+        try:
+            candidate = change(current)
+        except ModelError:
+            continue
         after = {i.key for i in differences(structure(candidate), robot.structure, REFERENCE, engine, sc)}
         gone = left - after
         for k in gone:
             causes[k] = Cause("explained", text)
         if gone:
             current, left = candidate, after
-    explained, texts = None, []
-    if mujoco is not None and left and engine != "mujoco":
-        parser = robot.mjcf_readings
-        mj_items, explained, applied = explain(mujoco, robot, parser, sc)
-        mj_causes = {i.key: i.cause for i in mj_items if i.kind == "explained"}
-        mujoco_differs = {i.key for i in differences(reference.structure, mujoco.structure, REFERENCE, "mujoco", sc)}
-        for k in list(left):
-            if k in mj_causes and k not in mujoco_differs:  # MuJoCo reads it as relacc does: its recompile explains
-                causes[k] = Cause("explained", mj_causes[k])
-                left.discard(k)
-        texts = [text for key, text, _, _ in parser if key in applied]
     out = []
     for item in items:
         cause = causes.get(item.key) or _fallback(item, reading, engine, unexplained)
         out.append(replace(item, cause=str(cause), kind=cause.kind, place=cause.place or _place(item, reading)))
-    return out, explained, texts
+    links = [i for i in out if i.subject[0] == "link"]
+    if links and all(i.kind == "taken" for i in links):  # the total mass follows its links
+        taken = next(i for i in links)
+        out = [replace(i, cause=taken.cause, kind="taken") if i.item == "total mass (kg)" and i.kind ==
+               "not explained" else i for i in out]
+    return out
 
 
 def _place(item: Item, reading) -> str:
@@ -328,8 +327,10 @@ def _fallback(item: Item, reading, engine: str, unexplained: str | None) -> Caus
     members = _link_bodies(reading, name) if kind == "link" else []
     taken = [b for b in members if b in reading.taken]
     if taken:
-        return Cause("taken", f"relacc took the mass properties of {', '.join(taken)} from MuJoCo "
-                              f"({reading.taken[taken[0]]}): it cannot judge {engine} there")
+        what = f"relacc took the mass properties of {', '.join(taken)} from MuJoCo ({reading.taken[taken[0]]})"
+        return Cause("taken", f"{what}: it cannot judge MuJoCo there" if engine == "mujoco" else
+                     f"{what}: {engine}'s differ from MuJoCo's, and relacc, which does not compute meshes, cannot say "
+                     "which reads the mesh right")
     found = [f for f in reading.findings if f.body in members]
     if found:
         return Cause("finding", f"the file gives body {found[0].body} {found[0].condition} "
@@ -364,26 +365,25 @@ def _explained(again: dict, quantity: str, before) -> bool:
                           and row.max_difference <= EXPLAINED * before.max_difference)
 
 
-def _dynamics_cause(quantity, before, reading, reference, robot, explained, texts, states, n_states, seed) -> Cause:
-    """Why ``quantity`` disagrees: relacc's reading changed as the engine reads it (the audit's causes), MuJoCo's model
-    with the engine's parser readings, a known difference in the engine's algorithms, MuJoCo's own ``mj_jacDot``, a
-    singular mass matrix; else not explained."""
+def _dynamics_cause(quantity, before, reading, reference, robot, states, items=()) -> Cause:
+    """Why ``quantity`` disagrees: the engine's readings of the file (relacc's reader reading it the engine's way,
+    every reading that applies, cumulatively), a known difference in the engine's algorithms (alone, or with those
+    readings), MuJoCo's own ``mj_jacDot``, a singular mass matrix, a finding about the file or what relacc took (the
+    engine's audit ``items`` all of those kinds); else not explained."""
     from relacc.validation.robots.mujoco_causes import mujoco_cause
 
     engine = robot.engine
-    changed = [(text, change) for _, text, applies, change in READINGS.get(engine, ()) if applies(reading)]
-    if changed:
-        current = reading
-        for _, change in changed:
-            current = change(current)
-        again = compare_dynamics(TreeRobot(current, 2), robot, states)
-        if _explained(again, quantity, before):
-            return Cause("explained", "explained by the audit: " + "; ".join(t for t, _ in changed))
-    if explained is not None and texts:
-        again = compare_dynamics(explained, robot, random_states(reference, n_states, seed))
-        if _explained(again, quantity, before):
-            return Cause("explained", "explained by the audit: " + "; ".join(texts))
-    for key, text, applies, rebuild in readings(engine)[1]:
+    current, texts = reading, []
+    for _, text, applies, change in READINGS.get(engine, ()):
+        if applies(current):
+            try:
+                current, texts = change(current), texts + [text]
+            except ModelError:
+                continue
+    read_as = TreeRobot(current, 2, reading.tree) if texts else None
+    if read_as is not None and _explained(compare_dynamics(read_as, robot, states), quantity, before):
+        return Cause("explained", "explained by the audit: " + "; ".join(texts))
+    for _, text, applies, rebuild in readings(engine):
         if applies(robot):
             try:
                 fixed = rebuild(robot)
@@ -391,24 +391,28 @@ def _dynamics_cause(quantity, before, reading, reference, robot, explained, text
                 continue
             if _explained(compare_dynamics(reference, fixed, states), quantity, before):
                 return Cause("explained", text)
+            if read_as is not None and _explained(compare_dynamics(read_as, fixed, states), quantity, before):
+                return Cause("explained", text + "; and the audit: " + "; ".join(texts))
     if engine == "mujoco":
         text = mujoco_cause(quantity, reference, robot, states)
         if text:
             return Cause("explained", text)
     if before.singular:
         return Cause("singular", "forward dynamics undefined: " + "; ".join(
-            f"{'relacc' if e == REFERENCE else e}'s mass matrix over the shared speeds is singular (no inertia moves "
-            f"with {', '.join(joints) or 'a combination of speeds'})" for e, joints in before.singular.items()))
-    found = [f for f in reading.findings]
-    if found:
-        return Cause("finding", f"the file has bodies that are not physical (first: body {found[0].body}, "
-                                f"{found[0].condition}): each engine reads them its own way", found[0].place)
-    taken = list(reading.taken)
-    if taken and engine == "mujoco":
-        return Cause("taken", f"relacc took the mass properties of {', '.join(taken)} from MuJoCo: it cannot judge "
-                              "MuJoCo there")
+            f"{e}'s mass matrix over the shared speeds is singular (no inertia moves with "
+            f"{', '.join(joints) or 'a combination of speeds'})" for e, joints in before.singular.items()))
+    if reading.findings:
+        f = reading.findings[0]
+        return Cause("finding", f"the file has bodies that are not physical (first: body {f.body}, {f.condition}): "
+                                "each engine reads them its own way", f.place)
+    kinds = {i.kind for i in items}
+    if reading.taken and (engine == "mujoco" or ("taken" in kinds and kinds <= {"taken", "explained", "finding"})):
+        return Cause("taken", f"relacc took the mass properties of {', '.join(reading.taken)} from MuJoCo: "
+                     + ("it cannot judge MuJoCo there" if engine == "mujoco" else
+                        f"the audit's differences of {engine} there are the only ones not explained"))
     return Cause("not explained", f"not explained by a known difference of {engine}"
-                 + (f" (the audit's causes were applied: {'; '.join(texts)})" if texts else ""), reading.source)
+                 + (f" (its known readings of the file were applied: {'; '.join(texts)})" if texts else ""),
+                 reading.source)
 
 
 def _geometry(structure_) -> dict:

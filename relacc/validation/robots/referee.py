@@ -39,7 +39,7 @@ def voters(reference, robots, states, reading) -> list[Voter]:
     out = [Voter(reference.engine, reference)]
     for robot in robots:
         why, evaluator = "", robot
-        for _, text, applies, rebuild in readings(robot.engine)[1]:
+        for _, text, applies, rebuild in readings(robot.engine):
             if applies(robot):
                 try:
                     evaluator, why = rebuild(robot), text
@@ -53,10 +53,10 @@ def voters(reference, robots, states, reading) -> list[Voter]:
 class Verdict:
     """The referee on one quantity.
 
-    ``odd_ones_out``: the evaluators outside the agreeing side; ``agreeing``: that side; ``split``: two sides of
-    equal votes; ``pairs``: ``"a|b"`` to the worst normalized error over the tolerance (a pair agrees at <= 1);
-    ``voted_as``: ``{engine: why}`` for engines that voted rebuilt; ``joined``: a note when relacc and MuJoCo voted as
-    one (relacc took part of the model from MuJoCo)."""
+    ``odd_ones_out``: the evaluators outside the agreeing side; ``agreeing``: that side; ``split``: the sides of
+    equal votes when no side is larger; ``pairs``: ``"a|b"`` to the worst normalized error over the tolerance (a
+    pair agrees at <= 1); ``voted_as``: ``{engine: why}`` for engines that voted rebuilt; ``joined``: a note when
+    relacc and MuJoCo voted as one (relacc took part of the model from MuJoCo)."""
 
     quantity: str
     odd_ones_out: tuple
@@ -69,15 +69,17 @@ class Verdict:
     def sentence(self) -> str:
         join = lambda names: ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]  # noqa: E731
         known = f" (once {join(sorted(self.voted_as))}'s known difference is removed)" if self.voted_as else ""
+        note = f" ({self.joined})" if self.joined else ""
         if self.split:
-            return f"{self.quantity}: an even split, {join(self.split[0])} against {join(self.split[1])}{known}"
+            sides = " against ".join(join(list(side)) for side in self.split)
+            return f"{self.quantity}: no majority, {sides}{known}{note}"
         if not self.agreeing:
-            return f"{self.quantity}: no two evaluators agree ({join(list(self.odd_ones_out))}){known}"
+            return f"{self.quantity}: no two evaluators agree ({join(list(self.odd_ones_out))}){known}{note}"
         if not self.odd_ones_out:
-            return f"{self.quantity}: no odd one out: {join(list(self.agreeing))} agree{known}"
+            return f"{self.quantity}: no odd one out: {join(list(self.agreeing))} agree{known}{note}"
         odd = join(list(self.odd_ones_out))
         return (f"{self.quantity}: the odd one{'s' if len(self.odd_ones_out) > 1 else ''} out: {odd}; "
-                f"{join(list(self.agreeing))} agree{known}" + (f" ({self.joined})" if self.joined else ""))
+                f"{join(list(self.agreeing))} agree{known}{note}")
 
     def as_json(self) -> dict:
         return {"quantity": self.quantity, "odd_ones_out": list(self.odd_ones_out), "agreeing": list(self.agreeing),
@@ -113,9 +115,9 @@ def referee(voters_, states, dynamics, reading) -> list[Verdict]:
         voted = {v.engine: v.why for v in present if v.why}
         if max(len(g) for g in groups) < 2:
             out.append(Verdict(quantity, tuple(names), (), (), pairs, voted, note))
-        elif len(top) > 1:
-            out.append(Verdict(quantity, tuple(n for n in names if all(n not in g for g in top[:2])), (),
-                               tuple(tuple(n for n in names if n in g) for g in top[:2]), pairs, voted, note))
+        elif len(top) > 1:  # sides of equal votes: each named, with whoever stands in none of them
+            out.append(Verdict(quantity, tuple(n for n in names if all(n not in g for g in top)), (),
+                               tuple(tuple(n for n in names if n in g) for g in top), pairs, voted, note))
         else:
             side = top[0]
             out.append(Verdict(quantity, tuple(n for n in names if n not in side),

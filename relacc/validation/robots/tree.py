@@ -21,6 +21,7 @@ from relacc.core.tree import convert, tree_kinematics
 from relacc.core.tree.coordinates import reference_q
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
 from relacc.engines.base import Dynamics, Points, first, mapped_dynamics
+from relacc.errors import RelaccError
 from relacc.validation.robots.reading import groups, structure
 
 
@@ -29,17 +30,46 @@ class TreeRobot:
     case-2 coordinates (the interface of :class:`relacc.engines.base.Adapter` that a comparison uses:
     ``structure``, ``dynamics``, ``kinematics``, ``default_q``)."""
 
-    def __init__(self, reading, case: int = 2):
+    def __init__(self, reading, case: int = 2, matched_to=None):
         self.case = int(case)
         self.engine = "relacc" if self.case == 2 else f"relacc (case {self.case})"
         self.reading = reading
-        self.tree = self.reference = reading.tree
+        self.tree = reading.tree
+        self.reference = self.tree if matched_to is None else matched_to
         self.path = reading.source
         self.structure = structure(reading)
-        self.dofs, self.qdofs = np.arange(self.tree.nv), np.arange(self.tree.nq(2))
+        self.dofs, self.qdofs = self._match(self.reference)
         self.extra_dofs = 0
         self.warnings: list[str] = list(reading.notes)
         self.links = {self.tree.bodies[b].name: members for b, members in groups(self.tree).items()}
+
+    def _match(self, reference) -> tuple[np.ndarray, np.ndarray]:
+        """``(dofs, qdofs)``: the reference's speeds and positions of this tree's joints (by name, in order): a reading
+        of the file an engine's way (:data:`relacc.validation.robots.causes.READINGS`) may have fewer joints.
+
+        Raises:
+            ModelError: a joint the reference lacks, or the joints in another order.
+        """
+        if reference is self.tree:
+            return np.arange(self.tree.nv), np.arange(self.tree.nq(2))
+        dofs, qdofs = [], []
+        for _, joint in self.tree.joints:
+            k = reference.joint(joint.name)
+            kind = reference.joints[k][1]
+            a, d = reference.qadr(2)[k], reference.dofadr[k]
+            qdofs += range(a, a + {"free": 7, "ball": 4}.get(kind.type, 1))
+            dofs += range(d, d + kind.nv)
+        if dofs != sorted(dofs):
+            from relacc.errors import ModelError
+
+            raise ModelError(f"{self.path}: an engine's reading orders the joints otherwise")
+        return np.array(dofs, dtype=int), np.array(qdofs, dtype=int)
+
+    def _own(self, q, v):
+        """States of the reference ``(n, nq_ref)``, ``(n, nv_ref)`` in this tree's coordinates."""
+        if self.reference is self.tree:
+            return q, v
+        return q[:, self.qdofs], v[:, self.dofs]
 
     def default_q(self) -> np.ndarray:
         """``(nq,)`` the reference configuration (hinges and slides at ``ref``, balls at identity, free bodies as
@@ -62,12 +92,12 @@ class TreeRobot:
         """:class:`Dynamics` at states ``q (n, nq)``, ``v (n, nv)`` (case 2; one state: no batch axis)."""
         one = np.ndim(q) == 1
         q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
-        q_c, u_c, T, Tdv = self._map(q, v)
+        q_c, u_c, T, Tdv = self._map(*self._own(q, v))
         d = tree_dynamics(self.tree, self.case, q_c, u_c)
         rest = tree_dynamics(self.tree, self.case, q_c, np.zeros_like(u_c))
         try:
             forward = tree_accelerations(self.tree, self.case, q_c, u_c)
-        except Exception:  # noqa: BLE001 - a singular M: the comparison solves the shared speeds itself and says so
+        except RelaccError:  # a singular M: the comparison solves the shared speeds itself and says so
             forward = np.full(u_c.shape, np.nan)
         return first(mapped_dynamics(d.M, d.f, rest.f, forward, T, Tdv), one)
 
@@ -75,6 +105,8 @@ class TreeRobot:
         """:class:`Points` ``(n, L, ...)`` of the named links' mass centres (one state: ``(L, ...)``)."""
         one = np.ndim(q) == 1
         q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
+        q, v = self._own(q, v)
+        a = a if self.reference is self.tree else a[:, self.dofs]
         q_c, u_c, T, Tdv = self._map(q, v)
         k = tree_kinematics(self.tree, self.case, q_c, u_c, np.einsum("nij,nj->ni", T, a) + Tdv)
         mass = np.array([b.mass for b in self.tree.bodies])
