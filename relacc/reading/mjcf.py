@@ -112,8 +112,8 @@ def read(path, meshes=None, variant=frozenset()) -> Reading:
     notes: list[str] = []
     root = parse_file(path, notes)
     if root.tag == "mujocoinclude":
-        raise ModelError(f"{root.place}: <mujocoinclude>: a fragment for other files to <include>, not a model (compare "
-                         "the file that includes it)")
+        raise ModelError(f"{root.place}: <mujocoinclude>: a fragment for other files to <include>, not a model "
+                         "(compare the file that includes it)")
     if root.tag != "mujoco":
         raise ModelError(f"{root.place}: the root element is <{root.tag}>; an MJCF's is <mujoco>")
     _inline(root, path.parent, 0)
