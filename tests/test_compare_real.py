@@ -374,9 +374,10 @@ def test_the_page_draws_each_engines_robot_and_rings_what_differs(tmp_path):
     assert {e for e, _, _ in marked} == {"pinocchio"}
     assert {("pinocchio", "link", n) for n in mine} <= marked
     data = page_data(result)
-    assert data["drawing"].startswith("data:image/svg+xml;base64,")
+    assert data["drawing"]["svg"].startswith("<svg") and "<text" in data["drawing"]["svg"]  # inline, real text
+    assert {engine for _, _, engine in data["drawing"]["marked"]} == {"pinocchio"}
     html = (tmp_path / "page.html").read_text() if write(result, tmp_path / "page.html") else ""
-    assert '<section id="drawing">' in html and data["drawing"] in html
+    assert '<section id="drawing">' in html and '<figure class="drawing"' in html and "link link1 (pinocchio)" in html
 
 
 def test_pinocchios_unit_mesh_inertia_is_a_known_reading(tmp_path):

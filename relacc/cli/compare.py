@@ -10,7 +10,9 @@ from relacc.core.tolerances import EPS
 def cmd_compare(args) -> int:
     from relacc import files
 
-    args.model = models(args.model)
+    found = models(args.model)
+    args.model = [path for path, _ in found]
+    args.shown = {path: shown for path, shown in found}
     with files.inputs(args.model):  # a directory's files are inputs too: --out may be none of them
         return _compare(args)
 
@@ -22,7 +24,13 @@ def _compare(args) -> int:
     out = None
     if args.out is not None:
         out = files.check_output_file(args.out)  # before the work: a bad path is a one-line error up front
-    if len(args.model) > 1 or args.scheduler:
+    many = len(args.model) > 1 or args.scheduler
+    if args.verbose and (not many or args.json):
+        from relacc.errors import InputError
+
+        raise InputError("--verbose prints each model's detail after the summary of several models; one model's "
+                         "detail, and --json, are whole already")
+    if many:
         return _many(args)
     result = compare(args.model[0], urdf=args.urdf, engines=args.engines, n_states=args.states, seed=args.seed)
     if out is not None:
@@ -36,12 +44,15 @@ def _compare(args) -> int:
     return result.exit_code
 
 
-def models(paths) -> list[str]:
-    """The model files named: files as given; a directory, its ``.xml`` and ``.urdf`` files (recursively, sorted).
+def models(paths) -> list[tuple[str, str]]:
+    """``[(path, shown name)]`` of the model files named: a file as given (shown as given); a directory, its ``.xml``
+    and ``.urdf`` files (recursively, sorted; shown by their path relative to the directory given).
 
     Raises:
-        InputError: a directory holding no such file.
+        InputError: a directory holding no such file, or one it cannot read (a subdirectory included: nothing
+            is skipped without a word).
     """
+    import os
     from pathlib import Path
 
     from relacc.errors import InputError
@@ -50,12 +61,18 @@ def models(paths) -> list[str]:
     for given in paths:
         path = Path(given)
         if not path.is_dir():
-            out.append(given)
+            out.append((given, given))
             continue
-        found = sorted(str(p) for p in path.rglob("*") if p.suffix.lower() in (".xml", ".urdf") and p.is_file())
+
+        def unreadable(exc, given=given):
+            raise InputError(f"{given}: cannot read {exc.filename} ({exc.strerror}); relacc compares every model "
+                             "under a directory or none") from None
+
+        found = sorted(Path(root) / name for root, _, names in os.walk(path, onerror=unreadable) for name in names
+                       if Path(name).suffix.lower() in (".xml", ".urdf") and (Path(root) / name).is_file())
         if not found:
             raise InputError(f"{given}: a directory with no .xml or .urdf file in it")
-        out += found
+        out += [(str(p), str(p.relative_to(path))) for p in found]
     return out
 
 
@@ -89,18 +106,46 @@ def _many(args) -> int:
     elif args.out is not None:
         from relacc.report.robot import write_many
 
-        write_many(results, args.out)
+        write_many([(args.shown.get(m, m), r) for m, r in results], args.out)
     codes = [2 if isinstance(r, RelaccError) else r.exit_code for _, r in results]
     if args.json:
-        print(json.dumps([{"model": m, "error": str(r), "exit": 2} if isinstance(r, RelaccError)
-                          else {**r.as_json(), "exit": r.exit_code} for m, r in results], indent=2))
-    else:
+        print(json.dumps([{"model": m, "shown": args.shown.get(m, m), "error": str(r), "exit": 2}
+                          if isinstance(r, RelaccError) else {**r.as_json(), "shown": args.shown.get(m, m),
+                                                               "exit": r.exit_code} for m, r in results], indent=2))
+        return max(codes)
+    print(f"relacc compare: {len(results)} models: {codes.count(0)} agree, {codes.count(1)} disagree, "
+          f"{codes.count(2)} cannot be compared")
+    print(summary_table([(args.shown.get(m, m), r) for m, r in results]))
+    if args.verbose:
         for (model, r), code in zip(results, codes):
-            print(f"{model}: error: {r}" if isinstance(r, RelaccError) else text(r))
             print()
-        print(f"{len(results)} models: {codes.count(0)} agree, {codes.count(1)} disagree, {codes.count(2)} cannot "
-              "be compared" + (f"\nwrote {args.out}" if args.out is not None else ""))
+            print(f"{model}: error: {r}" if isinstance(r, RelaccError) else text(r))
+    else:
+        print("(each model's detail: --verbose, --json or --out PAGE.html)")
+    if args.out is not None:
+        print(f"wrote {args.out}")
     return max(codes)
+
+
+def summary_table(results) -> str:
+    """One aligned line per model: exit, the readings that took part, audit differences, dynamics rows outside
+    tolerance, how many of those have no known cause, findings; or, for a model that cannot be compared, why."""
+    from relacc.errors import RelaccError
+
+    width = max([len(m) for m, _ in results] + [5])
+    lines = [f"  {'exit':4s}  {'model':{width}s}  {'audit':>5s}  {'dynamics':>8s}  {'unexplained':>11s}  "
+             f"{'findings':>8s}  compared"]
+    for model, r in results:
+        if isinstance(r, RelaccError):
+            lines.append(f"  {2:<4d}  {model:{width}s}  cannot be compared: {r}")
+            continue
+        data = r.as_json()
+        bad = [x for q in data["dynamics"].values() for x in q["engines"].values() if not x["ok"]]
+        unexplained = sum(x["cause_kind"] == "not explained" for x in bad) + sum(
+            a["cause_kind"] == "not explained" for a in data["audit"])
+        lines.append(f"  {r.exit_code:<4d}  {model:{width}s}  {len(data['audit']):>5d}  {len(bad):>8d}  "
+                     f"{unexplained:>11d}  {len(data['findings']):>8d}  {', '.join(data['compared'])}")
+    return "\n".join(lines)
 
 
 AUDIT_META = ("item", "where", "cause", "cause_kind", "place")

@@ -304,6 +304,8 @@ def build_parser() -> argparse.ArgumentParser:
     _json(p, "the summary")
     p.add_argument("--out", metavar="PAGE.html", help="also write a self-contained HTML page, atomically (several "
                    "models: one page, a row per model linked to its sections)")
+    p.add_argument("--verbose", action="store_true", help="several models: each model's detail after the summary "
+                   "(the summary alone by default)")
     _scheduler(p, "one task per model")
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",

@@ -27,7 +27,7 @@ def page_data(result) -> dict:
         for e in columns:
             r = row["engines"].get(e)
             cells.append(None if r is None else {**r, "eps": None if r["max_error"] is None else r["max_error"] / EPS})
-        rows.append({"quantity": quantity, "cells": cells})
+        rows.append({"quantity": quantity, "cells": cells, "tolerance": row["tolerance"]})
     audit = [{"item": a["item"], "where": a["where"], "cells": [_cell(a.get(e)) for e in names],
               "cause": a["cause"], "kind": a["cause_kind"], "place": a["place"]} for a in data["audit"]]
     bad = [c for r in rows for c in r["cells"] if c is not None and not c["ok"]]
@@ -41,8 +41,21 @@ def page_data(result) -> dict:
             "engines": data["engines"], "names": names, "reference": data["reference"],
             "others": columns, "audit": audit, "dynamics": rows, "agree": data["agree"], "states": data["states"],
             "seed": data["seed"], "referee": data["referee"], "findings": data["findings"], "taken": data["taken"],
-            "unevaluated": data["unevaluated"], "notes": data["notes"],
+            "unevaluated": data["unevaluated"], "notes": data["notes"], "odd": odd_ones_out(data["referee"]),
+            "absent": [e for e in names if not data["engines"][e]["loaded"]],
             "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
+
+
+def odd_ones_out(referee) -> list[dict]:
+    """The referee at a glance: ``[{"who": odd ones out (text), "quantities": [...], "agreeing": [...]}]``, one entry
+    per distinct verdict shape, and the splits as ``who`` "no majority"."""
+    out: dict = {}
+    for v in referee:
+        key = (tuple(v["odd_ones_out"]), tuple(v["agreeing"])) if v["agreeing"] else ("no majority", ())
+        entry = out.setdefault(key, {"who": ", ".join(v["odd_ones_out"]) if v["agreeing"] else "no majority",
+                                     "agreeing": list(v["agreeing"]), "quantities": []})
+        entry["quantities"].append(v["quantity"])
+    return list(out.values())
 
 
 SHOWN_DIGITS = 6
@@ -87,9 +100,11 @@ def render_many(results) -> str:
         else:
             rows.append({"model": str(model), "exit": r.exit_code, "error": None, "d": page_data(r)})
     codes = [r["exit"] for r in rows]
-    summary = f"{codes.count(0)} agree, {codes.count(1)} disagree, {codes.count(2)} cannot be compared"
+    counts = {"agree": codes.count(0), "disagree": codes.count(1), "cannot": codes.count(2)}
+    summary = f"{counts['agree']} agree, {counts['disagree']} disagree, {counts['cannot']} cannot be compared"
     return environment().get_template("robots.html.j2").render(
-        rows=rows, summary=summary, created=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"))
+        rows=rows, summary=summary, counts=counts,
+        created=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"))
 
 
 def write_many(results, out) -> str:

@@ -8,7 +8,10 @@ different pictures never collide.
 from __future__ import annotations
 
 import base64
+import hashlib
 import io
+import itertools
+import re
 
 import matplotlib
 
@@ -31,6 +34,28 @@ plt.rcParams.update(
 def data_uri(svg: bytes) -> str:
     """``data:image/svg+xml;base64,...`` of an SVG document."""
     return "data:image/svg+xml;base64," + base64.b64encode(svg).decode("ascii")
+
+
+_FIGURES = itertools.count()
+
+
+def inline(fig) -> str:
+    """A matplotlib figure as inline SVG markup for an HTML page: text as ``<text>`` elements (a browser can measure
+    them; the page names its font), no XML prolog, sized by its ``viewBox`` to the width of its container; the figure
+    is closed. Names in it come from a model file: matplotlib escapes ``<``, ``>`` and ``&`` in text."""
+    buf = io.StringIO()
+    with plt.rc_context({"svg.fonttype": "none"}):
+        fig.savefig(buf, format="svg", bbox_inches="tight", metadata={"Date": None})
+    plt.close(fig)
+    svg = buf.getvalue()
+    svg = svg[svg.index("<svg"):]
+    # ids unique in the page (several figures in one document): each prefixed by a digest of the figure and its
+    # number in this process (two identical figures on one page stay apart)
+    prefix = f"f{next(_FIGURES)}" + hashlib.sha1(svg.encode()).hexdigest()[:8] + "-"
+    svg = re.sub(r'\bid="([^"]+)"', lambda m: f'id="{prefix}{m.group(1)}"', svg)
+    svg = re.sub(r'url\(#([^)]+)\)', lambda m: f"url(#{prefix}{m.group(1)})", svg)
+    svg = re.sub(r'href="#([^"]+)"', lambda m: f'href="#{prefix}{m.group(1)}"', svg)
+    return re.sub(r'<svg([^>]*?) width="[^"]*" height="[^"]*"', r'<svg\1 class="drawing" width="100%"', svg, count=1)
 
 
 def figure(fig) -> str:
