@@ -169,7 +169,7 @@ def test_report_takes_a_model_file(tmp_path):
         ids = view.eval_on_selector_all("section", "els => els.map(e => e.id)")
         bodies = view.eval_on_selector_all("#bodies tr td:first-child", "els => els.map(e => e.textContent)")
         cells = view.eval_on_selector_all("#cases th", "els => els.map(e => e.textContent)")
-        drawn = view.eval_on_selector("#drawing img", "e => e.complete && e.naturalWidth")
+        drawn = view.eval_on_selector("#drawing svg", "e => e.getBoundingClientRect().width")
         browser.close()
     assert errors == []
     assert ids == ["verdict", "engines", "drawing", "audit", "dynamics", "referee", "cases", "bodies", "conventions",

@@ -167,11 +167,13 @@ def _check_tree(args) -> int:
     if args.json:
         print(json.dumps(report.as_dict(), indent=2))
         return 0 if report.passed else 1
-    print(f"relacc check {report.model}: relacc's tree (read through MuJoCo's compiler) against each engine, "
+    print(f"relacc check {report.model}: relacc's tree (relacc's own reading of the file) against each engine, "
           f"{report.n_states} random states and the reference configuration, seed {report.seed}; normalized error "
-          "= max|x - x_engine| / magnitude of the terms, in MuJoCo's coordinates through each case's speed map")
+          "= max|x - x_engine| / magnitude of the terms, in each case's coordinates through each engine's speed map")
     for name, why in report.not_loaded.items():
         print(f"  {name}: not loaded: {why}")
+    for line in report.not_evaluated:
+        print(f"not evaluated: {line}")
     header = f"{'case':4s}  {'engine':9s}  {'quantity':22s}  {'max':>9s}  {'tolerance':>9s}  {'max/eps':>9s}  result"
     print(header)
     print("-" * len(header))
@@ -306,7 +308,7 @@ def cmd_simulate(args) -> int:
     changes = {k: v for k, v in (("dt", args.dt), ("integrator", args.integrator), ("duration", args.duration))
                if v is not None}
     if args.engines:
-        changes["engines"] = args.engines
+        changes["engines"], changes["left_out"] = args.engines, ()
     if changes:
         scene = scene.replace(**changes)
     start = _time.perf_counter()
@@ -335,6 +337,7 @@ def cmd_simulate(args) -> int:
 def _ensemble(scene, args) -> int:
     """``relacc simulate --ensemble N``: every engine's steps per second and its members' G2 differences; the
     verdict: every engine's acceleration against relacc's at the members' initial states (exit 1 when one differs)."""
+    from relacc import simulate
     from relacc.simulate.members import run_members
 
     if args.out is not None:
@@ -361,7 +364,8 @@ def _ensemble(scene, args) -> int:
                "relacc's: " + "; ".join(f"{k} by {c['error']:.2e} (bound {c['bound']:.1e})"
                                         for k, c in differing.items()))
     summary = {**part.summary(scene, args.spread, args.seed), "acceleration_vs_engines": check,
-               "agree": not differing, "verdict": verdict}
+               "agree": not differing, "verdict": verdict, "left_out": dict(scene.left_out),
+               "not_evaluated": list(scene.unevaluated)}
     code = 1 if differing else 0
     if args.json:
         print(json.dumps(summary, indent=2))
@@ -375,6 +379,8 @@ def _ensemble(scene, args) -> int:
     print(f"largest {'G2' if scene.is_chain else scene.observe} position difference over the run, per member (m):")
     for k, v in summary[f"largest_{'g2' if scene.is_chain else 'point'}_position_difference"].items():
         print(f"  {k:20s} max {v['max']:.3e} (member {v['worst_member']}), median {v['median']:.3e}")
+    for line in simulate.scene_notes(scene):
+        print(line)
     print(f"verdict: {verdict}")
     return code
 
@@ -401,9 +407,11 @@ def cmd_report(args) -> int:
     if _is_robot(args):
         from relacc.report import model as model_report
 
-        path, agree = model_report.write(args.model, args.out, n_states=args.states, seed=args.seed,
-                                         quick=args.quick, progress=_progress(args))
+        path, agree, notes = model_report.write(args.model, args.out, n_states=args.states, seed=args.seed,
+                                                quick=args.quick, progress=_progress(args))
         print(f"wrote {path}: {'everything agrees' if agree else 'DISAGREEMENTS found (see the verdict)'}")
+        for line in notes:
+            print(line)
         return 0 if agree else 1
     from relacc.report import build_report
 

@@ -85,7 +85,7 @@ def _many(args) -> int:
         from relacc.cluster.sweeps import compare_models
 
         results = compare_models(args.scheduler, args.model, urdf=args.urdf, engines=args.engines,
-                                 n_states=args.states, seed=args.seed, progress=bar)
+                                 n_states=args.states, seed=args.seed, progress=None if args.quiet else bar)
     else:
         from relacc.validation.robots import compare
 
@@ -171,7 +171,7 @@ def text(result) -> str:
         lines.append(f"finding: body {f['body']} ({f['place']}): {f['condition']}: {f['numbers']}")
     for body, why in data["taken"].items():
         lines.append(f"taken: body {body}: {why}")
-    for line in data["unevaluated"]:
+    for line in data["not_evaluated"]:
         lines.append(f"not evaluated: {line}")
     lines.append(f"audit: {len(data['audit'])} difference{'s' if len(data['audit']) != 1 else ''}")
     for a in data["audit"]:

@@ -307,6 +307,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--verbose", action="store_true", help="several models: each model's detail after the summary "
                    "(the summary alone by default)")
     _scheduler(p, "one task per model")
+    _quiet(p)
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
              "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "

@@ -10,6 +10,6 @@ docs/reading.md tables what is read, element by element, with the specification'
 """
 
 from relacc.reading.model import Finding, Reading
-from relacc.reading.read import read, read_tree
+from relacc.reading.read import read, read_moving, read_tree
 
-__all__ = ["Finding", "Reading", "read", "read_tree"]
+__all__ = ["Finding", "Reading", "read", "read_moving", "read_tree"]

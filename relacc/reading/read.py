@@ -53,6 +53,19 @@ def _mesh_reader(mesh):
                          f"{exc}; or give the body an <inertial>") from None
 
 
+def read_moving(path, purpose: str) -> Reading:
+    """:func:`read`, refusing a file in which nothing moves (no joint): ``purpose`` ends the message ("there is nothing
+    to check").
+
+    Raises:
+        ModelError: as :func:`read`, or the file has no joint.
+    """
+    reading = read(path)
+    if reading.tree.nv == 0:
+        raise ModelError(f"{path}: no joint in it (relacc's reading): nothing moves, so {purpose}")
+    return reading
+
+
 def read_tree(path, meshes="mujoco"):
     """The :class:`relacc.Tree` of relacc's reading of a file (:func:`read`)."""
     return read(path, meshes).tree

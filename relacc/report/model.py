@@ -95,6 +95,8 @@ def _conventions(result) -> dict:
 
 
 def _simulation(run) -> dict:
+    from relacc import simulate
+
     summary = run.summary()
     return {"scene": run.scene.name, "title": run.scene.title, "point": summary.get("point"),
             "duration": run.scene.duration, "dt": run.scene.dt, "integrator": run.scene.integrator,
@@ -102,16 +104,20 @@ def _simulation(run) -> dict:
                         for e, s in summary["engines"].items()],
             "pairs": [{"pair": k, "position": v["position"], "velocity": v["velocity"]}
                       for k, v in run.differences()[2].items()],
-            "agree": run.agree, "verdict": run.verdict(),
+            "agree": run.agree, "verdict": run.verdict(), "notes": simulate.scene_notes(run.scene),
             "checks": [{"engine": e, "error": c["error"], "bound": c["bound"], "ok": c["error"] <= c["bound"]}
                        for e, c in run.note_check.items()]}
 
 
 def write(model, out, *, n_states=None, seed: int = 0, quick: bool = False, progress=None):
-    """Run everything and write the page atomically; returns ``(path, agree)``. The output path is checked first."""
+    """Run everything and write the page atomically; returns ``(path, agree, notes)``, ``notes``: one line per kind
+    of element of the file the page leaves out and per engine the scene ran without. The output path is checked
+    first."""
     with files.inputs([model] if isinstance(model, (str, os.PathLike)) else []):  # the page never replaces the model
         path = files.check_output_file(out)
         data = build(model, n_states=n_states, seed=seed, quick=quick, progress=progress)
         path.parent.mkdir(parents=True, exist_ok=True)
         files.write_text(path, environment().get_template("model.html.j2").render(d=data))
-    return path, data["agree"]
+    notes = [f"not evaluated: {u}" for u in data["unevaluated"]] + [n for n in data["simulation"]["notes"]
+                                                                     if n.startswith("left out")]
+    return path, data["agree"], notes

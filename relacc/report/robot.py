@@ -41,7 +41,7 @@ def page_data(result) -> dict:
             "engines": data["engines"], "names": names, "reference": data["reference"],
             "others": columns, "audit": audit, "dynamics": rows, "agree": data["agree"], "states": data["states"],
             "seed": data["seed"], "referee": data["referee"], "findings": data["findings"], "taken": data["taken"],
-            "unevaluated": data["unevaluated"], "notes": data["notes"], "odd": odd_ones_out(data["referee"]),
+            "unevaluated": data["not_evaluated"], "notes": data["notes"], "odd": odd_ones_out(data["referee"]),
             "absent": [e for e in names if not data["engines"][e]["loaded"]],
             "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
 

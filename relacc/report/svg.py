@@ -42,13 +42,14 @@ _FIGURES = itertools.count()
 def inline(fig) -> str:
     """A matplotlib figure as inline SVG markup for an HTML page: text as ``<text>`` elements (a browser can measure
     them; the page names its font), no XML prolog, sized by its ``viewBox`` to the width of its container; the figure
-    is closed. Names in it come from a model file: matplotlib escapes ``<``, ``>`` and ``&`` in text."""
+    is closed; matplotlib's RDF metadata is left out. Names in it come from a model file: matplotlib escapes ``<``, ``>`` and ``&`` in text."""
     buf = io.StringIO()
     with plt.rc_context({"svg.fonttype": "none"}):
         fig.savefig(buf, format="svg", bbox_inches="tight", metadata={"Date": None})
     plt.close(fig)
     svg = buf.getvalue()
     svg = svg[svg.index("<svg"):]
+    svg = re.sub(r"<metadata>.*?</metadata>\s*", "", svg, count=1, flags=re.S)  # RDF naming outside addresses
     # ids unique in the page (several figures in one document): each prefixed by a digest of the figure and its
     # number in this process (two identical figures on one page stay apart)
     prefix = f"f{next(_FIGURES)}" + hashlib.sha1(svg.encode()).hexdigest()[:8] + "-"

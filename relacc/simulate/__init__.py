@@ -12,7 +12,7 @@ one) the engines; nothing here is imported by ``import relacc``.
 
 from relacc.simulate.ensemble import Ensemble, ensemble
 from relacc.simulate.members import perturbed
-from relacc.simulate.runs import SimulationResult, format_text, run
+from relacc.simulate.runs import SimulationResult, format_text, run, scene_notes
 from relacc.simulate.trajectory import Trajectory
 
-__all__ = ["Ensemble", "SimulationResult", "Trajectory", "ensemble", "format_text", "perturbed", "run"]
+__all__ = ["Ensemble", "SimulationResult", "Trajectory", "ensemble", "format_text", "perturbed", "run", "scene_notes"]

@@ -125,6 +125,7 @@ class SimulationResult:
             "engines": engines, f"max_{p}_position_difference": pos, f"max_{p}_velocity_difference": vel,
             "pairs": pairs, ("note" if self.scene.is_chain else "relacc") + "_acceleration_vs_engines": self.note_check,
             "agree": self.agree, "verdict": self.verdict(), "csv": [str(c) for c in self.csv],
+            "left_out": dict(self.scene.left_out), "not_evaluated": list(self.scene.unevaluated),
         }
 
 
@@ -264,5 +265,12 @@ def format_text(result: SimulationResult) -> str:
                    f"{c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})")
     out.append("energy drift: max |E - E0| / max (T + |V_g| + V_s) over the run, where only conservative effects "
                "act; momentum drift: max |p - p0| (kg m/s) where no external force acts")
+    out += scene_notes(scene)
     out.append(f"verdict: {result.verdict()}")
     return "\n".join(out)
+
+
+def scene_notes(scene) -> list[str]:
+    """One line per engine a model's default scene runs without, and per kind of element the run leaves out."""
+    return ([f"left out: {name}: {why}" for name, why in scene.left_out]
+            + [f"not evaluated: {line}" for line in scene.unevaluated])

@@ -65,6 +65,10 @@ class Scene:
         engines: names in ``SIM_ENGINES``. record_every: steps between records.
         model_path: a model scene's file (None for the chain). tree: relacc's tree of it.
         observe: the point the engines are compared at (``G2`` for the chain; a body's mass centre or a point).
+        left_out: ``(engine, why)`` for each installed engine a model's default scene runs without (its reading
+            lacks some of the model's joints).
+        unevaluated: one line per kind of element of the model file that the run leaves out (equality constraints,
+            tendons...: :attr:`relacc.reading.Reading.unevaluated`).
     """
 
     name: str
@@ -86,6 +90,8 @@ class Scene:
     model_path: Path | None = None
     tree: object = None
     observe: str = "G2"
+    left_out: tuple[tuple[str, str], ...] = ()
+    unevaluated: tuple[str, ...] = ()
 
     def __post_init__(self):
         problem = check_simulate(self.duration, self.dt, self.integrator, list(self.engines), self.record_every,
@@ -258,11 +264,13 @@ def _model_file(path, text, model, checked) -> Path | None:
 
 def _model_scene(path, text, doc, model_path, checked) -> Scene:
     """A scene on a model file: its tree, the state in the case's coordinates, effects by joint and body name."""
-    from relacc.core.tree import Tree, reference_q
+    from relacc.core.tree import reference_q
     from relacc.core.tree.coordinates import check_q as check_tree_q
     from relacc.core.tree.coordinates import check_u as check_tree_u
+    from relacc.reading import read_moving
 
-    tree = checked("model", "file", lambda: Tree.from_file(model_path))
+    reading = checked("model", "file", lambda: read_moving(model_path, "there is nothing to simulate"))
+    tree = reading.tree
     case = checked("initial", "case", lambda: int(as_case(doc.initial.case)))
     if doc.initial.q == "reference":
         q = reference_q(tree, case)
@@ -276,7 +284,7 @@ def _model_scene(path, text, doc, model_path, checked) -> Scene:
                                    "[effects.joints.NAME] and [effects.bodies.NAME]")
     effects = _tree_effects(tree, doc.effects, checked)
     sim = doc.simulate
-    observe = sim.observe or tree.bodies[0].name
+    observe = sim.observe or first_moving(tree)
     if observe not in tree.body_names and observe not in tree.point_names:
         raise tomlfile.field_error(path, text, "simulate", "observe", f"{tree.name} has no body or point "
                                    f"{observe!r}; bodies: {', '.join(tree.body_names)}")
@@ -286,7 +294,7 @@ def _model_scene(path, text, doc, model_path, checked) -> Scene:
                  duration=float(sim.duration), dt=float(sim.dt), integrator=sim.integrator,
                  engines=tuple(sim.engines), record_every=sim.record_every, source=path,
                  drake_integrator=drake_integrator, drake_accuracy=drake_accuracy, model_path=model_path, tree=tree,
-                 observe=observe)
+                 observe=observe, unevaluated=tuple(reading.unevaluated))
 
 
 def _tree_effects(tree, eff, checked):
@@ -360,20 +368,30 @@ def _effects(eff, checked) -> Effects:
     return Effects(**kw)
 
 
+def first_moving(tree) -> str:
+    """The name of ``tree``'s first body that a joint moves (a scene's default ``observe``): a URDF's base link,
+    welded to the world, moves with nothing (and MuJoCo fuses it into the world)."""
+    moving: list[bool] = []
+    for b in tree.bodies:
+        moving.append(bool(b.joints) or (b.parent >= 0 and moving[b.parent]))
+    return tree.bodies[moving.index(True)].name
+
+
 def model_scene(path, *, seed: int = 0, duration: float = 1.0, dt: float = 1e-3, engines=None) -> Scene:
     """The default scene of any model file (``relacc simulate --model``): tumbling in space from the reference
     configuration (MuJoCo's ``qpos0``) with seeded speeds (standard normals from ``numpy.random.default_rng(seed)``,
     m/s and rad/s), nothing acting (no gravity, no spring, no contact: energy and momenta are conserved, so their
-    drift measures each integrator), RK4, observed at the first body's mass centre. A chain TOML gets the shipped
-    ``tumbling`` scene on that chain.
+    drift measures each integrator), RK4, observed at the mass centre of the first body a joint moves. A chain TOML
+    gets the shipped ``tumbling`` scene on that chain.
 
     Raises:
         ModelError: the file cannot be read. InputError: a bad seed.
     """
     from relacc.core.cases import check_int
-    from relacc.core.tree import Tree, reference_q
+    from relacc.core.tree import reference_q
     from relacc.dynamics.tree_effects import TreeEffects
     from relacc.engines import available
+    from relacc.reading import read_moving
 
     path = Path(path)
     seed = check_int("seed", seed, minimum=0)
@@ -386,11 +404,20 @@ def model_scene(path, *, seed: int = 0, duration: float = 1.0, dt: float = 1e-3,
         base = load(scene_path("tumbling"))
         return base.replace(fixture=load_fixture(path), name=f"{path.stem}_tumbling", engines=names,
                             drake_integrator=drake)
-    tree = Tree.from_file(path)
+    reading = read_moving(path, "there is nothing to simulate")
+    tree = reading.tree
     u = np.random.default_rng(seed).standard_normal(tree.nv)
-    return Scene(name=f"{path.stem}_tumbling", title=f"{tree.name} tumbling in space (seed {seed})",
+    scene = Scene(name=f"{path.stem}_tumbling", title=f"{tree.name} tumbling in space (seed {seed})",
                  description="the model's default scene: its reference configuration, seeded speeds, nothing acting",
                  fixture=None, case=2, q=reference_q(tree, 2), u=u, effects=TreeEffects(np.zeros(3)),
                  duration=float(duration), dt=float(dt), integrator="rk4", engines=names,
                  record_every=max(1, int(round(duration / dt)) // 100), source=None, drake_integrator=drake,
-                 model_path=path.resolve(), tree=tree, observe=tree.bodies[0].name)
+                 model_path=path.resolve(), tree=tree, observe=first_moving(tree),
+                 unevaluated=tuple(reading.unevaluated))
+    if engines is not None:
+        return scene
+    from relacc.simulate.subjects import usable
+
+    kept, left_out = usable(scene)
+    return scene.replace(engines=kept, left_out=left_out,
+                         drake_integrator=drake if "drake" in kept else None)

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tolerances import rounding_tolerance
+from relacc.errors import EngineError, ModelError
 
 
 def _observation(position, velocity, acceleration, energy_terms, momentum, angular_momentum) -> dict:
@@ -50,7 +51,30 @@ def adapter(scene, name: str):
 
     if scene.is_chain:
         return load_engine(name, scene.fixture).adapter
-    return load(name, scene.model_path, scene.tree)
+    engine = load(name, scene.model_path, scene.tree)
+    shared = set(engine.dofs.tolist())
+    lacks = [j.name for (_, j), a in zip(scene.tree.joints, scene.tree.dofadr) if not shared >= set(range(a, a + j.nv))]
+    if lacks:
+        raise EngineError(f"{name} cannot simulate {scene.model_path.name}: its reading lacks the joints "
+                          f"{', '.join(lacks)} (relacc compare says why)")
+    return engine
+
+
+def usable(scene) -> tuple[tuple[str, ...], tuple[tuple[str, str], ...]]:
+    """``(engines, left_out)``: the scene's engines that read every joint of its model, and ``(engine, why)`` for
+    each that does not (a model's default scene runs without them and says so)."""
+    kept, left = [], []
+    for name in scene.engines:
+        if name == "relacc" or scene.is_chain:
+            kept.append(name)
+            continue
+        try:
+            adapter(scene, name)
+        except (EngineError, ModelError) as exc:
+            left.append((name, str(exc).removeprefix(f"{name} cannot simulate {scene.model_path.name}: ")))
+        else:
+            kept.append(name)
+    return tuple(kept), tuple(left)
 
 
 def engine_observer(engine, scene):

@@ -66,6 +66,8 @@ class Grade:
     """A model's body (then ``columns`` names joints, and there are no printed slips to match), or None: G2."""
     called: str = "one state at a time"
     """How the function was called for its worst value: ``one state at a time`` or ``a batch``."""
+    not_evaluated: tuple = ()
+    """One line per kind of element of a model file the truth leaves out (``Reading.unevaluated``)."""
 
     def as_dict(self) -> dict:
         """``relacc grade --json``."""
@@ -73,7 +75,8 @@ class Grade:
         return {"ok": self.ok, "worst_error": worst, "columns": list(self.columns),
                 "matches": list(self.matches), "seed": self.seed, "quantity": self.quantity, "case": self.case,
                 "worst_source": self.worst_source, "worst_state": self.worst_state, "n_states": self.n_states,
-                "sources": list(self.sources), "body": self.body, "called": self.called}
+                "sources": list(self.sources), "body": self.body, "called": self.called,
+                "not_evaluated": list(self.not_evaluated)}
 
     def text(self) -> str:
         """The human-readable verdict."""
@@ -81,6 +84,7 @@ class Grade:
         head = (f"{what} for case {self.case}: {'right' if self.ok else 'WRONG'} on {self.n_states} states "
                 f"(seed {self.seed}; ordinary and hard), against {', '.join(self.sources)}; worst normalized error "
                 f"{self.worst_error:.3g} ({self.worst_source}, state {self.worst_state}, called {self.called})")
+        head += "".join(f"\nnot evaluated: {line}" for line in self.not_evaluated)
         if self.ok:
             return head
         cols = ", ".join(self.columns) if self.columns else "none found by the probes"

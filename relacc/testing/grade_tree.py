@@ -11,6 +11,9 @@ whose speeds show it (the columns of a matrix; one joint's speeds or rates at a 
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 
 from relacc.core.cases import as_case, check_int
@@ -41,7 +44,14 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
 
     if quantity not in TREE_QUANTITIES:
         raise InputError(f"unknown quantity {quantity!r} for a model's body: accepted are {', '.join(TREE_QUANTITIES)}")
-    tree = as_tree(model)
+    notes: tuple = ()
+    if isinstance(model, (str, os.PathLike)) and Path(model).suffix.lower() in (".xml", ".urdf"):
+        from relacc.reading import read
+
+        reading = read(model)
+        tree, notes = reading.tree, tuple(reading.unevaluated)
+    else:
+        tree = as_tree(model)
     b = tree.body(body)
     c = int(as_case(case))
     n, seed = check_int("n", n, minimum=1), check_int("seed", seed, minimum=0)
@@ -64,7 +74,7 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     ok = worst[0] <= 1.0
     columns = () if ok else _columns(fn, tree, c, b, quantity, s, tol, shape)
     return Grade(ok, quantity, c, worst[3], worst[1], worst[2], columns, (), seed, len(s),
-                 tuple(t[0] for t in truths), body=tree.body_names[b], called=worst[4])
+                 tuple(t[0] for t in truths), body=tree.body_names[b], called=worst[4], not_evaluated=notes)
 
 
 def _columns(fn, tree, c, b, quantity, s, tol, shape) -> tuple:

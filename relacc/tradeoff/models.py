@@ -45,6 +45,10 @@ class ModelTradeoff:
     orders: dict
     differing: dict = None
     """``{engine: {"error", "bound"}}``: engines whose acceleration is not relacc's at the same states."""
+    left_out: dict = None
+    """``{engine: why}``: installed engines the default scene runs without (they lack some of the model's joints)."""
+    not_evaluated: tuple = ()
+    """One line per kind of element of the file the scene leaves out (``Reading.unevaluated``)."""
 
     @property
     def exit_code(self) -> int:
@@ -54,7 +58,8 @@ class ModelTradeoff:
         """The ``relacc tradeoff --model FILE --json`` object."""
         return {"model": self.model, "point": self.point, "duration": self.duration, "integrators": self.rows,
                 "reference": self.reference, "orders": self.orders, "misread": self.differing or {},
-                "agree": not self.differing}
+                "agree": not self.differing, "left_out": self.left_out or {},
+                "not_evaluated": list(self.not_evaluated)}
 
 
 def _final(scene):
@@ -111,7 +116,8 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTra
     runs = dict.fromkeys((r["engine"], r["integrator"]) for r in rows if not r["misread"])
     orders = {f"{e}/{i}": observed_order(rows, e, i) for e, i in runs}
     return ModelTradeoff(str(model), base.observe, base.duration, rows, reference,
-                         {k: v for k, v in orders.items() if v is not None}, differing)
+                         {k: v for k, v in orders.items() if v is not None}, differing,
+                         dict(base.left_out), tuple(base.unevaluated))
 
 
 def format_text(result: ModelTradeoff) -> str:
@@ -133,4 +139,6 @@ def format_text(result: ModelTradeoff) -> str:
         out.append(f"DISAGREE: {engine} reads this model differently: at the same states its acceleration differs "
                    f"from relacc's by {c['error']:.2e} (bound {c['bound']:.1e}), so its rows measure that, not its "
                    "integrator, and it has no order (relacc compare FILE says where)")
+    out += [f"left out: {name}: {why}" for name, why in (result.left_out or {}).items()]
+    out += [f"not evaluated: {line}" for line in result.not_evaluated]
     return "\n".join(out)

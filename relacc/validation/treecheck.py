@@ -30,6 +30,8 @@ class TreeCheck:
     seed: int
     rows: list = field(default_factory=list)
     not_loaded: dict = field(default_factory=dict)
+    not_evaluated: tuple = ()
+    """One line per kind of element of the file the check leaves out (:attr:`relacc.reading.Reading.unevaluated`)."""
 
     @property
     def passed(self) -> bool:
@@ -37,7 +39,8 @@ class TreeCheck:
 
     def as_dict(self) -> dict:
         return {"model": self.model, "states": self.n_states, "seed": self.seed, "passed": self.passed,
-                "not_loaded": self.not_loaded, "comparisons": [_row(r) for r in self.rows]}
+                "not_loaded": self.not_loaded, "not_evaluated": list(self.not_evaluated),
+                "comparisons": [_row(r) for r in self.rows]}
 
 
 def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed: int = 0, progress=None) -> TreeCheck:
@@ -49,12 +52,10 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
     Raises:
         ModelError: relacc cannot read the file, or nothing in it moves.
     """
-    from relacc.reading import read
+    from relacc.reading import read_moving
     from relacc.validation.robots import load_robot
 
-    reading = read(model)
-    if reading.tree.nv == 0:
-        raise ModelError(f"{model}: no joint in it (relacc's reading): nothing moves, so there is nothing to check")
+    reading = read_moving(model, "there is nothing to check")
     names = [e for e in ENGINES if installed(e)] if engines is None else list(engines)
     robots, not_loaded = [], {}
     for name in names:
@@ -71,7 +72,7 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
                 progress(f"case {case}: {robot.engine}")
             for r in compare_dynamics(tree, robot, states).values():
                 rows.append(replace(r, case=int(case)))
-    return TreeCheck(str(model), n_states, seed, rows, not_loaded)
+    return TreeCheck(str(model), n_states, seed, rows, not_loaded, tuple(reading.unevaluated))
 
 
 def _row(r) -> dict:

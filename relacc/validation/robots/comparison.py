@@ -29,7 +29,7 @@ from relacc.engines import ENGINES, adapter_module, installed, readings
 from relacc.engines import load as load_adapter
 from relacc.engines.contain import survives
 from relacc.errors import EngineError, ModelError
-from relacc.reading import read
+from relacc.reading import read_moving
 from relacc.validation.robots.agreement import QUANTITIES, random_states
 from relacc.validation.robots.agreement import compare as compare_dynamics
 from relacc.validation.robots.audit import Item, Scales, differences, merge
@@ -119,7 +119,7 @@ class RobotComparison:
                 "audit": [i.as_json() for i in self.audit], "dynamics": dynamics, "states": self.n_states,
                 "seed": self.seed, "referee": [v.as_json() for v in self.referee], "agree": self.agree,
                 "findings": [f.as_json() for f in self.findings], "taken": dict(self.taken),
-                "unevaluated": list(self.unevaluated), "notes": list(self.notes), "geometry": self.geometry}
+                "not_evaluated": list(self.unevaluated), "notes": list(self.notes), "geometry": self.geometry}
 
 
 def _one_line(engine: str, what: str, exc: BaseException) -> str:
@@ -161,10 +161,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
             raise EngineError(f"unknown engine {name!r} for compare: accepted are {', '.join(ENGINES)}")
     if urdf is not None and not Path(urdf).is_file():
         raise ModelError(f"{urdf}: no such file")
-    reading = read(model)
-    if reading.tree.nv == 0:
-        raise ModelError(f"{model}: no joint in it (relacc's reading): nothing moves, so there are no dynamics to "
-                         "compare")
+    reading = read_moving(model, "there are no dynamics to compare")
     if urdf is None and Path(model).suffix.lower() == ".urdf":
         urdf = model
     reference = TreeRobot(reading, 2)

@@ -1,0 +1,94 @@
+"""The rules of docs/guarantees.md held by every command that takes a model file: a file where nothing moves is one
+line and exit 2; what a file has that relacc does not evaluate is named in every result; a URDF runs wherever an MJCF
+does; an engine that cannot read every joint is left out of a model's default scene, and the result says so."""
+
+import json
+
+import pytest
+
+from relacc.cli import main
+
+NOTHING_MOVES = '<mujoco><worldbody><body name="a"><geom type="sphere" size="0.1" mass="1"/></body></worldbody>' \
+    '</mujoco>'
+COUPLED = """<mujoco model="coupled"><worldbody><body name="a"><joint name="j1" type="hinge" axis="0 1 0"/>
+<geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05"/><body name="b" pos="0 0 -0.5">
+<joint name="j2" type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05"/></body></body>
+</worldbody><equality><joint joint1="j1" joint2="j2"/></equality></mujoco>
+"""
+WELDED_BASE = """<robot name="turned"><link name="base"/>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 1 0"/>
+<limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+<link name="l1"><inertial><origin xyz="0.1 0 -0.2" rpy="0 0 1.570796"/><mass value="1"/>
+<inertia ixx="1" iyy="2" izz="2.5" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>
+"""
+# Pinocchio's MJCF parser reads only the first body written in <worldbody> (docs/reading.md): it lacks "target"'s joint
+TWO_ROOTS = """<mujoco model="two_roots"><worldbody>
+<body name="arm"><joint name="shoulder" type="hinge" axis="0 0 1"/><geom type="capsule" fromto="0 0 0 0.3 0 0"
+size="0.02"/></body>
+<body name="target" pos="0.2 0.2 0"><joint name="target_x" type="slide" axis="1 0 0"/><geom type="sphere" size="0.02"/>
+</body></worldbody></mujoco>
+"""
+SHORT = {"simulate": ["--duration", "0.02"], "tradeoff": ["--quick"], "check": ["--states", "2"],
+         "report": ["--quick", "--states", "2"], "compare": ["--states", "2"]}
+
+
+def _model(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _argv(command, path, tmp_path):
+    argv = [command, str(path)] if command == "compare" else [command, "--model", str(path)]
+    if command == "report":
+        argv += ["--out", str(tmp_path / "page.html")]
+    return argv + SHORT[command]
+
+
+@pytest.mark.parametrize("command", ["check", "simulate", "tradeoff", "report", "compare"])
+def test_a_file_where_nothing_moves_is_one_line(tmp_path, capsys, command):
+    path = _model(tmp_path, "still.xml", NOTHING_MOVES)
+    code = main(_argv(command, path, tmp_path) + ["--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "nothing moves" in err[0], err
+
+
+@pytest.mark.parametrize("command", ["check", "simulate", "tradeoff", "compare"])
+def test_an_equality_constraint_is_named_in_every_json_result(tmp_path, capsys, command):
+    path = _model(tmp_path, "coupled.xml", COUPLED)
+    main(_argv(command, path, tmp_path) + ["--json", "--quiet"])
+    out = json.loads(capsys.readouterr().out)
+    assert any("equality constraint" in line for line in out["not_evaluated"]), out
+
+
+def test_an_equality_constraint_is_named_by_report_and_grade(tmp_path, capsys):
+    path = _model(tmp_path, "coupled.xml", COUPLED)
+    main(_argv("report", path, tmp_path) + ["--quiet"])
+    assert "not evaluated: 1 equality constraint" in capsys.readouterr().out
+    module = _model(tmp_path, "mine.py", "import numpy as np\ndef f(tree, q, u, udot):\n    return np.zeros(3)\n")
+    main(["grade", f"{module}:f", "--model", str(path), "--body", "b", "--quantity", "position", "--case", "2",
+          "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert any("equality constraint" in line for line in out["not_evaluated"]), out
+
+
+@pytest.mark.parametrize("command", ["simulate", "tradeoff", "report"])
+def test_a_urdf_with_a_welded_base_runs_observed_at_its_first_moving_link(tmp_path, capsys, command):
+    """The base link moves with nothing (MuJoCo fuses it into the world): the default scene observes l1."""
+    path = _model(tmp_path, "turned.urdf", WELDED_BASE)
+    code = main(_argv(command, path, tmp_path) + ["--quiet"])
+    out = capsys.readouterr()
+    assert code == 0 and not out.err, out.err
+    if command != "report":
+        assert "l1" in out.out
+
+
+def test_an_engine_that_lacks_joints_is_left_out_of_the_default_scene_and_said(tmp_path, capsys):
+    path = _model(tmp_path, "two_roots.xml", TWO_ROOTS)
+    code = main(["simulate", "--model", str(path), "--duration", "0.02", "--json", "--quiet"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and "pinocchio" not in out["engines"], out["engines"]
+    assert "target_x" in out["left_out"]["pinocchio"], out["left_out"]
+    code = main(["simulate", "--model", str(path), "--duration", "0.02", "--engines", "relacc,pinocchio", "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "lacks the joints target_x" in err[0], err
