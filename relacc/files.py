@@ -15,6 +15,7 @@
   or the same file by a hard link) is refused, by the checks above before any
   work and again by every writer before anything is replaced: no input file is
   ever an output.
+* :func:`regular_file`: what a command reads is a regular file (a FIFO would block it, a directory is no model).
 """
 
 from __future__ import annotations
@@ -177,6 +178,26 @@ def _rename_all(temps: dict) -> None:
         raise
 
 
+def regular_file(path, error=InputError, what: str = "file") -> Path:
+    """``path`` if it names an existing regular file (symbolic links followed), else one ``error``: no such file, a
+    directory, or another kind (a FIFO, a socket, a device: reading one could block or never end)."""
+    import stat
+
+    path = Path(path)
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        raise error(f"{path}: no such file") from None
+    except OSError as exc:
+        raise error(f"{path}: cannot read the {what} ({exc.strerror or exc})") from None
+    if stat.S_ISDIR(mode):
+        raise error(f"{path}: is a directory, not a {what}")
+    if not stat.S_ISREG(mode):
+        kind = "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else "a device"
+        raise error(f"{path}: {kind}, not a regular file: relacc reads a {what} from a regular file")
+    return path
+
+
 def read_document(source, parse, kind: str, error=InputError, what: str = "file"):
     """``(value, text)`` of a text document (TOML, JSON) read from ``source`` (a path, or ``-``: stdin).
 
@@ -190,7 +211,7 @@ def read_document(source, parse, kind: str, error=InputError, what: str = "file"
 
             text = sys.stdin.buffer.read().decode("utf-8")
         else:
-            with open(source, encoding="utf-8") as fh:
+            with open(regular_file(source, error, what), encoding="utf-8") as fh:
                 text = fh.read()
     except OSError as exc:
         raise error(f"{source}: cannot read the {what} ({exc.strerror or exc})") from None

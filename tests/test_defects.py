@@ -146,7 +146,24 @@ def test_relacc_states_checks_its_arguments_and_hands_out_read_only_states(relac
     s = relacc_states(case=1, n=3)
     with pytest.raises(ValueError, match="read-only"):
         s.q[:, 0] += 100
-    assert relacc_states(case=1, n=3) is s
+    first = s.q.copy()
+    s.q.setflags(write=True)  # a test may make its copy writable: no other test sees the change
+    s.q[:, 0] += 100
+    again = relacc_states(case=1, n=3)
+    assert again is not s and not again.q.flags.writeable
+    np.testing.assert_array_equal(again.q, first)
+
+
+def test_relacc_states_of_a_model_follow_the_file(tmp_path, relacc_states):
+    """States are keyed by the model's content, not its path: after the file changes (a hinge becomes a ball), the
+    same call gives the new model's states."""
+    path = tmp_path / "m.xml"
+    body = '<mujoco><worldbody><body name="b"><joint name="j" type="{}"/><geom type="sphere" size="0.1" mass="1"/>' \
+        '</body></worldbody></mujoco>'
+    path.write_text(body.format("hinge"))
+    assert relacc_states(case=2, n=4, model=path).q.shape == (4, 1)
+    path.write_text(body.format("ball"))
+    assert relacc_states(case=2, n=4, model=path).q.shape == (4, 4)
 
 
 # --- memory refused up front --------------------------------------------------------------------------------

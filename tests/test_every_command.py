@@ -92,3 +92,38 @@ def test_an_engine_that_lacks_joints_is_left_out_of_the_default_scene_and_said(t
     code = main(["simulate", "--model", str(path), "--duration", "0.02", "--engines", "relacc,pinocchio", "--quiet"])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "lacks the joints target_x" in err[0], err
+
+
+@pytest.mark.parametrize("engine", ["relacc", "pinocchio", "mujoco", "drake"])
+def test_a_diverging_stiff_scene_is_one_line_on_every_engine(tmp_path, capsys, engine):
+    """The shipped ant scene with its hip springs at 1e7 N m/rad under explicit Euler at dt = 1e-3 s (omega dt of
+    order 1e2: the scheme is unstable): each engine's run ends in one line naming the divergence, exit 2 (Drake's
+    callback saw a non-finite state; relacc's overflowed on the way)."""
+    from relacc.fixtures.shipped import scene_path
+
+    text = scene_path("ant_tumbling").read_text().replace("stiffness = 2.0", "stiffness = 1e7")
+    text = text.replace('integrator = "rk4"', 'integrator = "euler"').replace("duration = 1.0", "duration = 0.2")
+    text = text.replace('integrator = "runge_kutta5"', 'integrator = "explicit_euler"')
+    path = _model(tmp_path, "stiff.toml", text)
+    code = main(["simulate", str(path), "--engines", engine, "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "diverged" in err[0] and "reduce the step" in err[0], err
+
+
+def test_a_fifo_is_refused_not_read(tmp_path, capsys):
+    """A FIFO named like a model, a scene, a state or a module would block the reader forever: one line, exit 2."""
+    import os
+
+    for name, argv in (("m.xml", ["compare", "{}"]), ("m.urdf", ["check", "--model", "{}"]),
+                       ("s.toml", ["simulate", "{}"]), ("state.json", ["eval", "{}"]),
+                       ("mine.py", ["grade", "{}:f", "--quantity", "V", "--case", "1"])):
+        path = tmp_path / name
+        os.mkfifo(path)
+        code = main([a.format(path) for a in argv])
+        err = capsys.readouterr().err.strip().splitlines()
+        assert code == 2 and len(err) == 1 and "a FIFO, not a regular file" in err[0], (name, err)
+
+
+def test_an_empty_scheduler_address_is_refused(capsys):
+    assert main(["check", "--scheduler", "", "--states", "2"]) == 2
+    assert "empty address" in capsys.readouterr().err

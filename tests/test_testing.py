@@ -27,7 +27,9 @@ def test_plugin_fixtures_give_states_truth_and_the_chain(relacc_chain, relacc_st
     again = np.random.default_rng(4)  # the states are numpy.random.default_rng(seed)'s
     assert np.array_equal(s.q[:, :3], again.normal(size=(30, 3))) and s.seed == 4
     t = relacc_truth(s, engine="mujoco")
-    assert relacc_truth(s, engine="mujoco") is t  # cached for the session
+    again = relacc_truth(s, engine="mujoco")  # computed once for the session, handed out as a copy
+    assert again is not t and again.acceleration.values is not t.acceleration.values
+    np.testing.assert_array_equal(again.acceleration.values, t.acceleration.values)
     ours = relacc.g2_kinematics(relacc_chain, 2, s.q, s.u, s.udot)
     errors = assert_agrees(ours.acceleration, t.acceleration)
     assert errors.shape == (30,) and t.acceleration.seed == 4 and t.acceleration.source == "mujoco/quaternion"

@@ -128,8 +128,15 @@ def _quiet(p):
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
+def _address(text: str) -> str:
+    """A scheduler address, not blank (an empty one would otherwise run here, unasked)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected local, local:N or tcp://host:port, got an empty address")
+    return text
+
+
 def _scheduler(p, what):
-    p.add_argument("--scheduler", metavar="ADDRESS",
+    p.add_argument("--scheduler", metavar="ADDRESS", type=_address,
                    help=f"run {what} on a Dask cluster: local or local:N (N worker processes here, started and "
                         "stopped by relacc) or tcp://host:port (a running `dask scheduler`); the same seed gives "
                         "the same answer")

@@ -68,7 +68,7 @@ def blocks(stepper: Stepper, x, v, steps, *, who: str, dt: float, integrator: st
     of ``size`` records at a time.
 
     Raises:
-        IntegrationError: the state became non-finite; the message names ``who``,
+        IntegrationError: the state became non-finite (or overflowed on the way); the message names ``who``,
             the interval of time and the step.
     """
     x, v = np.array(x, dtype=float), np.array(v, dtype=float)
@@ -83,6 +83,10 @@ def blocks(stepper: Stepper, x, v, steps, *, who: str, dt: float, integrator: st
         except IntegrationError as exc:
             raise IntegrationError(f"{who}: between t = {done * dt:.6g} s and t = {chunk[-1] * dt:.6g} s "
                                    f"(dt = {dt} s, {integrator}): {exc}") from None
+        except (FloatingPointError, RuntimeWarning) as exc:  # an overflow on the way to a non-finite state
+            raise IntegrationError(f"{who}: the integration diverged between t = {done * dt:.6g} s and "
+                                   f"t = {chunk[-1] * dt:.6g} s (dt = {dt} s, {integrator}; {exc}); reduce the "
+                                   "step") from None
         if got < len(chunk):
             before = int(chunk[got - 1]) if got else done
             raise IntegrationError(f"{who}: the integration diverged between t = {before * dt:.6g} s and "

@@ -315,25 +315,43 @@ def solve(tree, M, rhs):
     names = tree.speed_names()
     try:
         L = np.linalg.cholesky(M)
+        pivots = np.diagonal(L, axis1=-2, axis2=-1).reshape(-1, tree.nv) ** 2
+        low = pivots <= PIVOT_FLOOR * np.diagonal(flatM, axis1=-2, axis2=-1)
     except np.linalg.LinAlgError:
-        dead = sorted({names[i] for Mi in flatM for i in np.flatnonzero(np.abs(Mi).max(axis=1) == 0)})
-        raise SingularityError(
-            "the mass matrix is singular" + (f": no inertia moves with {', '.join(dead)}" if dead else
-                                             " (not positive definite)")
-            + "; give those bodies mass or inertia, or lock those joints") from None
-    pivots = np.diagonal(L, axis1=-2, axis2=-1).reshape(-1, tree.nv) ** 2
-    low = pivots <= PIVOT_FLOOR * np.diagonal(flatM, axis1=-2, axis2=-1)
+        L, low = None, np.ones((len(flatM), 1), dtype=bool)
     if low.any():
-        state = int(np.flatnonzero(low.any(axis=1))[0])
-        speeds = [names[i] for i in np.flatnonzero(low[state])]
+        for state, Mi in enumerate(flatM):
+            dependent = _dependent_speeds(Mi, PIVOT_FLOOR) if L is None or low[state].any() else []
+            if dependent:
+                break
+        else:
+            state, dependent = 0, list(range(tree.nv))  # not positive definite with every pivot above the floor
+        speeds = ", ".join(names[i] for i in dependent)
+        dead = [names[i] for i in dependent if not np.any(flatM[state, i])]
         raise SingularityError(
-            f"the mass matrix is singular to working precision (state {state}): the speeds {', '.join(speeds)} move "
-            "no inertia that the speeds before them do not already move (a pivot of its factorization is below "
-            f"{PIVOT_FLOOR:.1e} of its diagonal entry, so kappa(M) > 1/(c eps) and no digit of the accelerations is "
-            "certain); lock or remove the redundant joints, or give their bodies inertia")
+            f"the mass matrix is singular to working precision (state {state}): "
+            + (f"no inertia moves with {', '.join(dead)}" if dead else
+               f"the speeds {speeds} move no inertia that the speeds before them do not already move")
+            + f" (a pivot of its factorization at most {PIVOT_FLOOR:.1e} of its diagonal entry, so kappa(M) > "
+            "1/(c eps) and no digit of the accelerations is certain); lock or remove those joints, or give their "
+            "bodies mass or inertia") from None
     y = np.linalg.solve(L, rhs[..., None])
     out = np.linalg.solve(np.swapaxes(L, -1, -2), y)[..., 0]
     out.setflags(write=False)
+    return out
+
+
+def _dependent_speeds(M, floor) -> list[int]:
+    """The speeds of one ``(nv, nv)`` mass matrix whose pivot, eliminating the speeds before them in order (a
+    dependent one skipped), is at most ``floor`` times its diagonal entry: those that move no inertia the earlier ones
+    do not already move."""
+    A = np.array(M, dtype=float)
+    out = []
+    for k in range(len(A)):
+        if not A[k, k] > floor * M[k, k] or M[k, k] <= 0:
+            out.append(k)
+            continue
+        A[k + 1:, k + 1:] -= np.outer(A[k + 1:, k], A[k, k + 1:]) / A[k, k]
     return out
 
 

@@ -16,6 +16,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from relacc.errors import ModelError
+from relacc.files import regular_file
 
 GEOMETRY = ("visual", "collision")
 ELEMENTS = re.compile(r"<(visual|collision|mimic)\b[^>]*?/>|<(visual|collision|mimic)\b.*?</\2\s*>", re.S)
@@ -34,9 +35,7 @@ def dynamics_text(path) -> tuple[str, str | None]:
     Raises:
         ModelError: a missing or unreadable file, or XML that does not parse (the parser's message, with its line).
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ModelError(f"{path}: no such file")
+    path = regular_file(path, ModelError, "model file")
     stat = path.stat()
     return _dynamics_text(path, stat.st_mtime_ns, stat.st_size)  # each adapter asks; the file is read once
 

@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from pathlib import Path
 from xml.parsers import expat
 
 from relacc.errors import ModelError
+from relacc.files import regular_file
 
 
 @dataclass(eq=False)
@@ -99,13 +99,9 @@ def parse_file(path, notes: list | None = None) -> Node:
     Raises:
         ModelError: a missing, unreadable or non-UTF-8 file, or text that is not XML.
     """
-    path = Path(path)
+    path = regular_file(path, ModelError, "model file")
     try:
         raw = path.read_bytes()
-    except FileNotFoundError:
-        raise ModelError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise ModelError(f"{path}: is a directory, not a model file") from None
     except OSError as exc:
         raise ModelError(f"{path}: cannot read it ({exc.strerror or exc})") from None
     if not raw.strip(b"\x00 \t\r\n"):

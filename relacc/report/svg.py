@@ -42,7 +42,8 @@ _FIGURES = itertools.count()
 def inline(fig) -> str:
     """A matplotlib figure as inline SVG markup for an HTML page: text as ``<text>`` elements (a browser can measure
     them; the page names its font), no XML prolog, sized by its ``viewBox`` to the width of its container; the figure
-    is closed; matplotlib's RDF metadata is left out. Names in it come from a model file: matplotlib escapes ``<``, ``>`` and ``&`` in text."""
+    is closed; matplotlib's RDF metadata is left out. Names in it come from a model file: matplotlib escapes ``<``,
+    ``>`` and ``&`` in text."""
     buf = io.StringIO()
     with plt.rc_context({"svg.fonttype": "none"}):
         fig.savefig(buf, format="svg", bbox_inches="tight", metadata={"Date": None})

@@ -122,7 +122,8 @@ def load_function(spec: str):
     """
     import importlib
     import importlib.util
-    from pathlib import Path
+
+    from relacc.files import regular_file
 
     module_name, sep, func = spec.rpartition(":")
     if not sep or not module_name or not func:
@@ -130,9 +131,7 @@ def load_function(spec: str):
     try:
         with _stdout_to_stderr():
             if module_name.endswith(".py") or "/" in module_name:
-                path = Path(module_name)
-                if not path.is_file():
-                    raise CallError(f"{module_name}: no such file")
+                path = regular_file(module_name, CallError, "Python module")
                 loader = importlib.util.spec_from_file_location(path.stem, path)
                 module = importlib.util.module_from_spec(loader)
                 sys.path.insert(0, str(path.resolve().parent))  # as running the file would: its siblings import

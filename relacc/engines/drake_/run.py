@@ -19,6 +19,9 @@ SAME_SCHEME = {"euler": "semi_explicit_euler"}
 """A scene integrator Drake has under another name: semi-implicit Euler (``v`` first, then ``q`` with the new ``v``)."""
 
 
+DIVERGED = "the integration diverged (Drake's {scheme}): its state is no longer finite; reduce the step"
+
+
 class _Effects(LeafSystem):
     """Applies the generalized forces of exactly the given effects (gravity excepted: the plant's field)."""
 
@@ -29,10 +32,21 @@ class _Effects(LeafSystem):
         self.state = self.DeclareVectorInputPort("state", BasicVector(self.nq + self.nv))
         self.DeclareVectorOutputPort("tau", BasicVector(self.nv), self._calc)
 
+        self.failure, self.diverged = None, False
+        """What went wrong in the last callback (Drake cannot carry a Python exception through its C++ integrator:
+        pydrake turns one into an exit), raised by :func:`stepper` once ``AdvanceTo`` returns."""
+
     def _calc(self, context, output):
         x = self.state.Eval(context)
-        output.SetFromVector(self.adapter.generalized_forces(x[None, :self.nq], x[None, self.nq:], self.effects,
-                                                            context.get_time())[0])
+        tau = np.full(self.nv, np.nan)
+        self.diverged = self.diverged or not np.all(np.isfinite(x))
+        if not self.diverged:  # a diverged state has no forces: NaN, and the run is stopped after the step
+            try:
+                tau = self.adapter.generalized_forces(x[None, :self.nq], x[None, self.nq:], self.effects,
+                                                      context.get_time())[0]
+            except (np.linalg.LinAlgError, RuntimeError, ArithmeticError) as exc:
+                self.failure = exc
+        output.SetFromVector(tau)
 
 
 def stepper(adapter, effects, dt, integrator, accuracy=None) -> Stepper:
@@ -49,6 +63,7 @@ def stepper(adapter, effects, dt, integrator, accuracy=None) -> Stepper:
     plant = builder.AddSystem(adapter.rebuilt())
     g = adapter.gravity0 if effects is None or effects.gravity is None else effects.gravity
     plant.mutable_gravity_field().set_gravity_vector(np.asarray(g, dtype=float))
+    forces = None
     if effects is not None and (effects.joints or effects.bodies):  # else nothing to apply: no call into Python
         forces = builder.AddSystem(_Effects(adapter, effects))
         builder.Connect(plant.get_state_output_port(), forces.get_input_port(0))
@@ -74,8 +89,16 @@ def stepper(adapter, effects, dt, integrator, accuracy=None) -> Stepper:
         try:
             simulator.AdvanceTo(steps[0] * dt)
         except RuntimeError as exc:  # Drake stops a run whose state has become meaningless (NaN, a step too long)
+            if forces is not None and forces.diverged:
+                raise IntegrationError(DIVERGED.format(scheme=scheme)) from None
             raise IntegrationError(f"Drake's {scheme} stopped: {str(exc).splitlines()[0]}") from None
-        return plant.GetPositions(pctx).copy(), plant.GetVelocities(pctx).copy()
+        if forces is not None and forces.failure is not None:
+            raise IntegrationError(f"Drake's {scheme} stopped: the scene's forces could not be evaluated at its "
+                                   f"state ({type(forces.failure).__name__}: {forces.failure})") from None
+        x, w = plant.GetPositions(pctx).copy(), plant.GetVelocities(pctx).copy()
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(w))):
+            raise IntegrationError(DIVERGED.format(scheme=scheme))
+        return x, w
 
     simulator.Initialize()
     return Stepper(advance)

@@ -25,6 +25,7 @@ from relacc.core.rotations import matrix_from_quaternion
 from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import ModelError
+from relacc.files import regular_file
 
 VERSION = tuple(int("".join(c for c in part if c.isdigit()) or 0) for part in mujoco.__version__.split(".")[:3])
 """MuJoCo's version as numbers: its API differences are handled by version, not guessed from attributes."""
@@ -67,9 +68,7 @@ def load_spec(path) -> "mujoco.MjSpec":
     Raises:
         ModelError: a missing file or MuJoCo's parser message (it names the element and line).
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ModelError(f"{path}: no such file")
+    path = regular_file(path, ModelError, "model file")
     text = dynamics_text(path)[0] if is_urdf(path) else None  # a URDF's kinematics and inertials only
     try:
         return mujoco.MjSpec.from_file(str(path)) if text is None else mujoco.MjSpec.from_string(text)

@@ -29,6 +29,7 @@ from relacc.engines import ENGINES, adapter_module, installed, readings
 from relacc.engines import load as load_adapter
 from relacc.engines.contain import survives
 from relacc.errors import EngineError, ModelError
+from relacc.files import regular_file
 from relacc.reading import read_moving
 from relacc.validation.robots.agreement import QUANTITIES, random_states
 from relacc.validation.robots.agreement import compare as compare_dynamics
@@ -159,8 +160,8 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     for name in names:
         if name not in ENGINES:
             raise EngineError(f"unknown engine {name!r} for compare: accepted are {', '.join(ENGINES)}")
-    if urdf is not None and not Path(urdf).is_file():
-        raise ModelError(f"{urdf}: no such file")
+    if urdf is not None:
+        regular_file(urdf, ModelError, "model file")
     reading = read_moving(model, "there are no dynamics to compare")
     if urdf is None and Path(model).suffix.lower() == ".urdf":
         urdf = model
