@@ -29,6 +29,31 @@ def available_memory() -> int | None:
         return None
 
 
+CONVERT_BYTES = 64 * 2**20
+"""About the most memory :func:`relacc.core.tree.coordinates.convert` gives the walk at once (a chunk of states at a
+time)."""
+
+STATE_COPIES = 3
+"""A batch of random tree states is held about this many times over while it is drawn and converted: the case-2
+draw, the converted case's copy and the temporaries of the conversion, which walks a chunk of states at a time
+(measured: ``random_states`` of gymnasium's humanoid, 1e6 states, peaks at 1.1, 2.5 and 2.65 times its final arrays
+in cases 2, 1 and 3)."""
+
+GRADE_DOUBLES = 16
+"""Doubles per evaluated state per body and speed that grading a model's body holds at once (relacc's and an engine's
+kinematics of every body: positions, Jacobians, their rates, scales and bounds). Measured with ``relacc grade
+--model``: gymnasium's ant (13 bodies, 14 speeds) 201 bytes, humanoid (13, 23) 190 bytes per requested state per
+body and speed, over two evaluated states each (ordinary and hard): 12-13 doubles per evaluated state."""
+
+
+def tree_states_bytes(tree, n: float, case: int = 3) -> float:
+    """Bytes to draw ``n`` states of ``tree`` in ``case`` (coordinates, speeds, rates; :data:`STATE_COPIES`), and in
+    cases 1 and 3 the conversion's walk over a chunk of them
+    (:data:`CONVERT_BYTES`)."""
+    arrays = 8.0 * float(n) * (max(tree.nq(2), tree.nq(3)) + 2 * tree.nv) * STATE_COPIES
+    return arrays + (CONVERT_BYTES if int(case) != 2 else 0.0)
+
+
 def require_memory(nbytes: float, what: str, instead: str) -> None:
     """Refuse up front a request whose arrays need more than the memory available.
 

@@ -58,10 +58,10 @@ def test_eval_reads_a_json_state_file(tmp_path, capsys, fixture):
         (["eval", "--case", "5", "--q", "0", "--u", "0"], "accepted cases"),
         (["eval", "--case", "1", "--q", "a,b", "--u", "0"], "expected numbers"),
         (["eval", "--case", "1", "--u", "0"], "missing q"),
-        (["eval", "nonexistent.json"], "cannot read"),
+        (["eval", "nonexistent.json"], "no such file"),
         (["check", "--engines", "bullet", "--states", "5"], "unknown engines"),
         (["check", "--states", "0"], "at least 1"),
-        (["fixtures", "--model", "nope.toml"], "cannot read"),
+        (["fixtures", "--model", "nope.toml"], "no such file"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(capsys, argv, match):

@@ -127,3 +127,68 @@ def test_a_fifo_is_refused_not_read(tmp_path, capsys):
 def test_an_empty_scheduler_address_is_refused(capsys):
     assert main(["check", "--scheduler", "", "--states", "2"]) == 2
     assert "empty address" in capsys.readouterr().err
+
+
+# --- memory: estimated from the model and the command, refused before any allocation ---------------------------
+
+def _gym(name):
+    from pathlib import Path
+
+    import gymnasium
+    return Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / f"{name}.xml"
+
+
+def test_grading_a_model_body_on_too_many_states_is_refused_at_once(tmp_path, capsys):
+    """ant, 1e7 states: 2e7 evaluated states x 13 bodies x 14 speeds x GRADE_DOUBLES doubles (~470 GB) are refused
+    before any state is drawn (the red team saw 20.6 GB in 120 s)."""
+    import time
+
+    module = _model(tmp_path, "mine.py", "import numpy as np\ndef f(tree, q, u, udot):\n    return np.zeros(3)\n")
+    start = time.monotonic()
+    code = main(["grade", f"{module}:f", "--model", str(_gym("ant")), "--body", "torso", "--quantity", "position",
+                 "--case", "2", "--states", "10000000"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "13 bodies, 14 speeds" in err[0] and "GiB" in err[0], err
+    assert time.monotonic() - start < 10
+
+
+def test_tree_states_are_estimated_from_the_tree():
+    from relacc.core.tree import Tree, random_states
+    from relacc.errors import InputError
+    from relacc.testing import states
+
+    tree = Tree.from_file(_gym("humanoid"))
+    with pytest.raises(InputError, match="random states of 'humanoid' needs about"):
+        random_states(tree, 3, 10**9, 0)
+    with pytest.raises(InputError, match="random states of 'humanoid' needs about"):
+        states(2, 10**9, model=tree)
+
+
+@pytest.mark.parametrize("n", [2000, 20000, 100000])
+@pytest.mark.parametrize("case", [1, 2, 3])
+def test_the_state_estimate_covers_what_is_measured(case, n):
+    """tracemalloc's peak while drawing humanoid states (numpy reports its allocations to it) is at most the
+    estimate :func:`relacc.limits.tree_states_bytes` that random_states checks first."""
+    import tracemalloc
+
+    from relacc.core.tree import Tree, random_states
+    from relacc.limits import tree_states_bytes
+
+    tree = Tree.from_file(_gym("humanoid"))
+    tracemalloc.start()
+    try:
+        random_states(tree, case, n, 0)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak <= tree_states_bytes(tree, n, case), (case, n, peak, tree_states_bytes(tree, n, case))
+
+
+def test_a_huge_ensemble_is_refused_before_its_members_are_drawn(capsys):
+    import time
+
+    start = time.monotonic()
+    code = main(["simulate", "tumbling", "--ensemble", "10000000", "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "an ensemble of 10000000 members" in err[0], err
+    assert time.monotonic() - start < 5  # the red team saw 4.6-7.4 GB and 14-19 s before the refusal

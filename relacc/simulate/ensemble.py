@@ -61,6 +61,18 @@ class Ensemble:
         return self.steps / self.seconds if self.seconds > 0 else float("inf")
 
 
+def require_ensemble_memory(scene: Scene, n: int) -> None:
+    """Refuse up front an ensemble of ``n`` members whose records cannot fit in memory: every member's state,
+    point and energy at every record, twice (the run and its comparison).
+
+    Raises:
+        InputError: the estimate, what is available, and what to reduce.
+    """
+    m = len(recorded_steps(scene.n_steps, scene.record_every))
+    require_memory(8.0 * n * m * (scene.q.size + scene.u.size + 9) * 2, f"an ensemble of {n} members x {m} records",
+                   "use record_every > 1, or fewer members per call")
+
+
 def ensemble(scene: Scene, q0, u0, *, engine: str = "relacc", threads: int | None = None) -> Ensemble:
     """Run the scene from every initial state ``q0 (N, nq)``, ``u0 (N, 12)`` (its case's coordinates) on one engine.
 
@@ -77,9 +89,7 @@ def ensemble(scene: Scene, q0, u0, *, engine: str = "relacc", threads: int | Non
     if q0.ndim != 2 or u0.ndim != 2 or len(q0) != len(u0):
         raise EngineError(f"q0 and u0 must be (N, nq) and (N, nv) with the same N, got {q0.shape}, {u0.shape}")
     steps = recorded_steps(scene.n_steps, scene.record_every)
-    n, m = len(q0), len(steps)
-    require_memory(8.0 * n * m * (q0.shape[1] + u0.shape[1] + 9) * 2, f"an ensemble of {n} members x {m} records",
-                   "use record_every > 1, or fewer members per call")
+    require_ensemble_memory(scene, len(q0))
     if threads is None:
         from relacc.kernels.jit import numba
 

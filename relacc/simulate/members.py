@@ -145,8 +145,9 @@ def acceleration_check(scene: Scene, n: int, spread: float, seed: int) -> dict:
 def run_members(scene: Scene, start: int, n: int, spread: float, seed: int, threads: int | None = None,
                 progress=None) -> Part:
     """Members ``start .. start + n - 1`` on every engine of the scene (:func:`relacc.simulate.ensemble.ensemble`)."""
-    from relacc.simulate.ensemble import ensemble
+    from relacc.simulate.ensemble import ensemble, require_ensemble_memory
 
+    require_ensemble_memory(scene, n)  # before the members are drawn
     q0, u0 = perturbed(scene, n, spread, seed, start)
     runs = {}
     for name in scene.engines:

@@ -22,6 +22,7 @@ from relacc.core.tolerances import normalized_error, rounding_tolerance
 from relacc.core.tree import tree_kinematics
 from relacc.core.tree.scales import tree_scales
 from relacc.errors import InputError
+from relacc.limits import GRADE_DOUBLES, require_memory, tree_states_bytes
 from relacc.testing.trees import PHYSICAL, TREE_QUANTITIES, as_tree, model_states, model_truth
 from relacc.testing.user import CallError, evaluate_user
 
@@ -57,6 +58,9 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     n, seed = check_int("n", n, minimum=1), check_int("seed", seed, minimum=0)
     if not callable(fn):
         raise CallError(f"{fn!r} is not callable; give a function fn(tree, q, u, udot)")
+    require_memory(2.0 * n * (8.0 * GRADE_DOUBLES * tree.nb * tree.nv) + 2 * tree_states_bytes(tree, n, c),
+                   f"grading {tree.name!r} ({tree.nb} bodies, {tree.nv} speeds) on {n} ordinary and {n} hard states",
+                   "ask for fewer states (--states)")
     ordinary, hard = model_states(tree, c, n, seed), model_states(tree, c, n, seed, hard=True)
     s = States(ordinary.case, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
                seed, tree)

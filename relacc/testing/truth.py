@@ -47,11 +47,11 @@ def states(case, n: int = 200, seed: int = 0, hard: bool = False, model=None):
         raise InputError(f"hard: expected True or False, got {hard!r}")
     from relacc.limits import require_memory
 
-    require_memory(8.0 * n * 60, f"{n} states", "ask for fewer states")
-    if model is not None:
+    if model is not None:  # the model's own estimate (relacc.core.tree.random_states)
         from relacc.testing.trees import model_states
 
         return model_states(model, c, n, seed, hard=bool(hard))
+    require_memory(8.0 * n * 60, f"{n} states", "ask for fewer states")
     if not hard:
         return random_states(c, n, seed)
     from relacc.validation.hardcases import catalogue, states_for

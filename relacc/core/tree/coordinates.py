@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.cases import as_case, as_numbers, quaternion_norm_deviation
+from relacc.core.cases import as_case, as_numbers, check_int, quaternion_norm_deviation
 from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion, quaternion_from_123
 from relacc.core.so3 import condition_123
 from relacc.core.states import States
@@ -155,21 +155,29 @@ def convert(tree, q, u=None, udot=None, *, source, target):
     flat = lambda a, w: np.broadcast_to(a, batch + (w,)).reshape(-1, w)  # noqa: E731
     qf, uf, qtf = flat(q, q.shape[-1]), flat(u, tree.nv), flat(qt, qt.shape[-1])
     ud = None if udot is None else flat(check_u(tree, f"udot for case {s}", udot), tree.nv)
-    _, joints = walk(tree, s, qf, uf)
     ut = uf.copy()
     udt = None if ud is None else ud.copy()
-    for k, kind, a, d in rotations(tree, t):
-        jf = joints[k]
-        rel = mv(jf.A, uf[:, d:d + 3])  # the joint's relative angular velocity, fixed components
-        rec = {name: getattr(jf, name) for name in ("R_parent", "w_parent", "R_before", "w_before", "R_after",
-                                                     "w_after")}
-        theta = qtf[:, a:a + 3] if t == 3 else None
-        A_t, _ = angular_map(t, kind, rec, theta, np.zeros_like(theta) if t == 3 else None)
-        ut[:, d:d + 3] = np.linalg.solve(A_t, rel[..., None])[..., 0]
-        if ud is not None:
-            _, A_dot_t = angular_map(t, kind, rec, theta, ut[:, d:d + 3] if t == 3 else None)
-            rel_dot = mv(jf.A, ud[:, d:d + 3]) + mv(jf.A_dot, uf[:, d:d + 3])
-            udt[:, d:d + 3] = np.linalg.solve(A_t, (rel_dot - mv(A_dot_t, ut[:, d:d + 3]))[..., None])[..., 0]
+    from relacc.limits import CONVERT_BYTES
+
+    # the walk holds (chunk, 3, nv) arrays per body: a chunk of states at a time keeps it near CONVERT_BYTES
+    chunk = max(1, CONVERT_BYTES // (8 * 12 * 3 * max(1, tree.nb) * max(1, tree.nv)))
+    for start in range(0, len(qf), chunk):
+        part = slice(start, start + chunk)
+        _, joints = walk(tree, s, qf[part], uf[part])
+        for k, kind, a, d in rotations(tree, t):
+            jf = joints[k]
+            u_j = uf[part, d:d + 3]
+            rel = mv(jf.A, u_j)  # the joint's relative angular velocity, fixed components
+            rec = {name: getattr(jf, name) for name in ("R_parent", "w_parent", "R_before", "w_before", "R_after",
+                                                         "w_after")}
+            theta = qtf[part, a:a + 3] if t == 3 else None
+            A_t, _ = angular_map(t, kind, rec, theta, np.zeros_like(theta) if t == 3 else None)
+            ut[part, d:d + 3] = np.linalg.solve(A_t, rel[..., None])[..., 0]
+            if ud is not None:
+                _, A_dot_t = angular_map(t, kind, rec, theta, ut[part, d:d + 3] if t == 3 else None)
+                rel_dot = mv(jf.A, ud[part, d:d + 3]) + mv(jf.A_dot, u_j)
+                udt[part, d:d + 3] = np.linalg.solve(A_t, (rel_dot - mv(A_dot_t, ut[part, d:d + 3]))[..., None])[
+                    ..., 0]
     shape = lambda a: None if a is None else a.reshape(batch + (tree.nv,))  # noqa: E731
     return np.broadcast_to(qt, batch + (qt.shape[-1],)).copy(), shape(ut), shape(udt)
 
@@ -183,7 +191,11 @@ def random_states(tree, case, n: int, seed: int, *, size: float | None = None):
     slides within ``size``. Speeds and rates: standard normals in case 2. States within the gimbal-lock
     limit of case 3 are drawn again.
     """
+    from relacc.limits import require_memory, tree_states_bytes
+
     c = int(as_case(case))
+    n = check_int("n", n, minimum=1)
+    require_memory(tree_states_bytes(tree, n, c), f"{n} random states of {tree.name!r}", "ask for fewer states")
     rng = np.random.default_rng(seed)
     if size is None:
         size = max([1.0] + [float(np.linalg.norm(b.pos) + np.linalg.norm(b.com)) for b in tree.bodies])

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tree import convert, tree_kinematics
-from relacc.core.tree.coordinates import reference_q
+from relacc.core.tree.coordinates import reference_q, rotations
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
 from relacc.engines.base import Dynamics, Points, first, mapped_dynamics
 from relacc.errors import RelaccError
@@ -84,9 +84,17 @@ class TreeRobot:
         q_c, u_c, Tdv = convert(self.tree, q, v, np.zeros_like(v), source=2, target=c)
         if c == 2:
             return q_c, u_c, np.broadcast_to(np.eye(nv), (n, nv, nv)), np.zeros((n, nv))
-        # column j of T: the case's speeds of unit case-2 speed j, at each state
-        _, cols, _ = convert(self.tree, np.repeat(q, nv, axis=0), np.tile(np.eye(nv), (n, 1)), source=2, target=c)
-        return q_c, u_c, np.swapaxes(cols.reshape(n, nv, nv), 1, 2), Tdv
+        # T is the identity but for each ball's and free joint's 3 x 3 block of angular speeds (convert maps a
+        # joint's own speeds alone): column i of every block at once, from unit speed i in every block
+        T = np.repeat(np.eye(nv)[None], n, axis=0)
+        starts = [d for _, _, _, d in rotations(self.tree, c)]
+        for i in range(3 if starts else 0):
+            unit = np.zeros((n, nv))
+            unit[:, [d + i for d in starts]] = 1.0
+            _, cols, _ = convert(self.tree, q, unit, source=2, target=c)
+            for d in starts:
+                T[:, d:d + 3, d + i] = cols[:, d:d + 3]
+        return q_c, u_c, T, Tdv
 
     def dynamics(self, q, v) -> Dynamics:
         """:class:`Dynamics` at states ``q (n, nq)``, ``v (n, nv)`` (case 2; one state: no batch axis)."""
