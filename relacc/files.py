@@ -21,6 +21,7 @@
 from __future__ import annotations
 
 import contextlib
+import logging
 import os
 import signal
 import sys
@@ -393,12 +394,28 @@ def terminate_as_interrupt():
             unraisable(info)
 
     sys.unraisablehook = quiet
+    pending = _PendingFilter()
+    for name in QUIET_LOGGERS:
+        logging.getLogger(name).addFilter(pending)
     try:
         yield
     finally:
         sys.unraisablehook = unraisable
+        for name in QUIET_LOGGERS:
+            logging.getLogger(name).removeFilter(pending)
         for sig, old in previous.items():
             signal.signal(sig, old)
+
+
+QUIET_LOGGERS = ("drake",)
+"""Loggers of libraries that log their own failure when an interrupt lands while they load (pydrake: "CRITICAL:drake:
+Could not initialize pydrake: KeyboardInterrupt" and 40 lines of stack): silent while an interrupt is pending, whose
+one line is relacc's."""
+
+
+class _PendingFilter(logging.Filter):
+    def filter(self, record) -> bool:
+        return PENDING[0] is None
 
 
 PENDING: list = [None]

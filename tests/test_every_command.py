@@ -192,3 +192,45 @@ def test_a_huge_ensemble_is_refused_before_its_members_are_drawn(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "an ensemble of 10000000 members" in err[0], err
     assert time.monotonic() - start < 5  # the red team saw 4.6-7.4 GB and 14-19 s before the refusal
+
+
+# --- an interrupt at any moment ----------------------------------------------------------------------------------
+
+def _catches_sigterm(pid: int) -> bool:
+    """Whether the process has its own SIGTERM handler yet (/proc's SigCgt mask): relacc's entry installs it as its
+    first instruction, so this is the sign the process is relacc's (Python's own start, before it, is not)."""
+    import signal
+
+    try:
+        with open(f"/proc/{pid}/status") as fh:
+            mask = next(int(line.split()[1], 16) for line in fh if line.startswith("SigCgt:"))
+    except (OSError, StopIteration):
+        return False
+    return bool(mask >> (signal.SIGTERM - 1) & 1)
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.05, 0.15, 0.3, 0.6, 1.0, 1.6])
+@pytest.mark.parametrize("signum", ["SIGINT", "SIGTERM"])
+def test_an_interrupt_at_any_moment_is_one_line_and_130(tmp_path, signum, delay):
+    """From relacc's first instruction (waited for, not slept for) to the process's end, across the parser, the
+    imports (pydrake's included), the work and the exit: either the command finished (exit 0, its output whole) or
+    exit 130 with exactly one line on stderr."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    proc = subprocess.Popen([sys.executable, "-m", "relacc", "check", "--states", "3", "--quiet"], cwd=tmp_path,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not _catches_sigterm(proc.pid) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.001)
+    time.sleep(delay)
+    proc.send_signal(getattr(signal, signum))
+    out, err = proc.communicate(timeout=120)
+    lines = err.strip().splitlines()
+    finished = proc.returncode == 0 and "comparisons agree" in out and not err
+    interrupted = proc.returncode == 130 and len(lines) == 1 and lines[0].endswith("interrupted; no output file "
+                                                                                     "was changed")
+    assert finished or interrupted, (signum, delay, proc.returncode, out[-300:], err[-2000:])
+    assert list(tmp_path.iterdir()) == []

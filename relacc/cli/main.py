@@ -110,15 +110,48 @@ def _interrupt_in(exc) -> bool:
 def entry() -> None:
     """The ``relacc`` console command: :func:`main`, then exit with its code.
 
-    After an error or an interrupt relacc has said what happened in one line; what libraries still print while
-    the process winds down (Dask's own handlers closing a cluster that was still starting) is not the user's
-    news, so stderr is closed to them before exiting."""
-    code = main()
-    if code in (2, 130):
-        sys.stderr.flush()
+    SIGINT and SIGTERM are taken from this function's first instruction to the process's last: before the command
+    starts (the parser, the imports) they interrupt it as :class:`KeyboardInterrupt`, one line and exit 130; once
+    it has ended, output is flushed and the process exits at once (``os._exit``: no interpreter teardown, in which a
+    signal would end it silently), a signal in between giving the same one line and 130. After an error or an
+    interrupt relacc has said what happened in one line; what libraries still print while the process winds down
+    (Dask's own handlers closing a cluster that was still starting) is not the user's news."""
+    import signal
+
+    def early(signum, frame):
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, early)
+    name = "relacc"
+    try:
+        name = f"relacc {sys.argv[1]}" if len(sys.argv) > 1 and not sys.argv[1].startswith("-") else name
+        code = main()
+    except KeyboardInterrupt:
+        code = _say_interrupted(name)
+
+    def late(signum, frame):
+        os._exit(_say_interrupted(name))
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, late)
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        code = 141
+    sys.stderr.flush()
+    os._exit(code)
+
+
+def _say_interrupted(name: str) -> int:
+    """The one line of an interrupt (stdout's unwritten rest dropped), and its exit code."""
+    try:
         devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stderr.fileno())
-    sys.exit(code)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.write(sys.stderr.fileno(), f"{name}: interrupted; no output file was changed\n".encode())
+    except OSError:
+        pass
+    return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

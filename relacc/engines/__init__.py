@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import sys
 
 from relacc.engines.base import Adapter
 from relacc.engines.chain import ROUTES, ChainEngine
@@ -53,7 +54,13 @@ def adapter_module(name: str):
     if not installed(name):
         raise EngineError(f"engine {name} is not installed here (pip install {_PACKAGES[name][1]}); installed: "
                           f"{', '.join(available()) or 'none'}")
-    return importlib.import_module(f"relacc.engines.{name}_")
+    from relacc.isolate import captured_stderr
+
+    with captured_stderr() as lines:  # an engine's C++ logs its failed initialization when an interrupt lands while
+        module = importlib.import_module(f"relacc.engines.{name}_")  # it loads (pydrake: 41 lines): the interrupt
+    for line in lines:  # is relacc's one line; what it writes when it loads is passed on
+        print(line, file=sys.stderr)
+    return module
 
 
 def readings(name: str) -> tuple:
