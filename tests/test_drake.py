@@ -18,6 +18,7 @@ from relacc.engines import load_engine
 from relacc.errors import EngineError, FixtureError, InputError
 from relacc.fixtures import shipped
 from relacc.simulate import scenes
+from tests.trees import rk4_as_textbook
 
 from .conftest import seed_for
 
@@ -118,6 +119,7 @@ def test_check_with_drake_alone_passes(capsys, fixture):
     assert {c["engine"] for c in out["comparisons"]} == {"drake"} and out["versions"]["drake"]
 
 
+@rk4_as_textbook()
 def test_scenes_name_drakes_integrator(tmp_path):
     """A scene with Drake and rk4 but no [simulate.drake] is refused; an error-controlled Drake run works."""
     path = shipped.scene_path("tumbling")

@@ -9,6 +9,7 @@ from relacc.cli import main
 from relacc.fixtures import shipped
 from relacc.simulate import ensemble, perturbed, run, scenes
 from relacc.simulate.members import largest_differences
+from tests.trees import rk4_as_textbook
 
 
 @pytest.fixture(scope="module")
@@ -47,6 +48,7 @@ def test_an_ensemble_member_is_the_single_run(scene, engine):
         assert np.array_equal(ens.position[i], single.position)
 
 
+@rk4_as_textbook()
 def test_engines_agree_member_by_member(scene):
     """relacc, MuJoCo's rollouts and Pinocchio's abaInParallel RKMK4 keep every member's G2 within 1e-9 m."""
     q0, u0 = perturbed(scene, 6, 0.1, seed=5)
@@ -56,6 +58,7 @@ def test_engines_agree_member_by_member(scene):
     assert all(r.steps == 6 * scene.n_steps and r.seconds > 0 for r in runs.values())
 
 
+@rk4_as_textbook()
 def test_cli_ensemble_reports_rates_and_differences(capsys):
     """relacc simulate --ensemble: steps per second per engine and the largest G2 difference per pair."""
     assert main(["simulate", "tumbling", "--ensemble", "3", "--duration", "0.01", "--engines", "relacc,mujoco",

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from relacc.fixtures.schema import ChainFile, SceneFile, markdown_table
 from relacc.simulate import scenes
+from tests.trees import rk4_as_textbook
 
 REPO = Path(__file__).resolve().parents[1]
 README = (REPO / "README.md").read_text()
@@ -29,6 +30,7 @@ def test_python_examples_print_what_the_readme_shows():
         assert buffer.getvalue() == expected
 
 
+@rk4_as_textbook()
 def test_the_scene_in_the_readme_loads_and_runs(tmp_path):
     """The README's scene TOML is a valid scene (unit quaternions included) and runs on every engine."""
     (toml,) = [code for code, _ in _blocks("toml")]

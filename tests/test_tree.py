@@ -18,7 +18,7 @@ from relacc.core.tolerances import EPS, ROUNDING_FACTOR
 from relacc.core.tree import convert, random_states, reference_q
 from relacc.core.tree.scales import tree_scales, tree_tolerance
 from relacc.engines.mujoco_.spec import read_tree, tree_of
-from tests.trees import jacdot_exact, mujoco_reference, random_mjcf
+from tests.trees import jacdot_exact, mujoco_reference, passive_off, random_mjcf
 
 MODELS = Path(relacc.__file__).resolve().parents[1] / "models"
 PHYSICAL = ("position", "velocity", "acceleration", "omega", "alpha")
@@ -97,7 +97,7 @@ def test_random_trees_partials_and_dynamics_agree_with_mujoco(tmp_path, seed):
     acc = relacc.tree_accelerations(tree, 2, st.q, st.u)
     data = mujoco.MjData(model)
     model.opt.disableflags |= (mujoco.mjtDisableBit.mjDSBL_CONSTRAINT | mujoco.mjtDisableBit.mjDSBL_ACTUATION
-                               | mujoco.mjtDisableBit.mjDSBL_SPRING | mujoco.mjtDisableBit.mjDSBL_DAMPER)
+                               | passive_off())
     for i in range(len(st.q)):
         data.qpos[:], data.qvel[:] = st.q[i], st.u[i]
         mujoco.mj_forward(model, data)

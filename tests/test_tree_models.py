@@ -16,10 +16,11 @@ import relacc
 from relacc.core.tolerances import EPS
 from relacc.core.tree import convert, random_states
 from relacc.core.tree.scales import tree_scales, tree_tolerance
+from relacc.engines.mujoco_ import full_inertia
 from relacc.engines.mujoco_.spec import read_tree
 from relacc.errors import InputError, ModelError, SingularityError
 from tests.test_tree import PHYSICAL, _agrees_with_mujoco_in_every_case, _assert_bodies, _tree_file
-from tests.trees import jacdot_exact, mujoco_reference
+from tests.trees import jacdot_exact, mujoco_reference, passive_off
 
 ASSETS = sorted((Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets").glob("*.xml"))
 MUJOCO_TESTDATA = Path(importlib.util.find_spec("mujoco").origin).parent / "testdata"
@@ -140,18 +141,18 @@ def test_effects_agree_with_mujoco(tmp_path):
             data.xfrc_applied[model.body(name).id] = np.concatenate([load.force, load.torque]) * s
         mujoco.mj_forward(model, data)
         M = np.zeros((model.nv, model.nv))
-        mujoco.mj_fullM(model, data, M)
+        full_inertia(model, data, M)
         # relacc's accelerations in MuJoCo's equations: the residual on the magnitude of the terms summed
         terms = (np.linalg.norm(M, 2) * np.abs(acc[i]).max() + np.abs(data.qfrc_passive).max()
                  + np.abs(data.qfrc_applied).max() + np.abs(data.qfrc_bias).max())
         np.testing.assert_allclose(M @ (acc[i] - data.qacc), 0, rtol=0, atol=64 * EPS * max(tree.depth) * terms,
                                    err_msg=f"state {i}")
     for i in range(5):  # and with no effects, nothing but gravity acts (MuJoCo with passive forces off)
-        model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_SPRING | mujoco.mjtDisableBit.mjDSBL_DAMPER
+        model.opt.disableflags |= passive_off()
         data.qpos[:], data.qvel[:], data.xfrc_applied[:] = st.q[i], st.u[i], 0
         mujoco.mj_forward(model, data)
         M = np.zeros((model.nv, model.nv))
-        mujoco.mj_fullM(model, data, M)
+        full_inertia(model, data, M)
         terms = np.linalg.norm(M, 2) * np.abs(data.qacc).max() + np.abs(data.qfrc_bias).max()
         np.testing.assert_allclose(M @ (relacc.tree_accelerations(tree, 2, st.q[i], st.u[i]) - data.qacc), 0, rtol=0,
                                    atol=64 * EPS * max(tree.depth) * terms)

@@ -75,6 +75,8 @@ def mujoco_reference(model, q, u, udot):
     """
     import mujoco
 
+    from relacc.engines.mujoco_ import full_inertia
+
     m, d = model, mujoco.MjData(model)
     n, nb = q.shape[0], m.nbody - 1
     out = {k: np.zeros((n, nb, 3)) for k in ("position", "velocity", "omega", "acceleration", "alpha")}
@@ -86,7 +88,7 @@ def mujoco_reference(model, q, u, udot):
         m.opt.gravity[:] = gravity
         mujoco.mj_fwdPosition(m, d)
         mujoco.mj_fwdVelocity(m, d)
-        mujoco.mj_fullM(m, d, out["M"][i])
+        full_inertia(m, d, out["M"][i])  # mj_fullM in this MuJoCo version's call form
         out["bias"][i] = d.qfrc_bias
         m.opt.gravity[:] = 0.0
         mujoco.mj_rnePostConstraint(m, d)
@@ -123,3 +125,29 @@ def jacdot_exact(model) -> np.ndarray:
         after_ball = ball in kinds and mujoco.mjtJoint.mjJNT_SLIDE in kinds[kinds.index(ball) + 1:]
         bad[b] = after_ball or bad[m.body_parentid[b]]
     return ~bad[1:]
+
+
+def passive_off() -> int:
+    """MuJoCo's disable flags for every passive force: ``mjDSBL_SPRING | mjDSBL_DAMPER`` from 3.3.6,
+    ``mjDSBL_PASSIVE`` before (measured release by release)."""
+    import mujoco
+
+    D = mujoco.mjtDisableBit
+    return int(D.mjDSBL_SPRING | D.mjDSBL_DAMPER) if hasattr(D, "mjDSBL_SPRING") else int(D.mjDSBL_PASSIVE)
+
+
+def _mujoco_version() -> tuple:
+    import mujoco
+
+    return tuple(int("".join(c for c in p if c.isdigit()) or 0) for p in mujoco.__version__.split(".")[:3])
+
+
+def rk4_as_textbook():
+    """For the tests that hold MuJoCo's RK4 trajectories to relacc's and Pinocchio's at 1e-9: MuJoCo 3.x's RK4 is not
+    the same scheme (measured, 3.14.0 to 3.17.0: 7.7e-9 from 4.0.0 after 1000 steps of the note's chain tumbling,
+    where relacc and Pinocchio agree with 4.0.0 to rounding); from 4.0.0 it is. Strict: such a test must fail on 3.x,
+    so a 3.x that agreed would be news."""
+    import pytest
+
+    return pytest.mark.xfail(_mujoco_version() < (4, 0, 0), strict=True,
+                             reason="MuJoCo 3.x's RK4 differs from the textbook scheme by ~1e-8 over 1000 steps")

@@ -20,11 +20,12 @@ from mujoco import rollout as mj_rollout
 
 from relacc.dynamics.steps import Stepper
 from relacc.engines.base import fixed_step_only
-from relacc.engines.mujoco_.spec import TYPES, VERSION
+from relacc.engines.mujoco_.spec import TYPES
 from relacc.errors import EngineError, IntegrationError
 
-SPLIT_PASSIVE = (3, 3, 3)
-"""From MuJoCo 3.3.3 the passive-force disable flag is two, ``mjDSBL_SPRING`` and ``mjDSBL_DAMPER``."""
+SPLIT_PASSIVE = hasattr(mujoco.mjtDisableBit, "mjDSBL_SPRING")
+"""From MuJoCo 3.3.6 the passive-force disable flag is two, ``mjDSBL_SPRING`` and ``mjDSBL_DAMPER`` (3.3.1 to 3.3.5
+have ``mjDSBL_PASSIVE``; measured release by release)."""
 
 UNSTABLE = ("mjWARN_BADQACC", "mjWARN_BADQVEL", "mjWARN_BADQPOS")
 """MuJoCo's warnings that a simulation became unstable (NaN, inf or a huge value in qacc, qvel or qpos)."""
@@ -104,7 +105,7 @@ def configure(adapter, effects, t: float = 0.0) -> list[str]:
             if eff.damping:
                 m.dof_damping[da:da + nv] = eff.damping
                 dampers = True
-    if VERSION >= SPLIT_PASSIVE:  # the passive flag in two
+    if SPLIT_PASSIVE:  # the passive flag in two
         flags |= (0 if springs else D.mjDSBL_SPRING) | (0 if dampers else D.mjDSBL_DAMPER)
     elif not (springs or dampers):
         flags |= D.mjDSBL_PASSIVE
