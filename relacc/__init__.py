@@ -20,6 +20,7 @@ import importlib
 from typing import TYPE_CHECKING
 
 from relacc.errors import (
+    AccuracyWarning,
     CaseError,
     EngineError,
     FixtureError,
@@ -92,6 +93,7 @@ __all__ = [
     "BodyLoad",
     "Case",
     "CaseError",
+    "AccuracyWarning",
     "EQUATIONS",
     "EngineError",
     "FixtureError",

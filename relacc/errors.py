@@ -46,3 +46,9 @@ class OutputError(RelaccError):
 
 class IntegrationError(RelaccError):
     """A simulation diverged: its state became non-finite (reduce the step or change the coordinates)."""
+
+
+class AccuracyWarning(UserWarning):
+    """An answer relacc gives with fewer correct digits than usual, saying where and about how many are left (for
+    example case-3 rates near the 1-2-3 gimbal lock). Not an error: the answer is as accurate as the problem's
+    conditioning allows; ``warnings.simplefilter("error", relacc.AccuracyWarning)`` makes it one."""

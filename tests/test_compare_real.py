@@ -403,3 +403,94 @@ def test_pinocchios_unit_mesh_inertia_is_a_known_reading(tmp_path):
     assert masses == {"link a": 1.0, "link b": 1.0}, masses
     assert all(not r.cause.startswith("not explained") for rows in result.dynamics.values() for r in rows.values()
                if not r.passed)
+
+
+DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
+  <default>
+    <default class="body">
+      <joint type="hinge" damping="30"/>
+      <geom type="sphere" size="0.05" mass="2"/>
+      <default class="hip">
+        <default class="yaw"><joint axis="0 0 1"/><geom size="0.06"/></default>
+      </default>
+      <default class="knee"><joint axis="0 1 0"/></default>
+    </default>
+  </default>
+  <worldbody>
+    <body name="thigh" pos="0 0 1" childclass="hip">
+      <joint name="yaw" class="yaw"/>
+      <geom class="yaw" pos="0.1 0 0"/>
+      <body name="shin" pos="0.2 0 0" childclass="knee">
+        <joint name="knee"/>
+        <geom pos="0 0 -0.1"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_drake_inheriting_defaults_only_through_classes_that_have_the_element_is_a_known_reading(tmp_path):
+    """dm_control's quadruped and humanoid_CMU: a class with no <joint> (or <geom>) default breaks Drake's inheritance
+    for the classes under it (measured on Drake 1.51 with files written for the purpose: damping 30 two classes up
+    reads 0; a geom mass 2 kg two classes up is replaced by density times volume). Here class 'hip' has neither, so
+    Drake's 'yaw' joint loses its damping and its geom its mass, while 'knee', whose parent class has both, keeps
+    them. Each audit row carries the reproduced cause; the dynamics agree once the reading is Drake's."""
+    path = tmp_path / "defaults.xml"
+    path.write_text(DEFAULT_CHAIN)
+    result = compare(path, engines=["drake"], n_states=3, seed=6)
+    rows = [a.as_json() for a in result.audit]
+    assert {(r["item"], r["drake"] == [0.0]) for r in rows if r["item"] == "damping"} == {("damping", True)}, rows
+    assert all("inherits a <default> class's <joint> or <geom> attributes only through classes" in r["cause"]
+               for r in rows), [r["cause"] for r in rows]
+    assert any(r["item"] == "mass (kg)" for r in rows) and len(rows) >= 2, rows
+    assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"
+    from pydrake.multibody.parsing import Parser  # Drake's own reading, as the cause says
+    from pydrake.multibody.plant import MultibodyPlant
+
+    plant = MultibodyPlant(0.0)
+    Parser(plant).AddModels(str(path))
+    plant.Finalize()
+    assert plant.GetJointByName("yaw").default_damping() == 0.0
+    assert plant.GetJointByName("knee").default_damping() == 30.0
+
+
+def test_a_mass_centre_on_its_joints_axis_is_judged_on_every_path_speed(tmp_path):
+    """pybullet's minitaur: a lower leg whose mass centre is on its knee's axis has a zero Jacobian column for the
+    knee, yet the engines form its J_dot v from the knee's spatial velocity too. Its scale counts every speed on its
+    path (by structure), not only the columns that move the mass centre (on minitaur the scale counted the motor's
+    speed alone, and MuJoCo's and Pinocchio's 2.8e-16 m/s^2 were 5.6e3 eps of it: exit 1); a planted 1e-9 m/s^2
+    stays outside the tolerance. A leg written so agrees in every engine."""
+    from relacc.validation.robots.agreement import point_terms, structural_paths
+
+    urdf = tmp_path / "leg.urdf"
+    inertia = '<inertia ixx="{0}" iyy="{0}" izz="{0}" ixy="0" ixz="0" iyz="0"/>'
+    urdf.write_text(f"""<robot name="leg">
+  <link name="base"/>
+  <link name="motor"><inertial><mass value="0.2"/>{inertia.format(1e-3)}</inertial></link>
+  <link name="lower"><inertial><mass value="0.05"/>{inertia.format(1)}</inertial></link>
+  <joint name="motor" type="continuous"><parent link="base"/><child link="motor"/><axis xyz="0 0 1"/>
+    <origin xyz="0 0.1 0"/></joint>
+  <joint name="knee" type="revolute"><parent link="motor"/><child link="lower"/><axis xyz="0 1 0"/>
+    <origin xyz="0.3 0.01 0.055"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>
+""")
+    result = compare(urdf, n_states=8, seed=2)
+    assert failing(result) == {}, f"seed {result.seed}"
+    tree = relacc_tree(urdf)
+    paths = structural_paths(tree, ["lower"], np.arange(tree.nv))
+    assert paths.tolist() == [[True, True]]
+    J = np.zeros((1, 3, 2))
+    J[0, :, 0] = (0.0, 0.3, 0.0)  # the knee's column is zero: the mass centre is on its axis
+    v = np.array([0.01, 5.0])
+    with_paths, _ = point_terms(J, np.zeros((1, 3)), v, np.zeros(2), 0.1, paths)
+    without, _ = point_terms(J, np.zeros((1, 3)), v, np.zeros(2), 0.1)
+    np.testing.assert_allclose(with_paths, 0.3 * (0.01 + 5.0) ** 2, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(without, 0.3 * 0.01 ** 2, rtol=1e-15, atol=0)
+    assert 1e-9 / with_paths[0] > robot_tolerance(2)  # a planted 1e-9 m/s^2 stays outside the tolerance
+
+
+def relacc_tree(path):
+    from relacc.reading import read
+
+    return read(path).tree

@@ -114,3 +114,103 @@ def test_hypothesis_search_finds_no_state_outside_the_model(fixture):
     worst = hypothesis_search(fixture, max_examples=60, seed=SEED)
     assert worst.examples >= 60
     assert worst.ratio <= 1.0, f"worst: {worst}"
+
+
+def _w_body(th):
+    """The test's own 1-2-3 rate map to the turned frame's components, ``omega = W_b theta_dot`` (closed form)."""
+    c2, s2, c3, s3 = np.cos(th[1]), np.sin(th[1]), np.cos(th[2]), np.sin(th[2])
+    return np.array([[c2 * c3, s3, 0.0], [-c2 * s3, c3, 0.0], [s2, 0.0, 1.0]])
+
+
+def _w_body_dot(th, thd):
+    c2, s2, c3, s3 = np.cos(th[1]), np.sin(th[1]), np.cos(th[2]), np.sin(th[2])
+    d2, d3 = thd[1], thd[2]
+    return np.array([[-s2 * c3 * d2 - c2 * s3 * d3, c3 * d3, 0.0], [s2 * s3 * d2 - c2 * c3 * d3, -s3 * d3, 0.0],
+                     [c2 * d2, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize("seed,n_bodies", [(1, 1), (2, 3), (4, 5), (6, 8)])
+def test_tree_case3_toward_the_lock_is_mujocos_case2_within_cond_eps(tmp_path, seed, n_bodies):
+    """Along delta = 1e-2 ... 3e-8 toward the 1-2-3 lock (every ball's and free joint's theta2 at +-(pi/2 - delta)),
+    relacc's case-3 forward dynamics with random generalized forces, mapped to case 2 by the test's own closed-form
+    rate map (quaternions by scipy's intrinsic XYZ angles), is MuJoCo's ``qacc`` within ``c eps cond(W)`` times the
+    solve's perturbation scale ``||M^-1|| (||M|| |qacc| + |qfrc_bias| + |qfrc_applied|)`` (MuJoCo's numbers): the
+    bound grows as the rate map's condition number once. Kane's equations in the rates, ``W^T M W``, square it and
+    miss this bound from delta 1e-4 on (1.5-7 times there, on these four trees). From delta 1e-6 (cond 2e6) an
+    AccuracyWarning names the joint."""
+    import warnings
+
+    import mujoco
+    from scipy.spatial.transform import Rotation
+
+    from relacc.core.so3 import condition_123
+    from relacc.core.tolerances import CONDITION_WARNING, EPS, ROUNDING_FACTOR
+    from relacc.core.tree.coordinates import convert, random_states, rotations
+    from relacc.engines.mujoco_ import full_inertia
+    from tests.trees import random_mjcf
+
+    path = tmp_path / "tree.xml"
+    path.write_text(random_mjcf(seed, n_bodies))
+    tree, model = relacc.Tree.from_file(path), mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    st = random_states(tree, 2, 5, seed)
+    q3, u3, _ = convert(tree, st.q, st.u, source=2, target=3)
+    tau3 = np.random.default_rng(seed).standard_normal(u3.shape)
+    rot = rotations(tree, 3)
+    for delta in (1e-2, 1e-4, 1e-6, 1e-7, 3e-8):
+        q = np.array(q3)
+        for _, _, a, _ in rot:
+            q[:, a + 1] = np.where(q[:, a + 1] >= 0, 1.0, -1.0) * (np.pi / 2 - delta)
+        cond = max(float(np.max(condition_123(q[:, a + 1]))) for _, _, a, _ in rot)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            a3 = np.asarray(relacc.tree_accelerations(tree, 3, q, u3, tau=tau3))
+        warned = [w for w in caught if issubclass(w.category, relacc.AccuracyWarning)]
+        assert bool(warned) == (cond > CONDITION_WARNING), (delta, [str(w.message) for w in caught], seed)
+        if warned:
+            said = str(warned[0].message)
+            assert "from the 1-2-3 gimbal lock" in said and "relative errors" in said, said
+        for i in range(len(q)):
+            qpos, qvel, acc, applied = np.zeros(model.nq), np.array(u3[i]), np.array(a3[i]), np.array(tau3[i])
+            for (_, j), a, b in zip(tree.joints, tree.qadr(3), tree.qadr(2)):
+                lin = 3 if j.type == "free" else 0
+                qpos[b:b + lin] = q[i, a:a + lin]
+                if j.type in ("free", "ball"):
+                    x, y, z, w = Rotation.from_euler("XYZ", q[i, a + lin:a + lin + 3]).as_quat()
+                    qpos[b + lin:b + lin + 4] = (w, x, y, z)
+                else:
+                    qpos[b] = q[i, a]
+            for _, _, a, d in rot:
+                th, thd = q[i, a:a + 3], u3[i, d:d + 3]
+                qvel[d:d + 3] = _w_body(th) @ thd
+                acc[d:d + 3] = _w_body(th) @ a3[i, d:d + 3] + _w_body_dot(th, thd) @ thd
+                applied[d:d + 3] = np.linalg.solve(_w_body(th).T, tau3[i, d:d + 3])
+            data.qpos[:], data.qvel[:], data.qfrc_applied[:] = qpos, qvel, applied
+            mujoco.mj_forward(model, data)
+            M = np.zeros((model.nv, model.nv))
+            full_inertia(model, data, M)
+            scale = np.linalg.norm(np.linalg.inv(M), 2) * (np.linalg.norm(M, 2) * np.abs(data.qacc).max()
+                                                           + np.abs(data.qfrc_bias).max() + np.abs(applied).max())
+            bound = ROUNDING_FACTOR * EPS * cond * scale
+            err = float(np.abs(acc - data.qacc).max())
+            assert err <= bound, f"delta {delta}, state {i}: {err:.3g} > {bound:.3g} ({err / bound:.3g} x, seed {seed})"
+
+
+def test_tree_at_the_lock_refuses_accelerations_and_warns_of_its_mass_matrix(tmp_path):
+    """At theta2 = pi/2 exactly, case 3's forward dynamics is refused (the rates are undefined) and Kane's
+    equations in the rates come with an AccuracyWarning: their mass matrix is singular there."""
+    from relacc.core.tolerances import EPS
+    from relacc.core.tree.coordinates import reference_q
+    from tests.trees import random_mjcf
+
+    path = tmp_path / "tree.xml"
+    path.write_text(random_mjcf(3, 2))
+    tree = relacc.Tree.from_file(path)
+    q = reference_q(tree, 3)
+    q[4] = np.pi / 2  # the free root's theta2
+    u = np.full(tree.nv, 0.3)
+    with pytest.raises(relacc.SingularityError, match="from the 1-2-3 gimbal lock"):
+        relacc.tree_accelerations(tree, 3, q, u)
+    with pytest.warns(relacc.AccuracyWarning, match="singular at the lock"):
+        d = relacc.tree_dynamics(tree, 3, q, u)
+    assert np.linalg.cond(np.asarray(d.M)) > 1 / EPS  # singular to working precision, as the warning says

@@ -325,3 +325,14 @@ def test_mujoco_compiles_what_relacc_reads_for_every_shape(tmp_path):
             assert m.body_mass[1] == pytest.approx(mass, rel=TOL, abs=0), (kind, shell)
             np.testing.assert_allclose(np.sort(m.body_inertia[1]), np.sort(mass * moments), rtol=TOL, atol=0,
                                        err_msg=f"{kind} shell={shell} size {size}")
+
+
+def test_a_joints_springdamper_is_said_not_evaluated(tmp_path):
+    """MuJoCo computes a springdamper joint's stiffness and damping from its inertia at the reference configuration
+    (dm_control's dog: 0.25 where the class writes 0.01); relacc does not, and says so rather than reporting the
+    written values as what the file means."""
+    path = tmp_path / "sd.xml"
+    path.write_text('<mujoco><worldbody><body><joint name="tail" axis="0 1 0" damping="0.01" springdamper="0.001 50"/>'
+                    '<geom size="0.1" pos="0.2 0 0"/></body></worldbody></mujoco>')
+    said = read(path).unevaluated
+    assert any("1 joint with springdamper (tail)" in line for line in said), said

@@ -159,6 +159,29 @@ def w123_dot(theta, theta_dot):
     return omega_partials_123_dot(theta, theta_dot)
 
 
+def w123_body(theta, theta_dot=None):
+    """``[W_b(theta)] = [R]^T [W(theta)]``: ``{omega} = [W_b]{theta_dot}`` in the *turned* frame's components.
+
+    ``[R] = Rx Ry Rz`` (the turned frame in the frame it turns from): the rates' map to a ball's or free joint's
+    case-2 speeds (MuJoCo's ``qvel``), well conditioned as ``W`` is (the same singular values). With
+    ``theta_dot``, also its rate along the motion, ``d[W_b]/dt = -[R]^T [omega~] [W] + [R]^T [W_dot]`` with
+    ``omega = [W] theta_dot`` (``d[R]^T/dt = -[R]^T [omega~]``).
+
+    Args:
+        theta: ``(..., 3)`` 1-2-3 angles (rad). theta_dot: ``(..., 3)`` their rates (rad/s) or None.
+
+    Returns:
+        ``W_b`` ``(..., 3, 3)`` (dimensionless), or ``(W_b, W_b_dot)`` with ``W_b_dot`` in 1/s.
+    """
+    theta = np.asarray(theta)
+    Rt = np.swapaxes(matrix_from_123(theta), -1, -2)
+    W = omega_partials_123(theta)
+    if theta_dot is None:
+        return Rt @ W
+    omega = (W @ np.asarray(theta_dot)[..., None])[..., 0]
+    return Rt @ W, Rt @ (omega_partials_123_dot(theta, theta_dot) - tilde(omega) @ W)
+
+
 def condition_123(theta2):
     """2-norm condition number of ``W(theta)``: ``(1 + |sin theta2|) / |cos theta2|`` (inf at gimbal lock).
 
@@ -169,4 +192,4 @@ def condition_123(theta2):
     return np.divide(1 + s, c, out=np.full_like(c, np.inf, dtype=float), where=c > 0)
 
 
-__all__ = ["SO3", "condition_123", "jr_inv", "matrix_from_123", "tilde", "w123", "w123_dot"]
+__all__ = ["SO3", "condition_123", "jr_inv", "matrix_from_123", "tilde", "w123", "w123_body", "w123_dot"]

@@ -48,8 +48,19 @@ MAX_CONDITION = 1e8
 
 Mapping angular velocities back to 1-2-3 rates amplifies relative errors by
 the condition number of ``W(theta)``, ``(1 + |sin theta2|) / |cos theta2|``; at
-1e8 the rates carry relative errors up to about 1e8 eps = 2e-8. Beyond it
+1e8 the rates carry relative errors up to about 1e8 eps = 2e-8, and their accelerations that times the mass
+matrix's condition number in case-2 speeds (forward dynamics in case 3 is solved in case-2 speeds and mapped, so
+the condition number enters once, not squared). Beyond it
 (within about 2e-8 rad of gimbal lock) relacc raises instead of answering.
+"""
+
+CONDITION_WARNING = 1e6
+"""Condition number of a case-3 rate map above which an answer in 1-2-3 rates comes with a
+:class:`relacc.AccuracyWarning` naming the joint, its ``theta2``, the distance to the lock and the error to expect.
+
+Rates from angular velocities lose ``log10(cond)`` digits (relative errors up to about ``cond eps``, times the mass
+matrix's condition number for accelerations, :func:`relacc.tree_accelerations`); above 1e6, ten or fewer of the
+sixteen remain. Between this and :data:`MAX_CONDITION` relacc answers and warns; above, it raises.
 """
 
 PIVOT_FLOOR = ROUNDING_FACTOR * EPS

@@ -191,7 +191,9 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
         backend: ``"auto"`` (default: the compiled Newton-Euler kernel of
             :mod:`relacc.kernels.dynamics` for real inputs), ``"fast"``, or
             ``"reference"`` (Kane's ``M`` and ``f``, :func:`equations_of_motion`,
-            solved by ``numpy.linalg.solve``). The two satisfy Kane's equations to rounding.
+            solved by ``numpy.linalg.solve``; case 3 in the body speeds of case 2, then mapped to the rates, so
+            that the error grows as the rate map's condition number, not its square). The two satisfy Kane's
+            equations to rounding.
         out: a float64 C-contiguous array ``(..., 12)`` to write into (numpy's ``out``
             convention); returned. When an error is raised its contents are unspecified.
 
@@ -224,8 +226,16 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
     out = check_out(out, batch + (12,), "out")
     if backend == "reference" or not real:
         check_values()
-        M, f = equations_of_motion(chain, c, q, u, effects)
-        udot = np.linalg.solve(M, f[..., None])[..., 0]
+        if c == 3:  # solved in body speeds (case 2), mapped: M3 = W^T M2 W would square W's condition number
+            from relacc.core.speeds import body_speed_map, quaternion_coordinates
+
+            W, W_dot = body_speed_map(c, q, u)
+            M, f = equations_of_motion(chain, 2, quaternion_coordinates(c, q), mv(W, u), effects)
+            nu_dot = np.linalg.solve(M, f[..., None])[..., 0]
+            udot = np.linalg.solve(W, (nu_dot - mv(W_dot, u))[..., None])[..., 0]
+        else:
+            M, f = equations_of_motion(chain, c, q, u, effects)
+            udot = np.linalg.solve(M, f[..., None])[..., 0]
         if out is None:
             return udot
         out[...] = udot

@@ -11,6 +11,10 @@ From the partial velocities of every mass centre ``[V_b]`` and partial angular v
 so that ``M udot = f + tau`` with ``tau`` the generalized forces conjugate to ``u``. Armature ``D``
 (MuJoCo's, diagonal in case-2 speeds ``u2 = [B] u``) adds ``[B]^T D [B]`` to ``M`` and
 ``-[B]^T D [B_dot] u`` to ``f``; joint springs and dampers act on case-2 speeds through ``[B]^T``.
+
+Forward dynamics in case 3 (:func:`tree_accelerations`) is solved in case-2 speeds and mapped to the rates: Kane's
+equations in the rates, ``M3 = [B]^T M2 [B]``, square ``[B]``'s condition number, which grows as ``2 / delta`` at a
+distance ``delta`` from the 1-2-3 gimbal lock; mapped, the error grows as that number once (docs/hard-cases.md).
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from relacc.core.cases import as_case
 from relacc.core.kinematics import check_finite_result
 from relacc.core.rotations import quaternion_from_123, tilde
 from relacc.core.so3 import SO3
@@ -161,10 +166,21 @@ def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
 
     Returns:
         :class:`TreeDynamics`.
+
+    Warns:
+        AccuracyWarning: case 3 near the 1-2-3 gimbal lock (a joint's rate map conditioned above
+            :data:`relacc.core.tolerances.CONDITION_WARNING`): ``M`` in the rates is conditioned as the square of
+            that map, and singular at the lock itself.
     """
     nb, nv = (tree.nb, tree.nv) if isinstance(tree, Tree) else (0, 0)
     c, q, u, _, batch = inputs(tree, case, q, u, bytes_per_state=8.0 * (nv * nv + 4 * nb * 3 * nv * 3),
                                what="Kane's equations of")
+    if c == 3:
+        from relacc.core.tree.coordinates import warn_near_lock
+
+        warn_near_lock(tree, q, "the mass matrix in its rates, [W_b]^T M2 [W_b] (M2 case 2's), has condition number up "
+                       "to {cond2:.3g} times M2's, singular at the lock (relacc.tree_accelerations solves in case-2 "
+                       "speeds instead)")
     tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one sentence
         M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
@@ -195,15 +211,24 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
     Returns:
         ``(..., nv)`` the speeds' rates (m/s^2, rad/s^2).
 
+    Case 3 is solved in case-2 speeds and mapped to the rates (:func:`_angle_rates`): its error is the rate map's
+    condition number times case 2's, not that number squared as Kane's equations in the rates would give.
+
     Raises:
         SingularityError: ``M`` is singular (speeds that move no inertia, named) or case 3 is within
-            the gimbal-lock limit at a joint (named).
+            the gimbal-lock limit at a joint (named, :data:`relacc.core.tolerances.MAX_CONDITION`).
+
+    Warns:
+        AccuracyWarning: case 3 near the lock (above :data:`relacc.core.tolerances.CONDITION_WARNING`), naming the
+            joint, its ``theta2``, the distance to the lock and the relative error to expect.
     """
     if backend not in ("auto", "fast", "reference"):
         raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
     simple = effects is None or (isinstance(effects, TreeEffects) and not effects.joints and not effects.bodies)
     if backend == "fast" and not simple:
         raise InputError("backend 'fast' applies gravity only: joint and body effects take backend 'reference'")
+    if isinstance(tree, Tree) and as_case(case) == 3:
+        return _angle_rates(tree, q, u, tau, effects, t, backend, out)
     if backend == "fast" or (backend == "auto" and simple):
         return _fast(tree, case, q, u, tau, effects, out)
     if backend == "auto" and isinstance(effects, TreeEffects) and isinstance(tree, Tree):
@@ -222,6 +247,50 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
     if d.case == 3:
         check_invertible(tree, np.asarray(q, dtype=float))
     return solve(tree, d.M, rhs)
+
+
+def _angle_rates(tree, q, u, tau, effects, t, backend, out):
+    """Case 3's ``udot`` solved in case-2 speeds (module docstring): ``theta_ddot = [W_b]^-1 (u2_dot - [W_b_dot]
+    theta_dot)`` per ball and free joint, ``u2 = [W_b] theta_dot`` (:func:`relacc.core.so3.w123_body`) and
+    ``tau2 = [W_b]^-T tau``; every other speed is the same in both cases.
+
+    Kane's equations in the rates themselves, ``[W_b]^T M2 [W_b]``, square the rate map's condition number; this way
+    its error is ``cond(W_b)`` times case 2's, ``c eps kappa(M2)`` (docs/hard-cases.md)."""
+    from relacc.core.kinematics import check_out
+    from relacc.core.so3 import w123_body
+    from relacc.core.tree.coordinates import q_in_case, warn_near_lock
+
+    _, q, u, _, batch = inputs(tree, 3, q, u, bytes_per_state=8.0 * 4 * tree.nv, what="forward dynamics of")
+    tau, batch = _tau(tree, tau, batch, q.shape[-1])
+    out = check_out(out, batch + (tree.nv,), "out")
+    if out is not None and backend == "reference":
+        raise InputError("out= is for the fast backend")
+    check_invertible(tree, np.real(q))
+    warn_near_lock(tree, q, "its rates' accelerations carry relative errors up to about {err:.2g} times the mass "
+                   "matrix's condition number", stacklevel=3)
+    n = int(np.prod(batch))
+    qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
+    u2 = np.array(uf)
+    tau2 = None if tau is None else np.array(flat(tau, batch, tree.nv))
+    maps = []
+    for _, _, a, d in rotations(tree, 3):
+        W, W_dot = w123_body(qf[:, a:a + 3], uf[:, d:d + 3])
+        u2[:, d:d + 3] = mv(W, uf[:, d:d + 3])
+        if tau2 is not None:
+            tau2[:, d:d + 3] = np.linalg.solve(np.swapaxes(W, -1, -2), tau2[:, d:d + 3, None])[..., 0]
+        maps.append((d, W, W_dot))
+    tt = np.broadcast_to(np.asarray(t), batch).reshape(n) if np.ndim(t) else t
+    a2 = tree_accelerations(tree, 2, q_in_case(tree, 3, 2, qf), u2, tau=tau2, effects=effects, t=tt,
+                            backend=backend)
+    res = np.array(a2)
+    for d, W, W_dot in maps:
+        res[:, d:d + 3] = np.linalg.solve(W, (a2[:, d:d + 3] - mv(W_dot, uf[:, d:d + 3]))[..., None])[..., 0]
+    if out is not None:
+        out.reshape(n, tree.nv)[...] = res
+        return out
+    res = res.reshape(batch + (tree.nv,))
+    res.setflags(write=False)
+    return res
 
 
 def _effect_forces(tree, case, q, u, effects, t):

@@ -95,6 +95,39 @@ def check_invertible(tree, q3):
                 "use case 1 or 2 speeds there")
 
 
+def warn_near_lock(tree, q3, consequence: str, stacklevel: int = 2):
+    """Warn (:class:`relacc.AccuracyWarning`) where a joint's 1-2-3 rate map is conditioned above
+    :data:`relacc.core.tolerances.CONDITION_WARNING` (and within :data:`~relacc.core.tolerances.MAX_CONDITION`,
+    which :func:`check_invertible` refuses beyond), naming the joint, ``theta2`` and the distance to the lock.
+
+    ``stacklevel``: the frame the warning names, 1 this function's caller, 2 that one's caller (the default).
+    ``consequence``: what that costs, formatted with ``cond`` (the condition number), ``cond2`` (its square) and
+    ``err`` (``cond eps``)."""
+    import warnings
+
+    from relacc.core.tolerances import CONDITION_WARNING, EPS
+    from relacc.errors import AccuracyWarning
+
+    worst = None  # (cond, joint, theta2, batch index) of the worst-conditioned joint
+    for k, _, a, _ in rotations(tree, 3):
+        theta2 = np.real(q3[..., a + 1])
+        with np.errstate(invalid="ignore"):
+            cond = np.where(np.isfinite(theta2), condition_123(theta2), 0.0)
+        if cond.size == 0:
+            continue
+        idx = np.unravel_index(np.argmax(cond), cond.shape) if cond.ndim else ()
+        if cond[idx] > CONDITION_WARNING and (worst is None or cond[idx] > worst[0]):
+            worst = (float(cond[idx]), k, float(theta2[idx]), idx)
+    if worst is not None:
+        c, k, t, idx = worst
+        warnings.warn(
+            f"joint {tree.joints[k][1].name!r}: theta2 = {t!r} rad"
+            f"{' at batch index ' + str(tuple(int(i) for i in idx)) if idx else ''} is "
+            f"{float(np.arctan2(abs(np.cos(t)), abs(np.sin(t)))):.3g} rad from the 1-2-3 gimbal lock, where its "
+            f"rate map has condition number {c:.3g} > {CONDITION_WARNING:g}: "
+            + consequence.format(cond=c, cond2=c * c, err=c * EPS), AccuracyWarning, stacklevel=stacklevel + 1)
+
+
 def reference_q(tree, case) -> np.ndarray:
     """``(nq,)`` the tree as placed: free bodies where their placement puts them, balls at identity, hinges
     and slides at ``ref`` (MuJoCo's ``qpos0``)."""
@@ -113,7 +146,7 @@ def reference_q(tree, case) -> np.ndarray:
     return q
 
 
-def _other_q(tree, source: int, target: int, q):
+def q_in_case(tree, source: int, target: int, q):
     """``q`` of ``source`` in ``target``'s layout (quaternions <-> 1-2-3 angles; nothing else changes)."""
     if (source == 3) == (target == 3):
         return q.copy()
@@ -145,7 +178,7 @@ def convert(tree, q, u=None, udot=None, *, source, target):
     """
     s, t = int(as_case(source)), int(as_case(target))
     q = check_q(tree, s, q)
-    qt = _other_q(tree, s, t, q)
+    qt = q_in_case(tree, s, t, q)
     if t == 3:
         check_invertible(tree, qt)
     if u is None:

@@ -130,6 +130,10 @@ READINGS = {
          lambda r: _mjcf(r) and r.facts["unactuated_armature"] > 0, _reread("armature_without_actuator")),
         ("free_damping", "Drake's MJCF parser drops a free joint's damping (it warns that damping is not supported "
          "for free bodies)", lambda r: _mjcf(r) and r.facts["damped_free"] > 0, _reread("free_damping_dropped")),
+        ("default_chain", "Drake's MJCF parser inherits a <default> class's <joint> or <geom> attributes only "
+         "through classes that have that element themselves: a class without one gives its joints or geoms nothing "
+         "of its ancestors' (damping, armature, mass, size...)",
+         lambda r: _mjcf(r) and r.facts.get("broken_defaults", 0) > 0, _reread("default_chain_broken")),
         ("settotalmass", "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
          lambda r: _mjcf(r) and r.facts["settotalmass"], _reread("settotalmass_ignored")),
         ("gravity_flag", "Drake's MJCF parser ignores <flag gravity=\"disable\"/> and keeps <option gravity>",
