@@ -118,23 +118,24 @@ def entry() -> None:
     (Dask's own handlers closing a cluster that was still starting) is not the user's news."""
     import signal
 
-    def early(signum, frame):
-        raise KeyboardInterrupt(f"signal {signum}")
+    state = {"running": True, "said": False}  # one handler for the whole process: no moment without one
 
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, early)
+    def handler(signum, frame):
+        if state["running"]:  # the command (or its start) is under way: unwind it, then one line
+            raise KeyboardInterrupt(f"signal {signum}")
+        os._exit(130 if state["said"] else _say_interrupted(name))  # it has ended: nothing more to unwind
+
     name = "relacc"
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, handler)
     try:
         name = f"relacc {sys.argv[1]}" if len(sys.argv) > 1 and not sys.argv[1].startswith("-") else name
         code = main()
+        state["running"] = False
     except KeyboardInterrupt:
+        state["running"] = False
         code = _say_interrupted(name)
-
-    def late(signum, frame):
-        os._exit(_say_interrupted(name))
-
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, late)
+        state["said"] = True
     try:
         sys.stdout.flush()
     except BrokenPipeError:
