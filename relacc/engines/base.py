@@ -2,8 +2,9 @@
 
 An **adapter** is one model in one engine: a model file read by the engine's own parser (or, where that parser
 would read the model otherwise, a model the engine builds from relacc's tree), matched joint by joint to the
-*reference*: relacc's tree of the same model as MuJoCo's compiler reads it (:class:`relacc.Tree`). Everything an
-adapter answers, it answers in the reference's coordinates, the tree's case 2 (MuJoCo's own ``qpos``/``qvel``):
+*reference*: relacc's tree of the same model as relacc reads it (:class:`relacc.Tree`, :mod:`relacc.reading`).
+Everything an adapter answers, it answers in the reference's coordinates, the tree's case 2 (MuJoCo's own
+``qpos``/``qvel``):
 
 * free joint: ``q = [p (3), quat (4)]``, ``p`` the body frame's origin in its parent (world: m), ``quat`` its
   orientation ``(w, x, y, z)``; ``v = [p_dot (3, parent components), omega (3, body components)]``;
