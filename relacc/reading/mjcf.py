@@ -72,7 +72,8 @@ class MeshGeom:
 
 VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored", "visual_geoms_ignored",
             "mesh_unit_inertia", "gravity_default", "settotalmass_ignored", "gravity_flag_ignored",
-            "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken")
+            "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
+            "unnamed_siblings_dropped")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
@@ -86,6 +87,9 @@ Pinocchio's:
 * ``mesh_unit_inertia``: in a body whose colliding geoms (not ``contype = conaffinity = 0``) are all meshes, each
   of them 1 kg with a unit inertia at its frame (neither the mesh nor the geom's mass read), the others none;
 * ``gravity_default``: gravity ``(0, 0, -9.81)`` whatever ``<option>`` says;
+* ``unnamed_siblings_dropped``: of several unnamed ``<body>`` children of one body only the first, with its subtree
+  (Pinocchio names an unnamed body after its parent, ``<parent>Bis``, so the later ones collide and are dropped;
+  measured on pin 4.1: three unnamed children of 10, 100 and 1000 kg read as 10 kg);
 * ``settotalmass_ignored`` (Pinocchio's and Drake's): no scaling by ``<compiler settotalmass>``.
 
 Drake's:
@@ -181,6 +185,7 @@ class _Reader:
         self.classes = self._classes()
         self.broken_classes = self._classes(broken=True)
         self.broken_defaults = 0  # elements whose defaults default_chain_broken reads otherwise
+        self.unnamed_dropped = 0  # unnamed bodies after the first among one parent's children
         self.springdamper: list[str] = []  # joints whose stiffness and damping MuJoCo computes (springdamper)
         self.assets = {m.get("name") or Path(m.get("file", "")).stem: m
                        for a in root.findall("asset") for m in a.findall("mesh")}
@@ -319,7 +324,7 @@ class _Reader:
                  and any(first.get(k) is not None for k in ("pos", "quat", "axisangle", "euler", "xyaxes", "zaxis")),
                  "visual_geoms": self.visual_geoms, "mesh_bodies": bool(self.taken),
                  "stacked": self.stacked, "unactuated_armature": self.unactuated, "damped_free": self.damped_free,
-                 "broken_defaults": self.broken_defaults}
+                 "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped}
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
                        self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
                        tuple(self.findings), facts=facts, variant=self.variant)
@@ -327,8 +332,15 @@ class _Reader:
     def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         """Bodies and frames directly in ``node`` (a body, a frame or the world), placed by ``(at, R)`` in the parent
         body's frame (a frame's own pose composed in)."""
+        unnamed = False  # Pinocchio names an unnamed body after its parent ("<parent>Bis"): one per parent survives
         for child in node.children:
             if child.tag == "body":
+                if not child.get("name"):
+                    if unnamed:
+                        self.unnamed_dropped += 1
+                        if "unnamed_siblings_dropped" in self.variant:
+                            continue
+                    unnamed = True
                 self._body(child, parent, at, R, childclass)
             elif child.tag == "frame":
                 pos, Rf = self.pose(child)

@@ -117,6 +117,9 @@ READINGS = {
         ("mesh_inertia", "Pinocchio's MJCF parser gives a mesh geom 1 kg and a unit inertia at the geom's frame (it "
          "reads neither the mesh's volume nor the geom's mass)", lambda r: _mjcf(r) and r.facts["mesh_bodies"],
          _reread("mesh_unit_inertia")),
+        ("unnamed_bodies", "Pinocchio's MJCF parser names an unnamed <body> after its parent (<parent>Bis), so of "
+         "several unnamed children of one body only the first is read; the others and their subtrees are dropped",
+         lambda r: _mjcf(r) and r.facts.get("unnamed_dropped", 0) > 0, _reread("unnamed_siblings_dropped")),
         ("gravity", "Pinocchio's MJCF parser ignores <option gravity> and <flag gravity=\"disable\"/> and keeps "
          "(0, 0, -9.81)", lambda r: _mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
          _reread("gravity_default")),
