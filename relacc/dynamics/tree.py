@@ -178,9 +178,9 @@ def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
     if c == 3:
         from relacc.core.tree.coordinates import warn_near_lock
 
-        warn_near_lock(tree, q, "the mass matrix in its rates, [W_b]^T M2 [W_b] (M2 case 2's), has condition number up "
-                       "to {cond2:.3g} times M2's, singular at the lock (relacc.tree_accelerations solves in case-2 "
-                       "speeds instead)")
+        warn_near_lock(tree, q, "the mass matrix in the rates, [W_b]^T M2 [W_b] with M2 the mass matrix in case-2 "
+                       "speeds, has a condition number up to {cond2:.3g} times M2's and is singular at the lock "
+                       "(relacc.tree_accelerations solves in case-2 speeds instead)")
     tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one sentence
         M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)

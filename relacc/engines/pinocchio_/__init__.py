@@ -259,9 +259,9 @@ class PinocchioAdapter(Adapter):
         """``aba`` over the batch by ``abaInParallel`` (Pinocchio's batched API), under exactly ``effects``."""
         tau = self.generalized_forces(qe, ve, effects, t)
         with self._gravity(effects) as m:
-            if len(qe) < POOL_MIN:
-                return np.array([pin.aba(m, self.data, x, w, f) for x, w, f in zip(qe, ve, tau)]).reshape(qe.shape[0],
-                                                                                                         m.nv)
+            if len(qe) < POOL_MIN:  # one Data, state by state: (n, nv)
+                out = np.array([pin.aba(m, self.data, x, w, f) for x, w, f in zip(qe, ve, tau)])
+                return out.reshape(len(qe), m.nv)
             out = np.zeros((m.nv, len(qe)), order="F")
             pin.abaInParallel(THREADS, self._pool(m, THREADS), np.asfortranarray(qe.T), np.asfortranarray(ve.T),
                               np.asfortranarray(tau.T), out)
