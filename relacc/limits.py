@@ -29,6 +29,10 @@ def available_memory() -> int | None:
         return None
 
 
+ALWAYS_FITS = 2**20
+"""Requests of at most this many bytes (1 MiB: a few thousand states of a small tree) are not checked: reading the
+memory available (``/proc/meminfo``) costs about 10 us, more than a single state's forward dynamics."""
+
 CONVERT_BYTES = 64 * 2**20
 """About the most memory :func:`relacc.core.tree.coordinates.convert` gives the walk at once (a chunk of states at a
 time)."""
@@ -60,6 +64,8 @@ def require_memory(nbytes: float, what: str, instead: str) -> None:
     Raises:
         InputError: naming the request, its estimate, what is available and what to do ``instead``.
     """
+    if nbytes <= ALWAYS_FITS:
+        return
     free = available_memory()
     if free is not None and nbytes > free:
         raise InputError(f"{what} needs about {nbytes / 2**30:.3g} GiB of memory, more than the "

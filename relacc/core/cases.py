@@ -94,8 +94,10 @@ def _holds_bool(value) -> bool:
     return False
 
 
-def as_numbers(name: str, value, length: int, what: str, values: bool = True, offset: int = 0) -> np.ndarray:
+def as_numbers(name: str, value, length: int, what, values: bool = True, offset: int = 0) -> np.ndarray:
     """``value`` as an array of numbers ``(..., length)``: lists and arrays alike, integers made float.
+
+    ``what`` (what is accepted, for messages) is a string or a function returning one, called only for a message.
 
     Booleans, strings and objects are rejected; with ``values`` so are NaN and inf.
     ``offset`` is added to the leading batch index in messages (a chunk's
@@ -104,6 +106,11 @@ def as_numbers(name: str, value, length: int, what: str, values: bool = True, of
     Raises:
         InputError: naming ``name``, what was wrong and ``what`` is accepted.
     """
+    if (isinstance(value, np.ndarray) and value.dtype == np.float64 and value.ndim and value.shape[-1] == length
+            and (not values or np.isfinite(value).all())):
+        return value  # the common case, without building a message
+    if callable(what):
+        what = what()
     if isinstance(value, (list, tuple)) and _holds_bool(value):
         raise InputError(f"{name}: expected numbers ({what}), got a boolean in {value!r:.80}")
     try:

@@ -182,6 +182,91 @@ def stepper(chain, case, effects, dt: float, integrator: str):
     return Stepper(advance, record)  # so that a run's seconds are its integration's
 
 
+def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
+    """relacc's fixed-step integrator of a tree in case-2 coordinates, compiled (:mod:`relacc.kernels.tree_step`): the
+    algorithms of :func:`rkmk4_step` and :func:`euler_step` on :class:`TreeSpace` with the effects inside the loop,
+    as a :class:`relacc.dynamics.steps.Stepper` (one state or a batch of rows; rows in parallel); time runs on from 0.
+
+    A state that becomes non-finite ends the run as divergence (the step loop says so). Where a stage's mass matrix is
+    singular or a quaternion drifts off unit, that stage is evaluated again by ``derivs(x, v, t)`` (the reference
+    path, :func:`relacc.tree_accelerations`), which raises its own error naming the speeds or the joint (a singular
+    mass matrix after ``t = 0`` as :class:`relacc.IntegrationError`: a run that diverges reaches one); where the
+    reference path finds nothing wrong, it takes those steps itself. Making the stepper
+    loads the compiled loop (compiles it, the first time on a machine), so that what a run then times is its
+    integration. The caller checks ``integrator`` (:data:`relacc.kernels.tree_step.INTEGRATORS`).
+    """
+    from relacc.dynamics.steps import Stepper
+    from relacc.errors import IntegrationError, SingularityError
+    from relacc.kernels import tree_step as kernel
+    from relacc.kernels.tree import arrays_of
+    from relacc.kernels.tree_dynamics import plan
+
+    T = arrays_of(tree)
+    chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
+    gravity, E = kernel.effect_arrays(tree, effects)
+    fixed = (T, T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
+    method, aba, width, nq, nv = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1], tree.nq(2), tree.nv
+    space, clock = TreeSpace(tree, 2), [0]  # clock: steps taken
+
+    def explain(failed, status):
+        """The reference path's error at a failed stage, or False when it finds none (then the steps are taken
+        again by the reference path); True for divergence."""
+        t, q, u = failed[0], failed[1:1 + nq], failed[1 + nq:]
+        if status == kernel.NON_FINITE or not (np.all(np.isfinite(q)) and np.all(np.isfinite(u))):
+            return True
+        try:
+            derivs(q, u, t)  # raises SingularityError or InputError, naming what is wrong
+        except SingularityError as exc:
+            if t == 0.0:  # the initial state itself
+                raise
+            raise IntegrationError(f"at t = {t:.6g} s {exc}: the run diverged or reached a singular configuration; "
+                                   "reduce the step") from None
+        return False
+
+    def replay(x, v, k, t0):
+        for i in range(k):
+            x, v = STEPPERS[integrator](space, x, v, dt, derivs, t0 + i * dt)
+        return x, v
+
+    def record(x, v, gaps):
+        gaps = np.ascontiguousarray(gaps, dtype=np.int64)
+        X, V, failed = np.empty((len(gaps), nq)), np.empty((len(gaps), nv)), np.empty(1 + nq + nv)
+        x, v = np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float)
+        got, status, done = kernel.record(method, aba, x, v, clock[0] * dt, float(dt), gaps, *fixed, X, V, width,
+                                          failed)
+        if status and not explain(failed, status):
+            done = 0
+            for j, k in enumerate(gaps):
+                x, v = replay(x, v, int(k), (clock[0] + done) * dt)
+                X[j], V[j], done = x, v, done + int(k)
+            got = len(gaps)
+        clock[0] += done
+        return X, V, got
+
+    def advance(x, v, k):
+        one = np.ndim(x) == 1
+        X, V = np.array(np.atleast_2d(x), dtype=float), np.array(np.atleast_2d(v), dtype=float)
+        start_x, start_v = X.copy(), V.copy()
+        status, failed = np.zeros(len(X), dtype=np.int64), np.empty((len(X), 1 + nq + nv))
+        kernel.advance_rows(method, aba, X, V, clock[0] * dt, float(dt), int(k), *fixed, width, status, failed)
+        for i in np.flatnonzero(status):
+            if explain(failed[i], status[i]):
+                X[i], V[i] = np.nan, np.nan  # diverged: the caller's check names the member and the time
+            else:
+                X[i], V[i] = replay(start_x[i], start_v[i], int(k), clock[0] * dt)
+        clock[0] += int(k)
+        return (X[0], V[0]) if one else (X, V)
+
+    x0, v0 = np.zeros(nq), np.zeros(nv)
+    for a, _ in space.quats:
+        x0[a] = 1.0
+    kernel.record(method, aba, x0, v0, 0.0, float(dt), np.zeros(0, dtype=np.int64), *fixed, np.empty((0, nq)),
+                  np.empty((0, nv)), width, np.empty(1 + nq + nv))  # load (or compile) both loops now
+    kernel.advance_rows(method, aba, x0[None].copy(), v0[None].copy(), 0.0, float(dt), 0, *fixed, width,
+                        np.zeros(1, dtype=np.int64), np.empty((1, 1 + nq + nv)))
+    return Stepper(advance, record)
+
+
 def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: float, atol: float,
                    rotations=(slice(3, 6), slice(9, 12)), max_chart: float = 1.0):
     """Adaptive integration with :func:`scipy.integrate.solve_ivp` in local coordinates.

@@ -19,6 +19,7 @@ distance ``delta`` from the 1-2-3 gimbal lock; mapped, the error grows as that n
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -268,7 +269,7 @@ def _angle_rates(tree, q, u, tau, effects, t, backend, out):
     check_invertible(tree, np.real(q))
     warn_near_lock(tree, q, "its rates' accelerations carry relative errors up to about {err:.2g} times the mass "
                    "matrix's condition number", stacklevel=3)
-    n = int(np.prod(batch))
+    n = math.prod(batch)
     qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
     u2 = np.array(uf)
     tau2 = None if tau is None else np.array(flat(tau, batch, tree.nv))
@@ -305,7 +306,7 @@ def _effect_forces(tree, case, q, u, effects, t):
     _, joint_effects, loads = effects.resolve(tree)
     if int(c) != 2 and any(tree.joints[k][1].type in ("ball", "free") for k, _, _ in joint_effects):
         return None
-    n = int(np.prod(batch))
+    n = math.prod(batch)
     qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
     f = joint_forces(tree, qf, uf, effects, joint_effects, case=int(c))
     if loads:
@@ -332,7 +333,7 @@ def _tau(tree, tau, batch, nq):
         batch = np.broadcast_shapes(batch, tau.shape[:-1])
     except ValueError:
         raise InputError(f"tau's batch shape {tau.shape[:-1]} does not broadcast with the states' {batch}") from None
-    n = float(np.prod(batch, dtype=float))
+    n = float(math.prod(batch))
     require_memory(8.0 * n * (nq + 5 * tree.nv), f"forward dynamics of {int(n)} states of {tree.name!r}",
                    "pass fewer states at a time")
     return check_u(tree, "tau", tau), batch
@@ -343,6 +344,10 @@ def _fast(tree, case, q, u, tau, effects, out):
     from relacc.core.kinematics import check_out
     from relacc.kernels import tree_dynamics as kernel
 
+    if tau is None and out is None:
+        one = _one_state(tree, case, q, u, effects)
+        if one is not None:
+            return one
     nv = tree.nv if isinstance(tree, Tree) else 0
     # the kernel's outputs and its per-state work: a few rows of nv (the factorization lives per thread)
     c, q, u, _, batch = inputs(tree, case, q, u, values=False, bytes_per_state=8.0 * 4 * nv,
@@ -354,15 +359,15 @@ def _fast(tree, case, q, u, tau, effects, out):
         check_invertible(tree, np.real(q))
     out = check_out(out, batch + (tree.nv,), "out")
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
-    n = int(np.prod(batch))
+    n = math.prod(batch)
     flat_out = None if out is None else out.reshape(n, tree.nv)
     res, bad_in, singular = kernel.accelerations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv),
                                                  flat(tau, batch, tree.nv), np.asarray(gravity, dtype=float),
                                                  flat_out)
     if bad_in:
         inputs(tree, c, q, u)  # raises, naming the bad entry
-    bad = np.flatnonzero(~np.all(np.isfinite(res), axis=1))
-    if bad.size:  # a non-positive pivot (NaN rows) or an overflow: the reference path says which, or answers
+    bad = () if np.isfinite(res).all() else np.flatnonzero(~np.all(np.isfinite(res), axis=1))
+    if len(bad):  # a non-positive pivot (NaN rows) or an overflow: the reference path says which, or answers
         qs, us, ts = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), flat(tau, batch, tree.nv)
         d = tree_dynamics(tree, c, qs[bad], us[bad], effects=effects)
         res[bad] = solve(tree, d.M, np.array(d.f) + ts[bad])  # raises SingularityError naming the speeds
@@ -372,6 +377,32 @@ def _fast(tree, case, q, u, tau, effects, out):
     res = res.reshape(batch + (tree.nv,))
     res.setflags(write=False)
     return res
+
+
+def _one_state(tree, case, q, u, effects):
+    """One state's answer by the kernel's single-state lane (:func:`relacc.kernels.tree_dynamics.one_state`), or None
+    for anything but one plain, valid state in case 1 or 2 whose equations are regular (the general path then decides,
+    and says what is wrong)."""
+    if not (isinstance(tree, Tree) and type(case) is int and case in (1, 2) and _plain_row(q, tree.nq(case))
+            and _plain_row(u, tree.nv)):
+        return None
+    gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
+    res, bad_in, singular = _kernel().one_state(tree, case, q, u, gravity)
+    if bad_in or singular or not np.isfinite(res).all():
+        return None
+    res.setflags(write=False)
+    return res
+
+
+def _kernel():
+    """:mod:`relacc.kernels.tree_dynamics`, imported on first use (it loads numba)."""
+    from relacc.kernels import tree_dynamics
+
+    return tree_dynamics
+
+
+def _plain_row(a, n) -> bool:
+    return type(a) is np.ndarray and a.dtype == np.float64 and a.shape == (n,)
 
 
 def solve(tree, M, rhs):

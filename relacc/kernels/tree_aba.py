@@ -57,7 +57,7 @@ def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent, Ic,
 
 
 @jitable
-def _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd, floor):
+def backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd, floor):
     """The articulated inertias, leaves to root (module docstring), and the composite rigid inertias ``Ic`` (from
     the bodies' own, in ``Ic`` on entry) for the pivots' test. Returns 1 when a joint's ``D`` is not positive
     definite to working precision (a pivot not above ``floor`` times its speed's diagonal entry of the mass matrix:
@@ -141,7 +141,7 @@ def _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu,
 
 
 @jitable
-def _accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out):
+def accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out):
     """Root to leaves: each joint's ``udot = D^-1 (u - U^T a')`` into ``out[i]``, bodies' spatial accelerations."""
     for b in range(T.parent.shape[0]):
         p = T.parent[b]
@@ -196,13 +196,13 @@ if HAVE_NUMBA:
             for b in range(nb):  # the bodies' own spatial inertias: the composite ones grow from them
                 for x in range(21):
                     Ic[b, x] = IA[b, x]
-            failed = _backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd,
+            failed = backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd,
                                PIVOT_FLOOR)
             if failed:
                 for c in range(nv):
                     out[i, c] = np.nan
             else:
-                _accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
+                accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
             singular += failed
         return bad_in, singular
 

@@ -11,10 +11,12 @@ rounding (``tests/test_tree_kernels.py``).
 
 from __future__ import annotations
 
+import threading
 import weakref
 
 import numpy as np
 
+from relacc.kernels.jit import HAVE_NUMBA
 from relacc.kernels.tree import arrays_of, writable
 from relacc.kernels.tree_crba import dof_paths
 from relacc.kernels.tree_spatial import inertia_arrays
@@ -22,6 +24,10 @@ from relacc.kernels.tree_spatial import inertia_arrays
 ABA_FROM = 100.0
 """``sum_k d_k^2 / (2 nv)`` above which the articulated-body algorithm is faster (measured on hinge chains: the
 two meet near 25 speeds, where this is about 100)."""
+
+SERIAL_UP_TO = 8
+"""Batches of at most this many states run on the calling thread: waking numba's pool for them costs about 150 us
+(measured on gymnasium's ant, docs/benchmarks.md), the work of a state about 2-10 us."""
 
 _PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
@@ -55,17 +61,69 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     n = q.shape[0]
     out = np.empty((n, tree.nv)) if out is None else out
     qadr = T.qadr3 if case == 3 else T.qadr
+    serial = n <= SERIAL_UP_TO  # a parallel loop's dispatch costs more than a few states' work
     if algorithm == "aba":
-        from relacc.kernels.tree_aba import aba_loop
+        from relacc.kernels.tree_aba import aba_block, aba_loop
 
-        bad_in, singular = aba_loop(int(case), writable(q), writable(u), writable(tau), T, qadr, mass, com, inertia,
-                                    arm, free, writable(gravity), out)
+        args = (int(case), writable(q), writable(u), writable(tau), T, qadr, mass, com, inertia, arm, free,
+                writable(gravity), out)
+        bad_in, singular = aba_block(*args, 0, n) if serial else aba_loop(*args)
     else:
-        from relacc.kernels.tree_crba import crba_loop
+        from relacc.kernels.tree_crba import crba_block, crba_loop
 
-        bad_in, singular = crba_loop(int(case), writable(q), writable(u), writable(tau), T, qadr, anc, depth, mass,
-                                     com, inertia, arm, free, writable(gravity), out)
+        args = (int(case), writable(q), writable(u), writable(tau), T, qadr, anc, depth, mass, com, inertia, arm,
+                free, writable(gravity), out)
+        bad_in, singular = crba_block(*args, 0, n) if serial else crba_loop(*args)
     return out, int(bad_in), int(singular)
 
 
-__all__ = ["ABA_FROM", "accelerations", "method", "plan"]
+def one_state(tree, case: int, q, u, gravity):
+    """``(udot (nv,), bad input, singular)`` of one state ``q (nq,)``, ``u (nv,)`` (float64, shapes checked by the
+    caller), no applied forces: the single-state lane of :func:`relacc.tree_accelerations`, on the calling thread with
+    the kernel's arguments gathered once per tree, case, gravity and thread (:func:`_single`), so that a call costs
+    the kernel and little else."""
+    fn, args, Q, U, out = _single(tree, case, gravity)
+    Q[0], U[0] = q, u
+    bad_in, singular = fn(*args)
+    return out[0].copy(), bad_in, singular
+
+
+def _single(tree, case, gravity):
+    """``(block function, its arguments, q (1, nq), u (1, nv), out (1, nv))``: buffers and arguments of the block
+    function for one state, cached per tree, case, gravity and thread (each thread writes its own buffers)."""
+    key = (int(case), bytes(np.asarray(gravity, dtype=float)), threading.get_ident())
+    cache = _SINGLE.setdefault(tree, {})
+    if key not in cache:
+        T = arrays_of(tree)
+        chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
+        qadr = T.qadr3 if case == 3 else T.qadr
+        Q, U, tau, out = np.zeros((1, tree.nq(case))), np.zeros((1, tree.nv)), np.zeros((1, tree.nv)), \
+            np.zeros((1, tree.nv))
+        g = np.array(gravity, dtype=float)
+        if chosen == "aba":
+            from relacc.kernels.tree_aba import aba_block as fn
+
+            args = (int(case), Q, U, tau, T, qadr, mass, com, inertia, arm, free, g, out, 0, 1)
+        else:
+            from relacc.kernels.tree_crba import crba_block as fn
+
+            args = (int(case), Q, U, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, 0, 1)
+        cache[key] = (_entry_point(fn, args), args, Q, U, out)
+    return cache[key]
+
+
+def _entry_point(fn, args):
+    """The compiled function of a numba dispatcher for these arguments' types, called without dispatch (which costs
+    about 3 us of the 9 a single state's call takes, measured on gymnasium's ant); the dispatcher itself without
+    numba or where the compiled function cannot be found."""
+    if not HAVE_NUMBA:
+        return fn
+    fn(*args)  # compiles or loads the specialization
+    compiled = getattr(fn, "overloads", {}).get(tuple(fn.typeof_pyval(a) for a in args))
+    return getattr(compiled, "entry_point", fn)
+
+
+_SINGLE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+__all__ = ["ABA_FROM", "accelerations", "method", "one_state", "plan"]

@@ -162,6 +162,7 @@ def tree_stepper(tree, case, effects, dt: float, integrator: str):
     from relacc.dynamics.integrate import STEPPERS, TreeSpace, space_stepper
     from relacc.dynamics.tree import tree_accelerations
     from relacc.errors import EngineError
+    from relacc.kernels.jit import HAVE_NUMBA
 
     if integrator not in STEPPERS:
         raise EngineError(f"relacc integrators: {', '.join(STEPPERS)}; got {integrator!r}")
@@ -169,6 +170,10 @@ def tree_stepper(tree, case, effects, dt: float, integrator: str):
         udot = tree_accelerations(tree, case, q, u, effects=effects, t=t)
         return (u if case == 2 else convert(tree, q, u, source=case, target=2)[1]), np.asarray(udot)
 
+    if int(case) == 2 and HAVE_NUMBA:
+        from relacc.dynamics.integrate import tree_stepper_compiled
+
+        return tree_stepper_compiled(tree, effects, dt, integrator, derivs)
     return space_stepper(TreeSpace(tree, case), derivs, dt, integrator)
 
 

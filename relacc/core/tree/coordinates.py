@@ -54,7 +54,8 @@ def check_q(tree, case, q, values: bool = True) -> np.ndarray:
     """
     c = as_case(case)
     arr = as_numbers(f"q for case {int(c)} of tree {tree.name!r}", q, tree.nq(c),
-                     "the joints' coordinates in order: " + ", ".join(f"{j.name} ({j.type})" for _, j in tree.joints),
+                     lambda: "the joints' coordinates in order: "
+                     + ", ".join(f"{j.name} ({j.type})" for _, j in tree.joints),
                      values)
     if values and c != 3:
         for k, kind, a, _ in rotations(tree, c):
@@ -70,7 +71,7 @@ def check_q(tree, case, q, values: bool = True) -> np.ndarray:
 
 def check_u(tree, name: str, u, values: bool = True) -> np.ndarray:
     """Speeds (or their rates) ``(..., nv)`` as an array, finite with ``values``."""
-    return as_numbers(name, u, tree.nv, "the joints' speeds in order: " + ", ".join(tree.speed_names()), values)
+    return as_numbers(name, u, tree.nv, lambda: "the joints' speeds in order: " + ", ".join(tree.speed_names()), values)
 
 
 def check_invertible(tree, q3):

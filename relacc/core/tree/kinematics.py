@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -120,7 +121,7 @@ def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_p
         batch = np.broadcast_shapes(*shapes)
     except ValueError:
         raise InputError(f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes") from None
-    n = float(np.prod(batch, dtype=float))
+    n = float(math.prod(batch))
     # every entry point copies its inputs once, C-contiguous, besides what it computes
     require_memory(n * (bytes_per_state + 8.0 * (q.shape[-1] + 3 * tree.nv)),
                    f"{what} {int(n)} states of {tree.name!r}", "pass fewer states at a time")
@@ -134,7 +135,9 @@ def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_p
 
 def flat(a, batch, width):
     """``a`` broadcast to ``batch + (width,)`` as a C-contiguous ``(n, width)`` array."""
-    n = int(np.prod(batch, dtype=np.int64))  # explicit: a width of 0 (a tree where nothing moves) leaves -1 undefined
+    n = math.prod(batch)  # explicit: a width of 0 (a tree where nothing moves) leaves -1 undefined
+    if isinstance(a, np.ndarray) and a.shape == batch + (width,) and a.flags.c_contiguous:
+        return a.reshape(n, width)
     return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(n, width))
 
 
@@ -176,7 +179,7 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None, backend="auto",
     fast = backend == "fast" or (backend == "auto" and real)
     if out is not None and not fast:
         raise InputError("out= is for the fast backend (real inputs)")
-    n = int(np.prod(batch))
+    n = math.prod(batch)
     qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
     udf = None if udot is None else flat(udot, batch, tree.nv)
     if fast:

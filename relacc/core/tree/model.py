@@ -289,8 +289,11 @@ class Tree:
 
     def nq(self, case) -> int:
         """Number of coordinates in a case: quaternions in cases 1-2, 1-2-3 angles in case 3."""
-        table = NQ_ANGLES if int(case) == 3 else NQ
-        return sum(table[j.type] for _, j in self.joints)
+        return self._nq[1 if int(case) == 3 else 0]
+
+    @cached_property
+    def _nq(self) -> tuple:
+        return tuple(sum(table[j.type] for _, j in self.joints) for table in (NQ, NQ_ANGLES))
 
     @cached_property
     def dofadr(self) -> tuple:
