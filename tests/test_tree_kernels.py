@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import relacc
+from relacc.core.tolerances import EPS, ROUNDING_FACTOR
 from relacc.core.tree import convert, random_states
 from relacc.core.tree.scales import tree_scales
 from relacc.engines.mujoco_.spec import read_tree
@@ -31,6 +32,51 @@ def test_the_kernel_is_the_reference_walk(tmp_path, seed, case):
     for name in FIELDS:
         _assert_bodies(tree, getattr(fast, name), getattr(ref, name), sc.of(name), f"case {case} {name}", seed)
     np.testing.assert_allclose(fast.rotation, ref.rotation, rtol=0, atol=64 * 2.2e-16 * max(tree.depth))
+
+
+@pytest.mark.parametrize("seed", [0, 5, 8])
+@pytest.mark.parametrize("case", [1, 2, 3])
+def test_kinematics_without_partials_is_the_reference_walk(tmp_path, seed, case):
+    """``partials=False`` (spatial velocities and accelerations root to leaves, no partial velocity formed) against the
+    reference walk (which sums partial velocities times speeds): the same physical quantities, within the tree error
+    model's tolerance on the terms' magnitude; a tree with a ball-rooted subtree (seed 5) as well as free roots."""
+    tree = read_tree(_tree_file(tmp_path, seed, 4 + seed, free_root=seed != 5))
+    st = random_states(tree, 2, 70, seed)
+    q, u, udot = convert(tree, st.q, st.u, st.udot, source=2, target=case)
+    lean = relacc.tree_kinematics(tree, case, q, u, udot, partials=False)
+    ref = relacc.tree_kinematics(tree, case, q, u, udot, backend="reference")
+    sc = tree_scales(tree, case, q, u, udot)
+    for name in FIELDS[:5]:
+        _assert_bodies(tree, getattr(lean, name), getattr(ref, name), sc.of(name), f"case {case} {name}", seed)
+    np.testing.assert_allclose(lean.rotation, ref.rotation, rtol=0, atol=ROUNDING_FACTOR * EPS * max(tree.depth))
+    assert lean.V is None and lean.Omegadot is None
+    no_acc = relacc.tree_kinematics(tree, case, q[:3], u[:3], partials=False)  # a small batch: the calling thread
+    assert no_acc.acceleration is None and no_acc.alpha is None
+    np.testing.assert_array_equal(no_acc.velocity, lean.velocity[:3])
+
+
+def test_points_without_partials_and_their_buffers():
+    """The chain's named points (G2 among them) without partials, against the reference; ``out=`` takes only the
+    fields it computes."""
+    tree = relacc.Tree.from_file(models_dir() / "two_body.xml")
+    st = random_states(tree, 2, 40, 1)
+    lean = relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, points="all", partials=False)
+    ref = relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, points="all", backend="reference")
+    sc = tree_scales(tree, 2, st.q, st.u, st.udot)
+    for name in ("position", "velocity", "acceleration"):
+        scale = sc.of(name).max(axis=1)[:, None]  # the points' bodies' largest term magnitudes
+        err = np.abs(getattr(lean.points, name) - getattr(ref.points, name)).max(axis=-1) / scale
+        assert err.max() <= ROUNDING_FACTOR * EPS * max(tree.depth), f"{name}: {err.max() / EPS:.1f} eps"
+    assert lean.points.V is None
+    out = {"position": np.zeros((40, 2, 3))}
+    k = relacc.tree_kinematics(tree, 2, st.q, st.u, out=out, partials=False)
+    assert k.position is out["position"]
+    np.testing.assert_array_equal(out["position"], lean.position)
+    with pytest.raises(InputError, match=r"keys among position, velocity, acceleration, omega, alpha, rotation "
+                                         r"\(partials=False\)"):
+        relacc.tree_kinematics(tree, 2, st.q, st.u, out={"V": np.zeros((40, 2, 3, 12))}, partials=False)
+    with pytest.raises(InputError, match="partials: expected True or False"):
+        relacc.tree_kinematics(tree, 2, st.q, st.u, partials="no")
 
 
 def test_points_and_out_buffers():

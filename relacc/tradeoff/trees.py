@@ -7,6 +7,11 @@
   ``Omegadot``. relacc: :func:`relacc.tree_kinematics` with ``out=`` (the steady state) and on fresh memory (the
   first call's); Pinocchio: ``computeJointJacobiansTimeVariation`` and the frame getters per body in a loop;
   MuJoCo: ``mj_jac`` and ``mj_jacDot`` per body in a loop. Microseconds per state.
+* ``kinematics`` without partials: relacc's ``tree_kinematics(..., partials=False)`` (each body's mass-centre
+  position, velocity, classical acceleration, angular velocity and acceleration, orientation) against Pinocchio's
+  ``forwardKinematics`` with frame getters and MuJoCo's ``mj_kinematics``, ``mj_comVel``, ``mj_rnePostConstraint``
+  with ``mj_objectVelocity``/``mj_objectAcceleration``, per body in a loop (each row records its largest difference
+  from relacc's values); and ``np.copyto`` of the full kinematics' output, the time to write those bytes once.
 * ``scaling``: relacc's kinematics and dynamics on chains of 2 to 60 bodies, one hinge (or one ball) per body
   after a free root: the cost against the number of bodies and of speeds.
 
@@ -68,6 +73,17 @@ def _outputs(tree, n):
     return {k: np.zeros((n, tree.nb) + s) for k, s in shapes.items()}
 
 
+LEAN = ("position", "velocity", "acceleration", "omega", "alpha", "rotation")
+"""What :func:`relacc.tree_kinematics` returns with ``partials=False``."""
+
+
+def _difference(loop, truth) -> float:
+    """The largest difference (m, m/s, m/s^2) between an anchor loop's mass-centre position, velocity and classical
+    acceleration and relacc's: the anchor computes what relacc does (gravity off in the engines' models)."""
+    return float(max(np.abs(loop.pos - truth.position).max(), np.abs(loop.vel - truth.velocity).max(),
+                     np.abs(loop.acc - truth.acceleration).max()))
+
+
 def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
     """The dynamics and kinematics rows of one model file (see the module docstring)."""
     from relacc.core.tree import convert
@@ -85,8 +101,8 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
                 secs = wall_times(lambda: relacc.tree_accelerations(tree, case, q, u, out=acc), repeats)
             rows.append(_row("dynamics", name, "relacc tree_accelerations", t, secs, n_states, case=case))
     if anchors:
-        reference = load("mujoco", path)
-        robot = load("pinocchio", path, reference.reference)
+        reference = load("mujoco", path, tree)  # matched to relacc's reading, body by body
+        robot = load("pinocchio", path, tree)
         qe, ve, _, _, _ = robot.to_engine(st.q, st.u)
         for t in thread_counts():
             secs = wall_times(robot.aba_in_parallel(t, qe.T, ve.T), repeats)
@@ -97,6 +113,15 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
         with numba_threads(t):
             secs = wall_times(lambda: relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, out=out), repeats)
         rows.append(_row("kinematics", name, "relacc tree_kinematics out=", t, secs, n_states, case=2))
+    lean = {k: v for k, v in _outputs(tree, n_states).items() if k in LEAN}
+    for t in thread_counts():
+        with numba_threads(t):
+            secs = wall_times(lambda: relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, out=lean, partials=False),
+                              repeats)
+        rows.append(_row("kinematics", name, "relacc tree_kinematics partials=False out=", t, secs, n_states, case=2))
+    full = {k: np.ones_like(v) for k, v in out.items()}
+    secs = wall_times(lambda: [np.copyto(out[k], full[k]) for k in out], repeats)
+    rows.append(_row("kinematics", name, "np.copyto of the full output", 1, secs, n_states, case=None))
     fresh = []
     for _ in range(3):  # new output arrays on every call: fresh pages each time
         import time
@@ -114,6 +139,17 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
         secs = wall_times(reference.jacobian_loop(st.q[:small], st.u[:small], bodies), max(3, repeats // 2),
                           warmups=1)
         rows.append(_row("kinematics", name, "mujoco mj_jac/mj_jacDot loop", 1, secs, small, case=None))
+        truth = relacc.tree_kinematics(tree, 2, st.q[:small], st.u[:small], st.udot[:small], partials=False)
+        _, _, ae, _, _ = robot.to_engine(st.q[:small], st.u[:small], st.udot[:small])
+        loop = robot.motion_loop(qe[:small], ve[:small], ae, links)  # its rigid links' mass centres (no more
+        secs = wall_times(loop, max(3, repeats // 2), warmups=1)       # frames than relacc's bodies)
+        rows.append(_row("kinematics", name, "pinocchio forwardKinematics loop", 1, secs, small, case=None,
+                         frames=len(links)))
+        _, _, ae, _, _ = reference.to_engine(st.q[:small], st.u[:small], st.udot[:small])
+        loop = reference.motion_loop(st.q[:small], st.u[:small], ae, bodies)
+        secs = wall_times(loop, max(3, repeats // 2), warmups=1)
+        rows.append(_row("kinematics", name, "mujoco mj_kinematics/mj_comVel loop", 1, secs, small, case=None,
+                         frames=len(bodies), largest_difference=_difference(loop, truth)))
     return rows
 
 
@@ -170,6 +206,15 @@ def ratios(rows) -> dict:
             if (who, 1, None) in pick:
                 r = pick[(who, 1, None)]
                 entry[f"kinematics vs {who}"] = (r["value"] / mine_k["value"], r["value_best"] / mine_k["value_best"])
+        lean = pick.get(("relacc tree_kinematics partials=False out=", t, 2))
+        for who in ("pinocchio forwardKinematics loop", "mujoco mj_kinematics/mj_comVel loop"):
+            if lean and (who, 1, None) in pick:
+                r = pick[(who, 1, None)]
+                entry[f"partials=False vs {who}"] = (r["value"] / lean["value"], r["value_best"] / lean["value_best"])
+        copy = pick.get(("np.copyto of the full output", 1, None))
+        if copy:
+            entry["kinematics with partials over np.copyto of its output"] = (
+                mine_k["value"] / copy["value"], mine_k["value_best"] / copy["value_best"])
         out[model] = entry
     return out
 

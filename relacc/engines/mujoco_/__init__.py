@@ -131,6 +131,9 @@ class MujocoAdapter(Adapter):
             EngineError: MuJoCo has no such body (its compiler fused it into another: ``fusestatic``).
         """
         b = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
+        if b < 0 and name.startswith("body ") and name[5:].isdigit() and int(name[5:]) < self.model.nbody \
+                and not self.model.body(int(name[5:])).name:
+            b = int(name[5:])  # an unnamed body, named by its place as relacc's reading and tree_of name it
         if b < 0:
             raise EngineError(f"MuJoCo has no body {name!r}: its compiler fused it into another (fusestatic)")
         return int(b)
@@ -349,6 +352,11 @@ class MujocoAdapter(Adapter):
         loop.close = pool.close
         return loop
 
+    def motion_loop(self, qe, ve, ae, specs):
+        """The benchmarks' anchor for kinematics without Jacobians (:func:`_motion_loop`), at the bodies of
+        ``specs``."""
+        return _motion_loop(self, qe, ve, ae, specs)
+
     def jacobian_loop(self, qe, ve, specs):
         """The benchmarks' anchor: a closure looping over the states with ``mj_kinematics``, ``mj_comPos``,
         ``mj_comVel``, then ``mj_jac`` and ``mj_jacDot`` (translational and rotational) at every point of ``specs``,
@@ -368,6 +376,44 @@ class MujocoAdapter(Adapter):
                     mujoco.mj_jacDot(m, d, Jd[i, k], Jrd[i, k], p, b)
 
         return loop
+
+
+def _motion_loop(adapter, qe, ve, ae, specs):
+    """:meth:`MujocoAdapter.motion_loop`: per state ``mj_kinematics``, ``mj_comPos``, ``mj_comVel`` and
+    ``mj_rnePostConstraint`` (with ``qacc``), then per body its mass centre's position, ``mj_objectVelocity`` and
+    ``mj_objectAcceleration`` (world components, classical), stored into ``(n, B, 3)`` arrays; the results in the
+    closure's ``pos``, ``vel``, ``acc`` attributes."""
+    m, d = adapter.model, adapter.data
+    bodies = [adapter._where(s)[0] for s in specs]
+    n, B = len(qe), len(bodies)
+    pos, vel, acc, om, al = (np.empty((n, B, 3)) for _ in range(5))
+    res = np.empty(6)
+    body = mujoco.mjtObj.mjOBJ_BODY  # at the body's mass centre
+
+    def loop():
+        gravity = m.opt.gravity.copy()
+        m.opt.gravity[:] = 0.0  # cacc without the gravity MuJoCo's recursion starts from: classical accelerations
+        try:
+            _states()
+        finally:
+            m.opt.gravity[:] = gravity
+
+    def _states():
+        for i in range(n):
+            d.qpos[:], d.qvel[:], d.qacc[:] = qe[i], ve[i], ae[i]
+            mujoco.mj_kinematics(m, d)
+            mujoco.mj_comPos(m, d)
+            mujoco.mj_comVel(m, d)
+            mujoco.mj_rnePostConstraint(m, d)
+            for k, b in enumerate(bodies):
+                pos[i, k] = d.xipos[b]
+                mujoco.mj_objectVelocity(m, d, body, b, res, 0)
+                om[i, k], vel[i, k] = res[:3], res[3:]
+                mujoco.mj_objectAcceleration(m, d, body, b, res, 0)
+                al[i, k], acc[i, k] = res[:3], res[3:]
+
+    loop.pos, loop.vel, loop.acc = pos, vel, acc
+    return loop
 
 
 def _point_loop(adapter, qe, ve, ae, spec, full):

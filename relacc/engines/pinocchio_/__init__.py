@@ -376,6 +376,30 @@ class PinocchioAdapter(Adapter):
 
         return loop
 
+    def motion_loop(self, qe, ve, ae, specs):
+        """The benchmarks' anchor for kinematics without Jacobians: a closure looping over the states with
+        ``forwardKinematics`` (q, v, a) and ``updateFramePlacements``, then per point its position, velocity, classical
+        acceleration, angular velocity and acceleration (``getFrameVelocity``, ``getFrameClassicalAcceleration``,
+        ``getFrameAcceleration``, LOCAL_WORLD_ALIGNED) stored into ``(n, P, 3)`` arrays, as a user would; the results in
+        the closure's ``pos``, ``vel``, ``acc`` attributes."""
+        m, d = self.model, self.data
+        frames = [self._frame(s) for s in specs]
+        n, P = len(qe), len(frames)
+        pos, vel, acc, om, al = (np.empty((n, P, 3)) for _ in range(5))
+
+        def loop():
+            for i in range(n):
+                pin.forwardKinematics(m, d, qe[i], ve[i], ae[i])
+                pin.updateFramePlacements(m, d)
+                for k, f in enumerate(frames):
+                    v = pin.getFrameVelocity(m, d, f, LWA)
+                    pos[i, k], vel[i, k], om[i, k] = d.oMf[f].translation, v.linear, v.angular
+                    acc[i, k] = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear
+                    al[i, k] = pin.getFrameAcceleration(m, d, f, LWA).angular
+
+        loop.pos, loop.vel, loop.acc = pos, vel, acc
+        return loop
+
     def point_loop(self, qe, ve, ae, spec, full: bool):
         """The throughput anchor: a closure looping over the states as a user would for one point's classical
         acceleration (``forwardKinematics``, ``getFrameClassicalAcceleration``) and, with ``full``, its position,
