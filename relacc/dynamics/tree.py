@@ -229,7 +229,9 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
     if backend == "fast" and not simple:
         raise InputError("backend 'fast' applies gravity only: joint and body effects take backend 'reference'")
     if isinstance(tree, Tree) and as_case(case) == 3:
-        return _angle_rates(tree, q, u, tau, effects, t, backend, out)
+        if backend == "reference" or not simple or not _kernel().HAVE_NUMBA:
+            return _angle_rates(tree, q, u, tau, effects, t, backend, out)
+        return _fast(tree, 3, q, u, tau, effects, out)  # the kernel maps the rates to case-2 speeds itself
     if backend == "fast" or (backend == "auto" and simple):
         return _fast(tree, case, q, u, tau, effects, out)
     if backend == "auto" and isinstance(effects, TreeEffects) and isinstance(tree, Tree):
@@ -356,7 +358,11 @@ def _fast(tree, case, q, u, tau, effects, out):
     if tau is None:
         tau = np.zeros(batch + (tree.nv,))
     if c == 3:
+        from relacc.core.tree.coordinates import warn_near_lock
+
         check_invertible(tree, np.real(q))
+        warn_near_lock(tree, q, "its rates' accelerations carry relative errors up to about {err:.2g} times the mass "
+                       "matrix's condition number", stacklevel=3)
     out = check_out(out, batch + (tree.nv,), "out")
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
     n = math.prod(batch)

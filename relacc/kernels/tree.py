@@ -28,6 +28,9 @@ from relacc.kernels.so3 import quat_matrix_inline as quat_matrix
 from relacc.kernels.so3 import r123_inline as r123
 
 FREE, BALL, SLIDE, HINGE = 0, 1, 2, 3
+ANGLES_CASE2 = 4
+"""A kernel-only mode: case-3 coordinates (1-2-3 angles) with case-2 speeds (body angular velocities), in which
+:mod:`relacc.kernels.tree_dynamics` solves case 3 (well conditioned; mapped to the rates after)."""
 KINDS = {"free": FREE, "ball": BALL, "slide": SLIDE, "hinge": HINGE}
 BLOCK = 32
 """States per parallel task (one scratch each)."""
@@ -98,8 +101,9 @@ def arrays_of(tree) -> TreeArrays:
 
 @jitable
 def rotation9(case, q, i, a):
-    """The rotation (row-major 9-tuple) of a quaternion (cases 1-2) or 1-2-3 angles (case 3) at ``q[i, a:]``."""
-    if case == 3:
+    """The rotation (row-major 9-tuple) of a quaternion (cases 1-2) or 1-2-3 angles (case 3, and
+    :data:`ANGLES_CASE2`) at ``q[i, a:]``."""
+    if case >= 3:
         return r123(math.cos(q[i, a]), math.cos(q[i, a + 1]), math.cos(q[i, a + 2]), math.sin(q[i, a]),
                     math.sin(q[i, a + 1]), math.sin(q[i, a + 2]))
     return quat_matrix(q[i, a], q[i, a + 1], q[i, a + 2], q[i, a + 3])
@@ -181,7 +185,7 @@ def angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
               -s1 * c2 * u0 - c1 * s2 * u1)
         A, Ad0 = mm(Rb, W), mm(Rb, Wd)
         w0, w1, w2 = wb[0], wb[1], wb[2]
-    elif case == 2:
+    elif case == 2 or case == ANGLES_CASE2:
         A = Ra
         x0, x1, x2 = mv(Ra, u0, u1, u2)
         w0, w1, w2 = wb[0] + x0, wb[1] + x1, wb[2] + x2  # the frame after the joint

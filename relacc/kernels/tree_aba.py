@@ -85,7 +85,7 @@ def backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, 
                         s += S[d + r, x] * U[d + c, x]
                     tmp[r * nd + c] = s
                 tmp[r * nd + r] += arm[d + r]  # MuJoCo's armature, diagonal on case 2 speeds
-            if case != 2:
+            if case == 1 or case == 3:
                 at = 3 if kind == FREE else 0
                 if arm[d + at] != 0.0 or arm[d + at + 1] != 0.0 or arm[d + at + 2] != 0.0:
                     for r in range(3):  # in cases 1 and 3 the rotation's armature is B^T D B, not diagonal

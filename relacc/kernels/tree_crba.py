@@ -89,7 +89,7 @@ def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, 
                     M[c, t] = S[j, 0] * F[0] + S[j, 1] * F[1] + S[j, 2] * F[2] + S[j, 3] * F[3] + S[j, 4] * F[4] \
                         + S[j, 5] * F[5]
             kind = T.jtype[k]
-            if case != 2 and (kind == BALL or kind == FREE):
+            if (case == 1 or case == 3) and (kind == BALL or kind == FREE):
                 at = d + (3 if kind == FREE else 0)
                 if arm[at] != 0.0 or arm[at + 1] != 0.0 or arm[at + 2] != 0.0:
                     _rotational_armature(case, q, u, i, T, qadr, k, b, at, depth, arm, R, V, M, x, tmp)

@@ -37,7 +37,7 @@ def bad_inputs(case, q, u, i, T, qadr):
         bad += 0 if (q[i, k] - q[i, k]) == 0.0 else 1
     for k in range(u.shape[1]):
         bad += 0 if (u[i, k] - u[i, k]) == 0.0 else 1
-    if case != 3:
+    if case < 3:  # quaternions
         for k in range(T.jtype.shape[0]):
             if T.jtype[k] == BALL or T.jtype[k] == FREE:
                 a = qadr[k] + (3 if T.jtype[k] == FREE else 0)
