@@ -232,3 +232,26 @@ def test_the_dynamics_kernel_picks_its_algorithm(tmp_path):
     fast, reference = relacc.tree_accelerations(deep, 2, st.q, st.u), \
         relacc.tree_accelerations(deep, 2, st.q, st.u, backend="reference")
     np.testing.assert_allclose(fast, reference, rtol=0, atol=atol)
+
+
+def test_threads_are_used_only_where_they_pay(tmp_path):
+    """A batch runs on the calling thread unless a second thread takes over more work than a parallel loop costs
+    (``relacc.kernels.jit.parallel_pays``); either way every state's numbers are the same code's, bit for bit."""
+    from relacc.kernels.jit import LAUNCH_US, parallel_pays, threads
+
+    with threads(1):
+        assert not parallel_pays(10**6, 100.0, 64)
+    with threads(2):
+        assert not parallel_pays(64, 1e3, 64)  # one block: nothing to share
+        assert not parallel_pays(200, LAUNCH_US / 100, 64)  # 200 x 0.01 LAUNCH_US / 2 = LAUNCH_US: not above it
+        assert parallel_pays(202, LAUNCH_US / 100, 64)
+    tree = read_tree(_tree_file(tmp_path, 4, 6))
+    st = random_states(tree, 2, 3000, 4)
+    got = {}
+    for t in (1, 2):
+        with threads(t):
+            got[t] = (relacc.tree_accelerations(tree, 2, st.q, st.u),
+                      relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot).Vdot,
+                      relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, partials=False).acceleration)
+    for a, b in zip(got[1], got[2]):
+        np.testing.assert_array_equal(a, b)

@@ -198,8 +198,9 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
     from relacc.dynamics.steps import Stepper
     from relacc.errors import IntegrationError, SingularityError
     from relacc.kernels import tree_step as kernel
+    from relacc.kernels.jit import parallel_pays
     from relacc.kernels.tree import arrays_of
-    from relacc.kernels.tree_dynamics import plan
+    from relacc.kernels.tree_dynamics import US_PER_SPEED, plan
 
     T = arrays_of(tree)
     chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
@@ -207,6 +208,7 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
     fixed = (T, T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
     method, aba, width, nq, nv = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1], tree.nq(2), tree.nv
     space, clock = TreeSpace(tree, 2), [0]  # clock: steps taken
+    cost = (4 if method == kernel.RK4 else 1) * US_PER_SPEED * nv  # us per step of a row, for parallel_pays
 
     def explain(failed, status):
         """The reference path's error at a failed stage, or False when it finds none (then the steps are taken
@@ -248,7 +250,11 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
         X, V = np.array(np.atleast_2d(x), dtype=float), np.array(np.atleast_2d(v), dtype=float)
         start_x, start_v = X.copy(), V.copy()
         status, failed = np.zeros(len(X), dtype=np.int64), np.empty((len(X), 1 + nq + nv))
-        kernel.advance_rows(method, aba, X, V, clock[0] * dt, float(dt), int(k), *fixed, width, status, failed)
+        args = (method, aba, X, V, clock[0] * dt, float(dt), int(k), *fixed, width, status, failed)
+        if parallel_pays(len(X), int(k) * cost, 1):
+            kernel.advance_rows(*args)
+        else:
+            kernel.advance_range(*args, 0, len(X))
         for i in np.flatnonzero(status):
             if explain(failed[i], status[i]):
                 X[i], V[i] = np.nan, np.nan  # diverged: the caller's check names the member and the time
@@ -262,8 +268,9 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
         x0[a] = 1.0
     kernel.record(method, aba, x0, v0, 0.0, float(dt), np.zeros(0, dtype=np.int64), *fixed, np.empty((0, nq)),
                   np.empty((0, nv)), width, np.empty(1 + nq + nv))  # load (or compile) both loops now
-    kernel.advance_rows(method, aba, x0[None].copy(), v0[None].copy(), 0.0, float(dt), 0, *fixed, width,
-                        np.zeros(1, dtype=np.int64), np.empty((1, 1 + nq + nv)))
+    for loop in (kernel.advance_rows, lambda *a: kernel.advance_range(*a, 0, 1)):
+        loop(method, aba, x0[None].copy(), v0[None].copy(), 0.0, float(dt), 0, *fixed, width,
+             np.zeros(1, dtype=np.int64), np.empty((1, 1 + nq + nv)))
     return Stepper(advance, record)
 
 

@@ -52,6 +52,26 @@ def inline_twin(fn):
     return jitable(twin, inline=True)
 
 
+LAUNCH_US = 400.0
+"""Microseconds of work a second thread must take over before one of numba's parallel loops pays, whatever the work:
+the loop's start and join (130-230 us with the workqueue pool on this project's 2-core machine: gymnasium's ant's
+composite-inertia kernel over 1 state in a parallel loop 139-143 us, called directly 9 us) plus its blocks' own
+scratch and the imbalance of a few blocks over the threads. Set from the break-even measured on ant and humanoid for
+forward dynamics and kinematics with and without partials, 9 to 8192 states (docs/benchmarks.md, "Threads"): at
+180 us, 128-256 states still ran 10-20% slower on two threads than on one."""
+
+
+def parallel_pays(n_states: int, us_per_state: float, block: int) -> bool:
+    """Whether a parallel loop over ``n_states`` states in blocks of ``block`` beats running them on the calling
+    thread: the work it spreads, ``n us_per_state (1 - 1/t)`` over ``t`` threads (numba's current count, at most one
+    per block), must exceed :data:`LAUNCH_US`. A kernel that asks this is never slower on more threads than on one by
+    more than the misestimate of its cost per state."""
+    if not HAVE_NUMBA or n_states <= block:
+        return False
+    t = min(numba.get_num_threads(), -(-n_states // block))
+    return t > 1 and n_states * us_per_state * (1.0 - 1.0 / t) > LAUNCH_US
+
+
 @contextlib.contextmanager
 def threads(n: int):
     """numba's parallel loops on ``min(n, NUMBA_NUM_THREADS)`` threads inside the block (no-op without numba)."""

@@ -16,18 +16,18 @@ import weakref
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA
+from relacc.kernels.jit import HAVE_NUMBA, parallel_pays
 from relacc.kernels.tree import arrays_of, writable
-from relacc.kernels.tree_crba import dof_paths
+from relacc.kernels.tree_crba import BLOCK, dof_paths
 from relacc.kernels.tree_spatial import inertia_arrays
 
 ABA_FROM = 100.0
 """``sum_k d_k^2 / (2 nv)`` above which the articulated-body algorithm is faster (measured on hinge chains: the
 two meet near 25 speeds, where this is about 100)."""
 
-SERIAL_UP_TO = 8
-"""Batches of at most this many states run on the calling thread: waking numba's pool for them costs about 150 us
-(measured on gymnasium's ant, docs/benchmarks.md), the work of a state about 2-10 us."""
+US_PER_SPEED = 0.2
+"""About the forward dynamics' cost per state and per speed on one core, in us (gymnasium's ant 2.8 us for 14 speeds,
+humanoid 4.4 us for 23, a 30-link chain 5.8 us for 35): what :func:`relacc.kernels.jit.parallel_pays` weighs."""
 
 _PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
@@ -65,7 +65,7 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     qadr = T.qadr3 if case >= 3 else T.qadr
     if case == 3 and HAVE_NUMBA and rates:
         return _angle_rates(tree, q, u, tau, gravity, out, algorithm)
-    serial = n <= SERIAL_UP_TO  # a parallel loop's dispatch costs more than a few states' work
+    serial = not parallel_pays(n, US_PER_SPEED * tree.nv, BLOCK)
     if algorithm == "aba":
         from relacc.kernels.tree_aba import aba_block, aba_loop
 
@@ -103,9 +103,9 @@ if HAVE_NUMBA:
     from relacc.kernels.so3 import r123, w123_dot_mv, w123_mv, w123_solve
     from relacc.kernels.tree import BALL, FREE
 
-    @numba.njit(parallel=True, cache=True)
+    @numba.njit(cache=True)  # about 50 ns a state: a parallel loop would not pay below ~5000 states
     def _rates_to_speeds(q, u, tau, T, u2, tau2):  # pragma: no cover - compiled
-        for i in numba.prange(q.shape[0]):
+        for i in range(q.shape[0]):
             for c in range(u.shape[1]):
                 u2[i, c], tau2[i, c] = u[i, c], tau[i, c]
             for k in range(T.jtype.shape[0]):
@@ -127,9 +127,9 @@ if HAVE_NUMBA:
                 tau2[i, d + 1] = R[1] * x0 + R[4] * x1 + R[7] * x2
                 tau2[i, d + 2] = R[2] * x0 + R[5] * x1 + R[8] * x2
 
-    @numba.njit(parallel=True, cache=True)
+    @numba.njit(cache=True)
     def _speeds_to_rates(q, u, a2, T, out):  # pragma: no cover - compiled
-        for i in numba.prange(q.shape[0]):
+        for i in range(q.shape[0]):
             for c in range(u.shape[1]):
                 out[i, c] = a2[i, c]
             for k in range(T.jtype.shape[0]):

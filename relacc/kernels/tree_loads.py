@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, numba
+from relacc.kernels.jit import HAVE_NUMBA, numba, parallel_pays
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mv_inline as mv
-from relacc.kernels.tree import BLOCK, arrays_of, row9, walk_state, writable
+from relacc.kernels.tree import BLOCK, US_PER_BODY_SPEED, arrays_of, row9, walk_state, writable
 
 if HAVE_NUMBA:
 
@@ -57,9 +57,14 @@ def load_forces(tree, case: int, q, u, bodies, force, torque) -> np.ndarray:
         torque: ``(n, L, 3)`` its torque, fixed components (N m).
     """
     T = arrays_of(tree)
-    out = np.empty((q.shape[0], tree.nv))
-    _loads_loop(int(case), writable(q), writable(u), T, T.qadr3 if case == 3 else T.qadr,
-                np.ascontiguousarray(bodies, dtype=np.int64), writable(force), writable(torque), out)
+    n = q.shape[0]
+    out = np.empty((n, tree.nv))
+    args = (int(case), writable(q), writable(u), T, T.qadr3 if case == 3 else T.qadr,
+            np.ascontiguousarray(bodies, dtype=np.int64), writable(force), writable(torque), out)
+    if parallel_pays(n, US_PER_BODY_SPEED * tree.nb * tree.nv, BLOCK):
+        _loads_loop(*args)
+    else:
+        _loads_block(*args, 0, n)
     return out
 
 

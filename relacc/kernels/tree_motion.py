@@ -17,10 +17,14 @@ import weakref
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, numba
+from relacc.kernels.jit import HAVE_NUMBA, numba, parallel_pays
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mv_inline as mv
 from relacc.kernels.tree import BALL, BLOCK, FREE, arrays_of, row9, writable
+
+US_PER_BODY = 0.2
+"""About the cost per state and per body on one core, in us (gymnasium's ant 2.4 us for 13 bodies, humanoid 3.0):
+what :func:`relacc.kernels.jit.parallel_pays` weighs."""
 
 
 def subtree_roots(tree) -> np.ndarray:
@@ -129,7 +133,7 @@ def motion(tree, case: int, q, u, udot, points: bool, out=None):
     res = {k: out[k] if out.get(k) is not None else np.empty((n, nb) + t) for k, t in shapes.items()}
     pts = {k: np.empty((n, npt, 3)) for k in ("position", "velocity", "acceleration")}
     q, u, ud = (writable(a) for a in (q, u, udot if with_acc else np.zeros((n, tree.nv))))
-    if n <= 8:  # a parallel loop's dispatch costs more than a few states' work
+    if not parallel_pays(n, US_PER_BODY * nb, BLOCK):
         motion_block(int(case), q, u, ud, with_acc, T, T.qadr3 if case == 3 else T.qadr, _roots(tree), mass, com,
                      inertia, *res.values(), npt > 0, *pts.values(), 0, n)
     else:

@@ -320,14 +320,14 @@ if HAVE_NUMBA:
                 U[j, c] = u[c]
         return gaps.shape[0], OK, done
 
-    @numba.njit(parallel=True, cache=True)
-    def advance_rows(method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
-                     width, status, failed):  # pragma: no cover - compiled
-        """``k`` steps of every row of ``Q0 (n, nq)``, ``U0 (n, nv)`` in place, rows in parallel; ``status[i]`` the
-        row's (a failed row is left where its last good step left it, ``failed[i]`` its failed stage as in
-        :func:`record`)."""
-        for i in numba.prange(Q0.shape[0]):
-            W = scratch(Q0.shape[1], U0.shape[1], T.parent.shape[0], T.jtype.shape[0], width)
+    @numba.njit(cache=True)
+    def advance_range(method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
+                      width, status, failed, start, stop):  # pragma: no cover - compiled
+        """``k`` steps of rows ``start .. stop - 1`` of ``Q0 (n, nq)``, ``U0 (n, nv)`` in place on the calling thread;
+        ``status[i]`` the row's (a failed row is left where its last good step left it, ``failed[i]`` its failed
+        stage as in :func:`record`)."""
+        W = scratch(Q0.shape[1], U0.shape[1], T.parent.shape[0], T.jtype.shape[0], width)
+        for i in range(start, stop):
             q, u = Q0[i], U0[i]
             status[i] = OK
             for n in range(k):
@@ -337,6 +337,14 @@ if HAVE_NUMBA:
                     status[i] = st
                     _failed_stage(W, failed[i])
                     break
+
+    @numba.njit(parallel=True, cache=True)
+    def advance_rows(method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
+                     width, status, failed):  # pragma: no cover - compiled
+        """:func:`advance_range` over every row, rows in parallel."""
+        for i in numba.prange(Q0.shape[0]):
+            advance_range(method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
+                          width, status, failed, i, i + 1)
 
 
 __all__ = ["EULER", "INTEGRATORS", "RK4", "EffectArrays", "effect_arrays"]
