@@ -278,6 +278,58 @@ class Adapter(abc.ABC):
             EngineError: an integrator the engine lacks, or an accuracy it cannot honour.
         """
 
+    # --- what some engines offer: benchmark anchors and batched runs (EngineError where an engine has none) -------
+
+    def _lacks(self, what: str):
+        raise EngineError(f"{self.engine} offers no {what} in relacc (see relacc.engines.base.Adapter)")
+
+    def point_loop(self, qe, ve, ae, spec, full: bool = False):
+        """A closure looping over the states as a user would for one point's classical acceleration (and, with
+        ``full``, its position, Jacobian and its rate); the accelerations ``(n, 3)`` in its ``acc`` attribute."""
+        self._lacks("per-state point loop")
+
+    def jacobian_loop(self, qe, ve, specs):
+        """A closure looping over the states for every point's Jacobian and its rate, as a user would."""
+        self._lacks("Jacobian loop")
+
+    def motion_loop(self, qe, ve, ae, specs):
+        """A closure looping over the states for every point's position, velocity, classical acceleration, angular
+        velocity and acceleration (no Jacobian); ``(n, P, 3)`` results in its ``pos``, ``vel``, ``acc`` attributes."""
+        self._lacks("kinematics loop")
+
+    def aba_in_parallel(self, threads: int, qe, ve, gravity=None):
+        """A closure running the engine's own batched forward dynamics over ``threads`` threads."""
+        self._lacks("batched forward dynamics")
+
+    def work_data(self, threads: int) -> list:
+        """Per-thread working data for :meth:`rollout`."""
+        self._lacks("rollout")
+
+    def rollout(self, qpos, qvel, ends, work):
+        """Every member's steps in the engine's own loop: ``(Q, V, first bad record, seconds)``."""
+        self._lacks("rollout")
+
+    def step_loop(self, qpos, qvel, n_steps: int):
+        """A closure stepping one state ``n_steps`` times from Python, the engine's step call by call."""
+        self._lacks("step loop")
+
+    def rollout_loop(self, qpos, qvel, n_steps: int, threads: int):
+        """A closure running every state ``n_steps`` steps in the engine's own compiled loop."""
+        self._lacks("rollout loop")
+
+    def space(self):
+        """The engine's configuration manifold for :mod:`relacc.dynamics.integrate` (``integrate``, ``dexpinv``)."""
+        self._lacks("configuration space for relacc's integrators")
+
+    def derivs(self, effects, threads: int = 1):
+        """``derivs(x, w, t) -> (w, vdot)`` under ``effects``, for :mod:`relacc.dynamics.integrate` on :meth:`space`."""
+        self._lacks("rates for relacc's integrators")
+
+    def body_motion(self, q, u, udot) -> dict:
+        """The engine's own numbers for every body at engine states: ``position``, ``velocity``, ``omega``,
+        ``acceleration``, ``alpha`` ``(n, nb, 3)``, ``V``, ``Omega`` ``(n, nb, 3, nv)``, fixed-frame components."""
+        self._lacks("per-body motion")
+
     def load_forces(self, qe, effects, t=0.0) -> np.ndarray:
         """``(n, nv_e)`` the generalized forces of ``effects``' body loads at time ``t`` (s; a scalar or one per state;
         engines that configure their model to apply them, like MuJoCo, leave this zero)."""
