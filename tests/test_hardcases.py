@@ -214,3 +214,30 @@ def test_tree_at_the_lock_refuses_accelerations_and_warns_of_its_mass_matrix(tmp
     with pytest.warns(relacc.AccuracyWarning, match="singular at the lock"):
         d = relacc.tree_dynamics(tree, 3, q, u)
     assert np.linalg.cond(np.asarray(d.M)) > 1 / EPS  # singular to working precision, as the warning says
+
+
+def test_a_models_hard_cases_stay_within_the_conditioning_bound(tmp_path):
+    """The model search (relacc.validation.treehard) on a random tree with a free root, balls and stacked joints:
+    in every case, speeds up to 1e3 times, the root up to 1e3 m out and (case 3) 1e-7 rad from the lock, relacc's
+    forward dynamics stays within c eps depth (1 + d/L) cond(W) of MuJoCo's; and the search can fail: a tree whose
+    body is 1% heavier than MuJoCo's reading of the file is found out in every case."""
+    import dataclasses
+
+    from relacc.engines import load
+    from relacc.reading import read_moving
+    from relacc.validation.treehard import _extent, _search_case, search
+    from tests.trees import random_mjcf
+
+    path = tmp_path / "hard.xml"
+    path.write_text(random_mjcf(12, 5))
+    found = search(path, examples=12, seed=1)
+    assert [f.case for f in found] == [1, 2, 3]
+    for f in found:
+        assert f.ratio <= 1, f"case {f.case}: error {f.error:.3g} > bound {f.bound:.3g} (seed 1, {f})"
+        assert f.examples > 12  # the corners, then Hypothesis's
+    tree = read_moving(path, "x").tree
+    heavy = dataclasses.replace(tree.bodies[1], mass=tree.bodies[1].mass * 1.01)
+    wrong = type(tree)(tree.name, [tree.bodies[0], heavy, *tree.bodies[2:]], gravity=tree.gravity)
+    mujoco = load("mujoco", path, tree)
+    for case in (1, 2, 3):
+        assert _search_case(wrong, mujoco, case, _extent(wrong), 3, 0).ratio > 1

@@ -170,10 +170,13 @@ def test_report_takes_a_model_file(tmp_path):
         bodies = view.eval_on_selector_all("#bodies tr td:first-child", "els => els.map(e => e.textContent)")
         cells = view.eval_on_selector_all("#cases th", "els => els.map(e => e.textContent)")
         drawn = view.eval_on_selector("#drawing svg", "e => e.getBoundingClientRect().width")
+        hard = view.eval_on_selector_all("#hard-cases tr", "els => els.filter(e => e.querySelector('.badge.pass'))"
+                                         ".map(e => e.querySelector('td').textContent)")
         browser.close()
     assert errors == []
     assert ids == ["verdict", "engines", "drawing", "audit", "dynamics", "referee", "cases", "bodies", "conventions",
-                   "simulation"]
+                   "hard-cases", "simulation"]
+    assert hard == ["1", "2", "3"], hard  # a row per case, each within its bound
     assert drawn > 0, "the drawing of the robot did not render"
     assert bodies == ["torso", "thigh", "leg", "foot"]
     assert cells == ["quantity", "case 1", "case 2", "case 3"]

@@ -22,6 +22,8 @@ from relacc.report.robot import page_data
 DEFAULT_STATES = 20
 QUICK_STATES = 5
 """Random states (besides the reference configuration) per comparison: each is a full dynamics evaluation."""
+HARD_EXAMPLES = {True: 10, False: 30}
+"""Hypothesis examples per case of the hard-case search, quick or not (about 0.1 s each on gymnasium's ant)."""
 DURATION = {True: 0.05, False: 0.2}
 """Seconds of the default scene, quick or not (Pinocchio's and Drake's runs apply the effects in Python at every
 stage: they, not relacc's compiled stepper, set the section's time)."""
@@ -39,6 +41,9 @@ def build(model, *, n_states=None, seed: int = 0, quick: bool = False, progress=
         progress("the engines' readings and dynamics (relacc compare)")
     result = compare(model, n_states=n, seed=seed)
     check = check_tree(model, n_states=n, seed=seed, progress=progress)
+    if progress:
+        progress("hard cases (a Hypothesis search against MuJoCo)")
+    hard = _hard(model, HARD_EXAMPLES[bool(quick)], seed)
     scene = scenes.model_scene(model, seed=seed, duration=DURATION[bool(quick)])
     if progress:
         progress(f"scene {scene.name}, {scene.duration} s")
@@ -46,8 +51,22 @@ def build(model, *, n_states=None, seed: int = 0, quick: bool = False, progress=
     data = page_data(result)
     data.update(title="relacc report", cases=_cases(check), bodies=_bodies(check), check_passed=check.passed,
                 not_loaded=check.not_loaded, simulation=_simulation(run), conventions=_conventions(result),
-                agree=result.agree and check.passed and run.agree)
+                hard=hard, agree=result.agree and check.passed and run.agree and hard["ok"])
     return data
+
+
+def _hard(model, examples, seed) -> dict:
+    """The hard-case search's plain data (:func:`relacc.validation.treehard.search`); ``ok``: every case within its
+    bound, or nothing searched (``reason`` says why: MuJoCo cannot compile the file)."""
+    from relacc.errors import ModelError
+    from relacc.validation.treehard import search
+
+    try:
+        found = search(model, examples=examples, seed=seed)
+    except ModelError as exc:
+        return {"ok": True, "rows": [], "reason": str(exc), "examples": examples}
+    return {"ok": all(f.ratio <= 1 for f in found), "rows": [f.as_dict() for f in found], "reason": None,
+            "examples": examples}
 
 
 def _ratio(r) -> float | None:

@@ -85,7 +85,7 @@ def _draw_state(data, st):
 
 
 @contextlib.contextmanager
-def _private_storage():
+def private_storage():
     """Hypothesis's storage (its cache of constants) in a temporary directory, not in the working directory."""
     import hypothesis.configuration as config
 
@@ -134,6 +134,6 @@ def hypothesis_search(fixture: Fixture, max_examples: int = 100, seed: int = 0,
             worst.update(ratio=best[0], evaluator=best[1], quantity=best[2], case=case, error=best[3],
                          bound=best[4], description=desc, q=q.tolist(), u=u.tolist(), udot=udot.tolist())
 
-    with _private_storage():
+    with private_storage():
         probe()
     return Worst(examples=count[0], **worst)
