@@ -241,3 +241,45 @@ def test_a_models_hard_cases_stay_within_the_conditioning_bound(tmp_path):
     mujoco = load("mujoco", path, tree)
     for case in (1, 2, 3):
         assert _search_case(wrong, mujoco, case, _extent(wrong), 3, 0).ratio > 1
+
+
+THIN = """<mujoco model="thin"><worldbody><body name="hub"><freejoint name="root"/>
+<inertial pos="0 0 0" mass="2" diaginertia="0.1 0.2 0.25"/>
+<body name="rod" pos="0.3 0 0"><joint name="swing" type="ball"/>
+<inertial pos="0.5 0 0" mass="0.5" diaginertia="1e-7 0.04 0.04"/>
+<body name="disc" pos="1 0 0"><joint name="spin" type="hinge" axis="0 1 0"/>
+<inertial pos="0 0 0" mass="0.2" diaginertia="0.01 0.01 0.02"/></body></body></body></worldbody></mujoco>"""
+
+
+@pytest.mark.parametrize("variant", ["tiny masses", "huge masses", "thin inertia"])
+def test_hard_trees_near_pi_and_fast_stay_within_the_bound(tmp_path, variant):
+    """Random trees with bodies of 1e-6 or 1e6 kg after a 1 kg root, and a thin rod (principal moments 1e-7, 0.04,
+    0.04 kg m^2), at states with every quaternion turned 1e-9 rad short of pi and speeds 1e3 times a seeded draw:
+    relacc's forward dynamics in each case against MuJoCo's, within the model search's bound
+    (relacc.validation.treehard)."""
+    from relacc.core.tree import convert, random_states
+    from relacc.core.tree.coordinates import rotations
+    from relacc.engines import load
+    from relacc.reading import read_moving
+    from relacc.validation.treehard import _extent, _judge
+    from tests.trees import random_mjcf
+
+    path = tmp_path / "hard.xml"
+    path.write_text(THIN if variant == "thin inertia" else random_mjcf(21, 5, light=1e-6 if "tiny" in variant
+                                                                          else 1e6))
+    tree = read_moving(path, "x").tree
+    mujoco, extent = load("mujoco", path, tree), _extent(tree)
+    rng = np.random.default_rng(5)
+    st = random_states(tree, 2, 4, 5)
+    q2, u2 = np.array(st.q), np.array(st.u) * 1e3
+    for _, _, a, _ in rotations(tree, 2):  # rotation angle pi - 1e-9 about a random axis
+        axis = rng.standard_normal((4, 3))
+        axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+        half = (np.pi - 1e-9) / 2
+        q2[:, a] = np.cos(half)
+        q2[:, a + 1:a + 4] = np.sin(half) * axis
+    for i in range(4):
+        for case in (1, 2, 3):
+            qc, uc, _ = convert(tree, q2[i:i + 1], u2[i:i + 1], source=2, target=case)
+            found = _judge(tree, mujoco, case, extent, q2[i:i + 1], u2[i:i + 1], qc, uc, 0.0, 1e3, None)
+            assert found["ratio"] <= 1, f"{variant}, case {case}, state {i}: {found} (seed 5)"
