@@ -16,6 +16,7 @@ SPIN = ["--case", "1", "--q", "0,0,0, 1,0,0,0, 0,0,0, 1,0,0,0", "--u", "0,0,0, 0
         "--udot", "0,0,0,0,0,0,0,0,0,0,0,0"]
 
 
+@pytest.mark.slow
 def test_version_via_python_m():
     """`python -m relacc --version` prints the package version."""
     out = subprocess.run([sys.executable, "-m", "relacc", "--version"], capture_output=True, text=True)

@@ -173,6 +173,7 @@ def test_version_mismatch_is_one_line(cluster, capsys, monkeypatch):
     assert err.count("\n") == 1 and "0.0.0-client" in err and "same version" in err
 
 
+@pytest.mark.slow
 def test_workers_without_relacc_are_one_line(cluster, capsys, tmp_path):
     """A worker that cannot import relacc (its own Python path shadows it): one line, exit 2, then it is stopped."""
     (tmp_path / "relacc").mkdir()

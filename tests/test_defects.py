@@ -113,6 +113,7 @@ def test_a_printing_function_does_not_corrupt_json(tmp_path):
     assert "hello from fn" in out.stderr and "module says hi" in out.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("where", ["module", "function"])
 def test_a_graded_sys_exit_is_one_line(tmp_path, where):
     body = ("import sys\nsys.exit(3)\ndef fn(chain, q, u, udot):\n    return np.zeros(3)\n" if where == "module" else
@@ -199,6 +200,7 @@ engines = ["mujoco"]
 """
 
 
+@pytest.mark.slow
 def test_an_unstable_engine_run_is_a_diverged_run(tmp_path):
     scene = tmp_path / "unstable.toml"
     scene.write_text(UNSTABLE)
@@ -248,6 +250,7 @@ def test_compare_out_creates_its_parents(tmp_path):
     assert page.is_file() and "relacc compare" in out.stdout
 
 
+@pytest.mark.slow
 def test_fixtures_refuses_an_empty_name(tmp_path):
     assert "--name" in _one_line(_relacc("fixtures", "--out", str(tmp_path / "x"), "--name", "", cwd=tmp_path))
     assert not (tmp_path / "x").exists()
@@ -305,10 +308,12 @@ def test_sigterm_while_local_workers_start_is_one_line(tmp_path):
     (["eval", "--case", "1", "--q", "0,,0,1,0,0,0,0,0,0,1,0,0,0", "--u", "0,0,0,0,0,0,0,0,0,0,0,0"], "--q"),
     (["check", "--engines", "pinocchio,pinocchio", "--states", "5"], "--engines"),
 ])
+@pytest.mark.slow
 def test_arguments_that_would_do_nothing_are_refused(tmp_path, argv, match):
     assert match in _one_line(_relacc(*argv, cwd=tmp_path))
 
 
+@pytest.mark.slow
 def test_unknown_keys_in_an_eval_state_are_refused(tmp_path):
     state = tmp_path / "state.json"
     state.write_text(json.dumps({"case": 1, "q": [0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0], "u": [0] * 12,

@@ -49,6 +49,7 @@ with files.terminate_as_interrupt():
 """
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
 @pytest.mark.parametrize("where", ["file", "stream", "set"])
 def test_a_signal_during_a_write_leaves_the_previous_files(tmp_path, sig, where):
@@ -111,6 +112,7 @@ def _small_disk(path: Path, size: str):
             subprocess.run(["umount", str(path)], check=True)
 
 
+@pytest.mark.slow
 def test_a_full_disk_is_one_line_and_keeps_the_previous_file(tmp_path, monkeypatch):
     """Writing more than the disk holds: OutputError naming the file, the old file intact, nothing left over."""
     disk = tmp_path / "disk"
@@ -188,6 +190,7 @@ for i in range(200):
 """
 
 
+@pytest.mark.slow
 def test_concurrent_writers_never_interleave(tmp_path):
     """Two processes replacing one file 200 times each: every read sees one whole version, none is left half."""
     target = tmp_path / "shared.txt"

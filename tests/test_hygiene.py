@@ -35,6 +35,43 @@ def test_every_tolerance_states_both_parts():
     assert bad == []
 
 
+HEAVY = re.compile(r"\bsubprocess\.|\bPopen\b|sync_playwright|\bchromium\b|LocalCluster|benchmarks/")
+"""What makes a test slow by rule: a subprocess, a browser, a Dask cluster, a benchmark script."""
+
+
+def unmarked_heavy_tests(source: str, name: str = "<source>") -> list[str]:
+    """``file::test`` of every test function that (itself, or a module-level helper it calls by name) starts a
+    subprocess, a browser, a cluster or a benchmark, without ``@pytest.mark.slow`` (or a module-wide ``pytestmark``
+    saying so): the fast tier (``pytest -m "not slow"``) runs in-process only."""
+    tree = ast.parse(source)
+    if any(isinstance(n, ast.Assign) and any(getattr(t, "id", "") == "pytestmark" for t in n.targets)
+           and "mark.slow" in ast.unparse(n) for n in tree.body):
+        return []
+    helpers = {n.name: ast.get_source_segment(source, n) for n in tree.body
+               if isinstance(n, ast.FunctionDef) and not n.name.startswith("test_")}
+    bad = []
+    for n in tree.body:
+        if not (isinstance(n, ast.FunctionDef) and n.name.startswith("test_")):
+            continue
+        called = {c.func.id for c in ast.walk(n) if isinstance(c, ast.Call) and isinstance(c.func, ast.Name)}
+        text = ast.get_source_segment(source, n) + "".join(helpers.get(c, "") for c in called)
+        if HEAVY.search(text) and not any("mark.slow" in ast.unparse(d) for d in n.decorator_list):
+            bad.append(f"{name}::{n.name}")
+    return bad
+
+
+def test_the_slow_marker_follows_its_rule():
+    """Every test that starts a subprocess, a browser, a cluster or a benchmark is marked slow (issue 37)."""
+    bad = [b for path in sorted((ROOT / "tests").glob("test_*.py"))
+           for b in unmarked_heavy_tests(path.read_text(), path.name)]
+    assert bad == []
+    call = "sub" + "process.run(['x'])"  # split: this test's own source starts no subprocess
+    planted = f"import subprocess\ndef run():\n    {call}\ndef test_a():\n    run()\n"
+    assert unmarked_heavy_tests(planted) == ["<source>::test_a"]
+    assert unmarked_heavy_tests("import pytest\n@pytest.mark.slow\n" + planted.split("\n", 3)[3].replace(
+        "def test_a", "def test_b")) == []
+
+
 def test_the_tolerance_lint_catches_a_planted_one():
     assert loose_tolerances("import numpy as np\nassert np.allclose(a, b, atol=1e-14)\n") == ["<source>:2"]
     assert loose_tolerances("x == pytest.approx(1.0)\n") == ["<source>:1"]

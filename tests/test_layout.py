@@ -132,6 +132,7 @@ def _loaded_after(code, tmp_path):
     return out.stdout.splitlines()[-1].split()[1:]
 
 
+@pytest.mark.slow
 def test_import_relacc_loads_nothing_heavy(tmp_path):
     """`import relacc` (from another directory) loads no compiler, engine, plotting or template library."""
     assert _loaded_after("import relacc", tmp_path) == []
@@ -148,6 +149,7 @@ def test_core_evaluation_on_the_reference_path_loads_no_compiler(tmp_path):
     assert "numba" in loaded and set(loaded) <= {"numba", "scipy"}, loaded  # numba itself imports scipy
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [["--help"], ["check", "--help"], ["--version"]])
 def test_help_loads_nothing_heavy(tmp_path, argv):
     """`relacc --help` and a subcommand's help import no engine, compiler or plotting library."""

@@ -84,6 +84,7 @@ def test_cli_tradeoff_json(capsys):
     assert "relacc/rk4" in out["orders"]
 
 
+@pytest.mark.slow
 def test_tradeoff_takes_a_model_file(tmp_path):
     """relacc tradeoff --model hopper.xml: every engine's fixed-step integrators on the model's default scene; the
     reference (MuJoCo RK4 at dt/16) and its independent check (Drake's error-controlled RK5) agree to rounding, and

@@ -23,6 +23,7 @@ def _relacc(*argv, cwd=None):
                           timeout=600)
 
 
+@pytest.mark.slow
 def test_check_takes_a_model_file(tmp_path):
     """relacc check --model FILE.xml: relacc's tree against every engine in all three cases (hopper: Pinocchio's
     composite J_dot v is the one known difference, exit 1); JSON names every comparison."""
@@ -58,6 +59,7 @@ def test_grade_a_students_arm():
     assert "joints whose speeds show it: shoulder_yaw, elbow" in g.text()
 
 
+@pytest.mark.slow
 def test_grade_checks_its_arguments(tmp_path):
     out = _relacc("grade", f"{ROOT / 'examples' / 'student_arm.py'}:velocity", "--model", str(ARM),
                   "--quantity", "velocity", "--case", "2", cwd=tmp_path)
@@ -140,6 +142,7 @@ def test_grade_answers_on_gymnasium_models_in_every_case(name, body, case):
     assert not g.ok and g.body == body
 
 
+@pytest.mark.slow
 def test_report_takes_a_model_file(tmp_path):
     """relacc report --model hopper.xml: the model's page with every section; Pinocchio's known composite J_dot v
     difference makes it exit 1, named with its cause; the page renders in Chromium and leaves the cwd empty."""
