@@ -110,8 +110,7 @@ def test_report_in_headless_chromium(quick_report):
         overflow = page.evaluate("document.documentElement.scrollWidth - document.documentElement.clientWidth")
         broken = page.evaluate("[...document.images].filter(i => !i.complete || i.naturalWidth === 0).length")
         n_images = page.evaluate("document.images.length")
-        shot = REPO / "reports" / "report-quick.png"
-        shot.parent.mkdir(exist_ok=True)
+        shot = quick_report.parent / "report-quick.png"  # beside the page, never into the repository
         page.screenshot(path=str(shot), full_page=True)
         browser.close()
     assert wide == [] and overflow <= 0, f"tables wider than the page: {wide}; page overflow {overflow} px"
@@ -119,6 +118,7 @@ def test_report_in_headless_chromium(quick_report):
     outside = [u for u in requests if not u.startswith(("file://", "data:"))]
     assert outside == [], f"network requests: {outside}"
     assert n_images > 30 and broken == 0
+    assert shot.stat().st_size > 10_000  # a page, not a blank
 
 
 @pytest.mark.slow

@@ -15,7 +15,7 @@ the same seed gives the same answer, the same maxima, worst states and verdicts,
 
 Users: :mod:`relacc.cluster.sweeps` (``check``, ``compare`` over many models, ensembles).
 
-Layer rule: imports Dask and the layers below the report (core, kernels, dynamics, fixtures,
+Layer rule: imports Dask and the layers below the report (core, kernels, dynamics, fixtures, reading,
 :mod:`relacc.engines`, simulate, validation), never the report or the CLI, and never an engine's
 own package: engines are reached through their adapters, on the workers.
 """

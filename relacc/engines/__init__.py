@@ -11,9 +11,9 @@ and points, a stepper. :mod:`relacc.engines.base` states the interface and does,
 engine-free (speed maps, the equations in relacc's speeds); :mod:`relacc.engines.chain` is the note's chain on the
 adapters (G2 is a point of its model).
 
-Layer rule: adapters import the core, the dynamics, the fixtures and their own engine, and only their own;
-nothing outside ``engines/`` imports an engine package or an adapter's module: everything goes through
-:func:`load` and :func:`load_engine`, which import an adapter when it is asked for.
+Layer rule: adapters import the core, the kernels, the dynamics, the fixtures, relacc's reading and their own
+engine, and only their own; nothing outside ``engines/`` imports an engine package or an adapter's module:
+everything goes through :func:`load` and :func:`load_engine`, which import an adapter when it is asked for.
 """
 
 from __future__ import annotations

@@ -5,7 +5,8 @@ A report is a list of sections. Each section is one module in
 (plain data), plus one template ``templates/sections/<ID>.html.j2``. Adding a
 section is adding those two files and listing the module in ``SECTIONS``.
 
-Layer rule: sections read the layers below (validation, tradeoff, simulate, the core) and return plain
+Layer rule: sections read the layers below (validation, tradeoff, simulate, the engines, reading, fixtures, dynamics,
+kernels, the core) and return plain
 data; only the templates render it (Jinja2, autoescaped). Never the CLI, never an engine's own package.
 """
 

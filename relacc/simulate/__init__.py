@@ -1,7 +1,7 @@
 """Simulation: scenes, integrators on the configuration manifolds, runs on every engine and their comparison.
 
-Layer rule: imports the core, dynamics, kernels and (when a run asks for
-one) the engines; nothing here is imported by ``import relacc``.
+Layer rule: imports the core, dynamics, kernels, fixtures, reading and (when a run asks
+for one) the engines; nothing here is imported by ``import relacc``.
 
 * :mod:`~relacc.simulate.scenes`: scene files (which chain, from which state, under which effects).
 * :mod:`~relacc.simulate.runs`: a scene on relacc and the engines in lockstep, compared, streamed to CSV.

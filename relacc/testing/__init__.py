@@ -1,7 +1,7 @@
 """relacc in other people's tests: seeded states, engine truth and relacc's error model.
 
-Layer rule: imports the core, the engines, the fixtures and the validation
-harness, lazily; nothing heavy on import, so the pytest plugin
+Layer rule: imports the core, kernels, dynamics, reading, the engines, the fixtures and
+the validation harness, lazily; nothing heavy on import, so the pytest plugin
 (:mod:`relacc.testing.plugin`, registered as ``relacc``) costs no one
 anything until a fixture is used.
 

@@ -6,8 +6,8 @@
   integrators over a sweep of step or tolerance.
 * :mod:`relacc.tradeoff.trees`: relacc's tree kernels against the engines' fastest batched calls.
 
-Layer rule: imports the core, kernels, dynamics, fixtures, simulate, validation and the engines'
-adapters (:mod:`relacc.engines`), never an engine's own package, the report or the CLI.
+Layer rule: imports the core, kernels, dynamics, fixtures, reading, simulate, validation and the
+engines' adapters (:mod:`relacc.engines`), never an engine's own package, the report or the CLI.
 """
 
 from __future__ import annotations

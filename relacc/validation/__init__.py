@@ -1,7 +1,7 @@
 """Validation: the harness that holds the core to the engines.
 
-Layer rule: imports the core, the engines and the fixtures; never the
-report or the CLI. The error model it applies is :mod:`relacc.core.tolerances`
+Layer rule: imports the core, kernels, dynamics, reading, the engines and the
+fixtures; never the report or the CLI. The error model it applies is :mod:`relacc.core.tolerances`
 and :mod:`relacc.core.scales`.
 
 * :mod:`~relacc.validation.check`: case x engine x route x quantity cross-validation (``relacc check``).
