@@ -223,9 +223,10 @@ def test_a_models_hard_cases_stay_within_the_conditioning_bound(tmp_path):
     body is 1% heavier than MuJoCo's reading of the file is found out in every case."""
     import dataclasses
 
+    from relacc.core.tree.scales import extent as _extent
     from relacc.engines import load
     from relacc.reading import read_moving
-    from relacc.validation.treehard import _extent, _search_case, search
+    from relacc.validation.treehard import _search_case, search
     from tests.trees import random_mjcf
 
     path = tmp_path / "hard.xml"
@@ -259,9 +260,10 @@ def test_hard_trees_near_pi_and_fast_stay_within_the_bound(tmp_path, variant):
     (relacc.validation.treehard)."""
     from relacc.core.tree import convert, random_states
     from relacc.core.tree.coordinates import rotations
+    from relacc.core.tree.scales import extent as _extent
     from relacc.engines import load
     from relacc.reading import read_moving
-    from relacc.validation.treehard import _extent, _judge
+    from relacc.validation.treehard import _judge
     from tests.trees import random_mjcf
 
     path = tmp_path / "hard.xml"

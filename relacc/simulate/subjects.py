@@ -231,4 +231,28 @@ def _relacc_acceleration(scene, t, Q, U, case):
         at, b = None, tree.body(name)
     scale = tree_scales(tree, case, Q, U, Udot, at=at).of("acceleration")[:, b]
     q2, v2 = reference_state(scene, Q, U, case)
-    return acc, scale, tree_dynamics(tree, 2, q2, v2, effects=eff, t=t).M
+    d = tree_dynamics(tree, 2, q2, v2, effects=eff, t=t)
+    return acc, scale + _solve_scale(scene, q2, v2, d), d.M
+
+
+def _solve_scale(scene, q2, v2, d) -> np.ndarray:
+    """``(n,)`` the part of the point's acceleration's scale that its forward dynamics contributes: the point's
+    partial velocities times the speeds' rates as a solve perturbs them: ``|delta udot| <= c eps (kappa(M) |udot| +
+    ||M^-1|| |terms of f|) = c eps kappa(M) (|udot| + |terms of f| / ||M||)``, so with the bound ``c eps kappa(M)``
+    the scale is ``max|V_p| (|udot| + |terms of f| / ||M||)`` (case 2; the terms: ``|f|`` and the velocity products
+    before they cancel, :func:`relacc.core.tree.scales.velocity_terms`). The kinematic term scale alone vanishes
+    where a state's forces cancel by symmetry (gymnasium's ant with mirrored leg speeds: its torso's acceleration is
+    zero, each engine's rounding of the legs' reactions is not), so that every engine would be called wrong there."""
+    from relacc.core.tree import tree_kinematics
+    from relacc.core.tree.scales import extent, velocity_terms
+
+    tree = scene.tree
+    kind, name = scene.point
+    M, f = np.asarray(d.M), np.asarray(d.f)
+    udot = np.linalg.solve(M, f[..., None])[..., 0]
+    if kind == "point":
+        V = tree_kinematics(tree, 2, q2, v2, points=[name]).points.V[:, 0]
+    else:
+        V = tree_kinematics(tree, 2, q2, v2).V[:, tree.body(name)]
+    terms = np.abs(f).max(axis=-1) + velocity_terms(tree, q2, v2, extent(tree))
+    return np.abs(V).max(axis=(-2, -1)) * (np.abs(udot).max(axis=-1) + terms / np.linalg.norm(M, 2, axis=(-2, -1)))

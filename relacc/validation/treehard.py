@@ -8,7 +8,7 @@ MuJoCo's speeds by relacc's conversion (:func:`relacc.core.tree.coordinates.conv
 ``tests/test_tree.py``), is compared with MuJoCo's own forward dynamics (``mj_forward``'s ``qacc``, the file's gravity,
 nothing else acting) at the same state. The error, normalized by the solve's perturbation scale
 ``||M^-1|| (||M|| |udot| + |terms of f|)`` (``M``, ``f``: the case-2 equations; the terms: ``|f|`` plus the
-velocity-product terms before they cancel, :func:`_velocity_terms`), must stay within
+velocity-product terms before they cancel, :func:`relacc.core.tree.scales.velocity_terms`), must stay within
 
     bound = c eps depth x (1 + d / L) x cond(W)
 
@@ -27,6 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from relacc.core.tolerances import EPS, ROUNDING_FACTOR
+from relacc.core.tree.scales import extent as tree_extent
+from relacc.core.tree.scales import velocity_terms
 
 
 @dataclass(frozen=True)
@@ -69,17 +71,8 @@ def search(path, reading=None, *, examples: int = 30, seed: int = 0) -> list[Har
     reading = read_moving(path, "there is nothing to search") if reading is None else reading
     tree = reading.tree
     mujoco = load("mujoco", path, tree)
-    extent = _extent(tree)
+    extent = tree_extent(tree)
     return [_search_case(tree, mujoco, case, extent, examples, seed) for case in (1, 2, 3)]
-
-
-def _extent(tree) -> float:
-    """The model's size L (m): the largest distance between two mass centres at the reference configuration, at
-    least 1 mm."""
-    from relacc.core.tree import reference_q, tree_kinematics
-
-    p = np.asarray(tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv), partials=False).position)
-    return max(1e-3, float(np.max(np.linalg.norm(p[:, None] - p[None], axis=-1))) if len(p) else 1e-3)
 
 
 def _search_case(tree, mujoco, case, extent, examples, seed) -> HardFinding:
@@ -167,21 +160,6 @@ def _state(tree, case, draw_seed, speed, offset, joint, delta):
     return q2, u2, q2, u2, offset, speed, None
 
 
-def _velocity_terms(tree, q2, u2, extent) -> float:
-    """The magnitude of the velocity-product terms that make up ``f`` before they cancel (N m or N per speed):
-    ``sum_b m_b |omega_b| (|v_b| + |omega_b| L) L + ||I_b|| |omega_b|^2`` (a body's Coriolis and centrifugal force,
-    through a lever up to the model's size ``L``, and its gyroscopic torque). A hinge spinning about a principal axis
-    has none in ``f``, yet each engine forms ``omega x I omega`` and rounds it."""
-    from relacc.core.tree import tree_kinematics
-
-    k = tree_kinematics(tree, 2, q2, u2, partials=False)
-    w = np.linalg.norm(np.asarray(k.omega)[0], axis=-1)
-    v = np.linalg.norm(np.asarray(k.velocity)[0], axis=-1)
-    m = np.array([b.mass for b in tree.bodies])
-    inertia = np.array([np.linalg.norm(b.inertia, 2) for b in tree.bodies])
-    return float(np.sum(m * w * (v + w * extent) * extent + inertia * w * w))
-
-
 def _judge(tree, mujoco, case, extent, q2, u2, qc, uc, offset, speed, delta) -> dict:
     import warnings
 
@@ -199,7 +177,7 @@ def _judge(tree, mujoco, case, extent, q2, u2, qc, uc, offset, speed, delta) -> 
     engine = mujoco.forward(qe, ve)
     d = relacc.tree_dynamics(tree, 2, q2, u2)
     M, f = np.asarray(d.M)[0], np.asarray(d.f)[0]
-    terms = np.abs(f).max() + _velocity_terms(tree, q2, u2, extent)
+    terms = np.abs(f).max() + float(velocity_terms(tree, q2, u2, extent)[0])
     scale = np.linalg.norm(np.linalg.inv(M), 2) * (np.linalg.norm(M, 2) * np.abs(a2).max() + terms)
     error = float(np.abs(ae - engine).max() / scale) if scale > 0 else 0.0
     cond_w = 1.0

@@ -111,3 +111,29 @@ def tree_scales(tree, case, q, u, udot=None, *, at=None) -> TreeScales:
         out["Omega"].append(np.ones(batch))
         out["Omegadot"].append(W)
     return TreeScales(**{k: np.stack(np.broadcast_arrays(*v), axis=-1) for k, v in out.items()})
+
+
+def extent(tree) -> float:
+    """The tree's size ``L`` (m): the largest distance between two mass centres at the reference configuration, at
+    least 1 mm."""
+    from relacc.core.tree.coordinates import reference_q
+    from relacc.core.tree.kinematics import tree_kinematics
+
+    p = np.asarray(tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv), partials=False).position)
+    return max(1e-3, float(np.max(np.linalg.norm(p[:, None] - p[None], axis=-1))) if len(p) else 1e-3)
+
+
+def velocity_terms(tree, q2, u2, size: float) -> np.ndarray:
+    """``(n,)`` the magnitude of the velocity-product terms that make up the generalized forces before they cancel
+    (N m or N per speed) at case-2 states: ``sum_b m_b |omega_b| (|v_b| + |omega_b| L) L + ||I_b|| |omega_b|^2`` (a
+    body's Coriolis and centrifugal force through a lever up to the tree's ``size`` ``L``, and its gyroscopic
+    torque). A hinge spinning about a principal axis has none in ``f``, yet every engine forms ``omega x I omega``
+    and rounds it; a symmetric state cancels them between bodies."""
+    from relacc.core.tree.kinematics import tree_kinematics
+
+    k = tree_kinematics(tree, 2, np.atleast_2d(q2), np.atleast_2d(u2), partials=False)
+    w = np.linalg.norm(np.asarray(k.omega), axis=-1)
+    v = np.linalg.norm(np.asarray(k.velocity), axis=-1)
+    m = np.array([b.mass for b in tree.bodies])
+    inertia = np.array([np.linalg.norm(b.inertia, 2) for b in tree.bodies])
+    return np.sum(m * w * (v + w * size) * size + inertia * w * w, axis=-1)
