@@ -309,3 +309,24 @@ def test_a_symmetric_state_is_not_called_a_disagreement():
         run = simulate.run(scene)
         check = run.note_check["mujoco"]
         assert run.agree and check["error"] <= check["bound"], (case, check)
+
+
+def test_a_model_scene_in_every_case_is_one_motion():
+    """gymnasium's ant with leg springs and a torso torque, integrated by relacc's RK4 at 1 ms for 0.05 s in each
+    case's own coordinates (case 2 compiled, cases 1 and 3 by the Python stepper): the three runs, converted to case
+    2, are one motion. Each is fourth order, so they differ by the truncation of 50 steps, about N h^5 |x^(5)| (speeds
+    about 2 rad/s: |x^(5)| ~ 2^5, so 50 x 1e-15 x 32 ~ 2e-12), well under 1e-9; integrating 1-2-3 angles with the
+    body angular velocity instead of their rates (the Python stepper's case 3 before) moved them 1e-3 rad apart."""
+    from relacc.core.tree import convert
+    from relacc.fixtures.shipped import scene_path
+    from relacc.simulate.subjects import tree_stepper
+
+    base = scenes.load(scene_path("ant_tumbling"))
+    end = {}
+    for case in (1, 2, 3):
+        q, u, _ = convert(base.tree, base.q[None], base.u[None], source=2, target=case)
+        x, v = tree_stepper(base.tree, case, base.effects, 1e-3, "rk4").advance(q[0], u[0], 50)
+        end[case] = convert(base.tree, np.asarray(x)[None], np.asarray(v)[None], source=case, target=2)
+    for case in (1, 3):
+        for a, b in zip(end[case][:2], end[2][:2]):  # coordinates (m, unit quaternions), speeds (m/s, rad/s)
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-9, err_msg=f"case {case}")

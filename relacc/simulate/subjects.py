@@ -166,9 +166,9 @@ def tree_stepper(tree, case, effects, dt: float, integrator: str):
 
     if integrator not in STEPPERS:
         raise EngineError(f"relacc integrators: {', '.join(STEPPERS)}; got {integrator!r}")
-    def derivs(q, u, t):
+    def derivs(q, u, t):  # the tangent: case-2 speeds on the quaternions' manifold (cases 1-2), the rates (case 3)
         udot = tree_accelerations(tree, case, q, u, effects=effects, t=t)
-        return (u if case == 2 else convert(tree, q, u, source=case, target=2)[1]), np.asarray(udot)
+        return (u if int(case) != 1 else convert(tree, q, u, source=case, target=2)[1]), np.asarray(udot)
 
     if int(case) == 2 and HAVE_NUMBA:
         from relacc.dynamics.integrate import tree_stepper_compiled
