@@ -41,9 +41,9 @@ def _effects(tree, rng):
     return relacc.TreeEffects(joints=joints, bodies=loads)
 
 
-def _reference(tree, effects):
-    def derivs(q, u, t):
-        return u, np.asarray(relacc.tree_accelerations(tree, 2, q, u, effects=effects, t=t, backend="reference"))
+def _reference(tree, effects, case=2):
+    def derivs(q, u, t):  # the tangent: case-2 speeds (case 2) or the rates (case 3)
+        return u, np.asarray(relacc.tree_accelerations(tree, case, q, u, effects=effects, t=t, backend="reference"))
     return derivs
 
 
@@ -59,22 +59,31 @@ def _solve_bound(tree, effects, q, u, t):
     return scale * ROUNDING_FACTOR * EPS * max(tree.depth)
 
 
+@pytest.mark.parametrize("case", [2, 3])
 @pytest.mark.parametrize("integrator", ["rk4", "euler"])
 @pytest.mark.parametrize("seed", [1, 4, 8])
-def test_one_compiled_step_is_the_reference_step(tmp_path, seed, integrator):
+def test_one_compiled_step_is_the_reference_step(tmp_path, seed, integrator, case):
     """Springs (balls' with a rest quaternion), dampers (free joints' too), sinusoidal loads and gravity, at a time
-    away from 0, on random trees with every joint type."""
+    away from 0, on random trees with every joint type; in case 2, and in case 3 (angles and their rates: the rates'
+    accelerations are case 2's mapped through ``W^-1``, so the bound is case 2's times the worst ``cond(W)``)."""
+    from relacc.core.so3 import condition_123
+    from relacc.core.tree import convert
+    from relacc.core.tree.coordinates import rotations
+
     tree = read_tree(_tree_file(tmp_path, seed, 5 + seed))
     rng = np.random.default_rng(seed)
     effects = _effects(tree, rng)
     st = random_states(tree, 2, 3, seed)
-    derivs = _reference(tree, effects)
-    stepper = tree_stepper_compiled(tree, effects, H, integrator, derivs)
-    stepper.advance(st.q[0], st.u[0], 7)  # the clock runs on: the next steps start at t = 7 h
-    q, u = stepper.advance(st.q[1:], st.u[1:], 1)
+    qc, uc, _ = convert(tree, st.q, st.u, source=2, target=case)
+    derivs = _reference(tree, effects, case)
+    stepper = tree_stepper_compiled(tree, effects, H, integrator, derivs, case)
+    stepper.advance(qc[0], uc[0], 7)  # the clock runs on: the next steps start at t = 7 h
+    q, u = stepper.advance(qc[1:], uc[1:], 1)
     for i in range(2):
-        qr, ur = STEPPERS[integrator](TreeSpace(tree, 2), st.q[1 + i], st.u[1 + i], H, derivs, 7 * H)
-        B = 2 * _solve_bound(tree, effects, st.q[1 + i], st.u[1 + i], 7 * H)
+        qr, ur = STEPPERS[integrator](TreeSpace(tree, case), qc[1 + i], uc[1 + i], H, derivs, 7 * H)
+        cond = max([1.0] + [float(condition_123(qc[1 + i, a + 1])) for _, _, a, _ in rotations(tree, 3)]) \
+            if case == 3 else 1.0
+        B = 2 * cond * _solve_bound(tree, effects, st.q[1 + i], st.u[1 + i], 7 * H)
         round_q = ROUNDING_FACTOR * EPS * max(1.0, np.abs(qr).max())
         round_u = ROUNDING_FACTOR * EPS * np.abs(ur).max()
         np.testing.assert_allclose(u[i], ur, rtol=0, atol=H * B + round_u, err_msg=f"seed {seed}")
@@ -168,3 +177,23 @@ def test_one_state_is_a_row_of_the_batch_and_threads_keep_their_own(tmp_path):
     bad[3] += 1e-6
     with pytest.raises(relacc.InputError, match="off unit"):
         relacc.tree_accelerations(tree, 2, bad, u[0])
+
+
+def test_case_3_near_the_lock_warns_and_at_it_refuses(tmp_path):
+    """A compiled case-3 run whose stages come within a condition number of 1e6 of the 1-2-3 lock warns once, naming
+    the joint, as the reference path does at every stage; one that starts at the lock is refused in its words."""
+    from relacc.core.tree import convert
+
+    tree = read_tree(_tree_file(tmp_path, 3, 4))
+    st = random_states(tree, 2, 1, 3)
+    q3, u3, _ = convert(tree, st.q, st.u, source=2, target=3)
+    effects = relacc.TreeEffects()
+    q = np.array(q3[0])
+    q[4] = np.pi / 2 - 1e-7  # the free root's theta2: cond(W) about 2e7
+    stepper = tree_stepper_compiled(tree, effects, 1e-6, "rk4", _reference(tree, effects, 3), 3)
+    with pytest.warns(relacc.AccuracyWarning, match="root"):
+        stepper.record(q, np.zeros_like(u3[0]), [1])
+    q[4] = np.pi / 2
+    stepper = tree_stepper_compiled(tree, effects, 1e-6, "rk4", _reference(tree, effects, 3), 3)
+    with pytest.raises(relacc.SingularityError, match="root"):
+        stepper.record(q, u3[0], [1])

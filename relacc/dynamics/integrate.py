@@ -182,19 +182,24 @@ def stepper(chain, case, effects, dt: float, integrator: str):
     return Stepper(advance, record)  # so that a run's seconds are its integration's
 
 
-def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
-    """relacc's fixed-step integrator of a tree in case-2 coordinates, compiled (:mod:`relacc.kernels.tree_step`): the
-    algorithms of :func:`rkmk4_step` and :func:`euler_step` on :class:`TreeSpace` with the effects inside the loop,
-    as a :class:`relacc.dynamics.steps.Stepper` (one state or a batch of rows; rows in parallel); time runs on from 0.
+def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, case: int = 2):
+    """relacc's fixed-step integrator of a tree in case-2 or case-3 coordinates, compiled
+    (:mod:`relacc.kernels.tree_step`): the algorithms of :func:`rkmk4_step` and :func:`euler_step` on
+    :class:`TreeSpace` with the effects inside the loop, as a :class:`relacc.dynamics.steps.Stepper` (one state or a
+    batch of rows; rows in parallel); time runs on from 0. Case 3 is solved in case-2 speeds at every stage and mapped
+    to the rates (its error is the rate map's condition number times case 2's, as :func:`relacc.tree_accelerations`).
 
     A state that becomes non-finite ends the run as divergence (the step loop says so). Where a stage's mass matrix is
-    singular or a quaternion drifts off unit, that stage is evaluated again by ``derivs(x, v, t)`` (the reference
-    path, :func:`relacc.tree_accelerations`), which raises its own error naming the speeds or the joint (a singular
-    mass matrix after ``t = 0`` as :class:`relacc.IntegrationError`: a run that diverges reaches one); where the
-    reference path finds nothing wrong, it takes those steps itself. Making the stepper
-    loads the compiled loop (compiles it, the first time on a machine), so that what a run then times is its
-    integration. The caller checks ``integrator`` (:data:`relacc.kernels.tree_step.INTEGRATORS`).
+    singular, a quaternion drifts off unit or a 1-2-3 rate map passes :data:`relacc.core.tolerances.MAX_CONDITION`,
+    that stage is evaluated again by ``derivs(x, v, t)`` (the reference path, :func:`relacc.tree_accelerations`),
+    which raises its own error naming the speeds or the joint (after ``t = 0`` as :class:`relacc.IntegrationError`:
+    a run that diverges reaches such a state); where the reference path finds nothing wrong, it takes those steps
+    itself. A case-3 run that comes within :data:`relacc.core.tolerances.CONDITION_WARNING` of the lock warns once
+    per call (:class:`relacc.AccuracyWarning`, naming the joint), as the reference path warns at every stage. Making
+    the stepper loads the compiled loop (compiles it, the first time on a machine), so that what a run then times is
+    its integration. The caller checks ``integrator`` (:data:`relacc.kernels.tree_step.INTEGRATORS`).
     """
+    from relacc.core.tolerances import CONDITION_WARNING
     from relacc.dynamics.steps import Stepper
     from relacc.errors import IntegrationError, SingularityError
     from relacc.kernels import tree_step as kernel
@@ -202,12 +207,13 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
     from relacc.kernels.tree import arrays_of
     from relacc.kernels.tree_dynamics import US_PER_SPEED, plan
 
+    case = int(case)
     T = arrays_of(tree)
     chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
     gravity, E = kernel.effect_arrays(tree, effects)
-    fixed = (T, T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
-    method, aba, width, nq, nv = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1], tree.nq(2), tree.nv
-    space, clock = TreeSpace(tree, 2), [0]  # clock: steps taken
+    fixed = (T, T.qadr3 if case == 3 else T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
+    method, aba, width, nq, nv = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1], tree.nq(case), tree.nv
+    space, clock = TreeSpace(tree, case), [0]  # clock: steps taken
     cost = (4 if method == kernel.RK4 else 1) * US_PER_SPEED * nv  # us per step of a row, for parallel_pays
 
     def explain(failed, status):
@@ -225,6 +231,16 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
                                    "reduce the step") from None
         return False
 
+    def warn(near):
+        """The reference path's AccuracyWarning, once, where a case-3 stage came near the lock."""
+        worst = int(np.argmax(near[:, 0]))
+        if near[worst, 0] > CONDITION_WARNING:
+            from relacc.core.tree.coordinates import warn_near_lock
+
+            warn_near_lock(tree, near[worst:worst + 1, 1:], "the rates' accelerations of the run's stages carry "
+                           "relative errors up to about {err:.2g} times the mass matrix's condition number",
+                           stacklevel=4)
+
     def replay(x, v, k, t0):
         for i in range(k):
             x, v = STEPPERS[integrator](space, x, v, dt, derivs, t0 + i * dt)
@@ -233,9 +249,11 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
     def record(x, v, gaps):
         gaps = np.ascontiguousarray(gaps, dtype=np.int64)
         X, V, failed = np.empty((len(gaps), nq)), np.empty((len(gaps), nv)), np.empty(1 + nq + nv)
+        near = np.zeros(1 + nq)
         x, v = np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(v, dtype=float)
-        got, status, done = kernel.record(method, aba, x, v, clock[0] * dt, float(dt), gaps, *fixed, X, V, width,
-                                          failed)
+        got, status, done = kernel.record(case, method, aba, x, v, clock[0] * dt, float(dt), gaps, *fixed, X, V,
+                                          width, failed, near)
+        warn(near[None])
         if status and not explain(failed, status):
             done = 0
             for j, k in enumerate(gaps):
@@ -250,11 +268,13 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
         X, V = np.array(np.atleast_2d(x), dtype=float), np.array(np.atleast_2d(v), dtype=float)
         start_x, start_v = X.copy(), V.copy()
         status, failed = np.zeros(len(X), dtype=np.int64), np.empty((len(X), 1 + nq + nv))
-        args = (method, aba, X, V, clock[0] * dt, float(dt), int(k), *fixed, width, status, failed)
+        near = np.zeros((len(X), 1 + nq))
+        args = (case, method, aba, X, V, clock[0] * dt, float(dt), int(k), *fixed, width, status, failed, near)
         if parallel_pays(len(X), int(k) * cost, 1):
             kernel.advance_rows(*args)
         else:
             kernel.advance_range(*args, 0, len(X))
+        warn(near)
         for i in np.flatnonzero(status):
             if explain(failed[i], status[i]):
                 X[i], V[i] = np.nan, np.nan  # diverged: the caller's check names the member and the time
@@ -266,11 +286,11 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs):
     x0, v0 = np.zeros(nq), np.zeros(nv)
     for a, _ in space.quats:
         x0[a] = 1.0
-    kernel.record(method, aba, x0, v0, 0.0, float(dt), np.zeros(0, dtype=np.int64), *fixed, np.empty((0, nq)),
-                  np.empty((0, nv)), width, np.empty(1 + nq + nv))  # load (or compile) both loops now
+    kernel.record(case, method, aba, x0, v0, 0.0, float(dt), np.zeros(0, dtype=np.int64), *fixed, np.empty((0, nq)),
+                  np.empty((0, nv)), width, np.empty(1 + nq + nv), np.zeros(1 + nq))  # load (or compile) both loops
     for loop in (kernel.advance_rows, lambda *a: kernel.advance_range(*a, 0, 1)):
-        loop(method, aba, x0[None].copy(), v0[None].copy(), 0.0, float(dt), 0, *fixed, width,
-             np.zeros(1, dtype=np.int64), np.empty((1, 1 + nq + nv)))
+        loop(case, method, aba, x0[None].copy(), v0[None].copy(), 0.0, float(dt), 0, *fixed, width,
+             np.zeros(1, dtype=np.int64), np.empty((1, 1 + nq + nv)), np.zeros((1, 1 + nq)))
     return Stepper(advance, record)
 
 

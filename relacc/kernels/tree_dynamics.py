@@ -91,10 +91,10 @@ def _angle_rates(tree, q, u, tau, gravity, out, algorithm):
 
     T = arrays_of(tree)
     u2, tau2 = np.empty_like(u), np.empty_like(tau)
-    _rates_to_speeds(q, u, tau, T, u2, tau2)
+    rates_to_speeds(q, u, tau, T, u2, tau2)
     a2 = np.empty_like(u)
     _, bad_in, singular = accelerations(tree, ANGLES_CASE2, q, u2, tau2, gravity, a2, algorithm)
-    _speeds_to_rates(q, u, a2, T, out)
+    speeds_to_rates(q, u, a2, T, out)
     return out, bad_in, singular
 
 
@@ -104,7 +104,7 @@ if HAVE_NUMBA:
     from relacc.kernels.tree import BALL, FREE
 
     @numba.njit(cache=True)  # about 50 ns a state: a parallel loop would not pay below ~5000 states
-    def _rates_to_speeds(q, u, tau, T, u2, tau2):  # pragma: no cover - compiled
+    def rates_to_speeds(q, u, tau, T, u2, tau2):  # pragma: no cover - compiled
         for i in range(q.shape[0]):
             for c in range(u.shape[1]):
                 u2[i, c], tau2[i, c] = u[i, c], tau[i, c]
@@ -128,7 +128,7 @@ if HAVE_NUMBA:
                 tau2[i, d + 2] = R[2] * x0 + R[5] * x1 + R[8] * x2
 
     @numba.njit(cache=True)
-    def _speeds_to_rates(q, u, a2, T, out):  # pragma: no cover - compiled
+    def speeds_to_rates(q, u, a2, T, out):  # pragma: no cover - compiled
         for i in range(q.shape[0]):
             for c in range(u.shape[1]):
                 out[i, c] = a2[i, c]

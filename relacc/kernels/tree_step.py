@@ -1,8 +1,9 @@
-"""Compiled fixed-step integration of a tree in case-2 coordinates, its effects evaluated inside the loop.
+"""Compiled fixed-step integration of a tree in case-2 or case-3 coordinates, its effects evaluated inside the loop.
 
 The same algorithms as :func:`relacc.dynamics.integrate.rkmk4_step` and :func:`~relacc.dynamics.integrate.euler_step`
-on :class:`relacc.dynamics.integrate.TreeSpace` (quaternions move as ``quat (x) Exp(phi)`` with body rotation vectors,
-their stage rates through ``J_r^-1``; every other coordinate by its speed), with the forward dynamics of
+on :class:`relacc.dynamics.integrate.TreeSpace` (case 2: quaternions move as ``quat (x) Exp(phi)`` with body rotation
+vectors, their stage rates through ``J_r^-1``, every other coordinate by its speed; case 3: every coordinate by its
+rate, the accelerations solved in case-2 speeds and mapped to the rates), with the forward dynamics of
 :mod:`relacc.kernels.tree_dynamics` (composite rigid bodies or articulated bodies, as the tree's plan chooses) at
 every stage. The effects of a :class:`relacc.dynamics.tree_effects.TreeEffects` act as
 :func:`relacc.tree_accelerations` applies them:
@@ -25,7 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from relacc.core.tolerances import PIVOT_FLOOR
+from relacc.core.tolerances import MAX_CONDITION, PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import exp_mul, jr_inv
@@ -75,8 +76,9 @@ def effect_arrays(tree, effects) -> tuple[np.ndarray, EffectArrays]:
 
 
 @jitable
-def _joint_forces(T, qadr, E, q, u, tau):
-    """The joints' springs and dampers into ``tau[0]`` (zeroed first), from ``q[0]``, ``u[0]`` (case 2)."""
+def _joint_forces(T, qadr, E, q, u, tau, case):
+    """The joints' springs and dampers into ``tau[0]`` (zeroed first, case-2 speeds), from ``q[0]`` (``case``'s
+    coordinates: a ball's quaternion, or in case 3 its 1-2-3 angles) and ``u[0]`` (case-2 speeds)."""
     for c in range(tau.shape[1]):
         tau[0, c] = 0.0
     for j in range(E.jk.shape[0]):
@@ -92,7 +94,14 @@ def _joint_forces(T, qadr, E, q, u, tau):
             tau[0, d] -= k_s * (q[0, a] - E.rest[j, 0])
         elif kind == BALL:  # -k Log(rest^-1 q): rest's conjugate times q, angle in [0, pi]
             w0, x0, y0, z0 = E.rest[j, 0], -E.rest[j, 1], -E.rest[j, 2], -E.rest[j, 3]
-            w1, x1, y1, z1 = q[0, a], q[0, a + 1], q[0, a + 2], q[0, a + 3]
+            if case == 3:  # the quaternion of Rx Ry Rz: qx (x) qy (x) qz, half angles
+                ca, sa = np.cos(0.5 * q[0, a]), np.sin(0.5 * q[0, a])
+                cb, sb = np.cos(0.5 * q[0, a + 1]), np.sin(0.5 * q[0, a + 1])
+                cc, sc = np.cos(0.5 * q[0, a + 2]), np.sin(0.5 * q[0, a + 2])
+                w1, x1, y1, z1 = ca * cb, sa * cb, ca * sb, sa * sb  # qx (x) qy
+                w1, x1, y1, z1 = w1 * cc - z1 * sc, x1 * cc + y1 * sc, y1 * cc - x1 * sc, z1 * cc + w1 * sc
+            else:
+                w1, x1, y1, z1 = q[0, a], q[0, a + 1], q[0, a + 2], q[0, a + 3]
             w = w0 * w1 - x0 * x1 - y0 * y1 - z0 * z1
             x = w0 * x1 + x0 * w1 + y0 * z1 - z0 * y1
             y = w0 * y1 - x0 * z1 + y0 * w1 + z0 * x1
@@ -124,8 +133,13 @@ def _loads(E, t, com, o, R, pA):
 
 
 @jitable
-def _move(T, qadr, q, delta, out):
-    """``out = q`` moved by the tangent vector ``delta`` (case-2 speeds): quaternions ``(x) Exp``, the rest added."""
+def _move(case, T, qadr, q, delta, out):
+    """``out = q`` moved by the tangent vector ``delta``: in case 2 (case-2 speeds) quaternions ``(x) Exp``, the rest
+    added; in case 3 (the rates) every coordinate added."""
+    if case == 3:
+        for c in range(q.shape[0]):
+            out[c] = q[c] + delta[c]
+        return
     for k in range(T.jtype.shape[0]):
         kind, a, d = T.jtype[k], qadr[k], T.dofadr[k]
         if kind == HINGE or kind == SLIDE:
@@ -139,10 +153,13 @@ def _move(T, qadr, q, delta, out):
 
 
 @jitable
-def _dexpinv(T, delta, w, out):
-    """``out = w`` with each rotation's part through ``J_r^-1(delta)``: the stage's rate in the step's chart."""
+def _dexpinv(case, T, delta, w, out):
+    """``out = w`` with (case 2) each rotation's part through ``J_r^-1(delta)``: the stage's rate in the step's
+    chart; case 3's chart is the angles themselves."""
     for c in range(w.shape[0]):
         out[c] = w[c]
+    if case == 3:
+        return
     for k in range(T.jtype.shape[0]):
         kind, d = T.jtype[k], T.dofadr[k]
         if kind == BALL or kind == FREE:
@@ -152,8 +169,10 @@ def _dexpinv(T, delta, w, out):
 
 
 if HAVE_NUMBA:
+    from relacc.kernels.tree import ANGLES_CASE2
     from relacc.kernels.tree_aba import accelerate, backward
     from relacc.kernels.tree_crba import factor_solve, mass_matrix
+    from relacc.kernels.tree_dynamics import rates_to_speeds, speeds_to_rates
     from relacc.kernels.tree_spatial import bad_inputs, forward
 
     class Scratch(NamedTuple):
@@ -183,66 +202,99 @@ if HAVE_NUMBA:
         x: np.ndarray
         diag: np.ndarray
         stage: np.ndarray
+        rates: np.ndarray
+        zeros: np.ndarray
+        tau2: np.ndarray
+        a2: np.ndarray
+        near: np.ndarray
 
     @numba.njit(cache=True)
     def scratch(nq, nv, nb, nj, width):  # pragma: no cover - compiled
-        """Work arrays for one member: a stage's state ``Q (1, nq)``, ``U (1, nv)``, its forces and rates, the
-        spatial pass's and both algorithms' arrays, and ``stage (12, max(nq, nv))`` for the steps' vectors."""
+        """Work arrays for one member: a stage's state ``Q (1, nq)``, ``U (1, nv)`` (case-2 speeds), its forces and
+        rates, the spatial pass's and both algorithms' arrays, ``stage (12, max(nq, nv))`` for the steps' vectors;
+        case 3's ``rates``, ``zeros``, ``tau2``, ``a2`` ``(1, nv)``, and ``near`` ``(1 + nq)``: the largest 1-2-3
+        condition number a stage met and that stage's coordinates."""
         nj1 = max(nj, 1)
         return Scratch(np.empty((1, nq)), np.empty((1, nv)), np.empty((1, nv)), np.empty((1, nv)), np.empty((nv, 6)),
                        np.empty((nj1, 6)), np.empty((nb, 3)), np.empty((nb, 9)), np.empty((nb, 6)),
                        np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6)), np.empty((nv, 6)), np.empty(nv),
                        np.empty((nj1, 36)), np.empty(60), np.empty((nb, 21)), np.empty(6), np.empty((nb, 6)),
                        np.empty((nb, 6)), np.zeros((nv, width + 1)), np.empty(nv), np.empty(nv),
-                       np.empty((12, max(nq, nv, 1))))
+                       np.empty((12, max(nq, nv, 1))), np.empty((1, nv)), np.zeros((1, nv)), np.empty((1, nv)),
+                       np.empty((1, nv)), np.zeros(1 + nq))
 
     @numba.njit(cache=True)
-    def _failed_stage(W, failed):  # pragma: no cover - compiled
+    def _failed_stage(case, W, failed):  # pragma: no cover - compiled
         nq, nv = W.Q.shape[1], W.U.shape[1]
         failed[0] = W.stage[11, 0]
         for c in range(nq):
             failed[1 + c] = W.Q[0, c]
         for c in range(nv):
-            failed[1 + nq + c] = W.U[0, c]
+            failed[1 + nq + c] = W.rates[0, c] if case == 3 else W.U[0, c]  # the stage's speeds, of its case
 
     @numba.njit(cache=True)
-    def rates(aba, q, u, t, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a):  # pragma: no cover
-        """``a = udot`` of the case-2 state ``(q, u)`` at time ``t`` under the effects; returns the status."""
+    def rates(case, aba, q, u, t, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a):  # pragma: no cover
+        """``a = udot`` of the state ``(q, u)`` of ``case`` (2, or 3: solved in case-2 speeds on the angles and mapped
+        to the rates, as :func:`relacc.kernels.tree_dynamics.accelerations`) at time ``t`` under the effects; returns
+        the status."""
         nq, nv = q.shape[0], u.shape[0]
         W.stage[11, 0] = t  # the stage's time, for a caller that asks why a stage failed
         for c in range(nq):
             W.Q[0, c] = q[c]
         for c in range(nv):
             W.U[0, c] = u[c]
-        if bad_inputs(2, W.Q, W.U, 0, T, qadr):
+            W.rates[0, c] = u[c]  # case 3's speeds, kept for a caller that asks why a stage failed
+        if bad_inputs(case, W.Q, W.U, 0, T, qadr):
             return BAD_INPUT
-        forward(2, W.Q, W.U, 0, T, qadr, mass, com, inertia, W.S, W.C, W.o, W.R, W.V, W.IA, W.pA)
-        _joint_forces(T, qadr, E, W.Q, W.U, W.tau)
+        mode = case
+        if case == 3:
+            for k in range(T.jtype.shape[0]):
+                kind = T.jtype[k]
+                if kind == BALL or kind == FREE:
+                    s2 = abs(np.sin(q[qadr[k] + (3 if kind == FREE else 0) + 1]))
+                    c2 = abs(np.cos(q[qadr[k] + (3 if kind == FREE else 0) + 1]))
+                    if not c2 * MAX_CONDITION > 1.0 + s2:
+                        return SINGULAR
+                    if 1.0 + s2 > W.near[0] * c2:
+                        W.near[0] = (1.0 + s2) / c2
+                        for c in range(nq):
+                            W.near[1 + c] = q[c]
+            rates_to_speeds(W.Q, W.rates, W.zeros, T, W.U, W.tau2)
+            mode = ANGLES_CASE2
+        forward(mode, W.Q, W.U, 0, T, qadr, mass, com, inertia, W.S, W.C, W.o, W.R, W.V, W.IA, W.pA)
+        _joint_forces(T, qadr, E, W.Q, W.U, W.tau, case)
         _loads(E, t, com, W.o, W.R, W.pA)
         if aba:
             for b in range(W.IA.shape[0]):
                 for c in range(21):
                     W.Ic[b, c] = W.IA[b, c]
-            if backward(2, W.Q, W.U, W.tau, 0, T, qadr, arm, free, W.S, W.C, W.R, W.V, W.IA, W.pA, W.Ub, W.uu,
-                         W.Dinv, W.tmp, W.Ic, W.cd, PIVOT_FLOOR):
+            if backward(mode, W.Q, W.U, W.tau, 0, T, qadr, arm, free, W.S, W.C, W.R, W.V, W.IA, W.pA, W.Ub, W.uu,
+                        W.Dinv, W.tmp, W.Ic, W.cd, PIVOT_FLOOR):
                 return SINGULAR
             accelerate(T, g, free, W.S, W.C, W.Ub, W.uu, W.Dinv, W.acc, 0, W.out)
             for c in range(nv):
-                a[c] = W.out[0, c]
+                W.a2[0, c] = W.out[0, c]
         else:
-            mass_matrix(2, W.Q, W.U, W.tau, 0, T, qadr, anc, depth, arm, free, g, W.S, W.C, W.R, W.V, W.IA, W.pA,
+            mass_matrix(mode, W.Q, W.U, W.tau, 0, T, qadr, anc, depth, arm, free, g, W.S, W.C, W.R, W.V, W.IA, W.pA,
                         W.A, W.f, W.M, W.x, W.tmp)
             if factor_solve(W.M, W.x, anc, depth, W.diag, PIVOT_FLOOR):
                 return SINGULAR
             for c in range(nv):
-                a[c] = W.x[c]
+                W.a2[0, c] = W.x[c]
+        if case == 3:
+            speeds_to_rates(W.Q, W.rates, W.a2, T, W.out)
+            for c in range(nv):
+                a[c] = W.out[0, c]
+        else:
+            for c in range(nv):
+                a[c] = W.a2[0, c]
         for c in range(nv):
             if not abs(a[c]) < np.inf:
                 return NON_FINITE
         return OK
 
     @numba.njit(cache=True)
-    def step(method, aba, q, u, t, h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
+    def step(case, method, aba, q, u, t, h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
              W):  # pragma: no cover - compiled
         """One step of ``h`` s from time ``t``, in place on ``q (nq,)``, ``u (nv,)``; returns the status (the state
         is unchanged unless it is OK)."""
@@ -251,14 +303,14 @@ if HAVE_NUMBA:
         a1, a2, a3, a4, k2, k3, dlt, v = s[0, :nv], s[1, :nv], s[2, :nv], s[3, :nv], s[4, :nv], s[5, :nv], \
             s[6, :nv], s[7, :nv]
         x = s[8, :q.shape[0]]
-        st = rates(aba, q, u, t, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a1)
+        st = rates(case, aba, q, u, t, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a1)
         if st:
             return st
         if method == EULER:
             for c in range(nv):
                 v[c] = u[c] + h * a1[c]
                 dlt[c] = h * v[c]
-            _move(T, qadr, q, dlt, x)
+            _move(case, T, qadr, q, dlt, x)
             for c in range(nv):
                 u[c] = v[c]
             for c in range(q.shape[0]):
@@ -267,84 +319,89 @@ if HAVE_NUMBA:
         for c in range(nv):  # stage 2
             dlt[c] = 0.5 * h * u[c]
             v[c] = u[c] + 0.5 * h * a1[c]
-        _move(T, qadr, q, dlt, x)
-        st = rates(aba, x, v, t + 0.5 * h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a2)
+        _move(case, T, qadr, q, dlt, x)
+        st = rates(case, aba, x, v, t + 0.5 * h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a2)
         if st:
             return st
-        _dexpinv(T, dlt, v, k2)
+        _dexpinv(case, T, dlt, v, k2)
         for c in range(nv):  # stage 3
             dlt[c] = 0.5 * h * k2[c]
             v[c] = u[c] + 0.5 * h * a2[c]
-        _move(T, qadr, q, dlt, x)
-        st = rates(aba, x, v, t + 0.5 * h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a3)
+        _move(case, T, qadr, q, dlt, x)
+        st = rates(case, aba, x, v, t + 0.5 * h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a3)
         if st:
             return st
-        _dexpinv(T, dlt, v, k3)
+        _dexpinv(case, T, dlt, v, k3)
         for c in range(nv):  # stage 4
             dlt[c] = h * k3[c]
             v[c] = u[c] + h * a3[c]
-        _move(T, qadr, q, dlt, x)
-        st = rates(aba, x, v, t + h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a4)
+        _move(case, T, qadr, q, dlt, x)
+        st = rates(case, aba, x, v, t + h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a4)
         if st:
             return st
         k4 = s[9, :nv]
-        _dexpinv(T, dlt, v, k4)
+        _dexpinv(case, T, dlt, v, k4)
         for c in range(nv):
             dlt[c] = h / 6 * (u[c] + 2 * k2[c] + 2 * k3[c] + k4[c])
             u[c] = u[c] + h / 6 * (a1[c] + 2 * a2[c] + 2 * a3[c] + a4[c])
-        _move(T, qadr, q, dlt, x)
+        _move(case, T, qadr, q, dlt, x)
         for c in range(q.shape[0]):
             q[c] = x[c]
         return OK
 
     @numba.njit(cache=True)
-    def record(method, aba, q, u, t0, h, gaps, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, Q, U,
-               width, failed):  # pragma: no cover - compiled
+    def record(case, method, aba, q, u, t0, h, gaps, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, Q,
+               U, width, failed, near):  # pragma: no cover - compiled
         """From ``(q, u)`` (copies) at ``t0``: ``gaps[j]`` steps, then record ``j`` into ``Q[j]``, ``U[j]``.
         Returns ``(records stored, status, steps taken)``: fewer records than gaps when a stage failed, and then
-        ``failed`` holds that stage's time, coordinates and speeds (``(1 + nq + nv,)``)."""
+        ``failed`` holds that stage's time, coordinates and speeds (``(1 + nq + nv,)``); ``near`` ``(1 + nq)``: the
+        largest 1-2-3 condition number a stage met in case 3 and that stage's coordinates (0 elsewhere)."""
         q, u = q.copy(), u.copy()
         W = scratch(q.shape[0], u.shape[0], T.parent.shape[0], T.jtype.shape[0], width)
         done = 0
         for j in range(gaps.shape[0]):
             for _ in range(gaps[j]):
-                st = step(method, aba, q, u, t0 + done * h, h, T, qadr, anc, depth, mass, com, inertia, arm, free,
-                          g, E, W)
+                st = step(case, method, aba, q, u, t0 + done * h, h, T, qadr, anc, depth, mass, com, inertia, arm,
+                          free, g, E, W)
                 if st:
-                    _failed_stage(W, failed)
+                    _failed_stage(case, W, failed)
+                    near[:] = W.near
                     return j, st, done
                 done += 1
             for c in range(q.shape[0]):
                 Q[j, c] = q[c]
             for c in range(u.shape[0]):
                 U[j, c] = u[c]
+        near[:] = W.near
         return gaps.shape[0], OK, done
 
     @numba.njit(cache=True)
-    def advance_range(method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
-                      width, status, failed, start, stop):  # pragma: no cover - compiled
+    def advance_range(case, method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
+                      E, width, status, failed, near, start, stop):  # pragma: no cover - compiled
         """``k`` steps of rows ``start .. stop - 1`` of ``Q0 (n, nq)``, ``U0 (n, nv)`` in place on the calling thread;
         ``status[i]`` the row's (a failed row is left where its last good step left it, ``failed[i]`` its failed
-        stage as in :func:`record`)."""
+        stage as in :func:`record`, ``near[i]`` as :func:`record`'s)."""
         W = scratch(Q0.shape[1], U0.shape[1], T.parent.shape[0], T.jtype.shape[0], width)
         for i in range(start, stop):
             q, u = Q0[i], U0[i]
             status[i] = OK
+            W.near[:] = 0.0
             for n in range(k):
-                st = step(method, aba, q, u, t0 + n * h, h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
-                          W)
+                st = step(case, method, aba, q, u, t0 + n * h, h, T, qadr, anc, depth, mass, com, inertia, arm, free,
+                          g, E, W)
                 if st:
                     status[i] = st
-                    _failed_stage(W, failed[i])
+                    _failed_stage(case, W, failed[i])
                     break
+            near[i, :] = W.near
 
     @numba.njit(parallel=True, cache=True)
-    def advance_rows(method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
-                     width, status, failed):  # pragma: no cover - compiled
+    def advance_rows(case, method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
+                     width, status, failed, near):  # pragma: no cover - compiled
         """:func:`advance_range` over every row, rows in parallel."""
         for i in numba.prange(Q0.shape[0]):
-            advance_range(method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
-                          width, status, failed, i, i + 1)
+            advance_range(case, method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
+                          E, width, status, failed, near, i, i + 1)
 
 
 __all__ = ["EULER", "INTEGRATORS", "RK4", "EffectArrays", "effect_arrays"]
