@@ -313,10 +313,10 @@ def test_a_symmetric_state_is_not_called_a_disagreement():
 
 def test_a_model_scene_in_every_case_is_one_motion():
     """gymnasium's ant with leg springs and a torso torque, integrated by relacc's RK4 at 1 ms for 0.05 s in each
-    case's own coordinates (case 2 compiled, cases 1 and 3 by the Python stepper): the three runs, converted to case
-    2, are one motion. Each is fourth order, so they differ by the truncation of 50 steps, about N h^5 |x^(5)| (speeds
-    about 2 rad/s: |x^(5)| ~ 2^5, so 50 x 1e-15 x 32 ~ 2e-12), well under 1e-9; integrating 1-2-3 angles with the
-    body angular velocity instead of their rates (the Python stepper's case 3 before) moved them 1e-3 rad apart."""
+    case's own coordinates (relacc's compiled stepper in each): the three runs, converted to case 2, are one motion.
+    Each is fourth order, so they differ by the truncation of 50 steps, about N h^5 |x^(5)| (speeds about 2 rad/s:
+    |x^(5)| ~ 2^5, so 50 x 1e-15 x 32 ~ 2e-12), well under 1e-9; integrating 1-2-3 angles with the body angular
+    velocity instead of their rates (the Python stepper's case 3 before) moved them 1e-3 rad apart."""
     from relacc.core.tree import convert
     from relacc.fixtures.shipped import scene_path
     from relacc.simulate.subjects import tree_stepper

@@ -42,8 +42,11 @@ def _effects(tree, rng):
 
 
 def _reference(tree, effects, case=2):
-    def derivs(q, u, t):  # the tangent: case-2 speeds (case 2) or the rates (case 3)
-        return u, np.asarray(relacc.tree_accelerations(tree, case, q, u, effects=effects, t=t, backend="reference"))
+    from relacc.core.tree import convert
+
+    def derivs(q, u, t):  # the tangent: case-2 speeds (cases 1-2, converted by relacc's reference walk) or the rates
+        w = convert(tree, q, u, source=1, target=2)[1] if case == 1 else u
+        return w, np.asarray(relacc.tree_accelerations(tree, case, q, u, effects=effects, t=t, backend="reference"))
     return derivs
 
 
@@ -59,13 +62,14 @@ def _solve_bound(tree, effects, q, u, t):
     return scale * ROUNDING_FACTOR * EPS * max(tree.depth)
 
 
-@pytest.mark.parametrize("case", [2, 3])
+@pytest.mark.parametrize("case", [1, 2, 3])
 @pytest.mark.parametrize("integrator", ["rk4", "euler"])
 @pytest.mark.parametrize("seed", [1, 4, 8])
 def test_one_compiled_step_is_the_reference_step(tmp_path, seed, integrator, case):
     """Springs (balls' with a rest quaternion), dampers (free joints' too), sinusoidal loads and gravity, at a time
-    away from 0, on random trees with every joint type; in case 2, and in case 3 (angles and their rates: the rates'
-    accelerations are case 2's mapped through ``W^-1``, so the bound is case 2's times the worst ``cond(W)``)."""
+    away from 0, on random trees with every joint type; in cases 1 and 2 (quaternions, their tangent case-2 speeds:
+    in case 1 ``B u`` from the stage's frames), and in case 3 (angles and their rates: the rates' accelerations are
+    case 2's mapped through ``W^-1``, so the bound is case 2's times the worst ``cond(W)``)."""
     from relacc.core.so3 import condition_123
     from relacc.core.tree import convert
     from relacc.core.tree.coordinates import rotations

@@ -183,11 +183,12 @@ def stepper(chain, case, effects, dt: float, integrator: str):
 
 
 def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, case: int = 2):
-    """relacc's fixed-step integrator of a tree in case-2 or case-3 coordinates, compiled
+    """relacc's fixed-step integrator of a tree in any case's coordinates, compiled
     (:mod:`relacc.kernels.tree_step`): the algorithms of :func:`rkmk4_step` and :func:`euler_step` on
     :class:`TreeSpace` with the effects inside the loop, as a :class:`relacc.dynamics.steps.Stepper` (one state or a
-    batch of rows; rows in parallel); time runs on from 0. Case 3 is solved in case-2 speeds at every stage and mapped
-    to the rates (its error is the rate map's condition number times case 2's, as :func:`relacc.tree_accelerations`).
+    batch of rows; rows in parallel); time runs on from 0. Case 1's tangent is each rotation's ``B u`` from the stage's
+    frames (its joint forces act through ``B``); case 3 is solved in case-2 speeds at every stage and mapped to the
+    rates (its error is the rate map's condition number times case 2's, as :func:`relacc.tree_accelerations`).
 
     A state that becomes non-finite ends the run as divergence (the step loop says so). Where a stage's mass matrix is
     singular, a quaternion drifts off unit or a 1-2-3 rate map passes :data:`relacc.core.tolerances.MAX_CONDITION`,

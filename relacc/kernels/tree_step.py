@@ -1,9 +1,10 @@
-"""Compiled fixed-step integration of a tree in case-2 or case-3 coordinates, its effects evaluated inside the loop.
+"""Compiled fixed-step integration of a tree in any case's coordinates, its effects evaluated inside the loop.
 
 The same algorithms as :func:`relacc.dynamics.integrate.rkmk4_step` and :func:`~relacc.dynamics.integrate.euler_step`
-on :class:`relacc.dynamics.integrate.TreeSpace` (case 2: quaternions move as ``quat (x) Exp(phi)`` with body rotation
-vectors, their stage rates through ``J_r^-1``, every other coordinate by its speed; case 3: every coordinate by its
-rate, the accelerations solved in case-2 speeds and mapped to the rates), with the forward dynamics of
+on :class:`relacc.dynamics.integrate.TreeSpace` (cases 1-2: quaternions move as ``quat (x) Exp(phi)`` with body
+rotation vectors, their stage rates through ``J_r^-1``, every other coordinate by its speed, the tangent being case-2
+speeds: in case 1 ``B u`` from each stage's frames; case 3: every coordinate by its rate, the accelerations solved in
+case-2 speeds and mapped to the rates), with the forward dynamics of
 :mod:`relacc.kernels.tree_dynamics` (composite rigid bodies or articulated bodies, as the tree's plan chooses) at
 every stage. The effects of a :class:`relacc.dynamics.tree_effects.TreeEffects` act as
 :func:`relacc.tree_accelerations` applies them:
@@ -168,6 +169,25 @@ def _dexpinv(case, T, delta, w, out):
             out[d], out[d + 1], out[d + 2] = r[0], r[1], r[2]
 
 
+@jitable
+def _tangent(case, T, Bm, u, out):
+    """``out``: the manifold's tangent of the speeds ``u``: the speeds themselves (cases 2 and 3), or (case 1) each
+    ball's and free joint's case-2 angular speeds ``B u`` (``Bm[k]``: joint ``k``'s ``B``, row-major, from the
+    stage's spatial pass), the rest unchanged."""
+    for c in range(u.shape[0]):
+        out[c] = u[c]
+    if case != 1:
+        return
+    for k in range(T.jtype.shape[0]):
+        kind = T.jtype[k]
+        if kind == BALL or kind == FREE:
+            d = T.dofadr[k] + (3 if kind == FREE else 0)
+            x0, x1, x2 = u[d], u[d + 1], u[d + 2]
+            out[d] = Bm[k, 0] * x0 + Bm[k, 1] * x1 + Bm[k, 2] * x2
+            out[d + 1] = Bm[k, 3] * x0 + Bm[k, 4] * x1 + Bm[k, 5] * x2
+            out[d + 2] = Bm[k, 6] * x0 + Bm[k, 7] * x1 + Bm[k, 8] * x2
+
+
 if HAVE_NUMBA:
     from relacc.kernels.tree import ANGLES_CASE2
     from relacc.kernels.tree_aba import accelerate, backward
@@ -207,6 +227,7 @@ if HAVE_NUMBA:
         tau2: np.ndarray
         a2: np.ndarray
         near: np.ndarray
+        Bm: np.ndarray
 
     @numba.njit(cache=True)
     def scratch(nq, nv, nb, nj, width):  # pragma: no cover - compiled
@@ -220,8 +241,8 @@ if HAVE_NUMBA:
                        np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6)), np.empty((nv, 6)), np.empty(nv),
                        np.empty((nj1, 36)), np.empty(60), np.empty((nb, 21)), np.empty(6), np.empty((nb, 6)),
                        np.empty((nb, 6)), np.zeros((nv, width + 1)), np.empty(nv), np.empty(nv),
-                       np.empty((12, max(nq, nv, 1))), np.empty((1, nv)), np.zeros((1, nv)), np.empty((1, nv)),
-                       np.empty((1, nv)), np.zeros(1 + nq))
+                       np.empty((14, max(nq, nv, 1))), np.empty((1, nv)), np.zeros((1, nv)), np.empty((1, nv)),
+                       np.empty((1, nv)), np.zeros(1 + nq), np.zeros((nj1, 9)))
 
     @numba.njit(cache=True)
     def _failed_stage(case, W, failed):  # pragma: no cover - compiled
@@ -262,7 +283,31 @@ if HAVE_NUMBA:
             rates_to_speeds(W.Q, W.rates, W.zeros, T, W.U, W.tau2)
             mode = ANGLES_CASE2
         forward(mode, W.Q, W.U, 0, T, qadr, mass, com, inertia, W.S, W.C, W.o, W.R, W.V, W.IA, W.pA)
-        _joint_forces(T, qadr, E, W.Q, W.U, W.tau, case)
+        if case == 1:  # each rotation's B = R_after^T R_parent: the joint forces act on case-2 speeds B u
+            for b in range(T.parent.shape[0]):
+                p = T.parent[b]
+                for k in range(T.jstart[b], T.jstart[b] + T.jnum[b]):
+                    kind = T.jtype[k]
+                    if kind != BALL and kind != FREE:
+                        continue
+                    for r in range(3):
+                        for c in range(3):
+                            acc_ = 0.0
+                            for x in range(3):
+                                rp = (1.0 if x == c else 0.0) if (p < 0 or kind == FREE) else W.R[p, 3 * x + c]
+                                acc_ += W.R[b, 3 * x + r] * rp
+                            W.Bm[k, 3 * r + c] = acc_
+            _tangent(1, T, W.Bm, u, W.rates[0])
+            _joint_forces(T, qadr, E, W.Q, W.rates, W.tau, 2)
+            for k in range(T.jtype.shape[0]):  # back to case-1 forces: B^T tau2 on each rotation
+                kind = T.jtype[k]
+                if kind == BALL or kind == FREE:
+                    d = T.dofadr[k] + (3 if kind == FREE else 0)
+                    y0, y1, y2 = W.tau[0, d], W.tau[0, d + 1], W.tau[0, d + 2]
+                    for r in range(3):
+                        W.tau[0, d + r] = W.Bm[k, r] * y0 + W.Bm[k, 3 + r] * y1 + W.Bm[k, 6 + r] * y2
+        else:
+            _joint_forces(T, qadr, E, W.Q, W.U, W.tau, case)
         _loads(E, t, com, W.o, W.R, W.pA)
         if aba:
             for b in range(W.IA.shape[0]):
@@ -303,27 +348,32 @@ if HAVE_NUMBA:
         a1, a2, a3, a4, k2, k3, dlt, v = s[0, :nv], s[1, :nv], s[2, :nv], s[3, :nv], s[4, :nv], s[5, :nv], \
             s[6, :nv], s[7, :nv]
         x = s[8, :q.shape[0]]
+        w1, w = s[12, :nv], s[13, :nv]  # the stages' tangents (case 1: B u; else the speeds)
         st = rates(case, aba, q, u, t, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a1)
         if st:
             return st
         if method == EULER:
             for c in range(nv):
                 v[c] = u[c] + h * a1[c]
-                dlt[c] = h * v[c]
+            _tangent(case, T, W.Bm, v, w)  # B depends on q only: the first stage's
+            for c in range(nv):
+                dlt[c] = h * w[c]
             _move(case, T, qadr, q, dlt, x)
             for c in range(nv):
                 u[c] = v[c]
             for c in range(q.shape[0]):
                 q[c] = x[c]
             return OK
+        _tangent(case, T, W.Bm, u, w1)
         for c in range(nv):  # stage 2
-            dlt[c] = 0.5 * h * u[c]
+            dlt[c] = 0.5 * h * w1[c]
             v[c] = u[c] + 0.5 * h * a1[c]
         _move(case, T, qadr, q, dlt, x)
         st = rates(case, aba, x, v, t + 0.5 * h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a2)
         if st:
             return st
-        _dexpinv(case, T, dlt, v, k2)
+        _tangent(case, T, W.Bm, v, w)
+        _dexpinv(case, T, dlt, w, k2)
         for c in range(nv):  # stage 3
             dlt[c] = 0.5 * h * k2[c]
             v[c] = u[c] + 0.5 * h * a2[c]
@@ -331,7 +381,8 @@ if HAVE_NUMBA:
         st = rates(case, aba, x, v, t + 0.5 * h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a3)
         if st:
             return st
-        _dexpinv(case, T, dlt, v, k3)
+        _tangent(case, T, W.Bm, v, w)
+        _dexpinv(case, T, dlt, w, k3)
         for c in range(nv):  # stage 4
             dlt[c] = h * k3[c]
             v[c] = u[c] + h * a3[c]
@@ -340,9 +391,10 @@ if HAVE_NUMBA:
         if st:
             return st
         k4 = s[9, :nv]
-        _dexpinv(case, T, dlt, v, k4)
+        _tangent(case, T, W.Bm, v, w)
+        _dexpinv(case, T, dlt, w, k4)
         for c in range(nv):
-            dlt[c] = h / 6 * (u[c] + 2 * k2[c] + 2 * k3[c] + k4[c])
+            dlt[c] = h / 6 * (w1[c] + 2 * k2[c] + 2 * k3[c] + k4[c])
             u[c] = u[c] + h / 6 * (a1[c] + 2 * a2[c] + 2 * a3[c] + a4[c])
         _move(case, T, qadr, q, dlt, x)
         for c in range(q.shape[0]):

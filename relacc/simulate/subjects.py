@@ -170,7 +170,7 @@ def tree_stepper(tree, case, effects, dt: float, integrator: str):
         udot = tree_accelerations(tree, case, q, u, effects=effects, t=t)
         return (u if int(case) != 1 else convert(tree, q, u, source=case, target=2)[1]), np.asarray(udot)
 
-    if int(case) in (2, 3) and HAVE_NUMBA:
+    if HAVE_NUMBA:
         from relacc.dynamics.integrate import tree_stepper_compiled
 
         return tree_stepper_compiled(tree, effects, dt, integrator, derivs, case)
