@@ -103,6 +103,16 @@ if HAVE_NUMBA:
     from relacc.kernels.so3 import r123, w123_dot_mv, w123_mv, w123_solve
     from relacc.kernels.tree import BALL, FREE
 
+    @numba.njit(cache=True)
+    def _angles(q, i, k, T):  # pragma: no cover - compiled
+        """``(a, d, c1, c2, s1, s2, R)``: joint ``k``'s (a ball's or free joint's) first angle and first angular
+        speed, the cosines and sines of ``theta1``, ``theta2`` and ``R = Rx Ry Rz`` (row-major) at state ``i``."""
+        kind = T.jtype[k]
+        a, d = T.qadr3[k] + (3 if kind == FREE else 0), T.dofadr[k] + (3 if kind == FREE else 0)
+        c1, c2, c3 = np.cos(q[i, a]), np.cos(q[i, a + 1]), np.cos(q[i, a + 2])
+        s1, s2, s3 = np.sin(q[i, a]), np.sin(q[i, a + 1]), np.sin(q[i, a + 2])
+        return a, d, c1, c2, s1, s2, r123(c1, c2, c3, s1, s2, s3)
+
     @numba.njit(cache=True)  # about 50 ns a state: a parallel loop would not pay below ~5000 states
     def rates_to_speeds(q, u, tau, T, u2, tau2):  # pragma: no cover - compiled
         for i in range(q.shape[0]):
@@ -112,10 +122,7 @@ if HAVE_NUMBA:
                 kind = T.jtype[k]
                 if kind != BALL and kind != FREE:
                     continue
-                a, d = T.qadr3[k] + (3 if kind == FREE else 0), T.dofadr[k] + (3 if kind == FREE else 0)
-                c1, c2, c3 = np.cos(q[i, a]), np.cos(q[i, a + 1]), np.cos(q[i, a + 2])
-                s1, s2, s3 = np.sin(q[i, a]), np.sin(q[i, a + 1]), np.sin(q[i, a + 2])
-                R = r123(c1, c2, c3, s1, s2, s3)
+                _, d, c1, c2, s1, s2, R = _angles(q, i, k, T)
                 w0, w1, w2 = w123_mv(c1, c2, s1, s2, u[i, d], u[i, d + 1], u[i, d + 2])
                 u2[i, d] = R[0] * w0 + R[3] * w1 + R[6] * w2  # R^T (W theta_dot)
                 u2[i, d + 1] = R[1] * w0 + R[4] * w1 + R[7] * w2
@@ -136,10 +143,7 @@ if HAVE_NUMBA:
                 kind = T.jtype[k]
                 if kind != BALL and kind != FREE:
                     continue
-                a, d = T.qadr3[k] + (3 if kind == FREE else 0), T.dofadr[k] + (3 if kind == FREE else 0)
-                c1, c2, c3 = np.cos(q[i, a]), np.cos(q[i, a + 1]), np.cos(q[i, a + 2])
-                s1, s2, s3 = np.sin(q[i, a]), np.sin(q[i, a + 1]), np.sin(q[i, a + 2])
-                R = r123(c1, c2, c3, s1, s2, s3)
+                _, d, c1, c2, s1, s2, R = _angles(q, i, k, T)
                 x0, x1, x2 = a2[i, d], a2[i, d + 1], a2[i, d + 2]
                 r0 = R[0] * x0 + R[1] * x1 + R[2] * x2  # R u2_dot
                 r1 = R[3] * x0 + R[4] * x1 + R[5] * x2

@@ -41,6 +41,17 @@ if HAVE_NUMBA:
     from relacc.kernels.tree_spatial import forward
 
     @numba.njit(cache=True)
+    def _origin(i, r, q, T, qadr, base):  # pragma: no cover - compiled
+        """Into ``base``: where the point ``O`` of the subtree rooted at body ``r`` is, fixed components (m): a free
+        root's position, or the root body's placement on the world."""
+        js = T.jstart[r]
+        if T.jnum[r] == 1 and T.jtype[js] == FREE:
+            a = qadr[js]
+            base[0], base[1], base[2] = q[i, a], q[i, a + 1], q[i, a + 2]
+        else:
+            base[0], base[1], base[2] = T.bpos[r, 0], T.bpos[r, 1], T.bpos[r, 2]
+
+    @numba.njit(cache=True)
     def _point(i, b, px, py, pz, base, o, R, V, acc, with_acc, pos, vel, accel, j):  # pragma: no cover - compiled
         """Body ``b``'s point at ``(px, py, pz)`` (body components) into row ``j`` of ``pos``, ``vel``, ``accel``."""
         r0, r1, r2 = mv(row9(R, b), px, py, pz)
@@ -80,13 +91,7 @@ if HAVE_NUMBA:
                             d = T.dofadr[k] + c
                             for x in range(6):
                                 acc[b, x] += S[d, x] * ud[i, d]
-                r = roots[b]
-                js = T.jstart[r]
-                if T.jnum[r] == 1 and T.jtype[js] == FREE:
-                    a = qadr[js]
-                    base[0], base[1], base[2] = q[i, a], q[i, a + 1], q[i, a + 2]
-                else:
-                    base[0], base[1], base[2] = T.bpos[r, 0], T.bpos[r, 1], T.bpos[r, 2]
+                _origin(i, roots[b], q, T, qadr, base)
                 _point(i, b, com[b, 0], com[b, 1], com[b, 2], base, o, R, V, acc, with_acc, pos, vel, accel, b)
                 for x in range(3):
                     omega[i, b, x] = V[b, x]
@@ -97,13 +102,7 @@ if HAVE_NUMBA:
             if with_points:
                 for j in range(T.pbody.shape[0]):
                     b = T.pbody[j]
-                    r = roots[b]
-                    js = T.jstart[r]
-                    if T.jnum[r] == 1 and T.jtype[js] == FREE:
-                        a = qadr[js]
-                        base[0], base[1], base[2] = q[i, a], q[i, a + 1], q[i, a + 2]
-                    else:
-                        base[0], base[1], base[2] = T.bpos[r, 0], T.bpos[r, 1], T.bpos[r, 2]
+                    _origin(i, roots[b], q, T, qadr, base)
                     _point(i, b, T.ppos[j, 0], T.ppos[j, 1], T.ppos[j, 2], base, o, R, V, acc, with_acc, ppos, pvel,
                            pacc, j)
 

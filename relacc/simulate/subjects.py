@@ -216,6 +216,7 @@ def _relacc_acceleration(scene, t, Q, U, case):
         q14, nu, _ = to_body_speeds(case, Q, U)
         return (g2_kinematics(chain, case, Q, U, Udot).acceleration, term_scales(chain, case, Q, U, Udot).acceleration,
                 dynamics.equations_of_motion(chain, 2, q14, nu, eff)[0])
+    from relacc.core.tree import convert
     from relacc.core.tree.scales import tree_scales
     from relacc.dynamics.tree import tree_accelerations, tree_dynamics
 
@@ -232,11 +233,13 @@ def _relacc_acceleration(scene, t, Q, U, case):
     scale = tree_scales(tree, case, Q, U, Udot, at=at).of("acceleration")[:, b]
     q2, v2 = reference_state(scene, Q, U, case)
     d = tree_dynamics(tree, 2, q2, v2, effects=eff, t=t)
-    return acc, scale + _solve_scale(scene, q2, v2, d), d.M
+    udot2 = Udot if case == 2 else convert(tree, Q, U, Udot, source=case, target=2)[2]
+    return acc, scale + _solve_scale(scene, q2, v2, udot2, d), d.M
 
 
-def _solve_scale(scene, q2, v2, d) -> np.ndarray:
-    """``(n,)`` the part of the point's acceleration's scale that its forward dynamics contributes: the point's
+def _solve_scale(scene, q2, v2, udot, d) -> np.ndarray:
+    """``(n,)`` the part of the point's acceleration's scale that its forward dynamics contributes (``udot``: relacc's
+    ``(n, nv)`` accelerations at those states in case-2 speeds; ``d``: the case-2 equations there): the point's
     partial velocities times the speeds' rates as a solve perturbs them: ``|delta udot| <= c eps (kappa(M) |udot| +
     ||M^-1|| |terms of f|) = c eps kappa(M) (|udot| + |terms of f| / ||M||)``, so with the bound ``c eps kappa(M)``
     the scale is ``max|V_p| (|udot| + |terms of f| / ||M||)`` (case 2; the terms: ``|f|`` and the velocity products
@@ -249,7 +252,6 @@ def _solve_scale(scene, q2, v2, d) -> np.ndarray:
     tree = scene.tree
     kind, name = scene.point
     M, f = np.asarray(d.M), np.asarray(d.f)
-    udot = np.linalg.solve(M, f[..., None])[..., 0]
     if kind == "point":
         V = tree_kinematics(tree, 2, q2, v2, points=[name]).points.V[:, 0]
     else:

@@ -21,6 +21,7 @@ frame (``site_sameframe``) and discards ``site_pos``: :meth:`MujocoAdapter.lost_
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 import mujoco
@@ -248,9 +249,7 @@ class MujocoAdapter(Adapter):
         pos, J = np.empty((n, P, 3)), np.empty((n, P, 3, nv))
         Jd = np.empty((n, P, 3, nv))
         acc = None if ae is None else np.empty((n, P, 3))
-        gravity = m.opt.gravity.copy()
-        try:
-            m.opt.gravity[:] = 0.0  # MuJoCo's accelerations are proper ones: at zero gravity, classical
+        with _zero_gravity(m):  # MuJoCo's accelerations are proper ones: at zero gravity, classical
             for i in range(n):
                 self._at(qe[i], ve[i])
                 if ae is not None:
@@ -267,8 +266,6 @@ class MujocoAdapter(Adapter):
                     mujoco.mj_jacDot(m, d, Jd[i, k], None, pos[i, k], b)
                     if ae is not None:
                         acc[i, k] = _classical(m, d, b, pos[i, k])
-        finally:
-            m.opt.gravity[:] = gravity
         return Points(pos, J, Jd if jdot else None, np.einsum("npij,nj->npi", Jd, ve), acc)
 
     def stepper(self, effects, dt, integrator, accuracy=None):
@@ -295,9 +292,7 @@ class MujocoAdapter(Adapter):
         n, nb = len(q), m.nbody - 1
         out = {k: np.zeros((n, nb, 3)) for k in ("position", "velocity", "omega", "acceleration", "alpha")}
         out.update({k: np.zeros((n, nb, 3, m.nv)) for k in ("V", "Omega")})
-        gravity = m.opt.gravity.copy()
-        try:
-            m.opt.gravity[:] = 0.0
+        with _zero_gravity(m):
             for i in range(n):
                 self._at(q[i], u[i])
                 d.qacc[:] = udot[i]
@@ -309,8 +304,6 @@ class MujocoAdapter(Adapter):
                     out["velocity"][i, b - 1], out["omega"][i, b - 1] = J @ u[i], Jr @ u[i]
                     out["alpha"][i, b - 1] = d.cacc[b, :3]
                     out["acceleration"][i, b - 1] = _classical(m, d, b, d.xipos[b])
-        finally:
-            m.opt.gravity[:] = gravity
         return out
 
     def point_loop(self, qe, ve, ae, spec, full: bool):
@@ -378,6 +371,18 @@ class MujocoAdapter(Adapter):
         return loop
 
 
+@contextlib.contextmanager
+def _zero_gravity(m):
+    """MuJoCo's model at zero gravity inside the block (then its own again): its acceleration routine starts ``cacc``
+    from ``-gravity`` (proper accelerations), so that at zero gravity ``cacc`` gives classical ones."""
+    gravity = m.opt.gravity.copy()
+    m.opt.gravity[:] = 0.0
+    try:
+        yield m
+    finally:
+        m.opt.gravity[:] = gravity
+
+
 def _motion_loop(adapter, qe, ve, ae, specs):
     """:meth:`MujocoAdapter.motion_loop`: per state ``mj_kinematics``, ``mj_comPos``, ``mj_comVel`` and
     ``mj_rnePostConstraint`` (with ``qacc``), then per body its mass centre's position, ``mj_objectVelocity`` and
@@ -391,26 +396,17 @@ def _motion_loop(adapter, qe, ve, ae, specs):
     body = mujoco.mjtObj.mjOBJ_BODY  # at the body's mass centre
 
     def loop():
-        gravity = m.opt.gravity.copy()
-        m.opt.gravity[:] = 0.0  # cacc without the gravity MuJoCo's recursion starts from: classical accelerations
-        try:
-            _states()
-        finally:
-            m.opt.gravity[:] = gravity
-
-    def _states():
-        for i in range(n):
-            d.qpos[:], d.qvel[:], d.qacc[:] = qe[i], ve[i], ae[i]
-            mujoco.mj_kinematics(m, d)
-            mujoco.mj_comPos(m, d)
-            mujoco.mj_comVel(m, d)
-            mujoco.mj_rnePostConstraint(m, d)
-            for k, b in enumerate(bodies):
-                pos[i, k] = d.xipos[b]
-                mujoco.mj_objectVelocity(m, d, body, b, res, 0)
-                om[i, k], vel[i, k] = res[:3], res[3:]
-                mujoco.mj_objectAcceleration(m, d, body, b, res, 0)
-                al[i, k], acc[i, k] = res[:3], res[3:]
+        with _zero_gravity(m):
+            for i in range(n):
+                adapter._at(qe[i], ve[i])
+                d.qacc[:] = ae[i]
+                mujoco.mj_rnePostConstraint(m, d)
+                for k, b in enumerate(bodies):
+                    pos[i, k] = d.xipos[b]
+                    mujoco.mj_objectVelocity(m, d, body, b, res, 0)
+                    om[i, k], vel[i, k] = res[:3], res[3:]
+                    mujoco.mj_objectAcceleration(m, d, body, b, res, 0)
+                    al[i, k], acc[i, k] = res[:3], res[3:]
 
     loop.pos, loop.vel, loop.acc = pos, vel, acc
     return loop
