@@ -88,7 +88,7 @@ def test_check_on_the_cluster_is_the_local_run(cluster, capsys, monkeypatch):
 @pytest.mark.slow
 def test_a_worker_killed_mid_run_changes_nothing(cluster, capsys, monkeypatch):
     """One worker SIGKILLed after the first task finishes: its tasks are retried and the answer is unchanged."""
-    import relacc.cluster as cluster_module
+    import relacc.cluster.client as cluster_module
     from relacc.cluster import sweeps
 
     monkeypatch.setattr(sweeps, "CHECK_STATES", 20_000)
@@ -201,7 +201,7 @@ def test_workers_without_relacc_are_one_line(cluster, capsys, tmp_path):
 ])
 def test_bad_schedulers_are_one_line_in_bounded_time(address, message, capsys, monkeypatch):
     """An unreachable scheduler or a malformed address: one line, exit 2, within the timeout."""
-    import relacc.cluster as cluster_module
+    import relacc.cluster.client as cluster_module
 
     monkeypatch.setattr(cluster_module, "TIMEOUT", 3.0)
     started = time.monotonic()

@@ -146,7 +146,7 @@ def test_tree_case3_toward_the_lock_is_mujocos_case2_within_cond_eps(tmp_path, s
     from relacc.core.so3 import condition_123
     from relacc.core.tolerances import CONDITION_WARNING, EPS, ROUNDING_FACTOR
     from relacc.core.tree.coordinates import convert, random_states, rotations
-    from relacc.engines.mujoco_ import full_inertia
+    from relacc.engines.mujoco_.adapter import full_inertia
     from tests.trees import random_mjcf
 
     path = tmp_path / "tree.xml"

@@ -238,3 +238,47 @@ def test_the_layout_checks_catch_planted_imports():
     assert engine_imports("relacc.engines.mujoco_.run", "import mujoco\n") == []
     assert private_imports("relacc.simulate.runs", "from relacc.engines.base import _helper\n") == [
         "relacc.simulate.runs:1 imports relacc.engines.base._helper"]
+
+
+LAZY_ROOT = {"__version__", "_SUBPACKAGES", "_NAMES", "__getattr__", "__dir__"}
+"""What ``relacc/__init__.py`` may define besides imports: its version and the lazy re-export of its public names
+(PEP 562's module ``__getattr__``), so that ``import relacc`` loads only the errors."""
+
+
+def init_logic(name, source):
+    """Statements of a package's ``__init__.py`` that are not its docstring, an import, ``__all__`` or a constant
+    string (an attribute's docstring); and a missing ``__all__``."""
+    tree, bad, declared = ast.parse(source), [], False
+    for node in tree.body:
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            continue
+        if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str):
+            continue
+        targets = node.targets if isinstance(node, ast.Assign) else [node.target] \
+            if isinstance(node, ast.AnnAssign) else []
+        names = {t.id for t in targets if isinstance(t, ast.Name)}
+        if names == {"__all__"}:
+            declared = True
+            continue
+        defined = names or ({node.name} if isinstance(node, (ast.FunctionDef, ast.ClassDef)) else set())
+        is_guard = isinstance(node, ast.If) and ast.unparse(node.test) == "TYPE_CHECKING"
+        if name == "relacc" and ((defined and defined <= LAZY_ROOT) or is_guard):
+            continue
+        bad.append(f"{name}:{node.lineno} has {type(node).__name__} {', '.join(sorted(defined))}".rstrip())
+    return bad + ([] if declared else [f"{name} declares no __all__"])
+
+
+def test_packages_only_hand_names_on():
+    """Every ``__init__.py`` holds its docstring, imports and ``__all__``, nothing else: the logic lives in modules
+    (issue 37 #5); the root package's lazy loader is the one exception (:data:`LAZY_ROOT`)."""
+    bad = [b for name, path in _modules() if path.name == "__init__.py" for b in init_logic(name, path.read_text())]
+    assert bad == []
+
+
+def test_the_init_check_catches_planted_logic():
+    assert init_logic("relacc.simulate", '"""doc"""\nfrom x import y\n__all__ = ["y"]\n') == []
+    assert init_logic("relacc.simulate", '"""doc"""\ndef f():\n    pass\n__all__ = ["f"]\n') == [
+        "relacc.simulate:2 has FunctionDef f"]
+    assert init_logic("relacc.simulate", "X = 1\n") == ["relacc.simulate:1 has Assign X",
+                                                          "relacc.simulate declares no __all__"]
+    assert init_logic("relacc", "def __getattr__(name):\n    pass\n__all__ = []\n") == []

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from relacc import report as report_mod
 from relacc.cli import main
+from relacc.report import build as report_mod
 from relacc.report.sections import SECTIONS
 
 REPO = Path(__file__).resolve().parents[1]

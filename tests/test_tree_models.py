@@ -16,7 +16,7 @@ import relacc
 from relacc.core.tolerances import EPS
 from relacc.core.tree import convert, random_states
 from relacc.core.tree.scales import tree_scales, tree_tolerance
-from relacc.engines.mujoco_ import full_inertia
+from relacc.engines.mujoco_.adapter import full_inertia
 from relacc.engines.mujoco_.spec import read_tree
 from relacc.errors import InputError, ModelError, SingularityError
 from tests.test_tree import PHYSICAL, _agrees_with_mujoco_in_every_case, _assert_bodies, _tree_file

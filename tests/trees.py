@@ -75,7 +75,7 @@ def mujoco_reference(model, q, u, udot):
     """
     import mujoco
 
-    from relacc.engines.mujoco_ import full_inertia
+    from relacc.engines.mujoco_.adapter import full_inertia
 
     m, d = model, mujoco.MjData(model)
     n, nb = q.shape[0], m.nbody - 1

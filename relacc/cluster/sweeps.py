@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from relacc.cluster import connect, run
+from relacc.cluster.client import connect, run
 from relacc.cluster.plugin import cached
 from relacc.fixtures.model import inline
 

@@ -19,3 +19,6 @@ are imported at the first batched call, inside :mod:`relacc.core.kinematics`.
   :mod:`~relacc.core.conventions`: seeded states, chunked evaluation, the
   meaning of every reported quantity.
 """
+
+__all__: list[str] = []
+"""The package hands on no names: import its modules."""

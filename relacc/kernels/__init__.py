@@ -10,3 +10,6 @@ imported by ``import relacc``: :mod:`relacc.core.kinematics` and
 * :mod:`~relacc.kernels.kinematics`: batch loops behind :func:`relacc.g2_kinematics`.
 * :mod:`~relacc.kernels.dynamics`: Kane's ``M``, ``f`` per state, and the SO(3) steps.
 """
+
+__all__: list[str] = []
+"""The package hands on no names: import its modules."""

@@ -10,166 +10,24 @@ kernels, the core) and return plain
 data; only the templates render it (Jinja2, autoescaped). Never the CLI, never an engine's own package.
 """
 
-from __future__ import annotations
+from relacc.report.build import (
+    DEFAULT_BATCHED,
+    DEFAULT_BENCH,
+    DEFAULT_EXAMPLES,
+    DEFAULT_STATES,
+    QUICK_BATCHED,
+    QUICK_BENCH,
+    QUICK_EXAMPLES,
+    QUICK_STATES,
+    SWEEP,
+    ReportContext,
+    build_context,
+    build_report,
+    environment,
+    render,
+    run_scenes,
+)
 
-import datetime as dt
-import os
-import platform
-from dataclasses import dataclass
-
-from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
-
-from relacc import files, fixtures
-from relacc.report.sections import SECTIONS
-from relacc.validation.check import CheckReport, Harness
-from relacc.validation.errata import Erratum, errata
-from relacc.validation.hardcases import Result, run_catalogue
-from relacc.validation.hardsearch import Worst, hypothesis_search
-
-DEFAULT_STATES = 2000
-QUICK_STATES = 200
-DEFAULT_EXAMPLES = 300
-QUICK_EXAMPLES = 40
-DEFAULT_BENCH = (20_000, 5)
-QUICK_BENCH = (2_000, 3)
-DEFAULT_BATCHED = {"n_states": 20_000, "n_steps": 1000, "members": 200, "duration": 0.2, "repeats": 3}
-QUICK_BATCHED = {"n_states": 2_000, "n_steps": 200, "members": 20, "duration": 0.05, "repeats": 3}
-"""Sizes of the report's run of :mod:`relacc.tradeoff.batched` (recorded runs: ``benchmarks/batched.py``)."""
-
-
-@dataclass(frozen=True)
-class ReportContext:
-    """Everything the sections read: the harness, its results and the run's metadata."""
-
-    harness: Harness
-    check: CheckReport
-    errata: list[Erratum]
-    hard: list[Result]
-    worst: Worst
-    throughput: dict
-    batched: dict
-    simulations: list
-    tradeoff: object
-    quick: bool
-    created: dt.datetime
-    machine: str
-
-
-def _machine() -> str:
-    from relacc.tradeoff.throughput import cpu_model
-
-    return f"{platform.system()} {platform.machine()}, {os.cpu_count()} logical CPUs ({cpu_model()})"
-
-
-def build_context(n_states=None, seed=0, quick=False, model=None, progress=None) -> ReportContext:
-    """Run the cross-validation and the errata that the report shows."""
-    n = n_states if n_states is not None else (QUICK_STATES if quick else DEFAULT_STATES)
-    fixture = fixtures.load(model)
-    harness = Harness(fixture, n_states=n, seed=seed, progress=progress)
-    check, items = harness.check(), errata(harness)
-    if progress:
-        progress("hard-case catalogue")
-    hard = run_catalogue(fixture, seed=seed)
-    examples = QUICK_EXAMPLES if quick else DEFAULT_EXAMPLES
-    if progress:
-        progress(f"Hypothesis search, {examples} examples")
-    worst = hypothesis_search(fixture, max_examples=examples, seed=seed)
-    n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
-    if progress:
-        progress(f"throughput, {n_bench} states per case")
-    from relacc.tradeoff.throughput import run as run_benchmark
-
-    throughput = run_benchmark(n_bench, repeats, seed, fixture)
-    sizes = dict(QUICK_BATCHED if quick else DEFAULT_BATCHED)
-    if progress:
-        progress(f"dynamics and simulation against the engines' batched APIs, {sizes['n_states']} states")
-    from relacc.tradeoff import batched
-
-    batched_result = batched.run(fixture, batched.tumbling(sizes.pop("duration"), fixture), seed=seed, **sizes)
-    simulations = run_scenes(quick, progress)
-    from relacc import tradeoff as tradeoff_mod
-
-    tradeoff = tradeoff_mod.run(seed=seed, progress=progress, fixture=fixture,
-                                profile=tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT)
-    return ReportContext(
-        harness=harness,
-        check=check,
-        errata=items,
-        hard=hard,
-        worst=worst,
-        throughput=throughput,
-        batched=batched_result,
-        simulations=simulations,
-        tradeoff=tradeoff,
-        quick=quick,
-        created=dt.datetime.now(dt.timezone.utc),
-        machine=_machine(),
-    )
-
-
-SWEEP = (1, 2, 4, 8, 16)
-"""Multiples of each scene's own step at which the report measures the engines' agreement."""
-
-
-def run_scenes(quick: bool, progress=None) -> list:
-    """Each shipped scene at its own step, and its agreement at coarser steps.
-
-    Quick runs cap every scene at 0.2 s and sweep two steps only.
-    """
-    from relacc import simulate
-    from relacc.fixtures import shipped
-    from relacc.simulate import scenes
-
-    out = []
-    for path in shipped.scene_paths("chain"):
-        scene = scenes.load(path)
-        if quick:
-            scene = scene.replace(duration=round(min(scene.duration, 0.2) / scene.dt) * scene.dt)
-        if progress:
-            progress(f"scene {scene.name}")
-        result = simulate.run(scene)
-        sweep = []
-        for factor in (SWEEP[:2] if quick else SWEEP):
-            dt = scene.dt * factor
-            coarse = result if factor == 1 else simulate.run(scene.replace(
-                dt=dt, duration=max(round(scene.duration / dt), 1) * dt))
-            pos, vel, _ = coarse.differences()
-            sweep.append({"dt": dt, "position": pos, "velocity": vel})
-        out.append({"result": result, "sweep": sweep})
-    return out
-
-
-def environment() -> Environment:
-    """The Jinja2 environment of relacc's pages: the package's templates, autoescaped, strict."""
-    return Environment(
-        loader=PackageLoader("relacc", "report/templates"),
-        autoescape=select_autoescape(["html", "j2"], default=True),
-        undefined=StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-    )
-
-
-def render(ctx: ReportContext) -> str:
-    """The report's HTML text."""
-    sections = [{"id": m.ID, "title": m.TITLE, "data": m.build(ctx)} for m in SECTIONS]
-    return environment().get_template("report.html.j2").render(sections=sections)
-
-
-def build_report(out="reports/agreement.html", n_states=None, seed=0, quick=False, model=None, progress=None):
-    """Run everything and write the report atomically.
-
-    Returns:
-        ``(path, ctx)``: the written file and the context it was made from.
-
-    Raises:
-        InputError: an output path that cannot be written (checked before
-            the run). OutputError: the write failed; the previous file is
-            unchanged. Any RelaccError of the run; nothing is written then.
-    """
-    path = files.check_output_file(out)
-    ctx = build_context(n_states=n_states, seed=seed, quick=quick, model=model, progress=progress)
-    html = render(ctx)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    files.write_text(path, html)
-    return path, ctx
+__all__ = ["DEFAULT_BATCHED", "DEFAULT_BENCH", "DEFAULT_EXAMPLES", "DEFAULT_STATES", "QUICK_BATCHED", "QUICK_BENCH",
+           "QUICK_EXAMPLES", "QUICK_STATES", "SWEEP", "ReportContext", "build_context", "build_report", "environment",
+           "render", "run_scenes"]

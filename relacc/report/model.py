@@ -16,7 +16,7 @@ import os
 
 from relacc import files
 from relacc.core.conventions import CASE_NAMES, MODEL_MEANINGS, TREE_ENGINE_SPEEDS, TREE_JOINTS
-from relacc.report import environment
+from relacc.report.build import environment
 from relacc.report.robot import page_data
 
 DEFAULT_STATES = 20

@@ -11,7 +11,7 @@ import datetime as dt
 
 from relacc import files
 from relacc.core.tolerances import EPS
-from relacc.report import environment
+from relacc.report.build import environment
 
 
 def page_data(result) -> dict:

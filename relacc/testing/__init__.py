@@ -13,14 +13,7 @@ anything until a fixture is used.
 """
 
 from relacc.testing.agree import SPEED_NAMES, assert_agrees
+from relacc.testing.grade import check_formula
 from relacc.testing.truth import Expected, Truth, states, truth
-
-
-def check_formula(fn, **kwargs):
-    """Grade ``fn(chain, q, u, udot)``; see :func:`relacc.testing.grade.check_formula`."""
-    from relacc.testing.grade import check_formula as grade
-
-    return grade(fn, **kwargs)
-
 
 __all__ = ["SPEED_NAMES", "Expected", "Truth", "assert_agrees", "check_formula", "states", "truth"]

@@ -9,3 +9,6 @@ and :mod:`relacc.core.scales`.
 * :mod:`~relacc.validation.hardcases`, :mod:`~relacc.validation.hardsearch`: the hard-case
   catalogue with its accuracy models, and a Hypothesis search for the worst state.
 """
+
+__all__: list[str] = []
+"""The package hands on no names: import its modules."""

@@ -8,3 +8,6 @@
 
 Nothing here imports an engine.
 """
+
+__all__: list[str] = []
+"""The package hands on no names: import its modules."""

@@ -6,8 +6,8 @@
 * :mod:`~relacc.core.tree.walk`: each body's partial velocities from its parent's (plain numpy);
 * :mod:`~relacc.core.tree.kinematics`: :func:`tree_kinematics`.
 
-Engine-free like the rest of the core: :meth:`Tree.from_file` reads MJCF and URDF through MuJoCo's
-compiler at the call (``relacc.engines.mujoco_.read_tree``), the one place the core reaches an engine.
+Engine-free like the rest of the core: :meth:`Tree.from_file` reads MJCF and URDF by relacc's own reading
+(:mod:`relacc.reading`, imported at the call), never through an engine's compiler.
 """
 
 from relacc.core.tree.coordinates import convert, random_states, reference_q

@@ -1,15 +1,6 @@
-"""Report sections, in page order. Each module has ``ID``, ``TITLE`` and ``build(ctx) -> dict``."""
+"""Report sections, in page order (:data:`SECTIONS`, :mod:`.page`). Each module has ``ID``, ``TITLE`` and
+``build(ctx) -> dict``."""
 
-from relacc.report.sections import (
-    agreement,
-    conventions,
-    errata,
-    hardcases,
-    simulation,
-    summary,
-    system,
-    throughput,
-    tradeoff,
-)
+from relacc.report.sections.page import SECTIONS
 
-SECTIONS = (summary, system, conventions, agreement, errata, hardcases, simulation, tradeoff, throughput)
+__all__ = ["SECTIONS"]

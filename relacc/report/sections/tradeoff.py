@@ -7,10 +7,10 @@ from matplotlib import pyplot as plt
 from matplotlib.ticker import NullFormatter
 
 from relacc.report import svg
-from relacc.tradeoff import pareto
 from relacc.tradeoff.derivatives import THEORY as FD_THEORY
 from relacc.tradeoff.derivatives import theory_step
 from relacc.tradeoff.integrators import THEORY
+from relacc.tradeoff.study import pareto
 
 ID = "tradeoff"
 TITLE = "What accuracy costs"
