@@ -81,3 +81,38 @@ def test_the_contract(engine):
             assert engine in str(exc) and "\n" not in str(exc)
         else:
             assert made is not None, f"{engine}.{method} returned nothing"
+
+
+@pytest.mark.parametrize("engine", [e for e in ENGINES if installed(e)])
+def test_each_engine_has_the_traits_it_declares(engine):
+    """What :func:`relacc.engines.traits` says of an engine (so callers need not branch on its name) is what its
+    adapter does: compiled per-state loops that return (not raise), a URDF reader of its own in its loader, its own
+    error-controlled integrators, steppers of its own, the mesh compiler relacc asks."""
+    import importlib.util
+    import inspect
+
+    from relacc.core.conventions import ENGINE_INTEGRATORS
+    from relacc.engines import MESH_ENGINE, adapter_module, traits
+    from relacc.simulate.scenes import INTEGRATORS
+
+    t = traits(engine)
+    module = adapter_module(engine)
+    tree = relacc.Tree.from_file(MODEL)
+    adapter = load(engine, MODEL, tree)
+    st = random_states(tree, 2, 2, 5)
+    qe, ve, ae, _, _ = adapter.to_engine(st.q, st.u, st.udot)
+    loops = {}
+    for method, args in (("point_loop", (qe, ve, ae, ("body", tree.body_names[0]), False)),
+                         ("jacobian_loop", (qe, ve, [("body", tree.body_names[0])]))):
+        try:
+            loops[method] = getattr(adapter, method)(*args) is not None
+        except EngineError:
+            loops[method] = False
+    assert all(loops.values()) == t.compiled_loops, loops
+    assert ("urdf" in inspect.signature(module.load).parameters) == t.own_urdf
+    # its own integrators are the ones a scene's [simulate] table does not offer (Drake's error-controlled schemes)
+    assert bool(set(ENGINE_INTEGRATORS[engine]) - set(INTEGRATORS)) == t.error_controlled
+    # an engine that steps itself has a run module driving its integrators (mj_step, Drake's Simulator)
+    assert (importlib.util.find_spec(f"{module.__name__}.run") is not None) == t.own_steppers
+    assert (importlib.util.find_spec(f"{module.__name__}.meshes") is not None) == t.mesh_source == (
+        engine == MESH_ENGINE)

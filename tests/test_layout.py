@@ -282,3 +282,41 @@ def test_the_init_check_catches_planted_logic():
     assert init_logic("relacc.simulate", "X = 1\n") == ["relacc.simulate:1 has Assign X",
                                                           "relacc.simulate declares no __all__"]
     assert init_logic("relacc", "def __getattr__(name):\n    pass\n__all__ = []\n") == []
+
+
+ENGINE_NAMES = {"mujoco", "pinocchio", "drake"}
+
+
+def name_branches(name, source):
+    """Comparisons with an engine's name (``engine == "mujoco"``, ``name in ("pinocchio", "mujoco")``) in a module:
+    outside ``relacc/engines/`` a caller asks :func:`relacc.engines.traits` what an engine can do instead. An XML
+    element's tag (``root.tag != "mujoco"``, MJCF's root element) is not an engine."""
+    def names(node):
+        if isinstance(node, ast.Constant) and node.value in ENGINE_NAMES:
+            return True
+        return isinstance(node, (ast.Tuple, ast.List, ast.Set)) and any(names(e) for e in node.elts)
+
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Compare):
+            operands = [node.left, *node.comparators]
+            tags = any(isinstance(o, ast.Attribute) and o.attr == "tag" for o in operands)
+            if any(names(o) for o in operands) and not tags:
+                bad.append(f"{name}:{node.lineno} {ast.unparse(node)}")
+    return bad
+
+
+def test_no_engine_name_branches_outside_engines():
+    """Code outside ``relacc/engines/`` never branches on an engine's name (issue 37 #2)."""
+    bad = [b for name, path in _modules() if not name.startswith("relacc.engines")
+           for b in name_branches(name, path.read_text())]
+    assert bad == []
+
+
+def test_the_branch_check_catches_planted_branches():
+    assert name_branches("relacc.simulate.runs", 'if engine == "drake":\n    pass\n') == [
+        "relacc.simulate.runs:1 engine == 'drake'"]
+    assert name_branches("relacc.simulate.runs", 'x = [n for n in names if n in ("pinocchio", "mujoco")]\n') == [
+        "relacc.simulate.runs:1 n in ('pinocchio', 'mujoco')"]
+    assert name_branches("relacc.reading.mjcf", 'if root.tag != "mujoco":\n    pass\n') == []
+    assert name_branches("relacc.simulate.runs", 'if name == "relacc":\n    pass\n') == []

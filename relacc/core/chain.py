@@ -8,9 +8,6 @@ import numpy as np
 
 from relacc.errors import InputError
 
-_ZERO = (0.0, 0.0, 0.0)
-_UNIT_INERTIA = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
-
 
 def _real(name, value, what) -> np.ndarray:
     """``value`` as a new float64 array; InputError unless it holds real numbers."""
@@ -88,11 +85,11 @@ class TwoBodyChain:
 
     q2: np.ndarray
     r2: np.ndarray
-    r1: np.ndarray = field(default=_ZERO)
+    r1: np.ndarray = field(default_factory=lambda: np.zeros(3))
     m1: float = 1.0
     m2: float = 1.0
-    I1: np.ndarray = field(default=_UNIT_INERTIA)
-    I2: np.ndarray = field(default=_UNIT_INERTIA)
+    I1: np.ndarray = field(default_factory=lambda: np.eye(3))
+    I2: np.ndarray = field(default_factory=lambda: np.eye(3))
 
     def __post_init__(self):
         for name in ("q2", "r2", "r1"):

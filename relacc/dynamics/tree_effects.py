@@ -55,8 +55,8 @@ class BodyLoad:
     ``s = sin(2 pi frequency t + phase)`` (sinusoidal). Units: N, N m, Hz, rad.
     """
 
-    force: np.ndarray = field(default=(0.0, 0.0, 0.0))
-    torque: np.ndarray = field(default=(0.0, 0.0, 0.0))
+    force: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    torque: np.ndarray = field(default_factory=lambda: np.zeros(3))
     frequency: float = 0.0
     phase: float = 0.0
 

@@ -19,9 +19,12 @@ attributes), so no caller outside ``engines/`` branches on an engine's name.
 
 from relacc.engines.registry import (
     ENGINES,
+    MESH_ENGINE,
     ROUTES,
+    TRAITS,
     Adapter,
     ChainEngine,
+    Traits,
     adapter_module,
     available,
     installed,
@@ -29,7 +32,9 @@ from relacc.engines.registry import (
     load_engine,
     mesh_inertia,
     readings,
+    traits,
+    with_trait,
 )
 
-__all__ = ["ENGINES", "ROUTES", "Adapter", "ChainEngine", "adapter_module", "available", "installed", "load",
-           "load_engine", "mesh_inertia", "readings"]
+__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "Adapter", "ChainEngine", "Traits", "adapter_module",
+           "available", "installed", "load", "load_engine", "mesh_inertia", "readings", "traits", "with_trait"]

@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import sys
+from dataclasses import dataclass
 
 from relacc.engines.base import Adapter
 from relacc.engines.chain import ROUTES, ChainEngine
@@ -14,13 +15,65 @@ from relacc.errors import EngineError
 ENGINES = ("pinocchio", "mujoco", "drake")
 """Engine names, in report order."""
 
-_PACKAGES = {"pinocchio": ("pinocchio", "pin"), "mujoco": ("mujoco", "mujoco"), "drake": ("pydrake", "drake")}
-"""Each engine's Python package and its pip name."""
+
+@dataclass(frozen=True)
+class Traits:
+    """What an engine is and can do, declared without importing it: callers outside ``engines/`` ask this instead of
+    branching on an engine's name (the layout test holds them to it).
+
+    Attributes:
+        package: its Python package. pip: its distribution's name.
+        own_urdf: reads a URDF given beside an MJCF with its own parser (``compare --urdf``), and is then compared
+            on that file's reading.
+        compiled_loops: its per-state evaluations (points, Jacobians) run as loops in its own compiled code, so
+            their time is the engine's (the throughput tables time these; a loop through Python per state is not).
+        error_controlled: integrates with error-controlled integrators of its own, named in a scene's
+            ``[simulate.<engine>]`` table with an accuracy, rather than relacc's fixed-step schemes only.
+        own_steppers: steps a model with integrators in its own compiled code (``mj_step``, Drake's ``Simulator``),
+            not relacc's integrators around its dynamics.
+        mesh_source: relacc's reading asks its compiler for a mesh's mass properties (:data:`MESH_ENGINE`), so its
+            terms on those bodies cannot judge it.
+    """
+
+    package: str
+    pip: str
+    own_urdf: bool = False
+    compiled_loops: bool = False
+    error_controlled: bool = False
+    own_steppers: bool = False
+    mesh_source: bool = False
+
+
+TRAITS = {
+    "pinocchio": Traits("pinocchio", "pin", own_urdf=True, compiled_loops=True),
+    "mujoco": Traits("mujoco", "mujoco", compiled_loops=True, own_steppers=True, mesh_source=True),
+    "drake": Traits("pydrake", "drake", error_controlled=True, own_steppers=True),
+}
+"""Each engine's :class:`Traits`, in :data:`ENGINES`' order."""
+
+MESH_ENGINE = next(name for name, t in TRAITS.items() if t.mesh_source)
+"""The engine relacc's reading asks for a mesh's mass properties (:func:`mesh_inertia`)."""
+
+
+def traits(name: str) -> Traits:
+    """An engine's :class:`Traits`.
+
+    Raises:
+        EngineError: an unknown engine.
+    """
+    if name not in TRAITS:
+        raise EngineError(f"unknown engine {name!r}: accepted are {', '.join(ENGINES)}")
+    return TRAITS[name]
+
+
+def with_trait(trait: str, names=ENGINES) -> tuple[str, ...]:
+    """The engines of ``names`` (default all, in report order) that have ``trait`` (a :class:`Traits` flag)."""
+    return tuple(n for n in names if n in TRAITS and getattr(TRAITS[n], trait))
 
 
 def installed(name: str) -> bool:
     """Whether an engine's Python package is installed (found without importing it)."""
-    return importlib.util.find_spec(_PACKAGES[name][0]) is not None
+    return importlib.util.find_spec(traits(name).package) is not None
 
 
 def available() -> tuple[str, ...]:
@@ -34,10 +87,8 @@ def adapter_module(name: str):
     Raises:
         EngineError: an unknown engine, or one not installed here.
     """
-    if name not in _PACKAGES:
-        raise EngineError(f"unknown engine {name!r}: accepted are {', '.join(ENGINES)}")
     if not installed(name):
-        raise EngineError(f"engine {name} is not installed here (pip install {_PACKAGES[name][1]}); installed: "
+        raise EngineError(f"engine {name} is not installed here (pip install {traits(name).pip}); installed: "
                           f"{', '.join(available()) or 'none'}")
     from relacc.isolate import captured_stderr
 
@@ -52,23 +103,18 @@ def readings(name: str) -> tuple:
     """An engine's ``ENGINE_READINGS``: the known differences in its algorithms (rather than its reading of a file,
     which :data:`relacc.validation.robots.causes.READINGS` reproduces), each ``(key, text, applies(adapter),
     rebuild(adapter))``; MuJoCo: none."""
-    if name == "mujoco":
-        return ()
     return importlib.import_module(f"{adapter_module(name).__name__}.readings").ENGINE_READINGS
 
 
 def load(name: str, path, reference=None, **options) -> Adapter:
     """The one loader: model file ``path`` in engine ``name``, matched to ``reference`` (a :class:`relacc.Tree`;
-    default: MuJoCo's reading of the same file). Options by engine: Pinocchio ``urdf=``, ``split=``; Drake
-    ``build=`` (the plant of ``reference`` itself).
+    None: relacc's reading of the file; MuJoCo's adapter takes its own compiled tree, the chain's routes). Options by
+    engine: Pinocchio ``urdf=``, ``split=``; Drake ``build=`` (the plant of ``reference`` itself).
 
     Raises:
         EngineError: an unknown or missing engine. ModelError: the engine cannot read the file.
     """
-    module = adapter_module(name)
-    if reference is None and name != "mujoco":
-        reference = load("mujoco", path).reference
-    return module.load(path, reference, **options)
+    return adapter_module(name).load(path, reference, **options)
 
 
 def mesh_inertia(mesh):
@@ -78,7 +124,7 @@ def mesh_inertia(mesh):
     Raises:
         EngineError: MuJoCo is not installed. ModelError: MuJoCo cannot compile the geom alone.
     """
-    module = adapter_module("mujoco")
+    module = adapter_module(MESH_ENGINE)
     return importlib.import_module(f"{module.__name__}.meshes").mesh_inertia(mesh)
 
 
@@ -96,5 +142,5 @@ def load_engine(name: str, fixture=None, **options) -> ChainEngine:
     return chain_engine(name, fixture if fixture is not None else load_fixture(), **options)
 
 
-__all__ = ["ENGINES", "ROUTES", "Adapter", "ChainEngine", "adapter_module", "available", "installed", "load",
-           "load_engine", "mesh_inertia", "readings"]
+__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "Adapter", "ChainEngine", "Traits", "adapter_module",
+           "available", "installed", "load", "load_engine", "mesh_inertia", "readings", "traits", "with_trait"]

@@ -12,13 +12,13 @@ SUFFIXES = {".xml": "mjcf", ".urdf": "urdf"}
 """Description formats by file suffix (lower case; ``BALL.XML`` is an MJCF too)."""
 
 
-def read(path, meshes="mujoco", variant=frozenset()) -> Reading:
+def read(path, meshes="engine", variant=frozenset()) -> Reading:
     """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file; ``variant``: an engine's way of reading an
     MJCF (:data:`relacc.reading.mjcf.VARIANTS`), for reproducing that engine.
 
-    ``meshes``: where an MJCF's mesh geoms' mass properties come from (:func:`relacc.reading.mjcf.read`): ``"mujoco"``
-    (default) asks MuJoCo for each (:mod:`relacc.engines.mujoco_.meshes`, imported only then; the bodies concerned are
-    named in ``taken``); a callable; or None, which refuses such a body.
+    ``meshes``: where an MJCF's mesh geoms' mass properties come from (:func:`relacc.reading.mjcf.read`): ``"engine"``
+    (default) asks the engine that computes them, MuJoCo (:func:`relacc.engines.mesh_inertia`, imported only then;
+    the bodies concerned are named in ``taken``); a callable; or None, which refuses such a body.
 
     Raises:
         ModelError: not a path, another suffix, or a file that cannot be read (the message names the file, the
@@ -37,7 +37,7 @@ def read(path, meshes="mujoco", variant=frozenset()) -> Reading:
         return urdf.read(path)
     from relacc.reading import mjcf
 
-    return mjcf.read(path, _mesh_reader if meshes == "mujoco" else meshes, variant)
+    return mjcf.read(path, _mesh_reader if meshes == "engine" else meshes, variant)
 
 
 def _mesh_reader(mesh):
@@ -66,6 +66,6 @@ def read_moving(path, purpose: str) -> Reading:
     return reading
 
 
-def read_tree(path, meshes="mujoco"):
+def read_tree(path, meshes="engine"):
     """The :class:`relacc.Tree` of relacc's reading of a file (:func:`read`)."""
     return read(path, meshes).tree

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import overload
 from xml.parsers import expat
 
 from relacc.errors import ModelError
@@ -113,7 +114,15 @@ def parse_file(path, notes: list | None = None) -> Node:
     return parse_text(text, str(path), notes)
 
 
-def numbers(node: Node, key: str, count: int | None = None, default=None) -> list[float] | None:
+@overload
+def numbers(node: Node, key: str, count: int | None = None, default: None = None) -> list[float] | None: ...
+
+
+@overload
+def numbers(node: Node, key: str, count: int | None, default: list[float]) -> list[float]: ...
+
+
+def numbers(node: Node, key: str, count: int | None = None, default: list[float] | None = None) -> list[float] | None:
     """The attribute ``key`` of ``node`` as ``count`` real numbers (any count when None), or ``default`` when absent.
 
     Raises:
@@ -135,7 +144,15 @@ def numbers(node: Node, key: str, count: int | None = None, default=None) -> lis
     return values
 
 
-def number(node: Node, key: str, default=None) -> float | None:
+@overload
+def number(node: Node, key: str, default: None = None) -> float | None: ...
+
+
+@overload
+def number(node: Node, key: str, default: float) -> float: ...
+
+
+def number(node: Node, key: str, default: float | None = None) -> float | None:
     """One real number (see :func:`numbers`)."""
     values = numbers(node, key, 1)
     return default if values is None else values[0]

@@ -39,12 +39,14 @@ from relacc.core.cases import as_case, check_q, check_u
 from relacc.core.chain import TwoBodyChain
 from relacc.core.conventions import ENGINE_INTEGRATORS, ENGINE_LABELS
 from relacc.dynamics.effects import Effects
+from relacc.engines.registry import ENGINES, with_trait
 from relacc.errors import InputError, RelaccError
 from relacc.fixtures import Fixture, tomlfile
 from relacc.fixtures import load as load_fixture
 from relacc.fixtures.model import inline
 
-SIM_ENGINES = ("relacc", "pinocchio", "mujoco", "drake")
+SIM_ENGINES = ("relacc",) + ENGINES
+"""The names a scene's ``engines`` takes: relacc and every engine, in report order."""
 INTEGRATORS = ("rk4", "euler", "implicit", "implicitfast")
 """The scene-wide integrators; each engine's own are in :data:`relacc.core.conventions.ENGINE_INTEGRATORS`."""
 MAX_STEPS = 1e9
@@ -129,8 +131,9 @@ class Scene:
         return body(self.observe)
 
     def integrator_for(self, engine: str) -> tuple[str, float | None]:
-        """``(integrator, accuracy)`` an engine runs: the scene's, or for Drake ``[simulate.drake]``'s."""
-        if engine == "drake" and self.drake_integrator is not None:
+        """``(integrator, accuracy)`` an engine runs: the scene's, or for an engine with error-controlled integrators
+        of its own (Drake) ``[simulate.drake]``'s."""
+        if engine in with_trait("error_controlled") and self.drake_integrator is not None:
             return self.drake_integrator, self.drake_accuracy
         return self.integrator, None
 
@@ -165,16 +168,18 @@ def check_simulate(duration, dt, integrator, engines, record_every, drake_integr
     if not isinstance(engines, (list, tuple)) or not engines or any(e not in SIM_ENGINES for e in engines):
         return "engines", f"expected a non-empty list of {', '.join(SIM_ENGINES)}, got {engines!r}"
     for engine in engines:
-        own = drake_integrator if (engine == "drake" and drake_integrator) else integrator
+        controlled = engine in with_trait("error_controlled")
+        own = drake_integrator if (controlled and drake_integrator) else integrator
         if own not in ENGINE_INTEGRATORS[engine]:
-            if engine == "drake":
-                return "integrator", (f"Drake has no {integrator!r} integrator: name one of Drake's in "
-                                      f"[simulate.drake] integrator ({', '.join(ENGINE_INTEGRATORS['drake'])})")
+            if controlled:
+                return "integrator", (f"{ENGINE_LABELS[engine]} has no {integrator!r} integrator: name one of "
+                                      f"{ENGINE_LABELS[engine]}'s in [simulate.{engine}] integrator "
+                                      f"({', '.join(ENGINE_INTEGRATORS[engine])})")
             only = [e for e, names in ENGINE_INTEGRATORS.items() if integrator in names]
             return "integrator", (f"{integrator!r} exists in {', '.join(ENGINE_LABELS[e] for e in only)} only; "
                                   f"list engines = {only}")
     if drake_accuracy is not None and not (isinstance(drake_accuracy, float) and 0 < drake_accuracy < 1):
-        return "drake", f"accuracy must be a number in (0, 1), got {drake_accuracy!r}"
+        return "drake.accuracy", f"accuracy must be a number in (0, 1), got {drake_accuracy!r}"
     if isinstance(record_every, bool) or not isinstance(record_every, int) or record_every < 1:
         return "record_every", f"expected a positive integer, got {record_every!r}"
     return None
@@ -232,9 +237,8 @@ def _simulate_table(path, text, sim):
     problem = check_simulate(sim.duration, sim.dt, sim.integrator, sim.engines, sim.record_every, drake_integrator,
                              drake_accuracy)
     if problem:
-        table = "simulate.drake" if problem[0] == "drake" else "simulate"
-        raise tomlfile.field_error(path, text, table, "accuracy" if problem[0] == "drake" else problem[0],
-                                   problem[1])
+        table, key = f"simulate.{problem[0]}".rsplit(".", 1)
+        raise tomlfile.field_error(path, text, table, key, problem[1])
     return drake_integrator, drake_accuracy
 
 
@@ -395,9 +399,8 @@ def model_scene(path, *, seed: int = 0, duration: float = 1.0, dt: float = 1e-3,
 
     path = Path(path)
     seed = check_int("seed", seed, minimum=0)
-    names = tuple(["relacc"] + [e for e in ("pinocchio", "mujoco", "drake") if e in available()]) if engines is None \
-        else tuple(engines)
-    drake = "runge_kutta5" if "drake" in names else None
+    names = ("relacc",) + available() if engines is None else tuple(engines)
+    drake = "runge_kutta5" if with_trait("error_controlled", names) else None
     if path.suffix.lower() == ".toml":
         from relacc.fixtures.shipped import scene_path
 
@@ -420,4 +423,4 @@ def model_scene(path, *, seed: int = 0, duration: float = 1.0, dt: float = 1e-3,
 
     kept, left_out = usable(scene)
     return scene.replace(engines=kept, left_out=left_out,
-                         drake_integrator=drake if "drake" in kept else None)
+                         drake_integrator=drake if with_trait("error_controlled", kept) else None)

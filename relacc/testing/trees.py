@@ -69,14 +69,16 @@ def model_truth(s: States, engine: str = "relacc", quantities=TREE_QUANTITIES) -
 
 
 def _truth(s: States, engine: str, quantities: tuple) -> dict:
-    """``{quantity: Expected}`` of every body, by relacc's tree or by MuJoCo.
+    """``{quantity: Expected}`` of every body, by relacc's tree or by an engine that gives each body's motion
+    (:meth:`relacc.engines.base.Adapter.body_motion`: MuJoCo).
 
-    MuJoCo gives the quantities it has for the case: ``position``, ``velocity``, ``acceleration``, ``omega``,
-    ``alpha`` in every case (states converted to its coordinates, case 2), and ``V``, ``Omega`` (``mj_jac``) in
-    case 2. Each Expected's ``bound`` is the tree tolerance beyond ``c eps``: ``c eps (depth - 1)`` per body.
+    An engine gives the quantities it has for the case: ``position``, ``velocity``, ``acceleration``, ``omega``,
+    ``alpha`` in every case (states converted to case 2, then to its coordinates), and ``V``, ``Omega`` (MuJoCo's
+    ``mj_jac``) in case 2, mapped back to case-2 speeds (``V_e T``). Each Expected's ``bound`` is the tree tolerance
+    beyond ``c eps``: ``c eps (depth - 1)`` per body.
 
     Raises:
-        EngineError: an engine other than ``relacc`` and ``mujoco``.
+        EngineError: an unknown engine, one not installed, or one whose adapter gives no per-body motion.
     """
     from relacc.testing.truth import Expected
 
@@ -86,21 +88,23 @@ def _truth(s: States, engine: str, quantities: tuple) -> dict:
     if engine == "relacc":
         k = tree_kinematics(tree, c, s.q, s.u, s.udot)
         values = {name: getattr(k, name) for name in quantities}
-    elif engine == "mujoco":
-        q2, u2, ud2 = convert(tree, s.q, s.u, s.udot, source=c, target=2)
-        ref = mujoco_of(tree).body_motion(q2, u2, ud2)
-        values = {name: ref[name] for name in quantities if name in PHYSICAL or (c == 2 and name in ("V", "Omega"))}
     else:
-        raise EngineError(f"truth for a model: engine {engine!r} not available; accepted are relacc and mujoco")
+        adapter = adapter_of(tree, engine)
+        qe, ve, ae, T, _ = adapter.to_engine(*convert(tree, s.q, s.u, s.udot, source=c, target=2))
+        ref = adapter.body_motion(qe, ve, ae)
+        values = {name: ref[name] for name in quantities if name in PHYSICAL}
+        values.update({name: np.einsum("nbkj,nji->nbki", ref[name], T) for name in quantities
+                       if c == 2 and name in ("V", "Omega")})
     return {name: Expected(name, c, v, sc.of(name), bound, s.seed, engine, tree.body_names)
             for name, v in values.items()}
 
 
-def mujoco_of(tree):
-    """MuJoCo's adapter of the file a tree was read from (a chain TOML's generated MJCF).
+def adapter_of(tree, engine: str):
+    """Engine ``engine``'s adapter of the file a tree was read from (a chain TOML's generated MJCF), matched to the
+    engine's default reference (:func:`relacc.engines.load`).
 
     Raises:
-        EngineError: a tree built in Python, which MuJoCo has never read.
+        EngineError: a tree built in Python, which no engine has read; an unknown or missing engine.
     """
     from pathlib import Path
 
@@ -112,9 +116,9 @@ def mujoco_of(tree):
 
         source = load_fixture(source).path("two_body.xml")
     if source is None or not source.is_file():
-        raise EngineError(f"tree {tree.name!r} was built in Python: MuJoCo has no model of it (read it from a file "
-                          "to compare with MuJoCo)")
-    return load("mujoco", source)
+        raise EngineError(f"tree {tree.name!r} was built in Python: {engine} has no model of it (read it from a file "
+                          f"to compare with {engine})")
+    return load(engine, source)
 
 
 @dataclass(frozen=True, eq=False)

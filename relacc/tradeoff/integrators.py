@@ -20,7 +20,7 @@ import numpy as np
 from relacc import dynamics
 from relacc.core.kinematics import g2_kinematics
 from relacc.dynamics.integrate import CaseSpace, solve_on_space
-from relacc.engines import available, load_engine
+from relacc.engines import available, load_engine, with_trait
 from relacc.errors import IntegrationError
 from relacc.kernels.dynamics import Rates
 from relacc.simulate.scenes import Scene
@@ -56,7 +56,7 @@ def _adaptive(name, engine, scene, method, rtol):
         x0, v0 = scene.q.astype(float), scene.u.astype(float)
         return solve_on_space(space, x0, v0, derivs, scene.duration, method, rtol, rtol * 1e-2, rotations)
     x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
-    if name == "drake":  # Drake's own error control, its largest step the whole run
+    if name in with_trait("error_controlled"):  # Drake's own error control, its largest step the whole run
         _, X, V = engine.simulate(x0, v0, eff, scene.duration, 1, method, accuracy=rtol)
         return X[-1], V[-1], None
     adapter = engine.adapter

@@ -17,10 +17,12 @@ the reference or the check, it has no observed order, and the command exits 1.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from relacc.core.conventions import ENGINE_INTEGRATORS
+from relacc.engines import with_trait
 from relacc.errors import IntegrationError
 from relacc.tradeoff.integrators import THEORY, observed_order
 
@@ -43,9 +45,9 @@ class ModelTradeoff:
     rows: list
     reference: dict
     orders: dict
-    differing: dict = None
+    differing: dict | None = None
     """``{engine: {"error", "bound"}}``: engines whose acceleration is not relacc's at the same states."""
-    left_out: dict = None
+    left_out: dict | None = None
     """``{engine: why}``: installed engines the default scene runs without (they lack some of the model's joints)."""
     not_evaluated: tuple = ()
     """One line per kind of element of the file the scene leaves out (``Reading.unevaluated``)."""
@@ -79,20 +81,22 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTra
     if progress:
         progress("every engine's acceleration against relacc's along one run")
     differing = simulate.run(base, keep=False).differing
-    chosen = next((e for e in ("mujoco", "pinocchio", "relacc") if e in base.engines and e not in differing),
-                  "relacc")
+    own = with_trait("own_steppers")
+    chosen = min((e for e in base.engines if e not in differing and "rk4" in ENGINE_INTEGRATORS[e]),
+                 key=lambda e: (e == "relacc", e not in own), default="relacc")  # an engine's own RK4 loop first
     if progress:
         progress(f"reference: {chosen} rk4 at dt/{REFERENCE_DIVISOR}, checked by drake runge_kutta5 at "
                  f"accuracy {CHECK_ACCURACY}")
     ref = _final(base.replace(engines=(chosen,), dt=DT / REFERENCE_DIVISOR, integrator="rk4",
                               record_every=10**6))[chosen][0]
-    reference = {"reference": f"{chosen} rk4 at dt = {DT / REFERENCE_DIVISOR} s"}
-    if "drake" in base.engines and "drake" not in differing:
-        check = _final(base.replace(engines=("drake",), drake_integrator="runge_kutta5",
-                                    drake_accuracy=CHECK_ACCURACY, record_every=10**6))["drake"][0]
-        reference.update(check=f"drake runge_kutta5, accuracy {CHECK_ACCURACY}",
+    reference: dict[str, Any] = {"reference": f"{chosen} rk4 at dt = {DT / REFERENCE_DIVISOR} s"}
+    checker = next((e for e in with_trait("error_controlled", base.engines) if e not in differing), None)
+    if checker is not None:
+        check = _final(base.replace(engines=(checker,), drake_integrator="runge_kutta5",
+                                    drake_accuracy=CHECK_ACCURACY, record_every=10**6))[checker][0]
+        reference.update(check=f"{checker} runge_kutta5, accuracy {CHECK_ACCURACY}",
                          agreement_m=float(np.linalg.norm(check - ref)))
-    rows = []
+    rows: list[dict[str, Any]] = []
     for engine in base.engines:
         for integrator in ENGINE_INTEGRATORS[engine]:
             if integrator not in THEORY:
@@ -103,9 +107,9 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTra
                 dt = DT * factor
                 steps = max(int(round(base.duration / dt)), 1)
                 scene = base.replace(engines=(engine,), dt=base.duration / steps, record_every=10**6,
-                                     **({"drake_integrator": integrator} if engine == "drake"
+                                     **({"drake_integrator": integrator} if engine in with_trait("error_controlled")
                                         else {"integrator": integrator}))
-                row = {"engine": engine, "integrator": integrator, "dt": scene.dt, "kind": "fixed",
+                row: dict[str, Any] = {"engine": engine, "integrator": integrator, "dt": scene.dt, "kind": "fixed",
                        "dt_or_tol": scene.dt, "diverged": False, "misread": engine in differing}
                 try:
                     position, seconds = _final(scene)[engine]

@@ -4,15 +4,16 @@ states what is measured)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from relacc.tradeoff import derivatives, integrators
 
-QUICK = {"states": 20, "scenes": ("tumbling", "gravity_spring"), "duration": 0.25, "factors": (8, 4, 2),
+QUICK: dict[str, Any] = {"states": 20, "scenes": ("tumbling", "gravity_spring"), "duration": 0.25, "factors": (8, 4, 2),
          "euler_factors": (8, 4, 2), "tolerances": (1e-6, 1e-9), "repeats": 1}
-REPORT = {"states": 1000, "scenes": None, "duration": 1.0, "factors": (16, 8, 4, 2, 1),
+REPORT: dict[str, Any] = {"states": 1000, "scenes": None, "duration": 1.0, "factors": (16, 8, 4, 2, 1),
           "euler_factors": (2, 1, 0.5), "tolerances": (1e-4, 1e-6, 1e-8, 1e-10), "repeats": 3}
 """The report's sweep: every scene, capped at 1 s, Euler down to half the scene's step."""
-FULL = {"states": 1000, "scenes": None, "duration": None, "factors": (16, 8, 4, 2, 1),
+FULL: dict[str, Any] = {"states": 1000, "scenes": None, "duration": None, "factors": (16, 8, 4, 2, 1),
         "euler_factors": (2, 1, 0.5, 0.25), "tolerances": (1e-4, 1e-6, 1e-8, 1e-10), "repeats": 3}
 
 

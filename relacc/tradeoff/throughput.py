@@ -35,16 +35,20 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 import relacc
 from relacc.core.states import random_states
-from relacc.engines import adapter_module, load_engine
+from relacc.engines import adapter_module, load_engine, with_trait
 from relacc.engines.chain import G2
 from relacc.fixtures import load
 from relacc.kernels import kinematics as fast
 from relacc.kernels.jit import threads
+
+TIMED = with_trait("compiled_loops")
+"""The engines whose per-state loops run in their own compiled code (Pinocchio, MuJoCo): the ones timed here."""
 
 
 def cpu_model() -> str:
@@ -80,7 +84,7 @@ def machine() -> dict:
         "numpy": np.__version__,
         "numba": fast.numba.__version__ if fast.HAVE_NUMBA else None,
         "relacc_backend": fast.BACKEND,
-        **{name: adapter_module(name).version() for name in ("pinocchio", "mujoco")},
+        **{name: adapter_module(name).version() for name in TIMED},
         "relacc": relacc.__version__,
         "relacc_commit": source_commit(),
     }
@@ -113,9 +117,9 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
     described = machine()  # before timing: the commit as it was when the run started
     fixture = fixture if fixture is not None else load()
     chain = fixture.chain
-    engines = {name: load_engine(name, fixture) for name in ("pinocchio", "mujoco")}
+    engines = {name: load_engine(name, fixture) for name in TIMED}
     states = {case: random_states(case, n_states, [seed, case]) for case in (1, 2, 3)}
-    timings = {}
+    timings: dict[tuple, tuple[float, ...]] = {}
     # relacc first, every case, so its timings never follow seconds of single-threaded engine loops
     many = max(repeats, 30)  # relacc's calls take milliseconds: more of them, after more warm-ups
     for case, s in states.items():
@@ -137,17 +141,17 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
     for case, s in states.items():
         route = "euler" if case == 3 else "quaternion"
         c = relacc.Case(case)
-        for name in ("pinocchio", "mujoco"):
+        for name in TIMED:
             e = engines[name]
             x = e.engine_input(route, c, s.q, s.u, s.udot)
             adapter = e.routes[route]
             for output in ("acceleration", "full"):
                 timings[(case, name, output)] = wall_times(
                     adapter.point_loop(x.q, x.v, x.a, G2, output == "full"), max(1, repeats // 3))
-    rows = [
+    rows: list[dict[str, Any]] = [
         {"case": case, "who": who, "output": output, "seconds": median, "seconds_min": best,
          "states_per_second": n_states / median, "states_per_second_best": n_states / best,
-         "engine_route": ("euler" if case == 3 else "quaternion") if who in ("pinocchio", "mujoco") else None}
+         "engine_route": ("euler" if case == 3 else "quaternion") if who in TIMED else None}
         for (case, who, output), (median, best) in sorted(timings.items())
     ]
     for row in rows:
@@ -156,8 +160,6 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
         row["relacc_speedup_over_this"] = row["seconds"] / base["seconds"]
         row["relacc_speedup_over_this_best"] = row["seconds_min"] / base["seconds_min"]
     return {"machine": described, "n_states": n_states, "repeats": repeats, "seed": seed, "rows": rows}
-
-
 
 
 def recorded_runs(directory: Path | None = None) -> list[dict]:
@@ -178,13 +180,13 @@ def recorded_runs(directory: Path | None = None) -> list[dict]:
         rows = {(r["case"], r["who"], r["output"]): r for r in data["rows"]}
         ratios = {}
         for (case, who, output), r in rows.items():
-            if who in ("pinocchio", "mujoco"):
+            if who in TIMED:
                 ratios.setdefault((case, output), {})[who] = r["relacc_speedup_over_this"]
                 if "relacc_speedup_over_this_best" in r:
                     ratios[(case, output)][who + "_best"] = r["relacc_speedup_over_this_best"]
                 one = rows.get((case, "relacc-1-thread", output))
-                if who == "pinocchio" and one:
-                    ratios[(case, output)]["one_thread_over_pinocchio"] = r["seconds"] / one["seconds"]
+                if one:
+                    ratios[(case, output)][f"one_thread_over_{who}"] = r["seconds"] / one["seconds"]
         runs.append({"file": path.name, "machine": data["machine"], "n_states": data["n_states"], "ratios": ratios})
     return runs
 

@@ -67,10 +67,10 @@ class Joint:
 
     name: str
     type: str
-    pos: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
-    axis: np.ndarray = field(default=(0.0, 0.0, 1.0), repr=False)
+    pos: np.ndarray = field(default_factory=lambda: np.zeros(3), repr=False)
+    axis: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]), repr=False)
     ref: float = 0.0
-    armature: np.ndarray = field(default=None, repr=False)
+    armature: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         who = f"joint {self.name!r}"
@@ -140,12 +140,12 @@ class Body:
 
     name: str
     parent: int | str = -1
-    pos: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
-    quat: np.ndarray = field(default=(1.0, 0.0, 0.0, 0.0), repr=False)
+    pos: np.ndarray = field(default_factory=lambda: np.zeros(3), repr=False)
+    quat: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]), repr=False)
     joints: tuple = ()
     mass: float = 0.0
-    com: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
-    inertia: np.ndarray = field(default=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)), repr=False)
+    com: np.ndarray = field(default_factory=lambda: np.zeros(3), repr=False)
+    inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)), repr=False)
     physical: bool = field(default=True, repr=False)
 
     def __post_init__(self):
@@ -201,7 +201,7 @@ class Point:
 
     name: str
     body: int | str
-    pos: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
+    pos: np.ndarray = field(default_factory=lambda: np.zeros(3), repr=False)
 
     def __post_init__(self):
         object.__setattr__(self, "pos", fixed_vector(f"point {self.name!r}", "pos", self.pos))
@@ -223,7 +223,7 @@ class Tree:
 
     name: str
     bodies: tuple
-    gravity: np.ndarray = field(default=(0.0, 0.0, 0.0), repr=False)
+    gravity: np.ndarray = field(default_factory=lambda: np.zeros(3), repr=False)
     points: tuple = ()
     source: str = "python"
 

@@ -326,11 +326,15 @@ def _derivative(matrix) -> np.ndarray:
     return out.reshape(np.shape(matrix))
 
 
-def load(path, reference, *, build=False, **options) -> DrakeAdapter:
+def load(path, reference=None, *, build=False, **options) -> DrakeAdapter:
     """The one loader signature: ``path`` read by Drake's parser (or, ``build``, the plant of ``reference``),
     matched to ``reference``.
 
     Raises:
         ModelError: Drake cannot read the file. EngineError: a tree Drake's plant builder does not take.
     """
+    if reference is None:  # relacc's own reading, never another engine's
+        from relacc.reading import read_tree
+
+        reference = read_tree(path)
     return DrakeAdapter(path, reference, build=build)

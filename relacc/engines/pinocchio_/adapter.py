@@ -426,11 +426,15 @@ class PinocchioSpace:
         return np.linalg.solve(pin.dIntegrate(self.model, x0, delta, pin.ArgumentPosition.ARG1), w)
 
 
-def load(path, reference, *, urdf=None, split=False, **options) -> PinocchioAdapter:
+def load(path, reference=None, *, urdf=None, split=False, **options) -> PinocchioAdapter:
     """The one loader signature: ``path`` (MJCF; or ``urdf`` by the URDF parser) in Pinocchio, matched to
     ``reference``; ``split``: composites split into simple joints (:func:`split_composites`).
 
     Raises:
         ModelError: Pinocchio cannot read the file.
     """
+    if reference is None:  # relacc's own reading, never another engine's
+        from relacc.reading import read_tree
+
+        reference = read_tree(path)
     return PinocchioAdapter(path, reference, urdf=urdf, split=split)

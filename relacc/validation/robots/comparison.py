@@ -25,7 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from relacc.engines import ENGINES, adapter_module, installed, readings
+from relacc.core.conventions import ENGINE_LABELS
+from relacc.engines import ENGINES, MESH_ENGINE, adapter_module, installed, readings, traits
 from relacc.engines import load as load_adapter
 from relacc.engines.contain import survives
 from relacc.errors import EngineError, ModelError
@@ -139,7 +140,7 @@ def load_robot(engine, path, tree, urdf=None):
     Raises:
         ModelError: the engine cannot read the file. EngineError: an unknown or missing engine.
     """
-    options = {"urdf": urdf} if engine == "pinocchio" and urdf is not None else {}
+    options = {"urdf": urdf} if traits(engine).own_urdf and urdf is not None else {}
     return load_adapter(engine, path, tree, **options)
 
 
@@ -176,7 +177,7 @@ def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0
     for robot in unshared:  # the user's URDF describes another robot: what differs, element by element
         audits.append(_audit(reading, reference, robot, scales, URDF_CAUSE))
     for robot in list(robots):
-        from_urdf = robot.engine == "pinocchio" and urdf is not None
+        from_urdf = traits(robot.engine).own_urdf and urdf is not None
         try:
             items = _audit(reading, reference, robot, scales, URDF_CAUSE if other_file and from_urdf else None)
             rows = compare_dynamics(reference, robot, states)
@@ -247,7 +248,7 @@ def _load(model, names, reading, urdf, reports) -> tuple[list, list]:
                                          error=f"{name} shares no speed with relacc's reading: it read nq "
                                                f"{robot.structure.nq}, nv {robot.structure.nv} and none of its "
                                                "joints is one of the file's", warnings=tuple(robot.warnings))
-            if name == "pinocchio" and urdf is not None and Path(urdf).resolve() != Path(model).resolve():
+            if traits(name).own_urdf and urdf is not None and Path(urdf).resolve() != Path(model).resolve():
                 unshared.append(robot)
             continue
         robots.append(robot)
@@ -325,10 +326,11 @@ def _fallback(item: Item, reading, engine: str, unexplained: str | None) -> Caus
     members = _link_bodies(reading, name) if kind == "link" else []
     taken = [b for b in members if b in reading.taken]
     if taken:
-        what = f"relacc took the mass properties of {', '.join(taken)} from MuJoCo ({reading.taken[taken[0]]})"
-        return Cause("taken", f"{what}: it cannot judge MuJoCo there" if engine == "mujoco" else
-                     f"{what}: {engine}'s differ from MuJoCo's, and relacc, which does not compute meshes, cannot say "
-                     "which reads the mesh right")
+        source = ENGINE_LABELS[MESH_ENGINE]
+        what = f"relacc took the mass properties of {', '.join(taken)} from {source} ({reading.taken[taken[0]]})"
+        return Cause("taken", f"{what}: it cannot judge {source} there" if engine == MESH_ENGINE else
+                     f"{what}: {engine}'s differ from {source}'s, and relacc, which does not compute meshes, cannot "
+                     "say which reads the mesh right")
     found = [f for f in reading.findings if f.body in members]
     if found:
         return Cause("finding", f"the file gives body {found[0].body} {found[0].condition} "
@@ -368,7 +370,7 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
     every reading that applies, cumulatively), a known difference in the engine's algorithms (alone, or with those
     readings), MuJoCo's own ``mj_jacDot``, a singular mass matrix, a finding about the file or what relacc took (the
     engine's audit ``items`` all of those kinds); else not explained."""
-    from relacc.validation.robots.mujoco_causes import mujoco_cause
+    from relacc.validation.robots.mujoco_causes import ALGORITHM_CAUSES
 
     engine = robot.engine
     current, texts = reading, []
@@ -391,10 +393,10 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
                 return Cause("explained", text)
             if read_as is not None and _explained(compare_dynamics(read_as, fixed, states), quantity, before):
                 return Cause("explained", text + "; and the audit: " + "; ".join(texts))
-    if engine == "mujoco":
-        text = mujoco_cause(quantity, reference, robot, states)
-        if text:
-            return Cause("explained", text)
+    known = ALGORITHM_CAUSES.get(engine)
+    text = known(quantity, reference, robot, states) if known else ""
+    if text:
+        return Cause("explained", text)
     if before.singular:
         return Cause("singular", "forward dynamics undefined: " + "; ".join(
             f"{e}'s mass matrix over the shared speeds is singular (no inertia moves with "
@@ -404,9 +406,10 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
         return Cause("finding", f"the file has bodies that are not physical (first: body {f.body}, {f.condition}): "
                                 "each engine reads them its own way", f.place)
     kinds = {i.kind for i in items}
-    if reading.taken and (engine == "mujoco" or ("taken" in kinds and kinds <= {"taken", "explained", "finding"})):
-        return Cause("taken", f"relacc took the mass properties of {', '.join(reading.taken)} from MuJoCo: "
-                     + ("it cannot judge MuJoCo there" if engine == "mujoco" else
+    source = ENGINE_LABELS[MESH_ENGINE]
+    if reading.taken and (engine == MESH_ENGINE or ("taken" in kinds and kinds <= {"taken", "explained", "finding"})):
+        return Cause("taken", f"relacc took the mass properties of {', '.join(reading.taken)} from {source}: "
+                     + (f"it cannot judge {source} there" if engine == MESH_ENGINE else
                         f"the audit's differences of {engine} there are the only ones not explained"))
     return Cause("not explained", f"not explained by a known difference of {engine}"
                  + (f" (its known readings of the file were applied: {'; '.join(texts)})" if texts else ""),

@@ -51,3 +51,8 @@ def ball_then_slide(tree) -> bool:
         if "ball" in kinds and "slide" in kinds[kinds.index("ball") + 1:]:
             return True
     return False
+
+
+ALGORITHM_CAUSES = {"mujoco": mujoco_cause}
+"""Each engine's known differences in its algorithms, as a function of ``(quantity, reference, adapter, states)``
+returning the cause's text or empty (engines without one are absent)."""

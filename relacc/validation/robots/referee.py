@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.engines import readings
+from relacc.engines import MESH_ENGINE, readings
 from relacc.errors import EngineError, ModelError
 from relacc.validation.robots.agreement import compare as compare_dynamics
 
@@ -97,7 +97,7 @@ def referee(voters_, states, dynamics, reading) -> list[Verdict]:
     pair_rows = {}
     for a, b in itertools.combinations(present, 2):
         pair_rows[(a.engine, b.engine)] = compare_dynamics(a.evaluator, b.evaluator, states)
-    joined = bool(reading.taken) and any(v.engine == "mujoco" for v in present)
+    joined = bool(reading.taken) and any(v.engine == MESH_ENGINE for v in present)
     out = []
     for quantity in disputed:
         names = [v.engine for v in present if quantity in _quantities(pair_rows, v.engine)]
