@@ -159,7 +159,8 @@ def streams(paths):
 
 def _rename_all(temps: dict) -> None:
     """Rename each staged temporary file over its path; on a failure put back the ones already replaced."""
-    done, backups = [], {}
+    done: list[Path] = []
+    backups: dict[Path, bytes | None] = {}
     try:
         check_interrupt()
         for path, tmp in temps.items():
@@ -172,10 +173,11 @@ def _rename_all(temps: dict) -> None:
     except BaseException:
         for path in done:
             with contextlib.suppress(OSError, OutputError):
-                if backups[path] is None:
+                backup = backups[path]
+                if backup is None:
                     path.unlink()
                 else:
-                    write_bytes(path, backups[path])
+                    write_bytes(path, backup)
         raise
 
 

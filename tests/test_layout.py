@@ -320,3 +320,23 @@ def test_the_branch_check_catches_planted_branches():
         "relacc.simulate.runs:1 n in ('pinocchio', 'mujoco')"]
     assert name_branches("relacc.reading.mjcf", 'if root.tag != "mujoco":\n    pass\n') == []
     assert name_branches("relacc.simulate.runs", 'if name == "relacc":\n    pass\n') == []
+
+
+def bare_case_comparisons(name, source):
+    """``case == 3``-style comparisons: outside the compiled kernels (which take the case as a plain int) a case is
+    named by :class:`relacc.Case` (``case == Case.ANGLE_RATES``), issue 37 #3."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Compare) and isinstance(node.left, ast.Name) and node.left.id in ("case", "c"):
+            if any(isinstance(o, ast.Constant) and o.value in (1, 2, 3) for o in node.comparators):
+                bad.append(f"{name}:{node.lineno} {ast.unparse(node)}")
+    return bad
+
+
+def test_cases_are_named_outside_the_kernels():
+    bad = [b for name, path in _modules() if not name.startswith("relacc.kernels")
+           for b in bare_case_comparisons(name, path.read_text())]
+    assert bad == []
+    assert bare_case_comparisons("relacc.simulate.runs", "x = 1 if case == 3 else 2\n") == [
+        "relacc.simulate.runs:1 case == 3"]
+    assert bare_case_comparisons("relacc.simulate.runs", "x = 1 if case == Case.ANGLE_RATES else 2\n") == []

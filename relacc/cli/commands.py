@@ -392,9 +392,9 @@ def cmd_tradeoff(args) -> int:
     if _is_robot(args):
         from relacc.tradeoff import models
 
-        result = models.run(args.model, quick=args.quick, seed=args.seed, progress=progress)
-        print(json.dumps(result.as_json(), indent=2) if args.json else models.format_text(result))
-        return result.exit_code
+        model_result = models.run(args.model, quick=args.quick, seed=args.seed, progress=progress)
+        print(json.dumps(model_result.as_json(), indent=2) if args.json else models.format_text(model_result))
+        return model_result.exit_code
     result = tradeoff.run(quick=args.quick, seed=args.seed, progress=progress, fixture=fixtures.load(args.model))
     if args.json:
         print(json.dumps(result.as_json(), indent=2))

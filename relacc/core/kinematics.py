@@ -6,6 +6,7 @@ Entry point: :func:`g2_kinematics`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -241,7 +242,7 @@ def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend=
     return G2Kinematics(*buffers, c, k.variant, owns=False)
 
 
-def _kinematics_out(out, batch, with_acc):
+def _kinematics_out(out, batch, with_acc) -> tuple[Any, Any, Any, Any, Any] | None:
     """Check ``g2_kinematics``'s ``out`` (None, or 5 buffers of the batch's shapes)."""
     if out is None:
         return None
@@ -252,8 +253,9 @@ def _kinematics_out(out, batch, with_acc):
     tails = ((3,), (3,), (3,), (3, 12), (3, 12))
     if (out[2] is None) == with_acc:
         raise InputError("out: give an acceleration buffer exactly when udot is given")
-    return tuple(None if (name == "acceleration" and not with_acc) else check_out(b, batch + tail, f"out {name}")
-                 for b, name, tail in zip(out, names, tails))
+    p, v, a, V, Vd = (None if (name == "acceleration" and not with_acc) else check_out(b, batch + tail, f"out {name}")
+                      for b, name, tail in zip(out, names, tails))
+    return p, v, a, V, Vd
 
 
 def g2_acceleration(chain, case, q, u, udot, *, backend="auto", out=None):

@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from relacc.core.cases import Case, as_case, check_int
+
+if TYPE_CHECKING:
+    from relacc.core.tree import Tree
 
 
 @dataclass(frozen=True)
@@ -27,17 +31,22 @@ class States:
     u: np.ndarray
     udot: np.ndarray
     seed: int | list
-    tree: object = None
+    tree: "Tree | None" = None
 
     def __len__(self) -> int:
         return self.q.shape[0]
 
+    def and_then(self, other: "States", seed) -> "States":
+        """These states followed by ``other``'s (one case, one tree), drawn with ``seed``."""
+        q, u, udot = (np.concatenate([getattr(self, k), getattr(other, k)]) for k in ("q", "u", "udot"))
+        return States(self.case, q, u, udot, seed, self.tree)
+
     def frozen(self) -> "States":
         """The same states with read-only arrays (what a cache hands out: a test that changes them copies first)."""
-        arrays = [np.array(a) for a in (self.q, self.u, self.udot)]
-        for a in arrays:
+        q, u, udot = (np.array(a) for a in (self.q, self.u, self.udot))
+        for a in (q, u, udot):
             a.setflags(write=False)
-        return States(self.case, *arrays, self.seed, self.tree)
+        return States(self.case, q, u, udot, self.seed, self.tree)
 
 
 def random_unit_quaternions(rng: np.random.Generator, n: int) -> np.ndarray:

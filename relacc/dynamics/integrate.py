@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from relacc.core.cases import Case
+
 
 class CaseSpace:
     """The configuration space of a chain case's coordinates.
@@ -62,13 +64,13 @@ class TreeSpace:
         from relacc.core.tree.coordinates import rotations
 
         self.tree, self.case = tree, int(case)
-        self.quats = [(a, d) for _, kind, a, d in rotations(tree, 2)] if self.case != 3 else []
+        self.quats = [(a, d) for _, kind, a, d in rotations(tree, 2)] if self.case != Case.ANGLE_RATES else []
 
     def integrate(self, q, delta):
         from relacc.core.so3 import SO3
 
         out = np.array(q, dtype=float)
-        if self.case == 3:
+        if self.case == Case.ANGLE_RATES:
             return out + delta
         one = out.ndim == 1
         out, delta = np.atleast_2d(out), np.atleast_2d(delta)
@@ -88,7 +90,7 @@ class TreeSpace:
     def dexpinv(self, q0, delta, w):
         from relacc.core.so3 import jr_inv
 
-        if self.case == 3:
+        if self.case == Case.ANGLE_RATES:
             return w
         out = np.array(w, dtype=float)
         for _, d in self.quats:
@@ -178,8 +180,9 @@ def stepper(chain, case, effects, dt: float, integrator: str):
                                   float(dt), np.ascontiguousarray(gaps, dtype=np.int64), cp, ep, Q, U)
         return Q, U, n
 
-    record(np.zeros(14 if c != 3 else 12), np.zeros(12), np.zeros(0, dtype=np.int64))  # load (or compile) it now,
-    return Stepper(advance, record)  # so that a run's seconds are its integration's
+    # load (or compile) it now, so that a run's seconds are its integration's
+    record(np.zeros(14 if c != Case.ANGLE_RATES else 12), np.zeros(12), np.zeros(0, dtype=np.int64))
+    return Stepper(advance, record)
 
 
 def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, case: int = 2):
@@ -212,7 +215,7 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, cas
     T = arrays_of(tree)
     chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
     gravity, E = kernel.effect_arrays(tree, effects)
-    fixed = (T, T.qadr3 if case == 3 else T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
+    fixed = (T, T.qadr3 if case == Case.ANGLE_RATES else T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
     method, aba, width, nq, nv = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1], tree.nq(case), tree.nv
     space, clock = TreeSpace(tree, case), [0]  # clock: steps taken
     cost = (4 if method == kernel.RK4 else 1) * US_PER_SPEED * nv  # us per step of a row, for parallel_pays

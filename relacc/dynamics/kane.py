@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from relacc.core.cases import as_case, check_q, check_u, layout
+from relacc.core.cases import Case, as_case, check_q, check_u, layout
 from relacc.core.chain import TwoBodyChain
 from relacc.core.kinematics import check_finite_result, check_out, g2_kinematics
 from relacc.core.note.common import T, configuration, mv
@@ -226,7 +226,8 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
     out = check_out(out, batch + (12,), "out")
     if backend == "reference" or not real:
         check_values()
-        if c == 3:  # solved in body speeds (case 2), mapped: M3 = W^T M2 W would square W's condition number
+        # solved in body speeds (case 2), mapped: M3 = W^T M2 W would square W's condition number
+        if c == Case.ANGLE_RATES:
             from relacc.core.speeds import body_speed_map, quaternion_coordinates
 
             W, W_dot = body_speed_map(c, q, u)

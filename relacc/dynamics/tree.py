@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from relacc.core.cases import as_case
+from relacc.core.cases import Case, as_case
 from relacc.core.kinematics import check_finite_result
 from relacc.core.rotations import quaternion_from_123, tilde
 from relacc.core.so3 import SO3
@@ -54,7 +54,7 @@ class TreeDynamics:
 
 def _speed_map(case, kind, jf, n):
     """``(B, B_dot)``: a ball's or free joint's MuJoCo (case 2) angular speeds are ``B u`` of the case's."""
-    if case == 2:
+    if case == Case.BODY_FRAME:
         eye = np.broadcast_to(np.eye(3), (n, 3, 3))
         return eye, np.zeros_like(eye)
     RaT = np.swapaxes(jf.R_after, -1, -2)
@@ -62,7 +62,7 @@ def _speed_map(case, kind, jf, n):
 
 
 def _ball_quaternion(case, q, a):
-    return quaternion_from_123(q[:, a:a + 3]) if case == 3 else q[:, a:a + 4]
+    return quaternion_from_123(q[:, a:a + 3]) if case == Case.ANGLE_RATES else q[:, a:a + 4]
 
 
 def equations(tree, case, q, u, effects=None, t=0.0):
@@ -176,7 +176,7 @@ def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
     nb, nv = (tree.nb, tree.nv) if isinstance(tree, Tree) else (0, 0)
     c, q, u, _, batch = inputs(tree, case, q, u, bytes_per_state=8.0 * (nv * nv + 4 * nb * 3 * nv * 3),
                                what="Kane's equations of")
-    if c == 3:
+    if c == Case.ANGLE_RATES:
         from relacc.core.tree.coordinates import warn_near_lock
 
         warn_near_lock(tree, q, "the mass matrix in the rates, [W_b]^T M2 [W_b] with M2 the mass matrix in case-2 "
@@ -247,7 +247,7 @@ def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backe
     rhs = np.array(d.f)
     if tau is not None:
         rhs = rhs + tau
-    if d.case == 3:
+    if d.case == Case.ANGLE_RATES:
         check_invertible(tree, np.asarray(q, dtype=float))
     return solve(tree, d.M, rhs)
 
@@ -357,7 +357,7 @@ def _fast(tree, case, q, u, tau, effects, out):
     tau, batch = _tau(tree, tau, batch, q.shape[-1])
     if tau is None:
         tau = np.zeros(batch + (tree.nv,))
-    if c == 3:
+    if c == Case.ANGLE_RATES:
         from relacc.core.tree.coordinates import warn_near_lock
 
         check_invertible(tree, np.real(q))

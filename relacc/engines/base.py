@@ -28,6 +28,7 @@ from __future__ import annotations
 import abc
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Any, Callable, NoReturn
 
 import numpy as np
 
@@ -45,8 +46,9 @@ NV = {"free": 6, "ball": 3, "slide": 1, "hinge": 1, "floating": 6}
 
 
 @dataclass(frozen=True)
-class Joint:
-    """One joint as an engine sees it, at the reference configuration.
+class BuiltJoint:
+    """One joint as an engine built it, at the reference configuration (not :class:`relacc.Joint`, a joint of
+    relacc's model).
 
     Attributes:
         name: the reference joint's name. type: one of :data:`JOINT_TYPES`. body: the body it moves.
@@ -99,11 +101,36 @@ class Structure:
 
     nq: int
     nv: int
-    joints: tuple[Joint, ...]
+    joints: tuple[BuiltJoint, ...]
     links: tuple[Link, ...]
     gravity: np.ndarray = field(repr=False)
     total_mass: float
     bodies: tuple[str, ...]
+
+
+class Loop:
+    """A benchmark anchor: calling it runs an engine's own loop over the states, as a user would write it; what the
+    loop fills is in its attributes (``acc``, ``pos``, ``vel``: ``(n, 3)`` or ``(n, k, 3)``, fixed-frame components;
+    ``out``: accelerations), and :meth:`close` releases a pool it holds."""
+
+    acc: Any = None
+    pos: Any = None
+    vel: Any = None
+    out: Any = None
+
+    def __init__(self, run: Callable[[], object], close: Callable[[], object] | None = None, **results):
+        self._run, self._close = run, close
+        for name, value in results.items():
+            if name not in ("acc", "pos", "vel", "out"):
+                raise TypeError(f"Loop has no result {name!r}")
+            setattr(self, name, value)
+
+    def __call__(self) -> None:
+        self._run()
+
+    def close(self) -> None:
+        if self._close is not None:
+            self._close()
 
 
 @dataclass(frozen=True)
@@ -220,6 +247,8 @@ class Adapter(abc.ABC):
 
     engine: str = ""
     global_coordinates: frozenset = frozenset()
+    structure: Structure
+    """What the engine built, set by each adapter when it has loaded the model."""
 
     def __init__(self, reference, matches, nq_e: int, nv_e: int, source=None, warnings=()):
         self.reference, self.matches, self.nq_e, self.nv_e = reference, tuple(matches), int(nq_e), int(nv_e)
@@ -227,7 +256,7 @@ class Adapter(abc.ABC):
         self.dofs = np.array(sorted(i for m in self.matches for i in m.ref_v), dtype=int)
         self.qdofs = np.array(sorted(i for m in self.matches for i in m.ref_q), dtype=int)
         self.extra_dofs = self.nv_e - len(self.dofs)
-        self._joint_plan = None  # (effects, resolved joint effects, matches): see _joint_forces
+        self._joint_plan: tuple | None = None  # (effects, resolved joint effects, matches): see _joint_forces
 
     # --- what each engine implements -------------------------------------------------------------------------
 
@@ -280,7 +309,7 @@ class Adapter(abc.ABC):
 
     # --- what some engines offer: benchmark anchors and batched runs (EngineError where an engine has none) -------
 
-    def _lacks(self, what: str):
+    def _lacks(self, what: str) -> NoReturn:
         raise EngineError(f"{self.engine} offers no {what} in relacc (see relacc.engines.base.Adapter)")
 
     def point_loop(self, qe, ve, ae, spec, full: bool = False):

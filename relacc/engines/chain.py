@@ -50,14 +50,14 @@ class EngineInput:
 
 
 @dataclass(frozen=True)
-class PointKinematics:
+class EngineG2:
     """G2 over a batch, in the engine's velocity coordinates: ``position (n, 3)`` m; ``J``, ``J_dot``
     ``(n, 3, nv_e)``; ``acceleration (n, 3)`` classical, by the engine's acceleration routine (None without rates);
     world (= fixed frame R) components."""
 
     position: np.ndarray
     J: np.ndarray
-    J_dot: np.ndarray
+    J_dot: np.ndarray | None
     acceleration: np.ndarray | None
 
 
@@ -121,11 +121,11 @@ class ChainEngine:
         udot = None if x.a is None else np.linalg.solve(x.E, (x.a - mv(x.E_dot, u))[..., None])[..., 0]
         return q, u, udot
 
-    def points(self, route: str, q, v, a, *, jdot: bool = True) -> PointKinematics:
+    def points(self, route: str, q, v, a, *, jdot: bool = True) -> EngineG2:
         """G2 at engine states ``(n, nq_e)``, ``(n, nv_e)``, rates ``a`` (or None); ``jdot=False`` leaves ``J_dot``
         out (None), which Drake computes by automatic differentiation."""
         p = self.routes[route].points(q, v, a, [G2], jdot=jdot)
-        return PointKinematics(p.position[:, 0], p.J[:, 0], p.Jdot[:, 0] if jdot else None,
+        return EngineG2(p.position[:, 0], p.J[:, 0], p.Jdot[:, 0] if jdot else None,
                                None if p.acceleration is None else p.acceleration[:, 0])
 
     def g2_kinematics(self, case, q, u, udot=None, *, route="quaternion") -> G2Kinematics:

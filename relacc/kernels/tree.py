@@ -441,8 +441,9 @@ def kinematics(tree, case: int, q, u, udot, points: bool, out=None):
     npt = len(tree.points) if points else 0
     with_acc = udot is not None
     out = {} if out is None else out
-    body = {"position": 3, "velocity": 3, "acceleration": 3, "omega": 3, "alpha": 3, "rotation": (3, 3),
-            "V": (3, nv), "Vdot": (3, nv), "Omega": (3, nv), "Omegadot": (3, nv)}
+    body: dict[str, int | tuple[int, ...]] = {
+        "position": 3, "velocity": 3, "acceleration": 3, "omega": 3, "alpha": 3, "rotation": (3, 3),
+        "V": (3, nv), "Vdot": (3, nv), "Omega": (3, nv), "Omegadot": (3, nv)}
     res = {k: out[k] if out.get(k) is not None else np.empty((n, nb) + ((t,) if isinstance(t, int) else t))
            for k, t in body.items()}
     pts = {k: np.empty((n, npt) + t) for k, t in (("position", (3,)), ("velocity", (3,)), ("acceleration", (3,)),

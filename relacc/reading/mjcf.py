@@ -42,7 +42,7 @@ from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.errors import ModelError
 from relacc.reading import frames, inertia, physical
 from relacc.reading.model import Reading
-from relacc.reading.xml import Node, number, numbers, parse_file
+from relacc.reading.xml import Node, number, numbers, parse_file, required_numbers
 
 MAX_INCLUDE_DEPTH = 20
 """Includes nested deeper than this are refused (a file that includes itself)."""
@@ -277,10 +277,10 @@ class _Reader:
         if key == "quat":
             return frames.quaternion(numbers(node, "quat", 4), self.normalized, node.place)
         if key == "axisangle":
-            v = numbers(node, "axisangle", 4)
+            v = required_numbers(node, "axisangle", 4)
             return frames.axis_angle(self.normalized.unit("axisangle axis", v[:3], node.place), self.angle(v[3]))
         if key == "euler":
-            return frames.euler(self.eulerseq, [self.angle(x) for x in numbers(node, "euler", 3)])
+            return frames.euler(self.eulerseq, [self.angle(x) for x in required_numbers(node, "euler", 3)])
         if key == "xyaxes":
             return frames.xyaxes(numbers(node, "xyaxes", 6), self.normalized, node.place)
         return frames.zaxis(numbers(node, "zaxis", 3), self.normalized, node.place)
@@ -426,7 +426,7 @@ class _Reader:
                 if "armature_without_actuator" in self.variant:
                     armature = 0.0
             damping = number(j, "damping", 0.0)
-            if j.get("springdamper") is not None and all(x > 0 for x in numbers(j, "springdamper", 2)):
+            if j.get("springdamper") is not None and all(x > 0 for x in required_numbers(j, "springdamper", 2)):
                 self.springdamper.append(name)
             if kind == "free" and damping:
                 self.damped_free += 1
@@ -447,13 +447,14 @@ class _Reader:
             if rng is not None and kind in ("hinge", "slide") and (limited == "true" or (
                     limited == "auto" and self.autolimits)) and rng[0] < rng[1]:
                 self.ranges[name] = (rng[0] * scale, rng[1] * scale)
+            per_dof = np.full(nv, armature)  # one armature for each of the joint's speeds
             if kind == "ball":
-                out.append(Joint.ball(name, pos=pos, armature=armature))
+                out.append(Joint.ball(name, pos=pos, armature=per_dof))
                 continue
             axis = R @ self.normalized.unit("joint axis", numbers(j, "axis", 3, [0.0, 0.0, 1.0]), j.place)
             ref = number(j, "ref", 0.0) * (scale if kind == "hinge" else 1.0)
-            joint = Joint.hinge(name, axis, pos=pos, ref=ref, armature=armature) if kind == "hinge" else \
-                Joint(name, "slide", pos=pos, axis=axis, ref=ref, armature=armature)
+            joint = Joint.hinge(name, axis, pos=pos, ref=ref, armature=per_dof) if kind == "hinge" else \
+                Joint(name, "slide", pos=pos, axis=axis, ref=ref, armature=per_dof)
             out.append(joint)
         return out
 
@@ -478,7 +479,7 @@ class _Reader:
                 xx, yy, zz, xy, xz, yz = full
                 I = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
             else:
-                I = np.diag(diag)
+                I = np.diag(required_numbers(inertial, "diaginertia", 3))
             I = R @ I @ R.T
             return mass, pos, 0.5 * (I + I.T)
         if self.fromgeom == "false":

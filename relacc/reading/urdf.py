@@ -92,7 +92,7 @@ def read(path) -> Reading:
         lost = sorted(set(links) - set(order))
         raise ModelError(f"{path}: links {', '.join(lost)} are not reachable from the root {roots[0]!r} (a loop)")
     world = roots[0] == "world"
-    index = {}
+    index: dict[str, int] = {}
     bodies, places, ranges, damping, findings, turned = [], {}, {}, {}, [], {}
     unevaluated = []
     mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None]
@@ -105,11 +105,12 @@ def read(path) -> Reading:
             continue  # a root link named world is the world
         link = links[name]
         places[("body", name)] = link.place
-        pos, R, joint_list, parent = np.zeros(3), np.eye(3), (), -1
+        pos, R, parent_index = np.zeros(3), np.eye(3), -1
+        joint_list: tuple[Joint, ...] = ()
         if name in parent_of:
             jname, pname = parent_of[name]
             node = joints[jname]
-            parent = index.get(pname, -1)  # the world's children: parent -1
+            parent_index = index.get(pname, -1)  # the world's children: parent -1
             pos, R = _origin(node, normalized)
             places[("joint", jname)] = node.place
             kind = JOINTS[node.get("type")]
@@ -132,11 +133,12 @@ def read(path) -> Reading:
         found = physical.check(name, mass, inertia, where or link.place)
         findings += found
         index[name] = len(bodies)
-        bodies.append(Body(name, parent, pos=pos, quat=frames.quaternion_of(R), joints=joint_list, mass=mass, com=com,
-                           inertia=inertia, physical=not any(f.condition != "no mass but an inertia" for f in found)))
+        is_physical = not any(f.condition != "no mass but an inertia" for f in found)
+        bodies.append(Body(name, parent_index, pos=pos, quat=frames.quaternion_of(R), joints=joint_list, mass=mass,
+                           com=com, inertia=inertia, physical=is_physical))
     if not bodies:
         raise ModelError(f"{path}: the URDF has no link besides the world")
-    tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=(0.0, 0.0, -9.81), source=str(path))
+    tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array([0.0, 0.0, -9.81]), source=str(path))
     notes += normalized.notes("URDF")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
                    tuple(findings), turned)

@@ -144,6 +144,18 @@ def numbers(node: Node, key: str, count: int | None = None, default: list[float]
     return values
 
 
+def required_numbers(node: Node, key: str, count: int | None = None) -> list[float]:
+    """:func:`numbers` of an attribute the element must have.
+
+    Raises:
+        ModelError: it is absent, or as :func:`numbers`.
+    """
+    values = numbers(node, key, count)
+    if values is None:
+        raise ModelError(f"{node.place}: <{node.tag}> needs {key}")
+    return values
+
+
 @overload
 def number(node: Node, key: str, default: None = None) -> float | None: ...
 

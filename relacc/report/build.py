@@ -75,7 +75,9 @@ def build_context(n_states=None, seed=0, quick=False, model=None, progress=None)
         progress(f"dynamics and simulation against the engines' batched APIs, {sizes['n_states']} states")
     from relacc.tradeoff import batched
 
-    batched_result = batched.run(fixture, batched.tumbling(sizes.pop("duration"), fixture), seed=seed, **sizes)
+    batched_result = batched.run(fixture, batched.tumbling(sizes["duration"], fixture), seed=seed,
+                                 n_states=int(sizes["n_states"]), n_steps=int(sizes["n_steps"]),
+                                 members=int(sizes["members"]), repeats=int(sizes["repeats"]))
     simulations = run_scenes(quick, progress)
     from relacc import tradeoff as tradeoff_mod
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.core.cases import check_int, check_q, check_u
+from relacc.core.cases import Case, check_int, check_q, check_u
 from relacc.core.rotations import quaternion_exp, quaternion_multiply
 from relacc.errors import EngineError
 from relacc.simulate.scenes import Scene
@@ -54,7 +54,7 @@ def _chunk(scene, j, spread, seed):
     m = MEMBER_CHUNK
     q0 = np.repeat(scene.q[None].astype(float), m, axis=0)
     u0 = np.repeat(scene.u[None].astype(float), m, axis=0)
-    if scene.case == 3:
+    if scene.case == Case.ANGLE_RATES:
         q0 += spread * rng.normal(size=(m, 12))
     else:
         for sl in (slice(0, 3), slice(7, 10)):
@@ -76,7 +76,7 @@ def _tree_chunk(scene, j, spread, seed):
     m = MEMBER_CHUNK
     q0 = np.repeat(scene.q[None].astype(float), m, axis=0)
     u0 = np.repeat(scene.u[None].astype(float), m, axis=0)
-    quats = [a for _, _, a, _ in rotations(scene.tree, scene.case)] if scene.case != 3 else []
+    quats = [a for _, _, a, _ in rotations(scene.tree, scene.case)] if scene.case != Case.ANGLE_RATES else []
     plain = np.ones(q0.shape[1], dtype=bool)
     for a in quats:
         plain[a:a + 4] = False

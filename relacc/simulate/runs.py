@@ -193,8 +193,9 @@ def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=Non
     note_at = set(np.unique(np.linspace(0, len(steps) - 1, NOTE_CHECK_STATES).astype(int)).tolist())
     note_states, pairs = [], {}
     paths = [Path(out) / f"{scene.name}-{n}.csv" for n in names] if out is not None else []
-    with files.new_directory(out) if out is not None else contextlib.nullcontext(), \
-            files.streams(paths) if paths else contextlib.nullcontext({}) as handles:
+    made: contextlib.AbstractContextManager = files.new_directory(out) if out is not None else contextlib.nullcontext()
+    opened: contextlib.AbstractContextManager = files.streams(paths) if paths else contextlib.nullcontext({})
+    with made, opened as handles:
         writers = {n: _csv_writer(handles[p], scene, runs[n].track) for n, p in zip(names, paths)}
         for start in range(0, len(steps), RECORD_BLOCK):
             chunk = steps[start:start + RECORD_BLOCK]

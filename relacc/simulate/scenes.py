@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -44,6 +45,10 @@ from relacc.errors import InputError, RelaccError
 from relacc.fixtures import Fixture, tomlfile
 from relacc.fixtures import load as load_fixture
 from relacc.fixtures.model import inline
+
+if TYPE_CHECKING:
+    from relacc.core.tree import Tree
+    from relacc.dynamics.tree_effects import TreeEffects
 
 SIM_ENGINES = ("relacc",) + ENGINES
 """The names a scene's ``engines`` takes: relacc and every engine, in report order."""
@@ -80,7 +85,7 @@ class Scene:
     case: int
     q: np.ndarray
     u: np.ndarray
-    effects: object
+    effects: "Effects | TreeEffects"
     duration: float
     dt: float
     integrator: str
@@ -90,7 +95,7 @@ class Scene:
     drake_integrator: str | None = None
     drake_accuracy: float | None = None
     model_path: Path | None = None
-    tree: object = None
+    tree: "Tree | None" = None
     observe: str = "G2"
     left_out: tuple[tuple[str, str], ...] = ()
     unevaluated: tuple[str, ...] = ()
@@ -107,12 +112,45 @@ class Scene:
         return self.model_path is None
 
     @property
+    def chain(self) -> TwoBodyChain:
+        """The note's chain of a chain scene.
+
+        Raises:
+            InputError: a model file's scene (it has :attr:`model_tree` instead).
+        """
+        if self.fixture is None:
+            raise InputError(f"scene {self.name} is a model's ({self.model_path}): it has a tree, not the note's chain")
+        return self.fixture.chain
+
+    @property
+    def chain_effects(self) -> Effects:
+        """The effects of a chain scene (the note's chain's :class:`relacc.dynamics.effects.Effects`).
+
+        Raises:
+            InputError: a model file's scene (its effects act by joint and body name).
+        """
+        if not isinstance(self.effects, Effects):
+            raise InputError(f"scene {self.name} is a model's ({self.model_path}): its effects act on a tree")
+        return self.effects
+
+    @property
+    def model_tree(self) -> Tree:
+        """The tree of a model file's scene.
+
+        Raises:
+            InputError: a chain scene (it has :attr:`chain` instead).
+        """
+        if self.tree is None:
+            raise InputError(f"scene {self.name} is the note's chain: it has no model file's tree")
+        return self.tree
+
+    @property
     def conserves_momentum(self) -> bool:
         """No external force or torque: the effects exert none, and every root body is free (a body jointed to the
         world takes reaction forces from it)."""
         if not self.effects.conserves_momentum:
             return False
-        return self.is_chain or all(b.joints and b.joints[0].type == "free" for b in self.tree.bodies
+        return self.is_chain or all(b.joints and b.joints[0].type == "free" for b in self.model_tree.bodies
                                     if b.parent < 0)
 
     @property
@@ -126,7 +164,7 @@ class Scene:
         """The observed point as an adapter's point spec: ``G2``, a named point, or a body's mass centre."""
         from relacc.engines.base import body, point
 
-        if self.is_chain or self.observe in self.tree.point_names:
+        if self.is_chain or self.observe in self.model_tree.point_names:
             return point(self.observe)
         return body(self.observe)
 

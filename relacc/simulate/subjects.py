@@ -18,8 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from relacc.core.cases import Case
 from relacc.core.tolerances import rounding_tolerance
-from relacc.errors import EngineError, ModelError
+from relacc.errors import EngineError, InputError, ModelError
 
 
 def _observation(position, velocity, acceleration, energy_terms, momentum, angular_momentum) -> dict:
@@ -233,7 +234,7 @@ def _relacc_acceleration(scene, t, Q, U, case):
     scale = tree_scales(tree, case, Q, U, Udot, at=at).of("acceleration")[:, b]
     q2, v2 = reference_state(scene, Q, U, case)
     d = tree_dynamics(tree, 2, q2, v2, effects=eff, t=t)
-    udot2 = Udot if case == 2 else convert(tree, Q, U, Udot, source=case, target=2)[2]
+    udot2 = Udot if case == Case.BODY_FRAME else convert(tree, Q, U, Udot, source=case, target=2)[2]
     return acc, scale + _solve_scale(scene, q2, v2, udot2, d), d.M
 
 
@@ -249,12 +250,15 @@ def _solve_scale(scene, q2, v2, udot, d) -> np.ndarray:
     from relacc.core.tree import tree_kinematics
     from relacc.core.tree.scales import extent, velocity_terms
 
-    tree = scene.tree
+    tree = scene.model_tree
     kind, name = scene.point
     M, f = np.asarray(d.M), np.asarray(d.f)
     if kind == "point":
-        V = tree_kinematics(tree, 2, q2, v2, points=[name]).points.V[:, 0]
+        points = tree_kinematics(tree, 2, q2, v2, points=[name]).points
+        if points is None:  # asked for by name, so always evaluated
+            raise InputError(f"point {name!r} of {tree.name} was not evaluated")
+        V = points.required("V")[:, 0]
     else:
-        V = tree_kinematics(tree, 2, q2, v2).V[:, tree.body(name)]
+        V = tree_kinematics(tree, 2, q2, v2).required("V")[:, tree.body(name)]
     terms = np.abs(f).max(axis=-1) + velocity_terms(tree, q2, v2, extent(tree))
     return np.abs(V).max(axis=(-2, -1)) * (np.abs(udot).max(axis=-1) + terms / np.linalg.norm(M, 2, axis=(-2, -1)))

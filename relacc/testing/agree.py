@@ -81,7 +81,7 @@ def assert_agrees(actual, expected, *, scale=None, what: str = "", tolerance: fl
     labels = expected.labels if isinstance(expected, Expected) else ()
     if labels:  # a model's bodies: judge (state, body) pairs, name the body
         flat = ratio.reshape(-1)
-        i, body = np.unravel_index(int(np.argmax(flat)), ratio.shape)
+        i, body = (int(x) for x in np.unravel_index(int(np.argmax(flat)), ratio.shape))
         diff = np.abs(act[i, body] - ref[i, body])
         row = int(np.unravel_index(np.nanargmax(np.where(np.isnan(diff), np.inf, diff)), diff.shape)[0])
         tol_i = float(np.broadcast_to(tol, errors.shape)[i, body])

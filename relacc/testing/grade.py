@@ -188,8 +188,7 @@ def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain
     from relacc.engines import available
 
     ordinary, hard = draw_states(c, n, seed), draw_states(c, n, seed, hard=True)
-    s = States(ordinary.case, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
-               seed)
+    s = ordinary.and_then(hard, seed)
     shape = (3,) if quantity in ("position", "velocity", "acceleration") else (3, 12)
     # the truth first, and apart from anything the user's code touches (it runs in a child process, on copies)
     truths = [truth(s, name, chain=chain).of(quantity)

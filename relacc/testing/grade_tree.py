@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 
 from relacc.core.cases import as_case, check_int
-from relacc.core.states import States
 from relacc.core.tolerances import normalized_error, rounding_tolerance
 from relacc.core.tree import tree_kinematics
 from relacc.core.tree.scales import tree_scales
@@ -62,8 +61,7 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
                    f"grading {tree.name!r} ({tree.nb} bodies, {tree.nv} speeds) on {n} ordinary and {n} hard states",
                    "ask for fewer states (--states)")
     ordinary, hard = model_states(tree, c, n, seed), model_states(tree, c, n, seed, hard=True)
-    s = States(ordinary.case, *(np.concatenate([getattr(ordinary, k), getattr(hard, k)]) for k in ("q", "u", "udot")),
-               seed, tree)
+    s = ordinary.and_then(hard, seed)
     shape = (3,) if quantity in PHYSICAL else (3, tree.nv)
     # the truth first, and apart from anything the user's code touches (it runs in a child process, on copies)
     truths = []

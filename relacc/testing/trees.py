@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.core.cases import as_case, check_int
+from relacc.core.cases import Case, as_case, check_int
 from relacc.core.states import States
 from relacc.core.tolerances import rounding_tolerance
 from relacc.core.tree import Tree, convert, random_states, tree_kinematics
@@ -55,9 +55,9 @@ def model_states(model, case=2, n: int = 200, seed: int = 0, hard: bool = False)
             q[kind == 0, a:a + 3] += 1e6
         u[kind == 1] *= 1e3
         udot[kind == 1] *= 1e6
-    if c != 2:
+    if c != Case.BODY_FRAME:
         q, u, udot = convert(tree, q, u, udot, source=2, target=c)
-    if hard and c == 3:  # case 3's own hard states: 1e-3 rad from the lock, the rates as drawn
+    if hard and c == Case.ANGLE_RATES:  # case 3's own hard states: 1e-3 rad from the lock, the rates as drawn
         for _, _, a, _ in rotations(tree, 3):
             q[2::3, a + 1] = np.pi / 2 - 1e-3
     return States(as_case(c), q, u, udot, ["hard", seed] if hard else seed, tree).frozen()
@@ -83,6 +83,8 @@ def _truth(s: States, engine: str, quantities: tuple) -> dict:
     from relacc.testing.truth import Expected
 
     tree, c = s.tree, int(s.case)
+    if tree is None:
+        raise InputError("truth for a model: these states are the note's chain's, not a tree's")
     sc = tree_scales(tree, c, s.q, s.u, s.udot)
     bound = np.broadcast_to(tree_tolerance(tree) - rounding_tolerance(), (len(s), tree.nb))
     if engine == "relacc":
@@ -94,7 +96,7 @@ def _truth(s: States, engine: str, quantities: tuple) -> dict:
         ref = adapter.body_motion(qe, ve, ae)
         values = {name: ref[name] for name in quantities if name in PHYSICAL}
         values.update({name: np.einsum("nbkj,nji->nbki", ref[name], T) for name in quantities
-                       if c == 2 and name in ("V", "Omega")})
+                       if c == Case.BODY_FRAME and name in ("V", "Omega")})
     return {name: Expected(name, c, v, sc.of(name), bound, s.seed, engine, tree.body_names)
             for name, v in values.items()}
 

@@ -12,6 +12,7 @@ user's numbers exactly as ``relacc check`` judges the engines.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -21,6 +22,9 @@ from relacc.core.scales import term_scales
 from relacc.core.states import States, random_states
 from relacc.core.tolerances import rounding_tolerance
 from relacc.errors import InputError
+
+if TYPE_CHECKING:
+    from relacc.testing.trees import ModelTruth
 
 
 def states(case, n: int = 200, seed: int = 0, hard: bool = False, model=None):
@@ -102,8 +106,8 @@ class Truth:
 
     source: str
     states: States
-    kinematics: object = field(repr=False)
-    scales: object = field(repr=False)
+    kinematics: Any = field(repr=False)
+    scales: Any = field(repr=False)
     bounds: dict = field(repr=False)
 
     def of(self, quantity: str) -> Expected:
@@ -119,7 +123,7 @@ class Truth:
     Vdot = property(lambda self: self.of("Vdot"))
 
 
-def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain=None) -> Truth:
+def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain=None) -> "Truth | ModelTruth":
     """G2's kinematics for the states ``s`` by an engine (or ``"relacc"``: the corrected formulas).
 
     Args:

@@ -133,6 +133,8 @@ def load_function(spec: str):
             if module_name.endswith(".py") or "/" in module_name:
                 path = regular_file(module_name, CallError, "Python module")
                 loader = importlib.util.spec_from_file_location(path.stem, path)
+                if loader is None or loader.loader is None:
+                    raise CallError(f"{path}: Python cannot load it as a module")
                 module = importlib.util.module_from_spec(loader)
                 sys.path.insert(0, str(path.resolve().parent))  # as running the file would: its siblings import
                 try:

@@ -46,7 +46,7 @@ from relacc.simulate.members import perturbed
 from relacc.simulate.scenes import Scene
 from relacc.tradeoff.throughput import machine, one_thread, wall_times
 
-GRAVITY = Effects(gravity=[0.0, 0.0, -9.81])
+GRAVITY = Effects(gravity=np.array([0.0, 0.0, -9.81]))
 """The forward-dynamics benchmark's effects (the issue's anchor: gravity on)."""
 
 
@@ -98,7 +98,7 @@ def dynamics_rows(fixture, n_states: int, repeats: int, seed: int) -> list[dict]
 def step_rows(scene: Scene, n_steps: int, repeats: int) -> list[dict]:
     """One scene's step, us per step: relacc's stepper and MuJoCo, per step from Python and in compiled loops."""
     rows = []
-    run = stepper(scene.fixture.chain, scene.case, scene.effects, scene.dt, scene.integrator)
+    run = stepper(scene.chain, scene.case, scene.chain_effects, scene.dt, scene.integrator)
     q0, u0 = scene.q.astype(float), scene.u.astype(float)
 
     def relacc_python():

@@ -18,6 +18,7 @@ import time
 import numpy as np
 
 from relacc import dynamics
+from relacc.core.cases import Case
 from relacc.core.kinematics import g2_kinematics
 from relacc.dynamics.integrate import CaseSpace, solve_on_space
 from relacc.engines import available, load_engine, with_trait
@@ -52,7 +53,7 @@ def _adaptive(name, engine, scene, method, rtol):
     if name == "relacc":
         space = CaseSpace(scene.case)
         derivs = Rates(chain, scene.case, eff)
-        rotations = () if scene.case == 3 else (slice(3, 6), slice(9, 12))
+        rotations = () if scene.case == Case.ANGLE_RATES else (slice(3, 6), slice(9, 12))
         x0, v0 = scene.q.astype(float), scene.u.astype(float)
         return solve_on_space(space, x0, v0, derivs, scene.duration, method, rtol, rtol * 1e-2, rotations)
     x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
@@ -82,7 +83,7 @@ def reference(scene: Scene, engines):
     """``(r_G2(T), E(0), agreement)``: DOP853 at 1e-13 on relacc, and its distance from MuJoCo RK4 at dt/16."""
     x, v, _ = _adaptive("relacc", None, scene, "DOP853", 1e-13)
     r_ref, _ = _final_g2("relacc", None, scene, x, v)
-    E0 = float(dynamics.energy(scene.fixture.chain, scene.case, scene.q, scene.u, scene.effects))
+    E0 = float(dynamics.energy(scene.chain, scene.case, scene.q, scene.u, scene.chain_effects))
     xm, vm, _ = _fixed("mujoco", engines["mujoco"], scene, "rk4", scene.dt / 16)
     r_mj, _ = _final_g2("mujoco", engines["mujoco"], scene, xm, vm)
     return r_ref, E0, float(np.linalg.norm(r_mj - r_ref))

@@ -120,7 +120,11 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
                               repeats)
         rows.append(_row("kinematics", name, "relacc tree_kinematics partials=False out=", t, secs, n_states, case=2))
     full = {k: np.ones_like(v) for k, v in out.items()}
-    secs = wall_times(lambda: [np.copyto(out[k], full[k]) for k in out], repeats)
+    def copy_all():
+        for k in out:
+            np.copyto(out[k], full[k])
+
+    secs = wall_times(copy_all, repeats)
     rows.append(_row("kinematics", name, "np.copyto of the full output", 1, secs, n_states, case=None))
     fresh = []
     for _ in range(3):  # new output arrays on every call: fresh pages each time
@@ -132,7 +136,7 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
     rows.append(_row("kinematics", name, "relacc tree_kinematics (new outputs)", thread_counts()[-1],
                      (float(np.median(fresh)), float(np.min(fresh))), n_states, case=2))
     if anchors:
-        links = [com(link) for link in robot.link_frames]
+        links = [com(link.name) for link in robot.structure.links]
         secs = wall_times(robot.jacobian_loop(qe[:small], ve[:small], links), max(3, repeats // 2), warmups=1)
         rows.append(_row("kinematics", name, "pinocchio jacobians loop", 1, secs, small, case=None))
         bodies = [body(b.name) for b in tree.bodies]

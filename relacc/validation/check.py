@@ -147,11 +147,11 @@ class Harness:
         """
         summaries = []
         for c in cases:
-            merged = None
+            merged: list | None = None
             for k, _, _ in self.chunks():
                 part = self.check_chunk(c, k, quantities)
                 merged = part if merged is None else [a.merge(b) for a, b in zip(merged, part)]
-            summaries += merged
+            summaries += merged or []
         verdicts = tuple(referee(self, s.case, s.quantity, s.route, s.worst_seed[2])
                          for s in summaries if not s.passed)
         return CheckReport(tuple(summaries), self.n_states, self.seed, self.versions(), verdicts)

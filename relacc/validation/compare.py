@@ -129,7 +129,7 @@ class Comparison:
 
     def as_row(self) -> dict:
         """A model's row (``relacc compare --json``): worst error and state, tolerance, largest difference, cause."""
-        row = {"max_error": _finite(self.max_error), "tolerance": self.tolerance, "ok": self.passed,
+        row: dict[str, object] = {"max_error": _finite(self.max_error), "tolerance": self.tolerance, "ok": self.passed,
                "state": self.worst_state, "max_difference": _finite(self.max_difference), "cause": self.cause,
                "cause_kind": self.cause_kind}
         if self.singular:

@@ -33,6 +33,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 import relacc
+from relacc.core.cases import Case
 from relacc.core.chain import TwoBodyChain
 from relacc.core.scales import term_scales
 from relacc.core.states import random_states, random_unit_quaternions
@@ -154,7 +155,7 @@ def states_for(hc: HardCase, case: int, n: int = N_STATES, seed: int = 0):
     elif kind == "far":
         q[:, 0:3] *= hc.edit[1] / np.linalg.norm(q[:, 0:3], axis=1, keepdims=True)
     elif kind == "s2":
-        sl = slice(7, 10) if case != 3 else slice(6, 9)
+        sl = slice(7, 10) if case != Case.ANGLE_RATES else slice(6, 9)
         q[:, sl] *= hc.edit[1] / np.linalg.norm(q[:, sl], axis=1, keepdims=True)
     return q, u, udot
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import relacc
+from relacc.core.cases import Case
 from relacc.core.scales import term_scales
 from relacc.fixtures import Fixture
 from relacc.validation.compare import against_derivatives, against_engines
@@ -68,7 +69,7 @@ def _draw_state(data, st):
     acc = np.array(data.draw(st.lists(st.floats(-1, 1), min_size=12, max_size=12), label="udot"))
     udot = acc * np.r_[1, 1, 1, [10.0**e_w] * 3, 1, 1, 1, [10.0**e_w] * 3] ** 2
     u = np.r_[lin[:3], w1, lin[3:], w2]
-    if case == 3:
+    if case == Case.ANGLE_RATES:
         angles = np.array(data.draw(st.lists(st.floats(-np.pi, np.pi), min_size=6, max_size=6), label="angles"))
         for k in (1, 4):  # middle angles: sometimes within 10^-d of gimbal lock
             if data.draw(st.booleans(), label="near gimbal lock"):

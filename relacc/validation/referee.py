@@ -62,7 +62,7 @@ class Verdict:
         if self.everyone_agrees:
             return f"{where}: every evaluator agrees"
         if self.odd_one_out is None:
-            worst = max(self.pairs, key=self.pairs.get)
+            worst = max(self.pairs, key=lambda pair: self.pairs[pair])
             return (f"{where}: no single odd one out; the worst pair is {worst.replace('|', ' vs ')} at "
                     f"{self.pairs[worst]:.3g} of its bound")
         ratio = max(r for k, r in self.pairs.items() if self.odd_one_out in k.split("|"))

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from relacc.core.cases import Case
 from relacc.core.tolerances import EPS, ROUNDING_FACTOR
 from relacc.core.tree.scales import extent as tree_extent
 from relacc.core.tree.scales import velocity_terms
@@ -115,7 +116,7 @@ def _draw(tree, case, data, st):
     speed = 10.0 ** data.draw(st.floats(0, 3), label="log10 speed scale")
     offset = 10.0 ** data.draw(st.floats(-2, 3), label="log10 root offset (m)")
     joint, delta = 0, None
-    if case == 3 and rotations(tree, 3):
+    if case == Case.ANGLE_RATES and rotations(tree, 3):
         joint = data.draw(st.integers(0, len(rotations(tree, 3)) - 1), label="joint near the lock")
         delta = 10.0 ** -data.draw(st.floats(1, 7), label="log10 1/delta")
     return _state(tree, case, draw_seed, speed, offset, joint, delta)
@@ -126,8 +127,8 @@ def _corners(tree, case, seed):
     lock at each ball or free joint."""
     from relacc.core.tree.coordinates import rotations
 
-    joints = range(len(rotations(tree, 3))) if case == 3 else [0]
-    return [_state(tree, case, seed, 1e3, 1e3, k, 1e-7 if case == 3 and rotations(tree, 3) else None)
+    joints = range(len(rotations(tree, 3))) if case == Case.ANGLE_RATES else [0]
+    return [_state(tree, case, seed, 1e3, 1e3, k, 1e-7 if case == Case.ANGLE_RATES and rotations(tree, 3) else None)
             for k in joints]
 
 
@@ -145,7 +146,7 @@ def _state(tree, case, draw_seed, speed, offset, joint, delta):
     for a in frees:  # a free joint's quaternion starts at a: its position is a - 3 .. a - 1
         q2[0, a - 3:a] += offset * unit / np.linalg.norm(unit)
     offset = offset if frees else 0.0
-    if case == 3:
+    if case == Case.ANGLE_RATES:
         q3, u3, _ = convert(tree, q2, u2, source=2, target=3)
         joints = rotations(tree, 3)
         if joints and delta is not None:
@@ -154,7 +155,7 @@ def _state(tree, case, draw_seed, speed, offset, joint, delta):
             q2 = q_in_case(tree, 3, 2, q3)
             u2 = convert(tree, q3, u3, source=3, target=2)[1]
         return q2, u2, q3, u3, offset, speed, delta if joints else None
-    if case == 1:
+    if case == Case.FIXED_FRAME:
         q1, u1, _ = convert(tree, q2, u2, source=2, target=1)
         return q2, u2, q1, u1, offset, speed, None
     return q2, u2, q2, u2, offset, speed, None
@@ -172,7 +173,7 @@ def _judge(tree, mujoco, case, extent, q2, u2, qc, uc, offset, speed, delta) -> 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AccuracyWarning)  # the search goes there on purpose
         a = relacc.tree_accelerations(tree, case, qc, uc)
-    a2 = convert(tree, qc, uc, a, source=case, target=2)[2] if case != 2 else np.asarray(a)
+    a2 = convert(tree, qc, uc, a, source=case, target=2)[2] if case != Case.BODY_FRAME else np.asarray(a)
     qe, ve, ae, _, _ = mujoco.to_engine(q2, u2, a2)
     engine = mujoco.forward(qe, ve)
     d = relacc.tree_dynamics(tree, 2, q2, u2)
@@ -181,7 +182,7 @@ def _judge(tree, mujoco, case, extent, q2, u2, qc, uc, offset, speed, delta) -> 
     scale = np.linalg.norm(np.linalg.inv(M), 2) * (np.linalg.norm(M, 2) * np.abs(a2).max() + terms)
     error = float(np.abs(ae - engine).max() / scale) if scale > 0 else 0.0
     cond_w = 1.0
-    if case == 3:
+    if case == Case.ANGLE_RATES:
         cond_w = max([float(condition_123(qc[0, a + 1])) for _, _, a, _ in rotations(tree, 3)] or [1.0])
     bound = ROUNDING_FACTOR * EPS * max(tree.depth) * (1.0 + offset / extent) * cond_w
     return {"ratio": error / bound, "error": error, "bound": bound, "kappa": float(np.linalg.cond(M)),

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.cases import as_case, as_numbers, check_int, quaternion_norm_deviation
+from relacc.core.cases import Case, as_case, as_numbers, check_int, quaternion_norm_deviation
 from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion, quaternion_from_123
 from relacc.core.so3 import condition_123
 from relacc.core.states import States
@@ -57,7 +57,7 @@ def check_q(tree, case, q, values: bool = True) -> np.ndarray:
                      lambda: "the joints' coordinates in order: "
                      + ", ".join(f"{j.name} ({j.type})" for _, j in tree.joints),
                      values)
-    if values and c != 3:
+    if values and c != Case.ANGLE_RATES:
         for k, kind, a, _ in rotations(tree, c):
             dev = quaternion_norm_deviation(arr[..., a:a + 4])
             if np.any(dev > QUATERNION_NORM_TOLERANCE):
@@ -138,10 +138,11 @@ def reference_q(tree, case) -> np.ndarray:
         if j.type == "free":
             body = tree.bodies[b]
             q[a:a + 3] = body.pos
-            q[a + 3:a + (6 if c == 3 else 7)] = angles_123_from_matrix(matrix_from_quaternion(body.quat)) if c == 3 \
+            angles = c == Case.ANGLE_RATES
+            q[a + 3:a + (6 if angles else 7)] = angles_123_from_matrix(matrix_from_quaternion(body.quat)) if angles \
                 else body.quat
         elif j.type == "ball":
-            q[a:a + (3 if c == 3 else 4)] = 0.0 if c == 3 else (1.0, 0.0, 0.0, 0.0)
+            q[a:a + (3 if c == Case.ANGLE_RATES else 4)] = 0.0 if c == Case.ANGLE_RATES else (1.0, 0.0, 0.0, 0.0)
         else:
             q[a] = j.ref
     return q
@@ -245,12 +246,12 @@ def random_states(tree, case, n: int, seed: int, *, size: float | None = None):
         else:
             q[:, a] = rng.uniform(-np.pi, np.pi, n) if j.type == "hinge" else rng.uniform(-size, size, n)
     u, udot = rng.standard_normal((n, tree.nv)), rng.standard_normal((n, tree.nv))
-    if c == 3:  # away from gimbal lock: redraw those joints' quaternions at a safe angle
+    if c == Case.ANGLE_RATES:  # away from gimbal lock: redraw those joints' quaternions at a safe angle
         for k, _, a, _ in rotations(tree, 2):
             theta = angles_123_from_matrix(matrix_from_quaternion(q[:, a:a + 4]))
             near = condition_123(theta[:, 1]) > 1e3
             theta[near, 1] *= 0.9
             q[near, a:a + 4] = quaternion_from_123(theta[near])
-    if c != 2:
+    if c != Case.BODY_FRAME:
         q, u, udot = convert(tree, q, u, udot, source=2, target=c)
     return States(as_case(c), q, u, udot, int(seed), tree)

@@ -63,6 +63,19 @@ class TreeKinematics:
             if isinstance(value, np.ndarray) and name not in self.buffers:
                 value.setflags(write=False)
 
+    def required(self, name: str) -> np.ndarray:
+        """The array ``name``, which this evaluation must have computed (the partials need ``partials=True``, the
+        accelerations ``udot``).
+
+        Raises:
+            InputError: it was not computed (the message says what to pass).
+        """
+        value = getattr(self, name)
+        if value is None:
+            raise InputError(f"{name} was not computed: pass udot for accelerations, partials=True for the partial "
+                             "velocities")
+        return value
+
 
 @dataclass(frozen=True, eq=False)
 class PointKinematics:
@@ -81,6 +94,19 @@ class PointKinematics:
     acceleration: np.ndarray | None
     V: np.ndarray | None
     Vdot: np.ndarray | None
+
+    def required(self, name: str) -> np.ndarray:
+        """The array ``name``, which this evaluation must have computed (the partials need ``partials=True``, the
+        accelerations ``udot``).
+
+        Raises:
+            InputError: it was not computed (the message says what to pass).
+        """
+        value = getattr(self, name)
+        if value is None:
+            raise InputError(f"{name} was not computed: pass udot for accelerations, partials=True for the partial "
+                             "velocities")
+        return value
 
 
 def _point_set(tree, points):
@@ -213,13 +239,14 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None, backend="auto",
     arr = {k: np.stack(v, axis=1) for k, v in out.items()}
     res = _motion(arr["V"], arr["Vdot"], uf, udf)
     ang = _motion(arr["Omega"], arr["Omegadot"], uf, udf)
-    shape = lambda a, tail: None if a is None else np.ascontiguousarray(a).reshape(batch + tail)  # noqa: E731
+    shape = lambda a, tail: np.ascontiguousarray(a).reshape(batch + tail)  # noqa: E731
+    maybe = lambda a, tail: None if a is None else shape(a, tail)  # noqa: E731
     pk = None
     if points is not None:
         pk = _points(tree, frames, chosen, uf, udf, batch, n)
     nb, nv = tree.nb, tree.nv
-    return TreeKinematics(shape(arr["position"], (nb, 3)), shape(res[0], (nb, 3)), shape(res[1], (nb, 3)),
-                          shape(ang[0], (nb, 3)), shape(ang[1], (nb, 3)), shape(arr["rotation"], (nb, 3, 3)),
+    return TreeKinematics(shape(arr["position"], (nb, 3)), shape(res[0], (nb, 3)), maybe(res[1], (nb, 3)),
+                          shape(ang[0], (nb, 3)), maybe(ang[1], (nb, 3)), shape(arr["rotation"], (nb, 3, 3)),
                           shape(arr["V"], (nb, 3, nv)), shape(arr["Vdot"], (nb, 3, nv)),
                           shape(arr["Omega"], (nb, 3, nv)), shape(arr["Omegadot"], (nb, 3, nv)), pk, c,
                           tree.body_names)
@@ -303,10 +330,10 @@ def _points(tree, frames, chosen, u, udot, batch, n) -> PointKinematics:
     P = np.stack(Vs, 1) if m else np.zeros((n, 0, 3, nv))
     Pd = np.stack(Vds, 1) if m else np.zeros((n, 0, 3, nv))
     vel, acc = _motion(P, Pd, u, udot)
-    shape = lambda a, tail: None if a is None else np.ascontiguousarray(a).reshape(batch + tail)  # noqa: E731
+    shape = lambda a, tail: np.ascontiguousarray(a).reshape(batch + tail)  # noqa: E731
     return PointKinematics(tuple(tree.points[i].name for i in chosen),
                            shape(np.stack(pos, 1) if m else np.zeros((n, 0, 3)), (m, 3)), shape(vel, (m, 3)),
-                           shape(acc, (m, 3)), shape(P, (m, 3, nv)), shape(Pd, (m, 3, nv)))
+                           None if acc is None else shape(acc, (m, 3)), shape(P, (m, 3, nv)), shape(Pd, (m, 3, nv)))
 
 
 __all__ = ["PointKinematics", "TreeKinematics", "cross_columns", "tree_kinematics"]

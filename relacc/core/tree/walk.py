@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from relacc.core.cases import Case
 from relacc.core.rotations import matrix_from_123, matrix_from_quaternion, quaternion_exp, tilde
 from relacc.core.so3 import w123, w123_dot
 
@@ -56,7 +57,7 @@ class Frame:
     Omega: np.ndarray
     Vdot: np.ndarray
     Omegadot: np.ndarray
-    w: np.ndarray
+    w: np.ndarray | None
 
     def point(self, r, r_dot=None):
         """``(V, Vdot)`` of the point ``o + r`` (``r (n, 3)`` fixed in the frame unless ``r_dot`` is given)."""
@@ -100,11 +101,11 @@ def angular_map(case: int, kind: str, frames: dict, theta=None, theta_dot=None):
     ``A_dot`` follows from ``d/dt [R]^T = [w~][R]^T`` and ``[W_dot]``. ``frames`` holds the
     :class:`JointFrames` fields (without A); ``theta``, ``theta_dot``: case 3's angles and rates.
     """
-    if case == 3:
+    if case == Case.ANGLE_RATES:
         Rb, W = frames["R_before"], w123(theta)
         RW = Rb @ W
         return RW, tilde(frames["w_before"]) @ RW + Rb @ w123_dot(theta, theta_dot)
-    if case == 2:
+    if case == Case.BODY_FRAME:
         Ra = frames["R_after"]
         return Ra, tilde(frames["w_after"]) @ Ra
     if kind == "free":
@@ -117,7 +118,7 @@ def angular_map(case: int, kind: str, frames: dict, theta=None, theta_dot=None):
 
 def rotation_of(case: int, kind: str, qj):
     """The joint's rotation matrix from its coordinates: a quaternion (cases 1-2) or 1-2-3 angles (case 3)."""
-    return matrix_from_123(qj) if case == 3 else matrix_from_quaternion(qj)
+    return matrix_from_123(qj) if case == Case.ANGLE_RATES else matrix_from_quaternion(qj)
 
 
 def walk(tree, case: int, q, u):
@@ -144,15 +145,15 @@ def walk(tree, case: int, q, u):
         if body.joints and body.joints[0].type == "free":
             k = ks[0]
             a, d = qadr[k], dofadr[k]
-            R = rotation_of(case, "free", q[:, a + 3:a + 3 + (3 if case == 3 else 4)])
+            R = rotation_of(case, "free", q[:, a + 3:a + 3 + (3 if case == Case.ANGLE_RATES else 4)])
             f = Frame(q[:, a:a + 3].astype(dtype), R, zeros(), zeros(), zeros(), zeros(), None)
             f.V[:, :, d:d + 3] = eye
             rec = {"R_parent": eye, "w_parent": np.zeros((n, 3), dtype=dtype), "R_before": eye,
                    "w_before": np.zeros((n, 3), dtype=dtype), "R_after": R}
-            if case == 2:  # the frame it turns moves with its own speeds: w_after first
+            if case == Case.BODY_FRAME:  # the frame it turns moves with its own speeds: w_after first
                 rec["w_after"] = mv(R, u[:, d + 3:d + 6])
             A, A_dot = angular_map(case, "free", rec, *(
-                (q[:, a + 3:a + 6], u[:, d + 3:d + 6]) if case == 3 else ()))
+                (q[:, a + 3:a + 6], u[:, d + 3:d + 6]) if case == Case.ANGLE_RATES else ()))
             f.w = mv(A, u[:, d + 3:d + 6])
             rec["w_after"] = f.w
             f.Omega[:, :, d + 3:d + 6] = A
@@ -185,11 +186,12 @@ def walk(tree, case: int, q, u):
                 A, A_dot = e[:, :, None], cross(f.w, e)[:, :, None]
                 w = f.w + e * u[:, d:d + 1]
             else:  # ball
-                R = f.R @ rotation_of(case, "ball", q[:, a:a + (3 if case == 3 else 4)])
+                R = f.R @ rotation_of(case, "ball", q[:, a:a + (3 if case == Case.ANGLE_RATES else 4)])
                 rec = {"R_parent": R_parent, "w_parent": w_parent, "R_before": f.R, "w_before": f.w, "R_after": R}
-                if case == 2:
+                if case == Case.BODY_FRAME:
                     rec["w_after"] = f.w + mv(R, u[:, d:d + 3])
-                A, A_dot = angular_map(case, "ball", rec, *((q[:, a:a + 3], u[:, d:d + 3]) if case == 3 else ()))
+                rates = (q[:, a:a + 3], u[:, d:d + 3]) if case == Case.ANGLE_RATES else ()
+                A, A_dot = angular_map(case, "ball", rec, *rates)
                 w = f.w + mv(A, u[:, d:d + 3])
                 rec["w_after"] = w
                 joints[k] = JointFrames(**rec, A=A, A_dot=A_dot)

@@ -13,7 +13,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 
 from relacc.core.rotations import matrix_from_quaternion, tilde
 from relacc.core.tree.coordinates import reference_q
-from relacc.engines.base import Adapter, Joint, Link, Points, Structure, combine, moving_mass
+from relacc.engines.base import Adapter, BuiltJoint, Link, Loop, Points, Structure, combine, moving_mass
 from relacc.engines.drake_ import run
 from relacc.engines.drake_.plant import build_plant, match_parsed, parse, quiet
 from relacc.errors import EngineError
@@ -140,7 +140,7 @@ class DrakeAdapter(Adapter):
                 axis = col[3:] / np.linalg.norm(col[3:])
             else:
                 anchor = dj.frame_on_child().CalcPoseInWorld(ctx).translation().copy()
-            joints.append(Joint(jt.name, "free" if mt.kind == "floating" else mt.kind, tree.bodies[b].name, axis,
+            joints.append(BuiltJoint(jt.name, "free" if mt.kind == "floating" else mt.kind, tree.bodies[b].name, axis,
                                 anchor, reflected[list(mt.v)], np.asarray(dj.default_damping_vector(), dtype=float)))
         links = tuple(self._link(name, head) for name, head in self.heads.items())
         every = [p.get_body(BodyIndex(i)) for i in range(1, p.num_bodies())]  # 0 is the world
@@ -281,8 +281,7 @@ class DrakeAdapter(Adapter):
                 w = p.EvalBodySpatialVelocityInWorld(ctx, body).rotational()
                 acc[i] = A.Shift(X.rotation().multiply(p_B), w).translational()
 
-        loop.acc = acc
-        return loop
+        return Loop(loop, acc=acc)
 
     def applied(self, effects) -> dict:
         from relacc.engines.base import describe
@@ -321,7 +320,7 @@ class DrakeAdapter(Adapter):
 def _derivative(matrix) -> np.ndarray:
     """The first derivative component of a matrix of ``AutoDiffXd`` (0 where it has none)."""
     flat = np.asarray(matrix).ravel()
-    grad = ExtractGradient(flat)
+    grad = np.asarray(ExtractGradient(flat))
     out = grad[:, 0] if grad.shape[1] else np.zeros(flat.size)
     return out.reshape(np.shape(matrix))
 

@@ -8,7 +8,18 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from relacc.engines.base import Adapter, Joint, Link, Match, Points, Structure, by_order, combine, moving_mass
+from relacc.engines.base import (
+    Adapter,
+    BuiltJoint,
+    Link,
+    Loop,
+    Match,
+    Points,
+    Structure,
+    by_order,
+    combine,
+    moving_mass,
+)
 from relacc.engines.mujoco_ import run
 from relacc.engines.mujoco_.spec import (
     TYPES,
@@ -77,13 +88,14 @@ class MujocoAdapter(Adapter):
         for j in range(m.njnt):
             on_body.setdefault(body_name(m, int(m.jnt_bodyid[j])), []).append(j)
         for k, ((b, joint), qa, da) in enumerate(zip(tree.joints, tree.qadr(2), tree.dofadr)):
-            j = ids.get(joint.name)
-            if j is None:
+            found = ids.get(joint.name)
+            if found is None:
                 place = tree.body_joints[b].index(k)
                 mine = on_body.get(tree.bodies[b].name, [])
-                j = mine[place] if place < len(mine) else None
-            if j is None or j in taken or TYPES[int(m.jnt_type[j])] != joint.type:
+                found = mine[place] if place < len(mine) else None
+            if found is None or found in taken or TYPES[int(m.jnt_type[found])] != joint.type:
                 continue  # the audit reports a missing joint or another type
+            j = found
             taken.add(j)
             qe, ve = int(m.jnt_qposadr[j]), int(m.jnt_dofadr[j])
             nq, nv = {"free": (7, 6), "ball": (4, 3)}.get(joint.type, (1, 1))
@@ -160,7 +172,7 @@ class MujocoAdapter(Adapter):
             anchor = d.xanchor[j].copy()
             if kind == "hinge":  # the point of the axis nearest the world origin
                 anchor = anchor - (anchor @ axis) * axis
-            joints.append(Joint(self.joint_names[j], kind, self.body_name(m.jnt_bodyid[j]), axis,
+            joints.append(BuiltJoint(self.joint_names[j], kind, self.body_name(m.jnt_bodyid[j]), axis,
                                 None if kind == "slide" else anchor,
                                 m.dof_armature[a:a + n].copy(), m.dof_damping[a:a + n].copy()))
         links = tuple(self._link(b, d) for b in self.groups)
@@ -287,7 +299,7 @@ class MujocoAdapter(Adapter):
                     out["acceleration"][i, b - 1] = _classical(m, d, b, d.xipos[b])
         return out
 
-    def point_loop(self, qe, ve, ae, spec, full: bool):
+    def point_loop(self, qe, ve, ae, spec, full: bool = False):
         """The throughput anchor: a closure looping over the states as a user would for a site's classical
         acceleration (``mj_kinematics``, ``mj_comPos``, ``mj_comVel``, ``mj_rnePostConstraint``,
         ``mj_objectAcceleration``; gravity must be off: it reports proper accelerations) and, with ``full``, its
@@ -323,8 +335,7 @@ class MujocoAdapter(Adapter):
         def loop():
             pool.rollout(models, datas, state, nstep=n_steps, skip_checks=True, state=out)
 
-        loop.close = pool.close
-        return loop
+        return Loop(loop, close=pool.close)
 
     def motion_loop(self, qe, ve, ae, specs):
         """The benchmarks' anchor for kinematics without Jacobians (:func:`_motion_loop`), at the bodies of
@@ -389,8 +400,7 @@ def _motion_loop(adapter, qe, ve, ae, specs):
                     mujoco.mj_objectAcceleration(m, d, body, b, res, 0)
                     al[i, k], acc[i, k] = res[:3], res[3:]
 
-    loop.pos, loop.vel, loop.acc = pos, vel, acc
-    return loop
+    return Loop(loop, pos=pos, vel=vel, acc=acc)
 
 
 def _point_loop(adapter, qe, ve, ae, spec, full):
@@ -415,8 +425,7 @@ def _point_loop(adapter, qe, ve, ae, spec, full):
                 mujoco.mj_jac(m, d, J[i], None, pos[i], b)
                 mujoco.mj_jacDot(m, d, Jd[i], None, pos[i], b)
 
-    loop.acc = acc
-    return loop
+    return Loop(loop, acc=acc)
 
 
 def _classical(m, d, b, p) -> np.ndarray:

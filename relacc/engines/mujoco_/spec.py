@@ -122,7 +122,7 @@ def tree_of(model, name: str = "", source: str = "", fused: tuple = ()) -> Tree:
             d = int(m.jnt_dofadr[j])
             nv = {"free": 6, "ball": 3}.get(kind, 1)
             joints.append(Joint(joint_name(m, j), kind, pos=m.jnt_pos[j].copy(),
-                                axis=m.jnt_axis[j].copy() if kind in ("hinge", "slide") else (0.0, 0.0, 1.0),
+                                axis=m.jnt_axis[j].copy() if kind in ("hinge", "slide") else np.array([0.0, 0.0, 1.0]),
                                 ref=float(m.qpos0[m.jnt_qposadr[j]]) if kind in ("hinge", "slide") else 0.0,
                                 armature=m.dof_armature[d:d + nv].copy()))
         R = matrix_from_quaternion(m.body_iquat[b])

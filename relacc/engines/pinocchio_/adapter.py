@@ -15,7 +15,7 @@ from relacc.core.rotations import (
     quaternion_to_xyzw,
     tilde,
 )
-from relacc.engines.base import Adapter, Joint, Link, Points, Structure, fixed_step_only, moving_mass
+from relacc.engines.base import Adapter, BuiltJoint, Link, Loop, Points, Structure, fixed_step_only, moving_mass
 from relacc.engines.pinocchio_.model import match, parse, split_composites
 from relacc.engines.urdf import dynamics_text
 from relacc.errors import EngineError, ModelError
@@ -135,7 +135,7 @@ class PinocchioAdapter(Adapter):
                 axis = col[:3] / np.linalg.norm(col[:3])
             else:
                 anchor = d.oMi[self._joint_of(mt.v[0])].translation.copy()
-            joints.append(Joint(jt.name, mt.kind, tree.bodies[b].name, axis, anchor, m.armature[list(mt.v)].copy(),
+            joints.append(BuiltJoint(jt.name, mt.kind, tree.bodies[b].name, axis, anchor, m.armature[list(mt.v)].copy(),
                                 m.damping[list(mt.v)].copy()))
         links = []
         for name, (j, bodies, _) in self.link_frames.items():
@@ -334,8 +334,7 @@ class PinocchioAdapter(Adapter):
         def loop():
             pin.abaInParallel(threads, pool, qe, ve, tau, out)
 
-        loop.out = out
-        return loop
+        return Loop(loop, out=out)
 
     def jacobian_loop(self, qe, ve, specs):
         """The benchmarks' anchor: a closure looping over the states: ``computeJointJacobiansTimeVariation`` then,
@@ -377,10 +376,9 @@ class PinocchioAdapter(Adapter):
                     acc[i, k] = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear
                     al[i, k] = pin.getFrameAcceleration(m, d, f, LWA).angular
 
-        loop.pos, loop.vel, loop.acc = pos, vel, acc
-        return loop
+        return Loop(loop, pos=pos, vel=vel, acc=acc)
 
-    def point_loop(self, qe, ve, ae, spec, full: bool):
+    def point_loop(self, qe, ve, ae, spec, full: bool = False):
         """The throughput anchor: a closure looping over the states as a user would for one point's classical
         acceleration (``forwardKinematics``, ``getFrameClassicalAcceleration``) and, with ``full``, its position,
         Jacobian and time variation; results in its ``acc`` attribute ``(n, 3)``."""
@@ -398,8 +396,7 @@ class PinocchioAdapter(Adapter):
                 pin.forwardKinematics(m, d, qe[i], ve[i], ae[i])
                 acc[i] = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear
 
-        loop.acc = acc
-        return loop
+        return Loop(loop, acc=acc)
 
 
 class PinocchioSpace:

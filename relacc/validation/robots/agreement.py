@@ -226,8 +226,8 @@ def compare(reference, robot, states: States) -> dict:
     for k, e in errors.items():
         if not e:
             continue
-        e = np.asarray(e, dtype=float)
-        out[k] = Comparison(2, robot.engine, "model", k, e, np.full(e.shape, tol), True, tol, diffs[k],
+        errors_k = np.asarray(e, dtype=float)
+        out[k] = Comparison(2, robot.engine, "model", k, errors_k, np.full(errors_k.shape, tol), True, tol, diffs[k],
                             singular=singular if k == "forward dynamics" else {}, per_link=per_link.get(k, {}))
     return out
 

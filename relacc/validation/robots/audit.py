@@ -62,7 +62,7 @@ class Scales:
         length = max(points + [1e-3])
         mass = max(structure.total_mass, 1e-12)
         inertia = max([np.abs(link.inertia).max() for link in structure.links] + [mass * length**2])
-        return cls(mass, length, inertia, robot_tolerance(len(structure.links)))
+        return cls(mass, float(length), float(inertia), robot_tolerance(len(structure.links)))
 
     def larger(self, other: "Scales") -> "Scales":
         """Each scale the larger of two models' (the terms' magnitude is the larger of the two readings', so that a

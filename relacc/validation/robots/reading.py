@@ -14,7 +14,7 @@ import numpy as np
 
 from relacc.core.tree import tree_kinematics
 from relacc.core.tree.coordinates import reference_q
-from relacc.engines.base import Joint, Link, Structure, combine, moving_mass
+from relacc.engines.base import BuiltJoint, Link, Structure, combine, moving_mass
 
 
 def groups(tree) -> dict[int, list[int]]:
@@ -42,13 +42,12 @@ def structure(reading) -> Structure:
         anchor = origin[b] + R[b] @ j.pos
         if j.type == "hinge":
             anchor = anchor - (anchor @ axis) * axis
-        joints.append(Joint(j.name, j.type, body.name, axis, None if j.type == "slide" else anchor,
+        joints.append(BuiltJoint(j.name, j.type, body.name, axis, None if j.type == "slide" else anchor,
                             np.array(j.armature, dtype=float), reading.joint_damping(j.name, j.nv)))
     links = []
     for head, members in groups(tree).items():
         parts = [(tree.bodies[c].mass, k.position[c], R[c] @ tree.bodies[c].inertia @ R[c].T) for c in members]
         mass, com, inertia = combine(parts)
         links.append(Link(tree.bodies[head].name, tuple(tree.bodies[c].name for c in members), mass, com, inertia))
-    links = tuple(links)
-    return Structure(tree.nq(2), tree.nv, tuple(joints), links, np.array(tree.gravity, dtype=float),
-                     moving_mass(links), tree.body_names)
+    return Structure(tree.nq(2), tree.nv, tuple(joints), tuple(links), np.array(tree.gravity, dtype=float),
+                     moving_mass(tuple(links)), tree.body_names)

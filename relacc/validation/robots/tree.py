@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from relacc.core.cases import Case
 from relacc.core.tree import convert, tree_kinematics
 from relacc.core.tree.coordinates import reference_q, rotations
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
@@ -32,7 +33,7 @@ class TreeRobot:
 
     def __init__(self, reading, case: int = 2, matched_to=None):
         self.case = int(case)
-        self.engine = "relacc" if self.case == 2 else f"relacc (case {self.case})"
+        self.engine = "relacc" if self.case == Case.BODY_FRAME else f"relacc (case {self.case})"
         self.reading = reading
         self.tree = reading.tree
         self.reference = self.tree if matched_to is None else matched_to
@@ -82,7 +83,7 @@ class TreeRobot:
         nv, c, n = self.tree.nv, self.case, len(q)
         # u_c = T u_2 and, at zero u_2 rates, udot_c = T_dot u_2
         q_c, u_c, Tdv = convert(self.tree, q, v, np.zeros_like(v), source=2, target=c)
-        if c == 2:
+        if c == Case.BODY_FRAME:
             return q_c, u_c, np.broadcast_to(np.eye(nv), (n, nv, nv)), np.zeros((n, nv))
         # T is the identity but for each ball's and free joint's 3 x 3 block of angular speeds (convert maps a
         # joint's own speeds alone): column i of every block at once, from unit speed i in every block
@@ -125,9 +126,9 @@ class TreeRobot:
             bodies = self.links[name]
             w = mass[bodies] / mass[bodies].sum()
             pos[:, i] = np.einsum("b,nbk->nk", w, k.position[:, bodies])
-            Vc = np.einsum("b,nbkj->nkj", w, k.V[:, bodies])
+            Vc = np.einsum("b,nbkj->nkj", w, k.required("V")[:, bodies])
             J[:, i] = Vc @ T
-            Jdv[:, i] = (np.einsum("nkj,nj->nk", np.einsum("b,nbkj->nkj", w, k.Vdot[:, bodies]), u_c)
+            Jdv[:, i] = (np.einsum("nkj,nj->nk", np.einsum("b,nbkj->nkj", w, k.required("Vdot")[:, bodies]), u_c)
                          + np.einsum("nkj,nj->nk", Vc, Tdv))
-            acc[:, i] = np.einsum("b,nbk->nk", w, k.acceleration[:, bodies])
+            acc[:, i] = np.einsum("b,nbk->nk", w, k.required("acceleration")[:, bodies])
         return first(Points(pos, J, None, Jdv, acc), one)
