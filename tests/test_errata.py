@@ -52,5 +52,5 @@ def test_statuses_are_the_ones_read_from_the_note(items):
 def test_json_has_exactly_the_documented_keys(items):
     """relacc errata --json objects carry id, status, printed_error, corrected_error, explanation."""
     for e in items:
-        d = json.loads(json.dumps(e.as_dict()))
+        d = json.loads(json.dumps(e.as_json()))
         assert set(d) == {"id", "status", "printed_error", "corrected_error", "explanation"}

@@ -28,7 +28,7 @@ def test_pinocchio_composite_joint_is_the_odd_one_out(fixture, mujoco):
     for verdict in report.referee:
         assert verdict.odd_one_out == "pinocchio", verdict.sentence()
         assert set(verdict.agreeing) == {"mujoco", "drake", "relacc", "relacc-reference", "complex-step"}
-    as_json = report.as_dict()["referee"][0]
+    as_json = report.as_json()["referee"][0]
     assert as_json["odd_one_out"] == "pinocchio" and "odd one out is pinocchio" in as_json["verdict"]
 
 

@@ -6,7 +6,7 @@ from scipy.spatial.transform import Rotation
 
 from relacc.core import rotations as rot
 from relacc.core.derivatives import complex_step
-from relacc.core.tolerances import assert_agree
+from relacc.core.tolerances import assert_normalized_error
 
 from .conftest import SEED
 
@@ -23,8 +23,8 @@ def test_tilde_is_cross_product(gen):
     v, w = gen.normal(size=(N, 3)), gen.normal(size=(N, 3))
     got = np.einsum("nij,nj->ni", rot.tilde(v), w)
     scale = np.linalg.norm(v, axis=-1) * np.linalg.norm(w, axis=-1)
-    assert_agree(got, np.cross(v, w), scale, what="tilde", seed=SEED + 7, factor=4)
-    assert_agree(rot.untilde(rot.tilde(v)), v, np.linalg.norm(v, axis=-1), what="untilde", factor=0)
+    assert_normalized_error(got, np.cross(v, w), scale, what="tilde", seed=SEED + 7, factor=4)
+    assert_normalized_error(rot.untilde(rot.tilde(v)), v, np.linalg.norm(v, axis=-1), what="untilde", factor=0)
 
 
 def test_quaternion_matrix_matches_scipy(gen):
@@ -32,7 +32,8 @@ def test_quaternion_matrix_matches_scipy(gen):
     quat = gen.normal(size=(N, 4))
     quat /= np.linalg.norm(quat, axis=-1, keepdims=True)
     ref = Rotation.from_quat(rot.quaternion_to_xyzw(quat)).as_matrix()
-    assert_agree(rot.matrix_from_quaternion(quat), ref, np.ones(N), what="quat->matrix", seed=SEED + 7, factor=8)
+    assert_normalized_error(rot.matrix_from_quaternion(quat), ref, np.ones(N),
+                            what="quat->matrix", seed=SEED + 7, factor=8)
 
 
 def test_antipodal_quaternions_give_the_same_matrix(gen):
@@ -46,14 +47,14 @@ def test_123_matrix_matches_scipy_intrinsic_xyz(gen):
     """Rx(t1) Ry(t2) Rz(t3) equals scipy's intrinsic 'XYZ' Euler rotation."""
     theta = gen.uniform(-np.pi, np.pi, (N, 3))
     ref = Rotation.from_euler("XYZ", theta).as_matrix()
-    assert_agree(rot.matrix_from_123(theta), ref, np.ones(N), what="123->matrix", seed=SEED + 7, factor=8)
+    assert_normalized_error(rot.matrix_from_123(theta), ref, np.ones(N), what="123->matrix", seed=SEED + 7, factor=8)
 
 
 def test_quaternion_from_123_matches_matrix(gen):
     """The quaternion of 1-2-3 angles has the 1-2-3 matrix."""
     theta = gen.uniform(-np.pi, np.pi, (N, 3))
     got = rot.matrix_from_quaternion(rot.quaternion_from_123(theta))
-    assert_agree(got, rot.matrix_from_123(theta), np.ones(N), what="123->quat->matrix", factor=8)
+    assert_normalized_error(got, rot.matrix_from_123(theta), np.ones(N), what="123->quat->matrix", factor=8)
 
 
 def test_quaternion_product_composes_matrices(gen):
@@ -63,7 +64,7 @@ def test_quaternion_product_composes_matrices(gen):
     q /= np.linalg.norm(q, axis=-1, keepdims=True)
     got = rot.matrix_from_quaternion(rot.quaternion_multiply(p, q))
     ref = rot.matrix_from_quaternion(p) @ rot.matrix_from_quaternion(q)
-    assert_agree(got, ref, np.ones(N), what="product", factor=16)
+    assert_normalized_error(got, ref, np.ones(N), what="product", factor=16)
 
 
 @pytest.mark.parametrize("magnitude", [0.0, 1e-12, 1e-5, 1e-3, 1.0, 3.0, 100.0])
@@ -73,7 +74,7 @@ def test_quaternion_exp_matches_scipy_rotvec(gen, magnitude):
     phi = magnitude * axis / np.linalg.norm(axis, axis=-1, keepdims=True)
     got = rot.matrix_from_quaternion(rot.quaternion_exp(phi))
     ref = Rotation.from_rotvec(phi).as_matrix()
-    assert_agree(got, ref, np.ones(N), what=f"exp |phi|={magnitude}", factor=8)
+    assert_normalized_error(got, ref, np.ones(N), what=f"exp |phi|={magnitude}", factor=8)
     norm_dev = np.abs(np.sum(rot.quaternion_exp(phi) ** 2, axis=-1) - 1)
     assert np.all(norm_dev <= 4 * np.finfo(float).eps)
 
@@ -86,7 +87,7 @@ def test_omega_partials_123_give_angular_velocity(gen):
     R_dot = complex_step(lambda t: rot.matrix_from_123(theta + t * theta_dot))
     omega_ref = rot.untilde(R_dot @ np.swapaxes(R, -1, -2))  # reference-frame components
     got = np.einsum("nij,nj->ni", rot.omega_partials_123(theta), theta_dot)
-    assert_agree(got, omega_ref, np.linalg.norm(theta_dot, axis=-1), what="W theta_dot", factor=16)
+    assert_normalized_error(got, omega_ref, np.linalg.norm(theta_dot, axis=-1), what="W theta_dot", factor=16)
 
 
 def test_omega_partials_123_dot_is_time_derivative(gen):
@@ -95,4 +96,4 @@ def test_omega_partials_123_dot_is_time_derivative(gen):
     theta_dot = gen.normal(size=(N, 3))
     ref = complex_step(lambda t: rot.omega_partials_123(theta + t * theta_dot))
     got = rot.omega_partials_123_dot(theta, theta_dot)
-    assert_agree(got, ref, np.linalg.norm(theta_dot, axis=-1), what="W_dot", factor=8)
+    assert_normalized_error(got, ref, np.linalg.norm(theta_dot, axis=-1), what="W_dot", factor=8)

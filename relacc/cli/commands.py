@@ -131,7 +131,7 @@ def cmd_check(args) -> int:
     else:
         report = harness.check(cases=args.cases)
     if args.json:
-        print(json.dumps(report.as_dict(), indent=2))
+        print(json.dumps(report.as_json(), indent=2))
         return 0 if report.passed else 1
     tol = report.comparisons[0].tolerance if report.comparisons else 0
     print(f"relacc check: {report.n_states} states per case, seed {report.seed}; "
@@ -165,7 +165,7 @@ def _check_tree(args) -> int:
     report = check_tree(args.model, engines=args.engines, cases=args.cases, n_states=states, seed=args.seed,
                         progress=_progress(args))
     if args.json:
-        print(json.dumps(report.as_dict(), indent=2))
+        print(json.dumps(report.as_json(), indent=2))
         return 0 if report.passed else 1
     print(f"relacc check {report.model}: relacc's tree (relacc's own reading of the file) against each engine, "
           f"{report.n_states} random states and the reference configuration, seed {report.seed}; normalized error "
@@ -195,7 +195,7 @@ def cmd_errata(args) -> int:
     items = errata(harness)
     ok = all(e.agrees for e in items)
     if args.json:
-        print(json.dumps([e.as_dict() for e in items], indent=2))
+        print(json.dumps([e.as_json() for e in items], indent=2))
         return 0 if ok else 1
     print(f"relacc errata: {harness.n_states} states per case, seed {harness.seed}, engines "
           f"{', '.join(harness.engines)}; errors are max normalized errors (tolerance "
@@ -213,7 +213,7 @@ def cmd_grade(args) -> int:
     # the user's module and function may print: that goes to stderr, so that stdout stays relacc's (and --json JSON)
     with contextlib.redirect_stdout(sys.stderr):
         grade = _grade(args)
-    print(json.dumps(grade.as_dict(), indent=2) if args.json else grade.text())
+    print(json.dumps(grade.as_json(), indent=2) if args.json else grade.text())
     return 0 if grade.ok else 1
 
 

@@ -157,7 +157,8 @@ def normalized_error(x, ref, scale):
     return np.where(diff == 0, 0.0, diff / np.maximum(scale, tiny))
 
 
-def assert_agree(x, ref, scale, *, what: str, seed=None, factor: float = ROUNDING_FACTOR, truncation: float = 0.0):
+def assert_normalized_error(x, ref, scale, *, what: str, seed=None, factor: float = ROUNDING_FACTOR,
+                            truncation: float = 0.0):
     """Assert ``normalized_error(x, ref, scale) <= factor * eps + truncation`` everywhere.
 
     On failure the message names the quantity, the worst state's batch index,

@@ -65,7 +65,7 @@ def _hard(model, examples, seed) -> dict:
         found = search(model, examples=examples, seed=seed)
     except ModelError as exc:
         return {"ok": True, "rows": [], "reason": str(exc), "examples": examples}
-    return {"ok": all(f.ratio <= 1 for f in found), "rows": [f.as_dict() for f in found], "reason": None,
+    return {"ok": all(f.ratio <= 1 for f in found), "rows": [f.as_json() for f in found], "reason": None,
             "examples": examples}
 
 

@@ -69,7 +69,7 @@ class Grade:
     not_evaluated: tuple = ()
     """One line per kind of element of a model file the truth leaves out (``Reading.unevaluated``)."""
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         """``relacc grade --json``."""
         worst = self.worst_error if np.isfinite(self.worst_error) else None  # strict JSON has no Infinity or NaN
         return {"ok": self.ok, "worst_error": worst, "columns": list(self.columns),

@@ -23,7 +23,7 @@ from relacc.core.tolerances import rounding_tolerance
 from relacc.engines import ENGINES, available, installed, load_engine
 from relacc.errors import EngineError
 from relacc.fixtures import Fixture, load
-from relacc.validation.compare import Comparison, against_engines, compare
+from relacc.validation.compare import Comparison, against_engines, compare_values
 from relacc.validation.referee import referee
 from relacc.validation.summary import Summary
 
@@ -128,9 +128,10 @@ class Harness:
         is symmetric, and the bound is the engine's accuracy model.
         """
         s = self.states(case, k)
-        return compare(case, engine, route, quantity, getattr(self.engine_result(case, engine, route, k), quantity),
-                       getattr(self.core_result(case, variant, k), quantity), self.scales(case, k).of(quantity),
-                       self.engines[engine].bound(route, quantity, self.chain, case, s.q, s.u, s.udot))
+        value = getattr(self.engine_result(case, engine, route, k), quantity)
+        return compare_values(case, engine, route, quantity, value,
+                              getattr(self.core_result(case, variant, k), quantity), self.scales(case, k).of(quantity),
+                              self.engines[engine].bound(route, quantity, self.chain, case, s.q, s.u, s.udot))
 
     def check_chunk(self, case, k: int, quantities=QUANTITIES) -> list[Summary]:
         """Every engine x route x quantity of the corrected core on chunk ``k`` of a case, summarized."""
@@ -176,7 +177,7 @@ class CheckReport:
     def failures(self) -> list[Summary]:
         return [c for c in self.comparisons if not c.passed]
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         return {
             "passed": self.passed,
             "n_states": self.n_states,
@@ -186,6 +187,6 @@ class CheckReport:
             "bound": "per state: tolerance * condition + lost offset (relacc.engines.chain.ChainEngine.bound)",
             "states": f"chunk k of case c: {CHUNK} states from numpy.random.default_rng([seed, c, k])",
             "versions": self.versions,
-            "comparisons": [c.as_dict() for c in self.comparisons],
-            "referee": [v.as_dict() for v in self.referee],
+            "comparisons": [c.as_json() for c in self.comparisons],
+            "referee": [v.as_json() for v in self.referee],
         }

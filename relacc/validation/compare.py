@@ -107,7 +107,7 @@ class Comparison:
     def passed(self) -> bool:
         return self.finite and bool(np.all(self.errors <= self.bounds))
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         """Plain data (``relacc check --json``)."""
         out = {
             "case": self.case,
@@ -142,7 +142,7 @@ def _finite(x: float) -> float | None:
     return x if np.isfinite(x) else None
 
 
-def compare(case, engine: str, route: str, quantity: str, value, reference, scale, bounds) -> Comparison:
+def compare_values(case, engine: str, route: str, quantity: str, value, reference, scale, bounds) -> Comparison:
     """Compare ``value`` with ``reference`` (both ``(n, ...)``) through the normalized error.
 
     Args:
@@ -171,7 +171,7 @@ def against_engines(engines: dict, chain, case, q, u, udot, core, scales, *, qua
             ke = (evaluate(name, engine, route) if evaluate is not None
                   else engine.g2_kinematics(case, q, u, udot, route=route))
             for qty in quantities:
-                out.append(compare(case, name, route, qty, getattr(ke, qty), getattr(core, qty), scales.of(qty),
+                out.append(compare_values(case, name, route, qty, getattr(ke, qty), getattr(core, qty), scales.of(qty),
                                    engine.bound(route, qty, chain, case, q, u, udot)))
     return out
 
@@ -196,4 +196,4 @@ def against_derivatives(chain, case, q, u, udot, core, scales, *, quantities=DER
              "V": (np.einsum("...ij,...j->...i", core.V, u), refs.get("position"), scales.velocity),
              "acceleration": (core.acceleration, refs.get("velocity"), scales.acceleration),
              "Vdot": (core.Vdot, refs.get("V"), scales.Vdot)}
-    return [compare(case, CORE, "complex-step", qty, *pairs[qty], rounding_tolerance()) for qty in quantities]
+    return [compare_values(case, CORE, "complex-step", qty, *pairs[qty], rounding_tolerance()) for qty in quantities]

@@ -48,7 +48,7 @@ class Erratum:
     def agrees(self) -> bool:
         return self.corrected_error <= self.tolerance
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         """Exactly the keys of ``relacc errata --json``."""
         return {
             "id": self.id,

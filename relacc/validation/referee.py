@@ -69,7 +69,7 @@ class Verdict:
         return (f"{where}: the odd one out is {self.odd_one_out} (up to {ratio:.3g} x its bound away); "
                 f"{', '.join(self.agreeing)} agree")
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         return {"case": self.case, "route": self.route, "quantity": self.quantity, "odd_one_out": self.odd_one_out,
                 "agreeing": list(self.agreeing), "pairs": self.pairs, "verdict": self.sentence()}
 

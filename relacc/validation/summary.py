@@ -111,7 +111,7 @@ class Summary:
     def evaluator(self) -> str:
         return f"{self.engine}/{self.route}"
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         """Plain data (``relacc check --json``)."""
         return {
             "case": self.case, "engine": self.engine, "route": self.route, "quantity": self.quantity,

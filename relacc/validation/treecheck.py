@@ -15,8 +15,7 @@ from dataclasses import dataclass, field, replace
 
 from relacc.engines import ENGINES, installed
 from relacc.errors import ModelError
-from relacc.validation.robots.agreement import compare as compare_dynamics
-from relacc.validation.robots.agreement import random_states
+from relacc.validation.robots.agreement import compare_dynamics, random_states
 from relacc.validation.robots.tree import TreeRobot
 
 
@@ -37,7 +36,7 @@ class TreeCheck:
     def passed(self) -> bool:
         return bool(self.rows) and all(r.passed for r in self.rows)
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         return {"model": self.model, "states": self.n_states, "seed": self.seed, "passed": self.passed,
                 "not_loaded": self.not_loaded, "not_evaluated": list(self.not_evaluated),
                 "comparisons": [_row(r) for r in self.rows]}

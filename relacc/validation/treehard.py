@@ -56,7 +56,7 @@ class HardFinding:
     delta: float | None
     examples: int
 
-    def as_dict(self) -> dict:
+    def as_json(self) -> dict:
         return dict(self.__dict__)
 
 

@@ -131,7 +131,7 @@ def inertialess(reference, M, dofs) -> list[str]:
     return names
 
 
-def compare(reference, robot, states: States) -> dict:
+def compare_dynamics(reference, robot, states: States) -> dict:
     """``{quantity: Comparison}`` for ``robot`` against ``reference`` (MuJoCo, or relacc's tree): per state the
     normalized error (state 0: the reference configuration), the tolerance, and ``max_difference``, the largest
     absolute difference over the states in the quantity's units. Quantities a robot cannot give (no shared link)

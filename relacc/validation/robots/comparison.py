@@ -32,8 +32,7 @@ from relacc.engines.contain import survives
 from relacc.errors import EngineError, ModelError
 from relacc.files import regular_file
 from relacc.reading import read_moving
-from relacc.validation.robots.agreement import QUANTITIES, random_states
-from relacc.validation.robots.agreement import compare as compare_dynamics
+from relacc.validation.robots.agreement import QUANTITIES, compare_dynamics, random_states
 from relacc.validation.robots.audit import Item, Scales, differences, merge
 from relacc.validation.robots.causes import READINGS, Cause
 from relacc.validation.robots.reading import structure

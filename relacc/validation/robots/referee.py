@@ -21,7 +21,7 @@ import numpy as np
 
 from relacc.engines import MESH_ENGINE, readings
 from relacc.errors import EngineError, ModelError
-from relacc.validation.robots.agreement import compare as compare_dynamics
+from relacc.validation.robots.agreement import compare_dynamics
 
 
 @dataclass
