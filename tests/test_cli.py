@@ -11,6 +11,7 @@ import pytest
 import relacc
 from relacc.cli import main
 from relacc.engines import ENGINES
+from tests.cli import one_line, run_relacc
 
 SPIN = ["--case", "1", "--q", "0,0,0, 1,0,0,0, 0,0,0, 1,0,0,0", "--u", "0,0,0, 0,0,2.5, 0,0,0, 0,0,0",
         "--udot", "0,0,0,0,0,0,0,0,0,0,0,0"]
@@ -100,3 +101,23 @@ def test_errata_json_lists_every_id(capsys, fixture):
 def test_fixtures_check_is_up_to_date(capsys, fixture):
     """fixtures --check exits 0 on the checked-in files."""
     assert main(["fixtures", "--check", "--model", str(fixture.source)]) == 0
+
+
+@pytest.mark.parametrize("argv, match", [
+    (["simulate", "tumbling", "--spread", "0.1"], "--spread"),
+    (["simulate", "tumbling", "--seed", "3"], "--seed"),
+    (["simulate", "tumbling", "--scheduler", "local:1"], "--scheduler"),
+    (["eval", "--case", "1", "--q", "0,,0,1,0,0,0,0,0,0,1,0,0,0", "--u", "0,0,0,0,0,0,0,0,0,0,0,0"], "--q"),
+    (["check", "--engines", "pinocchio,pinocchio", "--states", "5"], "--engines"),
+])
+@pytest.mark.slow
+def test_arguments_that_would_do_nothing_are_refused(tmp_path, argv, match):
+    assert match in one_line(run_relacc(*argv, cwd=tmp_path))
+
+
+@pytest.mark.slow
+def test_unknown_keys_in_an_eval_state_are_refused(tmp_path):
+    state = tmp_path / "state.json"
+    state.write_text(json.dumps({"case": 1, "q": [0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0], "u": [0] * 12,
+                                 "udott": [0] * 12}))
+    assert "udott" in one_line(run_relacc("eval", str(state), cwd=tmp_path))

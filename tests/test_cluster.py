@@ -1,6 +1,7 @@
 """Sweeps on a real Dask cluster (scheduler and two workers on 127.0.0.1): the local run's answer, also after a
 worker dies; bad schedulers and workers are one line and exit 2."""
 
+import http.server
 import json
 import os
 import shutil
@@ -8,12 +9,14 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
 import pytest
 
 from relacc.cli import main
+from tests.cli import one_line, run_relacc
 
 DASK = shutil.which("dask") or str(Path(sys.executable).parent / "dask")
 
@@ -218,3 +221,44 @@ def test_local_cluster_is_started_and_stopped(capsys):
     _, local = run_json(args, capsys)
     _, remote = run_json(args + ["--scheduler", "local:2"], capsys)
     assert remote == local
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("address", ["tcp://[::1", "tcp://", "tcp://localhost:notaport", "inproc://x",
+                                     "local:99999"])
+def test_bad_scheduler_addresses_areone_line(tmp_path, address):
+    line = one_line(run_relacc("check", "--states", "10", "--scheduler", address, cwd=tmp_path, timeout=60))
+    assert "--scheduler" in line
+
+
+@pytest.mark.slow
+def test_something_else_on_the_port_is_one_line_in_time(tmp_path):
+    server = http.server.HTTPServer(("127.0.0.1", 0), http.server.BaseHTTPRequestHandler)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        start = time.monotonic()
+        env = dict(os.environ, RELACC_SCHEDULER_TIMEOUT="3")
+        line = one_line(run_relacc("check", "--states", "10", "--scheduler", f"tcp://127.0.0.1:{server.server_port}",
+                                 cwd=tmp_path, timeout=60, env=env))
+        assert time.monotonic() - start < 30 and "--scheduler" in line
+    finally:
+        server.shutdown()
+
+
+@pytest.mark.slow
+def test_an_unroutable_scheduler_isone_line(tmp_path):
+    env = dict(os.environ, RELACC_SCHEDULER_TIMEOUT="3")
+    line = one_line(run_relacc("check", "--states", "10", "--scheduler", "tcp://10.255.255.1:8786", cwd=tmp_path,
+                             timeout=60, env=env))
+    assert "memory" not in line and "--scheduler" in line
+
+
+@pytest.mark.slow
+def test_sigterm_while_local_workers_start_isone_line(tmp_path):
+    proc = subprocess.Popen([sys.executable, "-m", "relacc", "check", "--states", "100000", "--scheduler", "local:4",
+                             "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    time.sleep(1.0)  # while the workers start
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "Exception ignored" not in err and "Traceback" not in err, err

@@ -300,3 +300,22 @@ def test_an_error_without_an_interrupt_is_not_taken_for_one(monkeypatch):
     monkeypatch.setattr(commands, "cmd_check", broken)
     with pytest.raises(SystemError):
         main(["check", "--quiet"])
+
+
+@pytest.mark.slow
+def test_sigterm_during_simulate_removes_the_new_directory(tmp_path):
+    out_dir = tmp_path / "new"
+    proc = subprocess.Popen([sys.executable, "-m", "relacc", "simulate", "gimbal_spin", "--duration", "20",
+                             "--out", str(out_dir)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            cwd=tmp_path)
+    for _ in range(600):
+        time.sleep(0.1)
+        if out_dir.exists():
+            break
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert not out_dir.exists()
+    last = [line for line in err.splitlines() if line.strip()][-1]
+    assert last.startswith("relacc simulate: interrupted"), repr(last)

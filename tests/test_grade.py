@@ -6,13 +6,16 @@ import json
 import subprocess
 import sys
 import textwrap
+import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from relacc.cli import main
 from relacc.testing import check_formula
 from relacc.testing.user import CallError, load_function
+from tests.cli import formula_module, one_line, run_relacc
 
 ROOT = Path(__file__).resolve().parents[1]
 ARM = ROOT / "examples" / "three_link_arm.xml"
@@ -100,3 +103,59 @@ def test_the_chain_and_states_the_user_gets_are_copies_each_call(tmp_path):
     """))
     grade = check_formula(fn, quantity="velocity", case=1, n=5)
     assert grade.ok, grade.text()
+
+
+def test_a_graded_function_gets_copies(tmp_path):
+    """A function that zeroes the u and udot it is given and returns zeros is wrong; a right one that scribbles on
+    q after using it is right: relacc's truth never reads what the user's function touched."""
+    from relacc.testing import check_formula
+    from relacc.testing.user import load_function
+
+    liar = load_function(formula_module(tmp_path, "def fn(chain, q, u, udot):\n    u[...] = 0\n    udot[...] = 0\n"
+                                           "    return np.zeros(3)\n", "liar"))
+    assert not check_formula(liar, quantity="acceleration", case=1, n=10).ok
+    right = load_function(formula_module(tmp_path, "import relacc\ndef fn(chain, q, u, udot):\n"
+                                            "    a = relacc.g2_acceleration(chain, 1, q, u, udot)\n"
+                                            "    q[...] = 7.0\n    return a\n", "scribbler"))
+    assert check_formula(right, quantity="acceleration", case=1, n=10).ok
+
+
+@pytest.mark.slow
+def test_grade_json_is_strict_with_nan_results(tmp_path):
+    out = run_relacc("grade", formula_module(tmp_path, "def fn(chain, q, u, udot):\n    return np.full(3, np.nan)\n"),
+                  "--quantity", "velocity", "--case", "1", "--states", "3", "--json", cwd=tmp_path)
+    assert out.returncode == 1, out.stderr
+    data = json.loads(out.stdout, parse_constant=lambda c: pytest.fail(f"{c} in strict JSON"))
+    assert data["worst_error"] is None and data["ok"] is False
+
+
+@pytest.mark.slow
+def test_a_printing_function_does_not_corrupt_json(tmp_path):
+    spec = formula_module(tmp_path, "import relacc\nprint('module says hi')\ndef fn(chain, q, u, udot):\n"
+                             "    print('hello from fn')\n    return relacc.g2_kinematics(chain, 1, q, u).velocity\n")
+    out = run_relacc("grade", spec, "--quantity", "velocity", "--case", "1", "--states", "3", "--json", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["ok"] is True
+    assert "hello from fn" in out.stderr and "module says hi" in out.stderr
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("where", ["module", "function"])
+def test_a_graded_sys_exit_isone_line(tmp_path, where):
+    body = ("import sys\nsys.exit(3)\ndef fn(chain, q, u, udot):\n    return np.zeros(3)\n" if where == "module" else
+            "import sys\ndef fn(chain, q, u, udot):\n    sys.exit(3)\n")
+    out = run_relacc("grade", formula_module(tmp_path, body), "--quantity", "velocity", "--case", "1", "--states", "3",
+                  cwd=tmp_path)
+    assert "exit" in one_line(out)
+
+
+def test_a_complex_result_is_not_graded_right(tmp_path):
+    from relacc.testing import check_formula
+    from relacc.testing.user import CallError, load_function
+
+    fn = load_function(formula_module(tmp_path, "import relacc\ndef fn(chain, q, u, udot):\n"
+                                         "    return relacc.g2_kinematics(chain, 1, q, u).velocity + 1e-3j\n"))
+    with warnings.catch_warnings():  # as a user runs it: numpy's ComplexWarning is only a warning there
+        warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
+        with pytest.raises(CallError, match="complex"):
+            check_formula(fn, quantity="velocity", case=1, n=3)

@@ -1,10 +1,16 @@
 """Bad input raises a RelaccError subclass that says what was wrong and what is accepted."""
 
+import time
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import relacc
+from relacc.core.states import random_states
+from relacc.core.stream import iter_g2_kinematics
 from relacc.errors import CaseError, InputError, VariantError
+from tests.cli import one_line, run_relacc
 
 Q14 = np.r_[0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0.0]
 U = np.zeros(12)
@@ -30,6 +36,9 @@ def test_bad_state_inputs(chain, case, q, u, error, match):
     """Wrong case, lengths, NaN/inf, strings and non-unit quaternions are rejected by name."""
     with pytest.raises(error, match=match):
         relacc.g2_kinematics(chain, case, q, u)
+
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_quaternion_within_tolerance_is_accepted_and_not_normalized(chain):
@@ -181,3 +190,46 @@ def test_requests_that_cannot_fit_are_refused_up_front(chain):
     q = np.broadcast_to(Q14, (n, 14))  # a view: no memory of its own
     with pytest.raises(InputError, match=r"evaluating \d+ states at once needs about .* GiB.*iter_g2_kinematics"):
         relacc.g2_kinematics(chain, 1, q, U)
+
+
+def test_stream_takes_lists(chain):
+    s = random_states(1, 5, 0)
+    chunks = list(iter_g2_kinematics(chain, 1, s.q.tolist(), s.u.tolist(), s.udot.tolist(), chunk_size=2))
+    assert [c.stop for c, _ in chunks] == [2, 4, 5]
+    np.testing.assert_array_equal(chunks[-1][1].acceleration,
+                                  relacc.g2_kinematics(chain, 1, s.q[4:], s.u[4:], s.udot[4:]).acceleration)
+
+
+def test_body_partials_and_generalized_forces_take_lists_and_check_shapes(chain):
+    from relacc.dynamics import Effects, body_partials, generalized_forces
+
+    s = random_states(2, 3, 1)
+    bp = body_partials(chain, 2, s.q.tolist(), s.u.tolist())
+    np.testing.assert_array_equal(bp.V2, body_partials(chain, 2, s.q, s.u).V2)
+    Q = generalized_forces(chain, 2, s.q.tolist(), s.u.tolist(), Effects(gravity=[0, 0, -9.81]))
+    assert Q.shape == (3, 12)
+    with pytest.raises(InputError, match=r"expected shape \(\.\.\., 14\)"):
+        body_partials(chain, 2, s.q[:, :11], s.u)
+
+
+def test_truth_assert_agrees_and_random_states_say_what_is_wrong():
+    from relacc.testing import assert_agrees, truth
+
+    with pytest.raises(InputError, match="expected the states"):
+        truth([np.zeros(14)])
+    with pytest.raises(InputError, match="numbers"):
+        assert_agrees(["a", "b", "c"], np.zeros(3))
+    with pytest.raises(InputError, match="n: expected an integer"):
+        random_states(1, 2.0, 0)
+
+
+@pytest.mark.slow
+def test_huge_requests_are_refused_before_any_work(tmp_path, relacc_states):
+    for argv in (["compare", str(ROOT / "models" / "two_body.xml"), "--states", "1000000000"],
+                 ["grade", "examples/student_correct.py:velocity", "--quantity", "velocity", "--case", "1",
+                  "--states", "1000000000"]):
+        start = time.monotonic()
+        line = one_line(run_relacc(*argv, cwd=ROOT if argv[0] == "grade" else tmp_path, timeout=60))
+        assert "memory" in line and time.monotonic() - start < 30, (argv, line)
+    with pytest.raises(InputError, match="memory"):
+        relacc_states(n=10**12)

@@ -10,6 +10,7 @@ import pytest
 from relacc import files
 from relacc.cli import main
 from relacc.errors import InputError
+from tests.cli import one_line, run_relacc
 
 ROOT = Path(__file__).resolve().parents[1]
 BALL = """<mujoco model="ball"><worldbody><body name="bob" pos="0 0 1"><joint name="j" type="ball"/>
@@ -82,3 +83,27 @@ def test_every_writer_refuses_an_input(tmp_path):
     assert kept.read_text() == "x"
     files.write_text(kept, "y")  # outside the block it is an ordinary file
     assert kept.read_text() == "y"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("argv", [["compare", "MODEL", "--out", ""], ["simulate", "tumbling", "--out", ""],
+                                  ["fixtures", "--out", ""], ["report", "--out", ""]])
+def test_an_empty_out_is_refused(tmp_path, argv):
+    argv = [str(ROOT / "models" / "two_body.xml") if a == "MODEL" else a for a in argv]
+    assert "--out" in one_line(run_relacc(*argv, cwd=tmp_path))
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+def test_compare_out_creates_its_parents(tmp_path):
+    page = tmp_path / "missing" / "dir" / "page.html"
+    out = run_relacc("compare", str(ROOT / "models" / "two_body.xml"), "--states", "2", "--engines", "drake",
+                  "--out", str(page), cwd=tmp_path)
+    assert out.returncode in (0, 1), out.stderr
+    assert page.is_file() and "relacc compare" in out.stdout
+
+
+@pytest.mark.slow
+def test_fixtures_refuses_an_empty_name(tmp_path):
+    assert "--name" in one_line(run_relacc("fixtures", "--out", str(tmp_path / "x"), "--name", "", cwd=tmp_path))
+    assert not (tmp_path / "x").exists()

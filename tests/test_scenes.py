@@ -12,6 +12,7 @@ from relacc.core.tolerances import rounding_tolerance
 from relacc.errors import FixtureError, InputError
 from relacc.fixtures import shipped
 from relacc.simulate import scenes
+from tests.cli import one_line, run_relacc
 
 SHIPPED = shipped.scene_paths()
 CHAIN = shipped.scene_paths("chain")
@@ -330,3 +331,31 @@ def test_a_model_scene_in_every_case_is_one_motion():
     for case in (1, 3):
         for a, b in zip(end[case][:2], end[2][:2]):  # coordinates (m, unit quaternions), speeds (m/s, rad/s)
             np.testing.assert_allclose(a, b, rtol=0, atol=1e-9, err_msg=f"case {case}")
+
+
+UNSTABLE = """title = "A stiff spring MuJoCo's Euler cannot hold"
+[model]
+fixture = "two_body"
+[initial]
+case = 2
+q = [0.0, 0.0, 0.0,  1.0, 0.0, 0.0, 0.0,  0.1, 0.0, 0.0,  1.0, 0.0, 0.0, 0.0]
+u = [0.0, 0.0, 0.0,  0.0, 0.0, 0.0,  0.0, 0.0, 0.0,  0.0, 0.0, 0.0]
+[effects.spring]
+stiffness = 1e9
+[simulate]
+duration = 5.0
+dt = 0.01
+integrator = "euler"
+engines = ["mujoco"]
+"""
+
+
+@pytest.mark.slow
+def test_an_unstable_engine_run_is_a_diverged_run(tmp_path):
+    scene = tmp_path / "unstable.toml"
+    scene.write_text(UNSTABLE)
+    work = tmp_path / "work"
+    work.mkdir()
+    line = one_line(run_relacc("simulate", str(scene), cwd=work))
+    assert "mujoco" in line and "diverged" in line
+    assert list(work.iterdir()) == []

@@ -14,6 +14,7 @@ import pytest
 import relacc
 from relacc.cli import main
 from relacc.engines import ENGINES, load_engine
+from relacc.errors import InputError
 from relacc.testing import assert_agrees, check_formula
 from relacc.testing.user import load_function
 
@@ -172,3 +173,35 @@ def test_a_fresh_project_uses_the_plugin(tmp_path):
     shown = re.search(r"AssertionError: (my V against .*)", bad.stdout).group(1)
     assert "of seed 7" in shown and shown.endswith("the columns that disagree: s2'_dot")
     assert shown in text, f"docs/testing.md shows another message than pytest prints:\n{shown}"
+
+
+def test_relacc_states_checks_its_arguments_and_hands_out_read_only_states(relacc_states):
+    with pytest.raises(InputError, match="n: expected an integer"):
+        relacc_states(n=3.9)
+    with pytest.raises(InputError, match="seed: expected an integer"):
+        relacc_states(seed=True)
+    with pytest.raises(InputError, match="unknown case"):
+        relacc_states(case=1.7)
+    with pytest.raises(InputError, match="hard: expected True or False"):
+        relacc_states(hard="no")
+    s = relacc_states(case=1, n=3)
+    with pytest.raises(ValueError, match="read-only"):
+        s.q[:, 0] += 100
+    first = s.q.copy()
+    s.q.setflags(write=True)  # a test may make its copy writable: no other test sees the change
+    s.q[:, 0] += 100
+    again = relacc_states(case=1, n=3)
+    assert again is not s and not again.q.flags.writeable
+    np.testing.assert_array_equal(again.q, first)
+
+
+def test_relacc_states_of_a_model_follow_the_file(tmp_path, relacc_states):
+    """States are keyed by the model's content, not its path: after the file changes (a hinge becomes a ball), the
+    same call gives the new model's states."""
+    path = tmp_path / "m.xml"
+    body = '<mujoco><worldbody><body name="b"><joint name="j" type="{}"/><geom type="sphere" size="0.1" mass="1"/>' \
+        '</body></worldbody></mujoco>'
+    path.write_text(body.format("hinge"))
+    assert relacc_states(case=2, n=4, model=path).q.shape == (4, 1)
+    path.write_text(body.format("ball"))
+    assert relacc_states(case=2, n=4, model=path).q.shape == (4, 4)

@@ -1,0 +1,25 @@
+"""Running relacc's command line as a user does (a subprocess), and what every command's failure looks like."""
+
+import subprocess
+import sys
+
+
+def run_relacc(*argv, cwd, timeout=300, env=None) -> subprocess.CompletedProcess:
+    """``python -m relacc ARGV`` in ``cwd``, its output captured as text."""
+    return subprocess.run([sys.executable, "-m", "relacc", *argv], capture_output=True, text=True, cwd=cwd,
+                          timeout=timeout, env=env)
+
+
+def one_line(out: subprocess.CompletedProcess, code: int = 2) -> str:
+    """The one line a failed command prints on stderr (asserting the exit code, one line, no traceback)."""
+    assert out.returncode == code, (out.returncode, out.stdout[-500:], out.stderr[-2000:])
+    lines = [line for line in out.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and "Traceback" not in out.stderr, out.stderr
+    return lines[0]
+
+
+def formula_module(tmp_path, body: str, name: str = "formula") -> str:
+    """A user's module ``name.py`` with ``body`` (numpy imported) and its ``MODULE:fn`` spec for ``relacc grade``."""
+    path = tmp_path / f"{name}.py"
+    path.write_text("import numpy as np\n" + body)
+    return f"{path}:fn"
