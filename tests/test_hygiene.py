@@ -72,10 +72,42 @@ def test_the_slow_marker_follows_its_rule():
         "def test_a", "def test_b")) == []
 
 
+def unexplained_tolerances(source: str, name: str = "<source>") -> list[str]:
+    """``file:line`` of every ``allclose``/``isclose``/``assert_allclose`` whose ``atol``/``rtol`` is a bare number
+    (a float in (0, 1)) with neither a name from :mod:`relacc.core.tolerances` (an upper-case constant) in it nor a
+    comment beside it (the call's lines or the two above): each tolerance comes from the error model or says why."""
+    lines, bad = source.splitlines(), []
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+        if func not in CLOSE:
+            continue
+        for kw in node.keywords:
+            if kw.arg not in ("atol", "rtol"):
+                continue
+            numbers = [c for c in ast.walk(kw.value) if isinstance(c, ast.Constant) and isinstance(c.value, float)
+                       and 0 < c.value < 1]
+            named = any(n.id.isupper() for n in ast.walk(kw.value) if isinstance(n, ast.Name))
+            near = lines[max(0, node.lineno - 3):node.end_lineno]
+            if numbers and not named and not any("#" in line for line in near):
+                bad.append(f"{name}:{node.lineno}")
+    return bad
+
+
+def test_every_tolerance_comes_from_the_error_model_or_says_why():
+    bad = [b for path in sorted((ROOT / "tests").glob("*.py"))
+           for b in unexplained_tolerances(path.read_text(), path.name)]
+    assert bad == []
+
+
 def test_the_tolerance_lint_catches_a_planted_one():
     assert loose_tolerances("import numpy as np\nassert np.allclose(a, b, atol=1e-14)\n") == ["<source>:2"]
     assert loose_tolerances("x == pytest.approx(1.0)\n") == ["<source>:1"]
     assert loose_tolerances("np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)\n") == []
+    assert unexplained_tolerances("np.testing.assert_allclose(a, b, rtol=0, atol=1e-14)\n") == ["<source>:1"]
+    assert unexplained_tolerances("np.testing.assert_allclose(a, b, rtol=0, atol=64 * EPS)\n") == []
+    assert unexplained_tolerances("# two roundings\nnp.testing.assert_allclose(a, b, rtol=0, atol=1e-15)\n") == []
 
 
 def test_every_package_docstring_states_the_rule_the_layout_test_enforces():

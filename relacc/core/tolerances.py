@@ -86,6 +86,12 @@ from the reference's by a few more roundings than the factor-8 agreement of
 through at most three factors.
 """
 
+MUJOCO_EIG_EPS = 1e-12
+"""kg m^2: the accuracy of an inertia tensor MuJoCo's compiler stores on principal axes. Its Jacobi iteration
+(``mju_eig3``) stops once the largest off-diagonal entry of the rotated tensor is below ``eigEPS = 1e-12``
+(absolute), and the principal moments it keeps drop those entries, so the tensor rebuilt from ``body_inertia`` and
+``body_iquat`` differs from the file's by up to that much (measured on the chain: 6e-16)."""
+
 COMPLEX_STEP = 1e-20
 """Step ``h`` of the complex-step derivative ``Im f(x + i h) / h``.
 
