@@ -124,6 +124,16 @@ def test_no_import_cycles():
     assert cycle == []
 
 
+def test_no_two_modules_import_each_other_even_lazily():
+    """No pair of modules imports each other, counting imports inside functions (issue 37: ``testing/grade`` and
+    ``grade_tree``, ``testing/truth`` and ``trees`` did): what both need lives in a third module."""
+    modules = dict(_modules())
+    graph = {name: {_resolve(t, modules) for t, _ in _imports(name, path)} - {name} for name, path in modules.items()}
+    mutual = sorted({tuple(sorted((a, b))) for a in graph for b in graph[a] if b in graph and a in graph[b]
+                     and not a.startswith(b + ".") and not b.startswith(a + ".")})
+    assert mutual == []
+
+
 def _loaded_after(code, tmp_path):
     out = subprocess.run([sys.executable, "-c", code + "\nimport sys\nprint('loaded:', *(m for m in "
                           f"{HEAVY!r} if m in sys.modules))"],

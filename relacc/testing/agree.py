@@ -47,7 +47,7 @@ def assert_agrees(actual, expected, *, scale=None, what: str = "", tolerance: fl
             against the tolerance and, for V and Vdot, the generalized-speed columns that disagree.
         InputError: shapes that differ.
     """
-    from relacc.testing.truth import Expected
+    from relacc.testing.expected import Expected
 
     ref = expected.values if isinstance(expected, Expected) else np.asarray(expected)
     act = np.asarray(actual)

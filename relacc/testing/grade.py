@@ -20,8 +20,6 @@ accuracy bound. When the function is wrong it says:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from relacc.core.cases import U_BLOCKS, as_case, check_int
@@ -33,65 +31,10 @@ from relacc.core.states import States
 from relacc.core.tolerances import normalized_error, rounding_tolerance
 from relacc.errors import InputError
 from relacc.testing.agree import SPEED_NAMES
+from relacc.testing.grading import Grade, worst_against
 from relacc.testing.truth import states as draw_states
 from relacc.testing.truth import truth
 from relacc.testing.user import CallError, evaluate_user
-
-
-@dataclass(frozen=True)
-class Grade:
-    """The verdict on a user's formula.
-
-    Attributes:
-        ok: it agrees with every reference on every state, within the error model.
-        worst_error: its largest normalized error (dimensionless), against ``worst_source``.
-        worst_state: that state's index (ordinary states first, then hard ones).
-        columns: the generalized-speed blocks that disagree, as the note names them.
-        matches: the note's equation ids whose printed form alone reproduces the user's output.
-        seed: the seed of the states.
-    """
-
-    ok: bool
-    quantity: str
-    case: int
-    worst_error: float
-    worst_source: str
-    worst_state: int
-    columns: tuple
-    matches: tuple
-    seed: int
-    n_states: int
-    sources: tuple = field(default=())
-    body: str | None = None
-    """A model's body (then ``columns`` names joints, and there are no printed slips to match), or None: G2."""
-    called: str = "one state at a time"
-    """How the function was called for its worst value: ``one state at a time`` or ``a batch``."""
-    not_evaluated: tuple = ()
-    """One line per kind of element of a model file the truth leaves out (``Reading.unevaluated``)."""
-
-    def as_json(self) -> dict:
-        """``relacc grade --json``."""
-        worst = self.worst_error if np.isfinite(self.worst_error) else None  # strict JSON has no Infinity or NaN
-        return {"ok": self.ok, "worst_error": worst, "columns": list(self.columns),
-                "matches": list(self.matches), "seed": self.seed, "quantity": self.quantity, "case": self.case,
-                "worst_source": self.worst_source, "worst_state": self.worst_state, "n_states": self.n_states,
-                "sources": list(self.sources), "body": self.body, "called": self.called,
-                "not_evaluated": list(self.not_evaluated)}
-
-    def text(self) -> str:
-        """The human-readable verdict."""
-        what = self.quantity if self.body is None else f"{self.quantity} of body {self.body}"
-        head = (f"{what} for case {self.case}: {'right' if self.ok else 'WRONG'} on {self.n_states} states "
-                f"(seed {self.seed}; ordinary and hard), against {', '.join(self.sources)}; worst normalized error "
-                f"{self.worst_error:.3g} ({self.worst_source}, state {self.worst_state}, called {self.called})")
-        head += "".join(f"\nnot evaluated: {line}" for line in self.not_evaluated)
-        if self.ok:
-            return head
-        cols = ", ".join(self.columns) if self.columns else "none found by the probes"
-        if self.body is not None:
-            return f"{head}\njoints whose speeds show it: {cols}"
-        slips = ", ".join(self.matches) if self.matches else "none of the note's known slips"
-        return f"{head}\ncolumns that disagree: {cols}\nreproduced by: {slips}"
 
 
 def _column_diagnosis(fn, chain, case, quantity, s: States, tol, shape) -> tuple:
@@ -196,24 +139,8 @@ def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain
     forms = evaluate_user(fn, chain, c, s.q, s.u, s.udot, shape)
     tol = rounding_tolerance()
     worst = worst_against([(t.source, t.values, t.scale, t.bound) for t in truths], forms, tol)
-    ok = worst[0] <= 1.0
+    ok = worst.ok
     columns = () if ok else _column_diagnosis(fn, chain, c, quantity, s, tol, shape)
     matches = () if ok else _matches(forms.one, chain, c, quantity, s, tol)
-    return Grade(ok, quantity, c, worst[3], worst[1], worst[2], columns, matches, seed, len(s),
-                 tuple(t.source for t in truths), called=worst[4])
-
-
-def worst_against(truths, forms, tol) -> tuple:
-    """``(ratio, source, state, normalized error, how called)`` of the user's worst value over every form of the call
-    (:class:`relacc.testing.user.Forms`) against every reference ``(source, values, scale, bound)``: the ratio of the
-    normalized error to ``tol + bound`` (at most 1: right). A non-finite value is infinitely wrong."""
-    worst = (-1.0, "", 0, 0.0, "")
-    for how, mine in forms.each():
-        finite = np.all(np.isfinite(mine.reshape(len(mine), -1)), axis=1)
-        for source, values, scale, bound in truths:
-            err = np.where(finite, np.atleast_1d(normalized_error(mine, values, scale)), np.inf)
-            ratio = err / (tol + bound)
-            i = int(np.argmax(ratio))
-            if ratio[i] > worst[0]:
-                worst = (float(ratio[i]), source, i, float(err[i]), how)
-    return worst
+    return Grade(ok, quantity, c, worst.error, worst.source, worst.state, columns, matches, seed, len(s),
+                 tuple(t.source for t in truths), called=worst.called)

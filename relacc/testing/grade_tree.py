@@ -22,6 +22,7 @@ from relacc.core.tree import tree_kinematics
 from relacc.core.tree.scales import tree_scales
 from relacc.errors import InputError
 from relacc.limits import GRADE_DOUBLES, require_memory, tree_states_bytes
+from relacc.testing.grading import Grade, worst_against
 from relacc.testing.trees import PHYSICAL, TREE_QUANTITIES, as_tree, model_states, model_truth
 from relacc.testing.user import CallError, evaluate_user
 
@@ -35,13 +36,11 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     """Grade ``fn(tree, q, u, udot)`` for one body's quantity in one case (module docstring).
 
     Returns:
-        :class:`relacc.testing.grade.Grade` (``matches`` is empty: the note's printed slips are the chain's).
+        :class:`relacc.testing.grading.Grade` (``matches`` is empty: the note's printed slips are the chain's).
 
     Raises:
         CallError: ``fn`` cannot be called as a formula. InputError: an unknown body, quantity or case.
     """
-    from relacc.testing.grade import Grade, worst_against
-
     if quantity not in TREE_QUANTITIES:
         raise InputError(f"unknown quantity {quantity!r} for a model's body: accepted are {', '.join(TREE_QUANTITIES)}")
     notes: tuple = ()
@@ -73,10 +72,10 @@ def grade_body(fn, *, model, body, quantity: str, case, n: int = 200, seed: int 
     forms = evaluate_user(fn, tree, c, s.q, s.u, s.udot, shape, called="f(tree, q, u, udot)")
     tol = rounding_tolerance()
     worst = worst_against(truths, forms, tol)
-    ok = worst[0] <= 1.0
+    ok = worst.ok
     columns = () if ok else _columns(fn, tree, c, b, quantity, s, tol, shape)
-    return Grade(ok, quantity, c, worst[3], worst[1], worst[2], columns, (), seed, len(s),
-                 tuple(t[0] for t in truths), body=tree.body_names[b], called=worst[4], not_evaluated=notes)
+    return Grade(ok, quantity, c, worst.error, worst.source, worst.state, columns, (), seed, len(s),
+                 tuple(t[0] for t in truths), body=tree.body_names[b], called=worst.called, not_evaluated=notes)
 
 
 def _columns(fn, tree, c, b, quantity, s, tol, shape) -> tuple:

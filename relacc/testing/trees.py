@@ -19,6 +19,7 @@ from relacc.core.tree import Tree, convert, random_states, tree_kinematics
 from relacc.core.tree.coordinates import rotations
 from relacc.core.tree.scales import tree_scales, tree_tolerance
 from relacc.errors import EngineError, InputError
+from relacc.testing.expected import Expected
 
 TREE_QUANTITIES = ("position", "velocity", "acceleration", "omega", "alpha", "V", "Vdot", "Omega", "Omegadot")
 """Per-body quantities of :class:`relacc.TreeKinematics` a test or a grade may ask for."""
@@ -80,8 +81,6 @@ def _truth(s: States, engine: str, quantities: tuple) -> dict:
     Raises:
         EngineError: an unknown engine, one not installed, or one whose adapter gives no per-body motion.
     """
-    from relacc.testing.truth import Expected
-
     tree, c = s.tree, int(s.case)
     if tree is None:
         raise InputError("truth for a model: these states are the note's chain's, not a tree's")
