@@ -64,7 +64,8 @@ def one_call(name: str, calls: int, repeats: int) -> dict:
     row = {"model": name, "nv": tree.nv,
            "relacc": _timed(lambda: relacc.tree_accelerations(tree, 2, q, u), calls, repeats)}
     robot = load("pinocchio", path, tree=tree)
-    qe, ve, _, _, _ = robot.to_engine(q[None], u[None])
+    states_e = robot.to_engine(q[None], u[None])
+    qe, ve = states_e.q, states_e.v
     model, data = robot.model, robot.model.createData()
     qp, vp, tau = np.ascontiguousarray(qe[0]), np.ascontiguousarray(ve[0]), np.zeros(model.nv)
     row["pinocchio_aba"] = _timed(lambda: pin.aba(model, data, qp, vp, tau), calls, repeats)

@@ -56,7 +56,8 @@ def test_the_contract(engine):
     adapter = load(engine, MODEL, tree)
     assert isinstance(adapter, Adapter) and adapter.engine == engine
     st = random_states(tree, 2, 16, 3)
-    qe, ve, ae, _, _ = adapter.to_engine(st.q, st.u, st.udot)
+    states_e = adapter.to_engine(st.q, st.u, st.udot)
+    qe, ve, ae = states_e.q, states_e.v, states_e.a
     q, v = adapter.from_engine(qe, ve)
     for _, _, a, _ in rotations(tree, 2):  # a quaternion and its negative are one rotation (Drake keeps w >= 0)
         flip = np.sum(q[:, a:a + 4] * st.q[:, a:a + 4], axis=1) < 0
@@ -100,7 +101,8 @@ def test_each_engine_has_the_traits_it_declares(engine):
     tree = relacc.Tree.from_file(MODEL)
     adapter = load(engine, MODEL, tree)
     st = random_states(tree, 2, 2, 5)
-    qe, ve, ae, _, _ = adapter.to_engine(st.q, st.u, st.udot)
+    states_e = adapter.to_engine(st.q, st.u, st.udot)
+    qe, ve, ae = states_e.q, states_e.v, states_e.a
     loops = {}
     for method, args in (("point_loop", (qe, ve, ae, ("body", tree.body_names[0]), False)),
                          ("jacobian_loop", (qe, ve, [("body", tree.body_names[0])]))):

@@ -213,7 +213,9 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, cas
 
     case = int(case)
     T = arrays_of(tree)
-    chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
+    p = plan(tree)
+    chosen = p.method
+    anc, depth, mass, com, inertia, arm, free = p.arrays()
     gravity, E = kernel.effect_arrays(tree, effects)
     fixed = (T, T.qadr3 if case == Case.ANGLE_RATES else T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
     method, aba, width, nq, nv = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1], tree.nq(case), tree.nv

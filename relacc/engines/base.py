@@ -108,6 +108,24 @@ class Structure:
     bodies: tuple[str, ...]
 
 
+@dataclass(frozen=True)
+class EngineStates:
+    """A batch of reference states in an engine's coordinates (:meth:`Adapter.to_engine`).
+
+    Attributes:
+        q: ``(n, nq_e)`` the engine's coordinates. v: ``(n, nv_e)`` its speeds, ``T`` times the reference's.
+        a: ``(n, nv_e)`` its speeds' rates, ``T a_ref + T_dot v_ref``, or None without rates.
+        T: ``(n, nv_e, k)`` the speed map from the reference's ``k`` shared speeds (``v_e = T v``).
+        T_dot: ``(n, nv_e, k)`` its rate along the motion.
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray | None
+    T: np.ndarray
+    T_dot: np.ndarray
+
+
 class Loop:
     """A benchmark anchor: calling it runs an engine's own loop over the states, as a user would write it; what the
     loop fills is in its attributes (``acc``, ``pos``, ``vel``: ``(n, 3)`` or ``(n, k, 3)``, fixed-frame components;
@@ -430,16 +448,16 @@ class Adapter(abc.ABC):
             T[:, rows, cols], Td[:, rows, cols] = Tm, Tdm
         return T, Td
 
-    def to_engine(self, q, v, a=None):
-        """``(qe, ve, ae, T, T_dot)``: reference states ``(n, nq)``, ``(n, nv)`` (rates ``a`` or None) in the engine's
-        coordinates, speeds the engine lacks dropped, and the speed map."""
+    def to_engine(self, q, v, a=None) -> "EngineStates":
+        """Reference states ``q (n, nq)``, ``v (n, nv)`` (rates ``a`` or None) in the engine's coordinates, speeds the
+        engine lacks dropped, with the speed map (:class:`EngineStates`)."""
         q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
         T, Td = self.speed_map(q, v)
         vs = v[:, self.dofs]
         ve = np.einsum("nij,nj->ni", T, vs)
         ae = None if a is None else (np.einsum("nij,nj->ni", T, np.atleast_2d(a)[:, self.dofs])
                                      + np.einsum("nij,nj->ni", Td, vs))
-        return np.ascontiguousarray(self.engine_q(q)), ve, ae, T, Td
+        return EngineStates(np.ascontiguousarray(self.engine_q(q)), ve, ae, T, Td)
 
     def from_engine(self, qe, ve) -> tuple[np.ndarray, np.ndarray]:
         """Engine states back to the reference's ``(q (n, nq), v (n, nv))``; every reference speed must be shared.
@@ -499,7 +517,8 @@ class Adapter(abc.ABC):
         then without the batch axis; speeds the engine lacks: zero), the model's own gravity as the engine read it
         and nothing else."""
         one = np.ndim(q) == 1
-        qe, ve, _, T, Td = self.to_engine(q, v)
+        x = self.to_engine(q, v)
+        qe, ve, T, Td = x.q, x.v, x.T, x.T_dot
         Me, fe = self.equations(qe, ve)
         _, ge = self.equations(qe, np.zeros_like(ve))
         Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
@@ -510,7 +529,8 @@ class Adapter(abc.ABC):
         """Each named link's centre of mass at reference states ``q (n, nq)``, ``v (n, nv)``, rates ``a (n, nv)``, over
         the shared speeds: :class:`Points` ``(n, L, ...)`` (one state: ``(L, ...)``), ``J_dot v`` included."""
         one = np.ndim(q) == 1
-        qe, ve, ae, T, Td = self.to_engine(q, v, a)
+        x = self.to_engine(q, v, a)
+        qe, ve, ae, T, Td = x.q, x.v, x.a, x.T, x.T_dot
         p = self.points(qe, ve, ae, [com(name) for name in links])
         Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
         return first(Points(p.position, p.J @ T[:, None], None, p.Jdot_v + np.einsum("nlij,nj->nli", p.J, Tdv),

@@ -89,12 +89,14 @@ class ChainEngine:
         n = q.shape[0]
         if route == "euler":
             eye = np.broadcast_to(np.eye(12), (n, 12, 12))
-            qe, ve, ae, T, Td = adapter.to_engine(q, u, udot)
+            states_e = adapter.to_engine(q, u, udot)
+            qe, ve, ae, T, Td = states_e.q, states_e.v, states_e.a, states_e.T, states_e.T_dot
             return EngineInput(qe, ve, ae, T @ eye, Td @ eye)
         q14 = quaternion_coordinates(c, q)
         W, W_dot = body_speed_map(c, q, u)
         nu = mv(W, u)
-        qe, _, _, T, Td = adapter.to_engine(q14, nu)
+        states_e = adapter.to_engine(q14, nu)
+        qe, T, Td = states_e.q, states_e.T, states_e.T_dot
         E, E_dot = T @ W, Td @ W + T @ W_dot
         return EngineInput(qe, mv(E, u), None if udot is None else mv(E, udot) + mv(E_dot, u), E, E_dot)
 

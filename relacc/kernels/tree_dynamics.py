@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import threading
 import weakref
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -32,18 +33,43 @@ humanoid 4.4 us for 23, a 30-link chain 5.8 us for 35): what :func:`relacc.kerne
 _PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
-def plan(tree):
-    """``(method, anc, depth, mass, com, inertia, armature, free)`` of a tree, computed once per tree."""
+@dataclass(frozen=True, eq=False)
+class TreePlan:
+    """What the compiled dynamics of one tree needs besides the states, computed once per tree (:func:`plan`).
+
+    Attributes:
+        method: ``"crba"`` or ``"aba"``, the algorithm chosen for the tree's shape.
+        anc: ``(nv, width)`` each speed's ancestor speeds (-1 padded). depth: ``(nv,)`` their counts.
+        mass: ``(nb,)`` kg. com: ``(nb, 3)`` m, body components. inertia: ``(nb, 9)`` kg m^2 about the mass centre,
+            body components. armature: ``(nv,)``. free: ``(nb,)`` bool, bodies on a free joint.
+    """
+
+    method: str
+    anc: np.ndarray
+    depth: np.ndarray
+    mass: np.ndarray
+    com: np.ndarray
+    inertia: np.ndarray
+    armature: np.ndarray
+    free: np.ndarray
+
+    def arrays(self) -> tuple:
+        """``(anc, depth, mass, com, inertia, armature, free)`` in the compiled kernels' argument order."""
+        return self.anc, self.depth, self.mass, self.com, self.inertia, self.armature, self.free
+
+
+def plan(tree) -> TreePlan:
+    """The tree's :class:`TreePlan`, computed once per tree."""
     if tree not in _PLANS:
         anc, depth = dof_paths(tree)
         work = float(np.sum(depth.astype(float) ** 2) / (2 * max(tree.nv, 1)))
-        _PLANS[tree] = ("aba" if work > ABA_FROM else "crba", anc, depth, *inertia_arrays(tree))
+        _PLANS[tree] = TreePlan("aba" if work > ABA_FROM else "crba", anc, depth, *inertia_arrays(tree))
     return _PLANS[tree]
 
 
 def method(tree) -> str:
     """``"crba"`` or ``"aba"``: the algorithm :func:`accelerations` uses for this tree."""
-    return plan(tree)[0]
+    return plan(tree).method
 
 
 def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str | None = None, rates: bool = True):
@@ -58,7 +84,9 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
         quaternions, and of states whose equations are singular (their rows are NaN); callers check and name them.
     """
     T = arrays_of(tree)
-    chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
+    p = plan(tree)
+    chosen = p.method
+    anc, depth, mass, com, inertia, arm, free = p.arrays()
     algorithm = chosen if algorithm is None else algorithm
     n = q.shape[0]
     out = np.empty((n, tree.nv)) if out is None else out
@@ -170,7 +198,9 @@ def _single(tree, case, gravity):
     cache = _SINGLE.setdefault(tree, {})
     if key not in cache:
         T = arrays_of(tree)
-        chosen, anc, depth, mass, com, inertia, arm, free = plan(tree)
+        p = plan(tree)
+        chosen = p.method
+        anc, depth, mass, com, inertia, arm, free = p.arrays()
         qadr = T.qadr3 if case >= 3 else T.qadr
         Q, U, tau, out = np.zeros((1, tree.nq(case))), np.zeros((1, tree.nv)), np.zeros((1, tree.nv)), \
             np.zeros((1, tree.nv))

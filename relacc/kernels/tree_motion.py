@@ -122,7 +122,8 @@ def motion(tree, case: int, q, u, udot, points: bool, out=None):
     from relacc.kernels.tree_dynamics import plan
 
     T = arrays_of(tree)
-    _, _, _, mass, com, inertia, _, _ = plan(tree)
+    p = plan(tree)
+    mass, com, inertia = p.mass, p.com, p.inertia
     n, nb = q.shape[0], tree.nb
     npt = len(tree.points) if points else 0
     with_acc = udot is not None

@@ -189,7 +189,9 @@ def _engine_states(engine, scene, q0, u0):
     """Members' states in an engine's coordinates (its adapter's, from the reference's)."""
     from relacc.simulate.subjects import reference_state
 
-    qe, ve, _, _, _ = engine.to_engine(*reference_state(scene, q0, u0))
+    states_e = engine.to_engine(*reference_state(scene, q0, u0))
+
+    qe, ve = states_e.q, states_e.v
     return np.ascontiguousarray(qe), np.ascontiguousarray(ve)
 
 

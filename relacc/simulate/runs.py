@@ -139,7 +139,8 @@ class _Run:
             x0, v0 = scene.q, scene.u
         else:
             q2, v2 = subjects.reference_state(scene, scene.q[None], scene.u[None])
-            qe, ve, _, _, _ = engine.to_engine(q2, v2)
+            states_e = engine.to_engine(q2, v2)
+            qe, ve = states_e.q, states_e.v
             x0, v0 = qe[0], ve[0]
             integ = engine.stepper(scene.engine_effects, scene.dt, integrator, accuracy)
             observe, applied = subjects.engine_observer(engine, scene), engine.applied(scene.engine_effects)

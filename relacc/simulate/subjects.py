@@ -197,7 +197,8 @@ def note_check(scene, states, engines: dict, case=None) -> dict:
     q2, v2 = reference_state(scene, Q, U, case)
     out = {}
     for name, engine in engines.items():
-        qe, ve, _, _, _ = engine.to_engine(q2, v2)
+        states_e = engine.to_engine(q2, v2)
+        qe, ve = states_e.q, states_e.v
         pts = engine.points(qe, ve, engine.forward(qe, ve, scene.engine_effects, t), [scene.point])
         out[name] = {"error": float(np.max(normalized_error(pts.acceleration[:, 0], mine, scale))), "bound": bound}
     return out

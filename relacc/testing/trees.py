@@ -91,7 +91,8 @@ def _truth(s: States, engine: str, quantities: tuple) -> dict:
         values = {name: getattr(k, name) for name in quantities}
     else:
         adapter = adapter_of(tree, engine)
-        qe, ve, ae, T, _ = adapter.to_engine(*convert(tree, s.q, s.u, s.udot, source=c, target=2))
+        states_e = adapter.to_engine(*convert(tree, s.q, s.u, s.udot, source=c, target=2))
+        qe, ve, ae, T = states_e.q, states_e.v, states_e.a, states_e.T
         ref = adapter.body_motion(qe, ve, ae)
         values = {name: ref[name] for name in quantities if name in PHYSICAL}
         values.update({name: np.einsum("nbkj,nji->nbki", ref[name], T) for name in quantities

@@ -103,7 +103,8 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
     if anchors:
         reference = load("mujoco", path, tree)  # matched to relacc's reading, body by body
         robot = load("pinocchio", path, tree)
-        qe, ve, _, _, _ = robot.to_engine(st.q, st.u)
+        states_e = robot.to_engine(st.q, st.u)
+        qe, ve = states_e.q, states_e.v
         for t in thread_counts():
             secs = wall_times(robot.aba_in_parallel(t, qe.T, ve.T), repeats)
             rows.append(_row("dynamics", name, "pinocchio abaInParallel", t, secs, n_states, case=None))
@@ -144,12 +145,12 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
                           warmups=1)
         rows.append(_row("kinematics", name, "mujoco mj_jac/mj_jacDot loop", 1, secs, small, case=None))
         truth = relacc.tree_kinematics(tree, 2, st.q[:small], st.u[:small], st.udot[:small], partials=False)
-        _, _, ae, _, _ = robot.to_engine(st.q[:small], st.u[:small], st.udot[:small])
+        ae = robot.to_engine(st.q[:small], st.u[:small], st.udot[:small]).a
         loop = robot.motion_loop(qe[:small], ve[:small], ae, links)  # its rigid links' mass centres (no more
         secs = wall_times(loop, max(3, repeats // 2), warmups=1)       # frames than relacc's bodies)
         rows.append(_row("kinematics", name, "pinocchio forwardKinematics loop", 1, secs, small, case=None,
                          frames=len(links)))
-        _, _, ae, _, _ = reference.to_engine(st.q[:small], st.u[:small], st.udot[:small])
+        ae = reference.to_engine(st.q[:small], st.u[:small], st.udot[:small]).a
         loop = reference.motion_loop(st.q[:small], st.u[:small], ae, bodies)
         secs = wall_times(loop, max(3, repeats // 2), warmups=1)
         rows.append(_row("kinematics", name, "mujoco mj_kinematics/mj_comVel loop", 1, secs, small, case=None,

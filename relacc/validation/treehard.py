@@ -174,7 +174,8 @@ def _judge(tree, mujoco, case, extent, q2, u2, qc, uc, offset, speed, delta) -> 
         warnings.simplefilter("ignore", AccuracyWarning)  # the search goes there on purpose
         a = relacc.tree_accelerations(tree, case, qc, uc)
     a2 = convert(tree, qc, uc, a, source=case, target=2)[2] if case != Case.BODY_FRAME else np.asarray(a)
-    qe, ve, ae, _, _ = mujoco.to_engine(q2, u2, a2)
+    states_e = mujoco.to_engine(q2, u2, a2)
+    qe, ve, ae = states_e.q, states_e.v, states_e.a
     engine = mujoco.forward(qe, ve)
     d = relacc.tree_dynamics(tree, 2, q2, u2)
     M, f = np.asarray(d.M)[0], np.asarray(d.f)[0]

@@ -33,7 +33,8 @@ def mujoco_cause(quantity: str, reference, mujoco, states) -> str:
     for start in range(0, len(states.q), CHUNK):  # batched, a chunk of states at a time (as the comparison)
         q, u, udot = (x[start:start + CHUNK] for x in (states.q, states.u, states.udot))
         mine = reference.kinematics(q, u, udot, links)
-        qe, ve, ae, _, _ = mujoco.to_engine(q, u, np.zeros_like(u))
+        states_e = mujoco.to_engine(q, u, np.zeros_like(u))
+        qe, ve, ae = states_e.q, states_e.v, states_e.a
         theirs = mujoco.points(qe, ve, ae, [com(name) for name in links])  # at zero rates: J_dot v by rne
         for i, (v, a) in enumerate(zip(u, udot)):
             scale, _ = point_terms(mine.J[i], mine.position[i], v, a)
