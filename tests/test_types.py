@@ -26,3 +26,27 @@ def test_mypy_catches_a_planted_error(tmp_path):
     out, _, status = api.run(["--config-file", str(ROOT / "pyproject.toml"), "--cache-dir", str(tmp_path / "c"),
                               str(planted)])
     assert status == 1 and "Incompatible return value type" in out
+
+
+def test_the_public_api_is_annotated():
+    """Every function ``relacc`` and ``relacc.testing`` hand on (and every public method of the classes they hand
+    on) has its parameters and return annotated, so the type checker checks it and a user's editor can show it."""
+    import inspect
+
+    import relacc
+    import relacc.testing
+
+    missing = []
+    for module in (relacc, relacc.testing):
+        for name in module.__all__:
+            obj = getattr(module, name)
+            functions = [(name, obj)] if inspect.isfunction(obj) else [
+                (f"{name}.{k}", v) for k, v in vars(obj).items()
+                if inspect.isfunction(v) and not k.startswith("_")] if inspect.isclass(obj) else []
+            for label, f in functions:
+                sig = inspect.signature(f)
+                bare = [p.name for p in sig.parameters.values() if p.name not in ("self", "cls")
+                        and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD) and p.annotation is inspect.Parameter.empty]
+                if bare or sig.return_annotation is inspect.Signature.empty:
+                    missing.append(f"{module.__name__}.{label}: {bare or 'return'}")
+    assert missing == []

@@ -11,6 +11,7 @@ quaternions to :data:`relacc.core.tolerances.QUATERNION_NORM_TOLERANCE`
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core import rotations
 from relacc.core.cases import as_numbers, quaternion_norm_deviation
@@ -51,12 +52,12 @@ def _broadcast(name, *arrays):
     require_memory(8.0 * WORK * rows, f"{name}: {int(rows)} rows, broadcast", "pass fewer at a time")
 
 
-def tilde(v):
+def tilde(v: ArrayLike) -> np.ndarray:
     """Skew-symmetric ``[v~]`` ``(..., 3, 3)`` of ``v`` ``(..., 3)`` (:func:`relacc.core.rotations.tilde`), checked."""
     return rotations.tilde(_numbers("v", v, 3, "3-vectors"))
 
 
-def matrix_from_quaternion(quat):
+def matrix_from_quaternion(quat: ArrayLike) -> np.ndarray:
     """Rotation matrix ``(..., 3, 3)`` of a unit quaternion ``(..., 4)``, w first, checked.
 
     For ``quat_B1`` this is ``[R_B1]^T`` (B1 -> fixed components), dimensionless.
@@ -64,12 +65,12 @@ def matrix_from_quaternion(quat):
     return rotations.matrix_from_quaternion(_unit_quaternion("quat", quat))
 
 
-def matrix_from_123(theta):
+def matrix_from_123(theta: ArrayLike) -> np.ndarray:
     """``Rx(theta1) Ry(theta2) Rz(theta3)`` ``(..., 3, 3)`` of 1-2-3 angles ``(..., 3)`` in rad, checked."""
     return rotations.matrix_from_123(_numbers("theta", theta, 3, "1-2-3 angles in rad"))
 
 
-def omega_partials_123(theta):
+def omega_partials_123(theta: ArrayLike) -> np.ndarray:
     """``[omega_{B,theta_dot}]`` ``(..., 3, 3)`` of 1-2-3 angles ``(..., 3)`` (rad), checked.
 
     Maps angle rates to the angular velocity in the reference frame's components.
@@ -77,7 +78,7 @@ def omega_partials_123(theta):
     return rotations.omega_partials_123(_numbers("theta", theta, 3, "1-2-3 angles in rad"))
 
 
-def omega_partials_123_dot(theta, theta_dot):
+def omega_partials_123_dot(theta: ArrayLike, theta_dot: ArrayLike) -> np.ndarray:
     """Time derivative ``(..., 3, 3)`` (1/s) of :func:`omega_partials_123`, checked."""
     theta = _numbers("theta", theta, 3, "1-2-3 angles in rad")
     theta_dot = _numbers("theta_dot", theta_dot, 3, "1-2-3 angle rates in rad/s")
@@ -85,17 +86,17 @@ def omega_partials_123_dot(theta, theta_dot):
     return rotations.omega_partials_123_dot(theta, theta_dot)
 
 
-def quaternion_exp(phi):
+def quaternion_exp(phi: ArrayLike) -> np.ndarray:
     """Unit quaternion ``(..., 4)`` (w first) of the rotation vector ``phi`` ``(..., 3)`` in rad, checked."""
     return rotations.quaternion_exp(_numbers("phi", phi, 3, "rotation vectors in rad"))
 
 
-def quaternion_from_123(theta):
+def quaternion_from_123(theta: ArrayLike) -> np.ndarray:
     """Unit quaternion ``(..., 4)`` (w first) of ``Rx Ry Rz`` for 1-2-3 angles ``(..., 3)`` in rad, checked."""
     return rotations.quaternion_from_123(_numbers("theta", theta, 3, "1-2-3 angles in rad"))
 
 
-def quaternion_multiply(p, q):
+def quaternion_multiply(p: ArrayLike, q: ArrayLike) -> np.ndarray:
     """Hamilton product ``p (x) q`` ``(..., 4)`` of unit quaternions (w first), checked."""
     p, q = _unit_quaternion("p", p), _unit_quaternion("q", q)
     _broadcast("p, q", p, q)

@@ -5,10 +5,12 @@ Entry point: :func:`g2_kinematics`.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core.cases import Case, as_case, check_q, check_u
 from relacc.core.chain import TwoBodyChain
@@ -177,7 +179,9 @@ def _flat(a, batch, width):
     return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width), dtype=np.float64)
 
 
-def g2_kinematics(chain, case, q, u, udot=None, *, variant="corrected", backend="auto", out=None) -> G2Kinematics:
+def g2_kinematics(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, udot: ArrayLike | None = None, *,
+                  variant: str | Iterable[str] = "corrected", backend: str = "auto", out: Sequence | None = None
+                  ) -> G2Kinematics:
     """Position, velocity, acceleration, V and Vdot of G2 by the note's formulas.
 
     Args:
@@ -258,7 +262,8 @@ def _kinematics_out(out, batch, with_acc) -> tuple[Any, Any, Any, Any, Any] | No
     return p, v, a, V, Vd
 
 
-def g2_acceleration(chain, case, q, u, udot, *, backend="auto", out=None):
+def g2_acceleration(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, udot: ArrayLike, *,
+                    backend: str = "auto", out: np.ndarray | None = None) -> np.ndarray:
     """G2's classical acceleration alone (corrected formulas), the fastest path.
 
     Same arguments and checks as :func:`g2_kinematics`, without V, Vdot; ``out``:
@@ -292,7 +297,8 @@ def g2_acceleration(chain, case, q, u, udot, *, backend="auto", out=None):
     return acc
 
 
-def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False, out=None):
+def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False, out=None
+            ) -> tuple[Case, np.ndarray, np.ndarray, Any, str, tuple[int, ...]]:
     """The checks both entry points share: ``(case, q, u, udot, path, batch)``.
 
     Types and shapes here; values (finite, unit quaternions) here on the

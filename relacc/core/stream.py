@@ -18,7 +18,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from relacc.core.cases import as_case, check_int
-from relacc.core.kinematics import check_values, g2_acceleration, g2_kinematics
+from relacc.core.kinematics import G2Kinematics, check_values, g2_acceleration, g2_kinematics
 from relacc.errors import InputError, RelaccError
 
 CHUNK_SIZE = 65_536
@@ -77,7 +77,8 @@ def iter_g2_kinematics(chain, case, q, u, udot=None, *, chunk_size: int = CHUNK_
         k = states.stop - states.start
         out = None if buffers is None else tuple(None if b is None else b[:k] for b in buffers)
         try:
-            if acceleration_only:
+            result: np.ndarray | G2Kinematics
+            if acceleration_only and dc is not None:  # checked above: acceleration_only needs udot
                 result = g2_acceleration(chain, case, qc, uc, dc, backend=backend, out=None if out is None else out[0])
             else:
                 result = g2_kinematics(chain, case, qc, uc, dc, variant=variant, backend=backend, out=out)

@@ -21,8 +21,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core.cases import Case, as_case
 from relacc.core.kinematics import check_finite_result
@@ -157,7 +159,8 @@ def joint_forces(tree, q, v, effects, joint_effects=None, case: int = 2) -> np.n
     return f
 
 
-def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
+def tree_dynamics(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, effects: TreeEffects | None = None,
+                 t: ArrayLike = 0.0) -> TreeDynamics:
     """Kane's ``M udot = f + tau`` of a tree in a case's speeds (see the module docstring).
 
     Args:
@@ -182,7 +185,8 @@ def tree_dynamics(tree, case, q, u, *, effects=None, t=0.0) -> TreeDynamics:
         warn_near_lock(tree, q, "the mass matrix in the rates, [W_b]^T M2 [W_b] with M2 the mass matrix in case-2 "
                        "speeds, has a condition number up to {cond2:.3g} times M2's and is singular at the lock "
                        "(relacc.tree_accelerations solves in case-2 speeds instead)")
-    tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
+    t_arr = np.asarray(t, dtype=float)
+    tt = np.broadcast_to(t_arr, batch).reshape(-1) if t_arr.ndim else float(t_arr)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one sentence
         M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
     check_finite_result((M, f), q, u, model=_model_magnitude(tree))
@@ -197,7 +201,9 @@ def _model_magnitude(tree) -> tuple[str, float]:
     return "largest mass or inertia", max(max(b.mass, float(np.abs(b.inertia).max())) for b in tree.bodies)
 
 
-def tree_accelerations(tree, case, q, u, *, tau=None, effects=None, t=0.0, backend="auto", out=None):
+def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau: ArrayLike | None = None,
+                       effects: TreeEffects | None = None, t: ArrayLike = 0.0, backend: str = "auto",
+                       out: np.ndarray | None = None) -> np.ndarray:
     """``udot`` with ``M udot = f + tau``: forward dynamics of a tree in a case's speeds.
 
     Args:
@@ -322,7 +328,7 @@ def _effect_forces(tree, case, q, u, effects, t):
     return f.reshape(batch + (tree.nv,))
 
 
-def _tau(tree, tau, batch, nq):
+def _tau(tree, tau, batch, nq) -> tuple[Any, tuple[int, ...]]:
     """``(tau, batch)``: the applied generalized forces checked (shape, then their batch's cost against the memory
     available, then values) and the batch they broadcast to with the states'; ``tau`` None stays None."""
     from relacc.core.tree.coordinates import check_u

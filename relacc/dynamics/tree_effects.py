@@ -8,12 +8,17 @@ joint damping or limits) unless named here.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core.cases import fixed_vector
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.errors import InputError
+
+if TYPE_CHECKING:
+    from relacc.core.tree import Tree
 
 
 def _num(owner, name, value, minimum=None) -> float:
@@ -66,7 +71,7 @@ class BodyLoad:
         object.__setattr__(self, "frequency", _num("body load", "frequency", self.frequency, 0.0))
         object.__setattr__(self, "phase", _num("body load", "phase", self.phase))
 
-    def factor(self, t):
+    def factor(self, t: ArrayLike) -> np.ndarray:
         """``s(t)``: 1, or the sinusoid at time ``t`` (s)."""
         if self.frequency == 0:
             return np.ones_like(np.asarray(t, dtype=float))
@@ -132,7 +137,7 @@ class TreeEffects:
                                    "phase": b.phase}
         return out
 
-    def resolve(self, tree):
+    def resolve(self, tree: "Tree") -> tuple:
         """``(gravity, [(joint index, JointEffect, rest)], [(body index, BodyLoad)])``, names checked against ``tree``.
 
         Raises:
@@ -143,6 +148,7 @@ class TreeEffects:
         for name, eff in self.joints.items():
             k = tree.joint(name)
             kind = tree.joints[k][1].type
+            rest: np.ndarray | float  # a ball's rest quaternion, a hinge's or slide's rest coordinate
             if kind == "free" and eff.stiffness:
                 raise InputError(f"effects: joint {name!r} is free: it takes a damper, not a spring")
             if kind == "ball":

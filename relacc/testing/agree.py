@@ -2,12 +2,18 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core.cases import U_BLOCKS
 from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
 from relacc.errors import InputError
 from relacc.limits import require_memory
+
+if TYPE_CHECKING:
+    from relacc.testing.expected import Expected
 
 SPEED_NAMES = {
     1: ("s1_dot", "omega_B1", "s2'_dot", "omega_hat_B2"),
@@ -25,7 +31,8 @@ def column_errors(actual, expected, scale, case) -> dict:
             for name, sl in zip(SPEED_NAMES[int(case)], U_BLOCKS.values())}
 
 
-def assert_agrees(actual, expected, *, scale=None, what: str = "", tolerance: float | None = None):
+def assert_agrees(actual: ArrayLike, expected: "Expected | ArrayLike", *, scale: ArrayLike | None = None,
+                  what: str = "", tolerance: float | None = None) -> np.ndarray:
     """Assert that ``actual`` agrees with ``expected`` within relacc's error model; return the per-state errors.
 
     The error of a state is ``max |actual - expected| / scale`` (the magnitude of the terms,
@@ -78,17 +85,18 @@ def assert_agrees(actual, expected, *, scale=None, what: str = "", tolerance: fl
     if not np.all(np.isfinite(act)):
         finite = np.all(np.isfinite(act.reshape(errors.shape + (-1,))), axis=-1)
         ratio = np.where(finite, ratio, np.inf)
-    labels = expected.labels if isinstance(expected, Expected) else ()
-    if labels:  # a model's bodies: judge (state, body) pairs, name the body
+    known = expected if isinstance(expected, Expected) else None
+    if known is not None and known.labels:  # a model's bodies: judge (state, body) pairs, name the body
+        labels = known.labels
         flat = ratio.reshape(-1)
         i, body = (int(x) for x in np.unravel_index(int(np.argmax(flat)), ratio.shape))
         diff = np.abs(act[i, body] - ref[i, body])
         row = int(np.unravel_index(np.nanargmax(np.where(np.isnan(diff), np.inf, diff)), diff.shape)[0])
         tol_i = float(np.broadcast_to(tol, errors.shape)[i, body])
-        label = what or expected.quantity
-        raise AssertionError(f"{label} against {expected.source}: normalized error {float(errors[i, body]):.3g} "
+        label = what or known.quantity
+        raise AssertionError(f"{label} against {known.source}: normalized error {float(errors[i, body]):.3g} "
                              f"({float(errors[i, body]) / EPS:.3g} eps) > tolerance {tol_i:.3g} ({tol_i / EPS:.3g} "
-                             f"eps) at state {int(i)} of seed {expected.seed!r}, body {labels[body]}, component "
+                             f"eps) at state {int(i)} of seed {known.seed!r}, body {labels[body]}, component "
                              f"{COMPONENTS[row]}")
     i = int(np.argmax(ratio))
     diff = np.abs(act[i] - ref[i])

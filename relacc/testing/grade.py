@@ -20,6 +20,10 @@ accuracy bound. When the function is wrong it says:
 
 from __future__ import annotations
 
+import os
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from relacc.core.cases import U_BLOCKS, as_case, check_int
@@ -35,6 +39,10 @@ from relacc.testing.grading import Grade, worst_against
 from relacc.testing.truth import states as draw_states
 from relacc.testing.truth import truth
 from relacc.testing.user import CallError, evaluate_user
+
+if TYPE_CHECKING:
+    from relacc.core.chain import TwoBodyChain
+    from relacc.core.tree import Tree
 
 
 def _column_diagnosis(fn, chain, case, quantity, s: States, tol, shape) -> tuple:
@@ -93,8 +101,9 @@ def _matches(mine, chain, case, quantity, s: States, tol) -> tuple:
     return tuple(out)
 
 
-def check_formula(fn, *, quantity: str, case, n: int = 200, seed: int = 0, chain=None, engines=None, model=None,
-                  body=None) -> Grade:
+def check_formula(fn: Callable, *, quantity: str, case: int, n: int = 200, seed: int = 0,
+                  chain: TwoBodyChain | None = None, engines: Sequence[str] | None = None,
+                  model: str | os.PathLike | Tree | None = None, body: str | None = None) -> Grade:
     """Grade ``fn(chain, q, u, udot)`` for one quantity and case (module docstring).
 
     With ``model`` (an MJCF, URDF or chain TOML path, or a relacc.Tree) and ``body`` (a body's name), grade

@@ -11,6 +11,8 @@ user's numbers exactly as ``relacc check`` judges the engines.
 
 from __future__ import annotations
 
+import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -25,10 +27,13 @@ from relacc.errors import InputError
 from relacc.testing.expected import Expected
 
 if TYPE_CHECKING:
+    from relacc.core.chain import TwoBodyChain
+    from relacc.core.tree import Tree
     from relacc.testing.trees import ModelTruth
 
 
-def states(case, n: int = 200, seed: int = 0, hard: bool = False, model=None):
+def states(case: int, n: int = 200, seed: int | Sequence[int] = 0, hard: bool = False,
+           model: str | os.PathLike | Tree | None = None) -> States:
     """``n`` seeded states of a case, ``numpy.random.default_rng(seed)``-reproducible.
 
     With ``model`` (an MJCF, URDF or chain TOML path, or a :class:`relacc.Tree`), the states of that model's
@@ -92,7 +97,8 @@ class Truth:
     Vdot = property(lambda self: self.of("Vdot"))
 
 
-def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain=None) -> "Truth | ModelTruth":
+def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain: TwoBodyChain | None = None
+          ) -> "Truth | ModelTruth":
     """G2's kinematics for the states ``s`` by an engine (or ``"relacc"``: the corrected formulas).
 
     Args:

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core.cases import as_case
 from relacc.core.tree.coordinates import check_q, check_u
@@ -131,7 +134,8 @@ def check_tree(tree) -> None:
         raise InputError(f"tree: expected a relacc.Tree (Tree.from_file, Tree.from_chain), got {type(tree).__name__}")
 
 
-def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_per_state=0.0, what="evaluating"):
+def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_per_state=0.0, what="evaluating"
+           ) -> tuple[int, np.ndarray, np.ndarray, Any, tuple[int, ...]]:
     """The checks every tree entry point shares: ``(case, q, u, udot, batch)``, all checked and broadcast.
 
     In order, so that nothing large is allocated before it is known to fit: types and shapes; then the batch's
@@ -172,7 +176,8 @@ def flat(a, batch, width):
 BACKENDS = ("auto", "fast", "reference")
 
 
-def tree_kinematics(tree, case, q, u, udot=None, *, points=None, backend="auto", out=None,
+def tree_kinematics(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, udot: ArrayLike | None = None, *,
+                    points: str | Sequence[str] | None = None, backend: str = "auto", out: dict | None = None,
                     partials: bool = True) -> TreeKinematics:
     """Every body's mass-centre kinematics, angular velocity and partial velocities, by the note's method.
 
@@ -208,7 +213,7 @@ def tree_kinematics(tree, case, q, u, udot=None, *, points=None, backend="auto",
     c, q, u, udot, batch = inputs(tree, case, q, u, udot, bytes_per_state=8.0 * per_state)
     if backend not in BACKENDS:
         raise InputError(f"unknown backend {backend!r}: accepted are {', '.join(BACKENDS)}")
-    real = all(a is None or a.dtype.kind != "c" for a in (q, u, udot))
+    real = not any(np.iscomplexobj(a) for a in (q, u, udot) if a is not None)
     if backend == "fast" and not real:
         raise InputError("backend 'fast' evaluates real inputs only; use backend 'reference' for complex ones")
     fast = backend == "fast" or (backend == "auto" and real)

@@ -287,7 +287,7 @@ class Tree:
         """Number of generalized speeds (the same in every case)."""
         return sum(j.nv for _, j in self.joints)
 
-    def nq(self, case) -> int:
+    def nq(self, case: int) -> int:
         """Number of coordinates in a case: quaternions in cases 1-2, 1-2-3 angles in case 3."""
         return self._nq[1 if int(case) == 3 else 0]
 
@@ -304,7 +304,7 @@ class Tree:
             at += j.nv
         return tuple(out)
 
-    def qadr(self, case) -> tuple:
+    def qadr(self, case: int) -> tuple:
         """First coordinate index of each joint in a case's ``q``."""
         table = NQ_ANGLES if int(case) == 3 else NQ
         out, at = [], 0
@@ -355,7 +355,7 @@ class Tree:
     def point_names(self) -> tuple:
         return tuple(p.name for p in self.points)
 
-    def body(self, name) -> int:
+    def body(self, name: str) -> int:
         """A body's index by name (or index)."""
         if isinstance(name, (int, np.integer)) and not isinstance(name, bool) and 0 <= name < self.nb:
             return int(name)
@@ -364,7 +364,7 @@ class Tree:
         except ValueError:
             raise InputError(f"tree {self.name!r} has no body {name!r}; bodies: {', '.join(self.body_names)}") from None
 
-    def joint(self, name) -> int:
+    def joint(self, name: str) -> int:
         """A joint's index (in :attr:`joints`) by name."""
         try:
             return self.joint_names.index(name)
