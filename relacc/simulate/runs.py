@@ -89,7 +89,8 @@ class SimulationResult:
             return "nothing to judge: only one evaluator ran"
         if self.agree:
             return (f"every engine's acceleration agrees with {who} at the same states "
-                    f"({', '.join(self.note_check)}); the trajectories differ by their integrators' truncation only")
+                    f"({', '.join(self.note_check)}); how far the trajectories then drift apart (shown) is the "
+                    "integrators' doing and is not judged")
         parts = [f"{name} by {c['error']:.2e} (bound {c['bound']:.1e})" for name, c in self.differing.items()]
         return (f"DISAGREE: at the same states the acceleration differs from {who}: {'; '.join(parts)}: "
                 f"{'that engine reads' if len(parts) == 1 else 'those engines read'} the model or the scene's effects "
