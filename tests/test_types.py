@@ -29,15 +29,17 @@ def test_mypy_catches_a_planted_error(tmp_path):
 
 
 def test_the_public_api_is_annotated():
-    """Every function ``relacc`` and ``relacc.testing`` hand on (and every public method of the classes they hand
-    on) has its parameters and return annotated, so the type checker checks it and a user's editor can show it."""
+    """Every function ``relacc``, ``relacc.testing`` and ``relacc.engines`` (the one engine interface) hand on, and
+    every public method of the classes they hand on, has its parameters and return annotated, so the type checker
+    checks it and a user's editor can show it."""
     import inspect
 
     import relacc
+    import relacc.engines
     import relacc.testing
 
     missing = []
-    for module in (relacc, relacc.testing):
+    for module in (relacc, relacc.testing, relacc.engines):
         for name in module.__all__:
             obj = getattr(module, name)
             functions = [(name, obj)] if inspect.isfunction(obj) else [

@@ -27,12 +27,18 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.errors import EngineError
+
+if TYPE_CHECKING:
+    from relacc.core.tree import Tree
+    from relacc.dynamics.tree_effects import TreeEffects
 
 JOINT_TYPES = ("free", "ball", "slide", "hinge")
 """Joint types in the common description (MuJoCo's names)."""
@@ -124,6 +130,17 @@ class EngineStates:
     a: np.ndarray | None
     T: np.ndarray
     T_dot: np.ndarray
+
+    @property
+    def rates(self) -> np.ndarray:
+        """``a``, which these states must have been converted with.
+
+        Raises:
+            EngineError: they were converted without rates.
+        """
+        if self.a is None:
+            raise EngineError("these engine states were converted without rates (to_engine(q, v) without a)")
+        return self.a
 
 
 class Loop:
@@ -268,7 +285,8 @@ class Adapter(abc.ABC):
     structure: Structure
     """What the engine built, set by each adapter when it has loaded the model."""
 
-    def __init__(self, reference, matches, nq_e: int, nv_e: int, source=None, warnings=()):
+    def __init__(self, reference: Tree, matches: Iterable[Match], nq_e: int, nv_e: int, source: object = None,
+                 warnings: Iterable[str] = ()):
         self.reference, self.matches, self.nq_e, self.nv_e = reference, tuple(matches), int(nq_e), int(nv_e)
         self.source, self.warnings = source, list(warnings)
         self.dofs = np.array(sorted(i for m in self.matches for i in m.ref_v), dtype=int)
@@ -287,37 +305,40 @@ class Adapter(abc.ABC):
     def default_q(self) -> np.ndarray:
         """``(nq_e,)`` the engine's positions of joints the reference lacks (and the starting point of the rest)."""
 
-    def q_block(self, match: Match, x) -> np.ndarray:
+    def q_block(self, match: Match, x: np.ndarray) -> np.ndarray:
         """The engine's positions ``(n, len(match.q))`` of one match from the reference's ``x (n, len(ref_q))``."""
         return x
 
-    def q_back(self, match: Match, xe) -> np.ndarray:
+    def q_back(self, match: Match, xe: np.ndarray) -> np.ndarray:
         """The inverse of :meth:`q_block`."""
         return xe
 
-    def v_block(self, match: Match, x, w) -> tuple[np.ndarray, np.ndarray]:
+    def v_block(self, match: Match, x: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(T, T_dot)`` ``(n, len(match.v), len(ref_v))``: the match's engine speeds ``T w`` from the reference's
         positions ``x`` and speeds ``w`` (default: the same speeds)."""
         n, k = len(x), len(match.ref_v)
         return np.broadcast_to(np.eye(k), (n, k, k)), np.zeros((n, k, k))
 
     @abc.abstractmethod
-    def equations(self, qe, ve, effects=None, t=0.0) -> tuple[np.ndarray, np.ndarray]:
+    def equations(self, qe: np.ndarray, ve: np.ndarray, effects: TreeEffects | None = None, t: ArrayLike = 0.0
+                  ) -> tuple[np.ndarray, np.ndarray]:
         """``(M_e (n, nv_e, nv_e), f_e (n, nv_e))``: ``M_e vdot_e = f_e`` with ``f_e`` the generalized forces of
         exactly ``effects`` (a :class:`relacc.dynamics.tree_effects.TreeEffects`; None: the model's own gravity
         as the engine read it, nothing else) minus the Coriolis and centrifugal terms, at time ``t`` (s)."""
 
     @abc.abstractmethod
-    def forward(self, qe, ve, effects=None, t=0.0) -> np.ndarray:
+    def forward(self, qe: np.ndarray, ve: np.ndarray, effects: TreeEffects | None = None, t: ArrayLike = 0.0
+                ) -> np.ndarray:
         """``(n, nv_e)`` the engine's forward dynamics under exactly ``effects`` (as :meth:`equations`)."""
 
     @abc.abstractmethod
-    def points(self, qe, ve, ae, specs, *, jdot: bool = False) -> Points:
+    def points(self, qe: np.ndarray, ve: np.ndarray, ae: np.ndarray | None, specs: Sequence[tuple[str, str]], *,
+               jdot: bool = False) -> Points:
         """:class:`Points` of ``specs`` (:func:`point`, :func:`com`) at engine states ``qe (n, nq_e)``,
         ``ve (n, nv_e)``, rates ``ae`` (or None); ``jdot``: also the Jacobian's rate as a matrix."""
 
     @abc.abstractmethod
-    def stepper(self, effects, dt: float, integrator: str, accuracy: float | None = None):
+    def stepper(self, effects: TreeEffects, dt: float, integrator: str, accuracy: float | None = None) -> Any:
         """The engine's integrator under exactly ``effects``, a :class:`relacc.dynamics.steps.Stepper` in engine
         coordinates; ``accuracy``: an error-controlled integrator's target (None: fixed steps).
 
@@ -330,21 +351,22 @@ class Adapter(abc.ABC):
     def _lacks(self, what: str) -> NoReturn:
         raise EngineError(f"{self.engine} offers no {what} in relacc (see relacc.engines.base.Adapter)")
 
-    def point_loop(self, qe, ve, ae, spec, full: bool = False):
+    def point_loop(self, qe: np.ndarray, ve: np.ndarray, ae: np.ndarray, spec: tuple[str, str], full: bool = False
+                   ) -> Loop:
         """A closure looping over the states as a user would for one point's classical acceleration (and, with
         ``full``, its position, Jacobian and its rate); the accelerations ``(n, 3)`` in its ``acc`` attribute."""
         self._lacks("per-state point loop")
 
-    def jacobian_loop(self, qe, ve, specs):
+    def jacobian_loop(self, qe: np.ndarray, ve: np.ndarray, specs: Sequence[tuple[str, str]]) -> Loop:
         """A closure looping over the states for every point's Jacobian and its rate, as a user would."""
         self._lacks("Jacobian loop")
 
-    def motion_loop(self, qe, ve, ae, specs):
+    def motion_loop(self, qe: np.ndarray, ve: np.ndarray, ae: np.ndarray, specs: Sequence[tuple[str, str]]) -> Loop:
         """A closure looping over the states for every point's position, velocity, classical acceleration, angular
         velocity and acceleration (no Jacobian); ``(n, P, 3)`` results in its ``pos``, ``vel``, ``acc`` attributes."""
         self._lacks("kinematics loop")
 
-    def aba_in_parallel(self, threads: int, qe, ve, gravity=None):
+    def aba_in_parallel(self, threads: int, qe: np.ndarray, ve: np.ndarray, gravity: ArrayLike | None = None) -> Loop:
         """A closure running the engine's own batched forward dynamics over ``threads`` threads."""
         self._lacks("batched forward dynamics")
 
@@ -352,37 +374,38 @@ class Adapter(abc.ABC):
         """Per-thread working data for :meth:`rollout`."""
         self._lacks("rollout")
 
-    def rollout(self, qpos, qvel, ends, work):
+    def rollout(self, qpos: np.ndarray, qvel: np.ndarray, ends: np.ndarray, work: list) -> Any:
         """Every member's steps in the engine's own loop: ``(Q, V, first bad record, seconds)``."""
         self._lacks("rollout")
 
-    def step_loop(self, qpos, qvel, n_steps: int):
+    def step_loop(self, qpos: np.ndarray, qvel: np.ndarray, n_steps: int) -> Callable[[], object]:
         """A closure stepping one state ``n_steps`` times from Python, the engine's step call by call."""
         self._lacks("step loop")
 
-    def rollout_loop(self, qpos, qvel, n_steps: int, threads: int):
+    def rollout_loop(self, qpos: np.ndarray, qvel: np.ndarray, n_steps: int, threads: int) -> Loop:
         """A closure running every state ``n_steps`` steps in the engine's own compiled loop."""
         self._lacks("rollout loop")
 
-    def space(self):
+    def space(self) -> Any:
         """The engine's configuration manifold for :mod:`relacc.dynamics.integrate` (``integrate``, ``dexpinv``)."""
         self._lacks("configuration space for relacc's integrators")
 
-    def derivs(self, effects, threads: int = 1):
+    def derivs(self, effects: TreeEffects, threads: int = 1) -> Any:
         """``derivs(x, w, t) -> (w, vdot)`` under ``effects``, for :mod:`relacc.dynamics.integrate` on :meth:`space`."""
         self._lacks("rates for relacc's integrators")
 
-    def body_motion(self, q, u, udot) -> dict:
+    def body_motion(self, q: np.ndarray, u: np.ndarray, udot: np.ndarray) -> dict:
         """The engine's own numbers for every body at engine states: ``position``, ``velocity``, ``omega``,
         ``acceleration``, ``alpha`` ``(n, nb, 3)``, ``V``, ``Omega`` ``(n, nb, 3, nv)``, fixed-frame components."""
         self._lacks("per-body motion")
 
-    def load_forces(self, qe, effects, t=0.0) -> np.ndarray:
+    def load_forces(self, qe: np.ndarray, effects: TreeEffects, t: ArrayLike = 0.0) -> np.ndarray:
         """``(n, nv_e)`` the generalized forces of ``effects``' body loads at time ``t`` (s; a scalar or one per state;
         engines that configure their model to apply them, like MuJoCo, leave this zero)."""
         return np.zeros((len(qe), self.nv_e))
 
-    def generalized_forces(self, qe, ve, effects, t=0.0) -> np.ndarray:
+    def generalized_forces(self, qe: np.ndarray, ve: np.ndarray, effects: TreeEffects | None, t: ArrayLike = 0.0
+                           ) -> np.ndarray:
         """``(n, nv_e)`` the generalized forces of ``effects``' joint springs, dampers and body loads at time ``t``
         (gravity excepted: it is the engine's gravity field). Joints' are relacc's (MuJoCo's passive force,
         :func:`relacc.dynamics.tree.joint_forces`) on the reference's speeds, mapped to the engine's by ``T^-T``
@@ -397,11 +420,11 @@ class Adapter(abc.ABC):
             tau += self.load_forces(qe, effects, t)
         return tau
 
-    def applied(self, effects) -> dict:
+    def applied(self, effects: TreeEffects) -> dict:
         """What the engine is told to apply for ``effects``, as plain data for reports."""
         return {"effects": describe(effects)}
 
-    def energy(self, qe, ve, effects) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def energy(self, qe: np.ndarray, ve: np.ndarray, effects: TreeEffects) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(kinetic, gravity, spring)`` energies ``(n,)`` J of engine states: relacc's formulas
         (:mod:`relacc.dynamics.tree_energy`) at the states mapped back to the reference's coordinates."""
         from relacc.dynamics.tree_energy import tree_energy
@@ -409,7 +432,7 @@ class Adapter(abc.ABC):
         q, v = self.from_engine(qe, ve)
         return tree_energy(self.reference, q, v, effects)
 
-    def momenta(self, qe, ve) -> tuple[np.ndarray, np.ndarray]:
+    def momenta(self, qe: np.ndarray, ve: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Linear (kg m/s) and angular (kg m^2/s, about the world origin) momenta ``(n, 3)`` of engine states."""
         from relacc.dynamics.tree_energy import tree_momenta
 
@@ -421,13 +444,13 @@ class Adapter(abc.ABC):
         return 0.0
 
     @property
-    def tree(self):
+    def tree(self) -> Tree:
         """The :class:`relacc.Tree` this adapter is matched to (:attr:`reference`)."""
         return self.reference
 
     # --- built here, once for every engine ------------------------------------------------------------------
 
-    def engine_q(self, q) -> np.ndarray:
+    def engine_q(self, q: np.ndarray) -> np.ndarray:
         """``(n, nq_e)`` the engine's positions of reference positions ``q (n, nq)``."""
         q = np.atleast_2d(np.asarray(q, dtype=float))
         qe = np.repeat(self.default_q()[None], len(q), axis=0)
@@ -435,7 +458,7 @@ class Adapter(abc.ABC):
             qe[:, list(m.q)] = self.q_block(m, q[:, list(m.ref_q)])
         return qe
 
-    def speed_map(self, q, v) -> tuple[np.ndarray, np.ndarray]:
+    def speed_map(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(T, T_dot)`` ``(n, nv_e, len(dofs))``: the engine's speeds from the shared reference speeds,
         ``v_e = T v[dofs]``, and the map's rate along ``v``."""
         q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
@@ -448,7 +471,7 @@ class Adapter(abc.ABC):
             T[:, rows, cols], Td[:, rows, cols] = Tm, Tdm
         return T, Td
 
-    def to_engine(self, q, v, a=None) -> "EngineStates":
+    def to_engine(self, q: ArrayLike, v: ArrayLike, a: ArrayLike | None = None) -> EngineStates:
         """Reference states ``q (n, nq)``, ``v (n, nv)`` (rates ``a`` or None) in the engine's coordinates, speeds the
         engine lacks dropped, with the speed map (:class:`EngineStates`)."""
         q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
@@ -459,7 +482,7 @@ class Adapter(abc.ABC):
                                      + np.einsum("nij,nj->ni", Td, vs))
         return EngineStates(np.ascontiguousarray(self.engine_q(q)), ve, ae, T, Td)
 
-    def from_engine(self, qe, ve) -> tuple[np.ndarray, np.ndarray]:
+    def from_engine(self, qe: np.ndarray, ve: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Engine states back to the reference's ``(q (n, nq), v (n, nv))``; every reference speed must be shared.
 
         Raises:
@@ -492,10 +515,10 @@ class Adapter(abc.ABC):
             plan = [m for m in self.matches if joints & set(m.joints)]
             if len(set().union(*(m.joints for m in plan))) < len(joints):
                 raise EngineError(f"{self.engine} lacks a joint the effects name: its forces do not map")
-            plan = [(m, np.array(m.q), np.array(m.v), np.array(m.ref_q), np.array(m.ref_v),
-                     self.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, 1)))[0] if m.kind in ONE else None)
-                    for m in plan]
-            cached = self._joint_plan = (effects, resolved, plan)
+            planned = [(m, np.array(m.q), np.array(m.v), np.array(m.ref_q), np.array(m.ref_v),
+                        self.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, 1)))[0] if m.kind in ONE else None)
+                       for m in plan]
+            cached = self._joint_plan = (effects, resolved, planned)
         _, resolved, plan = cached
         n = len(qe)
         q, v = np.zeros((n, self.reference.nq(2))), np.zeros((n, self.reference.nv))
@@ -512,7 +535,7 @@ class Adapter(abc.ABC):
             tau[:, iv] = _solve(np.swapaxes(T, 1, 2), f[:, ref_v])
         return tau
 
-    def dynamics(self, q, v) -> Dynamics:
+    def dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
         """:class:`Dynamics` at reference states ``q (n, nq)``, ``v (n, nv)`` (or one state, ``(nq,)``, ``(nv,)``:
         then without the batch axis; speeds the engine lacks: zero), the model's own gravity as the engine read it
         and nothing else."""
@@ -525,7 +548,7 @@ class Adapter(abc.ABC):
         forward = self.forward(qe, ve) if self.extra_dofs == 0 else None
         return first(mapped_dynamics(Me, fe, ge, forward, T, Tdv), one)
 
-    def kinematics(self, q, v, a, links) -> Points:
+    def kinematics(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, links: Sequence[str]) -> Points:
         """Each named link's centre of mass at reference states ``q (n, nq)``, ``v (n, nv)``, rates ``a (n, nv)``, over
         the shared speeds: :class:`Points` ``(n, L, ...)`` (one state: ``(L, ...)``), ``J_dot v`` included."""
         one = np.ndim(q) == 1

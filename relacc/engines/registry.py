@@ -5,12 +5,20 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import os
 import sys
+from collections.abc import Iterable
 from dataclasses import dataclass
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 from relacc.engines.base import Adapter
 from relacc.engines.chain import ROUTES, ChainEngine
 from relacc.errors import EngineError
+
+if TYPE_CHECKING:
+    from relacc.core.tree import Tree
+    from relacc.fixtures import Fixture
 
 ENGINES = ("pinocchio", "mujoco", "drake")
 """Engine names, in report order."""
@@ -66,7 +74,7 @@ def traits(name: str) -> Traits:
     return TRAITS[name]
 
 
-def with_trait(trait: str, names=ENGINES) -> tuple[str, ...]:
+def with_trait(trait: str, names: Iterable[str] = ENGINES) -> tuple[str, ...]:
     """The engines of ``names`` (default all, in report order) that have ``trait`` (a :class:`Traits` flag)."""
     return tuple(n for n in names if n in TRAITS and getattr(TRAITS[n], trait))
 
@@ -81,7 +89,7 @@ def available() -> tuple[str, ...]:
     return tuple(name for name in ENGINES if installed(name))
 
 
-def adapter_module(name: str):
+def adapter_module(name: str) -> ModuleType:
     """The adapter package of an engine (imports the engine).
 
     Raises:
@@ -106,7 +114,7 @@ def readings(name: str) -> tuple:
     return importlib.import_module(f"{adapter_module(name).__name__}.readings").ENGINE_READINGS
 
 
-def load(name: str, path, reference=None, **options) -> Adapter:
+def load(name: str, path: str | os.PathLike, reference: Tree | None = None, **options) -> Adapter:
     """The one loader: model file ``path`` in engine ``name``, matched to ``reference`` (a :class:`relacc.Tree`;
     None: relacc's reading of the file; MuJoCo's adapter takes its own compiled tree, the chain's routes). Options by
     engine: Pinocchio ``urdf=``, ``split=``; Drake ``build=`` (the plant of ``reference`` itself).
@@ -117,7 +125,7 @@ def load(name: str, path, reference=None, **options) -> Adapter:
     return adapter_module(name).load(path, reference, **options)
 
 
-def mesh_inertia(mesh):
+def mesh_inertia(mesh: Any) -> Any:
     """MuJoCo's mass properties of one mesh geom of an MJCF (:mod:`relacc.engines.mujoco_.meshes`): what relacc's own
     reading asks an engine for (:func:`relacc.reading.read`; the bodies concerned are named in its ``taken``).
 
@@ -128,7 +136,7 @@ def mesh_inertia(mesh):
     return importlib.import_module(f"{module.__name__}.meshes").mesh_inertia(mesh)
 
 
-def load_engine(name: str, fixture=None, **options) -> ChainEngine:
+def load_engine(name: str, fixture: Fixture | None = None, **options) -> ChainEngine:
     """The note's chain (``fixture``; default the shipped ``two_body.toml``) in one engine, both routes.
 
     Raises:

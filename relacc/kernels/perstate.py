@@ -87,12 +87,6 @@ def trig_in(case, tr, j):
 
 
 @jitable
-def trig_of(case, q):
-    """:func:`trig_libm` of ``q`` in case 3 (libm), :data:`NO_TRIG` in cases 1-2."""
-    return trig_libm(q) if case == 3 else NO_TRIG
-
-
-@jitable
 def libm_columns(q, i0, i1, tr):
     """Redo with :func:`trig_libm` the columns of ``tr`` whose state has an angle beyond
     :data:`relacc.kernels.trig.LIMIT`."""

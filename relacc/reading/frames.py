@@ -105,10 +105,6 @@ def quaternion(values, normalized: Normalized, place: str) -> np.ndarray:
     return matrix_from_quaternion(normalized.unit("quaternion", values, place))
 
 
-def is_rotation(R) -> bool:
-    return bool(np.abs(R @ R.T - np.eye(3)).max() < 1e-12 and np.linalg.det(R) > 0)
-
-
 def quaternion_of(R) -> np.ndarray:
     """A unit quaternion ``(w, x, y, z)``, ``w >= 0``, of a rotation matrix (child to parent), by scipy."""
     from scipy.spatial.transform import Rotation

@@ -112,7 +112,7 @@ def step_rows(scene: Scene, n_steps: int, repeats: int) -> list[dict]:
         rows.append(_row("step", "relacc, compiled loop", 1, wall_times(lambda: run.advance(q0, u0, n_steps), repeats),
                          n_steps * 1e-6, "us/step"))
     engine = load_engine("mujoco", scene.fixture)
-    engine.stepper(scene.effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
+    engine.stepper(scene.chain_effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
     qpos, qvel = _mujoco_states(engine, scene, q0[None], u0[None])
     rows.append(_row("step", "mujoco mj_step per call", 1,
                      wall_times(engine.adapter.step_loop(qpos[0], qvel[0], n_steps), repeats), n_steps * 1e-6,
@@ -142,7 +142,7 @@ def ensemble_rows(scene: Scene, members: int, repeats: int, seed: int) -> list[d
         rows.append(_row("ensemble", "relacc", t, (np.median(times), np.min(times)), 1.0, "s", members=members,
                          steps=steps))
     engine = load_engine("mujoco", scene.fixture)
-    engine.stepper(scene.effects, scene.dt, scene.integrator)
+    engine.stepper(scene.chain_effects, scene.dt, scene.integrator)
     qpos, qvel = _mujoco_states(engine, scene, q0, u0)
     for t in thread_counts():
         loop = engine.adapter.rollout_loop(qpos, qvel, n_steps, t)

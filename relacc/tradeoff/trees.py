@@ -145,12 +145,12 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
                           warmups=1)
         rows.append(_row("kinematics", name, "mujoco mj_jac/mj_jacDot loop", 1, secs, small, case=None))
         truth = relacc.tree_kinematics(tree, 2, st.q[:small], st.u[:small], st.udot[:small], partials=False)
-        ae = robot.to_engine(st.q[:small], st.u[:small], st.udot[:small]).a
+        ae = robot.to_engine(st.q[:small], st.u[:small], st.udot[:small]).rates
         loop = robot.motion_loop(qe[:small], ve[:small], ae, links)  # its rigid links' mass centres (no more
         secs = wall_times(loop, max(3, repeats // 2), warmups=1)       # frames than relacc's bodies)
         rows.append(_row("kinematics", name, "pinocchio forwardKinematics loop", 1, secs, small, case=None,
                          frames=len(links)))
-        ae = reference.to_engine(st.q[:small], st.u[:small], st.udot[:small]).a
+        ae = reference.to_engine(st.q[:small], st.u[:small], st.udot[:small]).rates
         loop = reference.motion_loop(st.q[:small], st.u[:small], ae, bodies)
         secs = wall_times(loop, max(3, repeats // 2), warmups=1)
         rows.append(_row("kinematics", name, "mujoco mj_kinematics/mj_comVel loop", 1, secs, small, case=None,
