@@ -5,6 +5,8 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
 
 from relacc.errors import RelaccError
 
@@ -98,7 +100,7 @@ def _worker_versions():  # runs on every worker
 
 
 @contextlib.contextmanager
-def connect(address: str, timeout: float | None = None):
+def connect(address: str, timeout: float | None = None) -> Iterator[Any]:
     """A ``distributed.Client`` for ``address`` with :class:`RelaccPlugin` registered, closed at the end.
 
     ``timeout`` in seconds; None reads :data:`TIMEOUT` at the call.
@@ -158,7 +160,8 @@ def quiet(level: int) -> None:
         logging.getLogger(name).setLevel(level)
 
 
-def run(client, function, tasks, merge, progress=None):
+def run(client: Any, function: Callable, tasks: Sequence, merge: Callable,
+        progress: Callable[[int, int], object] | None = None) -> Any:
     """``merge``-reduced results of ``function(*task)`` for every task, computed on the cluster.
 
     Args:

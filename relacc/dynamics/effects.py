@@ -6,10 +6,14 @@ Every vector is in fixed-frame components unless said otherwise.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from relacc.errors import InputError
+
+if TYPE_CHECKING:
+    from relacc.dynamics.tree_effects import TreeEffects
 
 
 def _vec3(name, value):
@@ -95,7 +99,7 @@ class Effects:
         """True when no external force or torque acts (internal springs and dampers allowed)."""
         return not set(self.active()) & {"gravity", "force_G2", "torque_B1", "torque_B2"}
 
-    def joint_forces(self, s2, s2_dot, omega_hat) -> tuple[np.ndarray, np.ndarray]:
+    def joint_forces(self, s2: np.ndarray, s2_dot: np.ndarray, omega_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The generalized forces of the effects that act on the joints, ``(slides, ball)``.
 
         Args:
@@ -118,7 +122,7 @@ class Effects:
             ball -= self.ball_damping * omega_hat
         return slides, ball
 
-    def spring_energy(self, s2) -> np.ndarray:
+    def spring_energy(self, s2: np.ndarray) -> np.ndarray:
         """``(...,)`` the spring's potential energy ``1/2 sum k (s2' - rest)^2``, J (zero when it is off);
         ``s2``: ``(..., 3)`` the prismatic offset ``s2'``, m, B1 components."""
         if self.spring_stiffness is None:
@@ -135,7 +139,7 @@ class Effects:
         keep = (name, "spring_rest") if name == "spring_stiffness" else (name,)
         return Effects(**{k: getattr(self, k) for k in keep})
 
-    def for_tree(self):
+    def for_tree(self) -> TreeEffects:
         """The same effects on the chain's tree (:meth:`relacc.Tree.from_chain`, ``models/two_body.xml``), by joint
         and body name, for the engines' adapters: the slides ``s2_x``, ``s2_y``, ``s2_z`` get the spring and
         damper per axis, the ball ``B2_ball`` its damping (a torque ``-c omega_hat`` on B2 and its reaction on B1,

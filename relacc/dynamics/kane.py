@@ -25,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core.cases import Case, as_case, check_q, check_u, layout
 from relacc.core.chain import TwoBodyChain
@@ -62,7 +63,7 @@ class BodyPartials:
     rG2: np.ndarray
 
 
-def body_partials(chain: TwoBodyChain, case, q, u) -> BodyPartials:
+def body_partials(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike) -> BodyPartials:
     """Partial velocity and angular velocity matrices of G1, G2, B1, B2 (see the module docstring).
 
     Raises:
@@ -105,7 +106,8 @@ def _inertia_fixed(R, I_body):
     return R @ I_body @ T(R)
 
 
-def generalized_forces(chain, case, q, u, effects: Effects, bp: BodyPartials | None = None):
+def generalized_forces(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, effects: Effects,
+                       bp: BodyPartials | None = None) -> np.ndarray:
     """``{Q}`` ``(..., 12)`` of the active effects only (N, or N m per unit angular speed).
 
     Each absent effect is skipped, not computed as zero.
@@ -135,7 +137,8 @@ def generalized_forces(chain, case, q, u, effects: Effects, bp: BodyPartials | N
     return Q
 
 
-def equations_of_motion(chain, case, q, u, effects: Effects = NONE, *, out=None):
+def equations_of_motion(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, effects: Effects = NONE, *,
+                        out: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Kane's equations ``[M] udot = {f}`` of the chain in a case's speeds.
 
     Args:
@@ -181,7 +184,8 @@ def equations_of_motion(chain, case, q, u, effects: Effects = NONE, *, out=None)
     return Mo, fo
 
 
-def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = "auto", out=None):
+def accelerations(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, effects: Effects = NONE, *,
+                  backend: str = "auto", out: np.ndarray | None = None) -> np.ndarray:
     """The case's ``udot`` ``(..., 12)``: the rates of its speeds under exactly ``effects``.
 
     m/s^2 for the translational blocks, rad/s^2 for the angular ones, in the
@@ -255,7 +259,8 @@ def accelerations(chain, case, q, u, effects: Effects = NONE, *, backend: str = 
     return out if out is not None else target.reshape(batch + (12,))
 
 
-def energy_terms(chain, case, q, u, effects: Effects = NONE):
+def energy_terms(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, effects: Effects = NONE
+                 ) -> tuple[np.ndarray | float, np.ndarray, np.ndarray]:
     """The terms of the energy, J, each ``(...)``: ``(kinetic, gravity, spring)``.
 
     Gravity's potential ``-sum m_i g . r_Gi`` (0 when gravity is off), the
@@ -277,13 +282,14 @@ def energy_terms(chain, case, q, u, effects: Effects = NONE):
     return T, gravity, effects.spring_energy(q[..., layout(c).s2_p])
 
 
-def energy(chain, case, q, u, effects: Effects = NONE):
+def energy(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, effects: Effects = NONE) -> np.ndarray | float:
     """Kinetic plus potential energy of the active conservative effects, J, ``(...)`` (:func:`energy_terms`)."""
     T, gravity, spring = energy_terms(chain, case, q, u, effects)
     return T + gravity + spring
 
 
-def momenta(chain, case, q, u):
+def momenta(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike
+            ) -> tuple[np.ndarray | float, np.ndarray | float]:
     """Linear momentum ``(..., 3)`` (kg m/s) and angular momentum about R's origin ``(..., 3)`` (kg m^2/s).
 
     Both in fixed-frame components.

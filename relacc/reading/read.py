@@ -3,16 +3,22 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from relacc.errors import ModelError
 from relacc.reading.model import Reading
+
+if TYPE_CHECKING:
+    from relacc.core.tree import Tree
 
 SUFFIXES = {".xml": "mjcf", ".urdf": "urdf"}
 """Description formats by file suffix (lower case; ``BALL.XML`` is an MJCF too)."""
 
 
-def read(path, meshes="engine", variant=frozenset()) -> Reading:
+def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", variant: frozenset = frozenset()
+         ) -> Reading:
     """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file; ``variant``: an engine's way of reading an
     MJCF (:data:`relacc.reading.mjcf.VARIANTS`), for reproducing that engine.
 
@@ -53,7 +59,7 @@ def _mesh_reader(mesh):
                          f"{exc}; or give the body an <inertial>") from None
 
 
-def read_moving(path, purpose: str) -> Reading:
+def read_moving(path: str | os.PathLike, purpose: str) -> Reading:
     """:func:`read`, refusing a file in which nothing moves (no joint): ``purpose`` ends the message ("there is nothing
     to check").
 
@@ -66,6 +72,6 @@ def read_moving(path, purpose: str) -> Reading:
     return reading
 
 
-def read_tree(path, meshes="engine"):
+def read_tree(path: str | os.PathLike, meshes: str | Callable | None = "engine") -> Tree:
     """The :class:`relacc.Tree` of relacc's reading of a file (:func:`read`)."""
     return read(path, meshes).tree

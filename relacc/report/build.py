@@ -5,7 +5,9 @@ from __future__ import annotations
 import datetime as dt
 import os
 import platform
+from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
@@ -51,7 +53,9 @@ def _machine() -> str:
     return f"{platform.system()} {platform.machine()}, {os.cpu_count()} logical CPUs ({cpu_model()})"
 
 
-def build_context(n_states=None, seed=0, quick=False, model=None, progress=None) -> ReportContext:
+def build_context(n_states: int | None = None, seed: int = 0, quick: bool = False,
+                  model: str | os.PathLike | None = None, progress: Callable[[str], object] | None = None
+                  ) -> ReportContext:
     """Run the cross-validation and the errata that the report shows."""
     n = n_states if n_states is not None else (QUICK_STATES if quick else DEFAULT_STATES)
     fixture = fixtures.load(model)
@@ -103,7 +107,7 @@ SWEEP = (1, 2, 4, 8, 16)
 """Multiples of each scene's own step at which the report measures the engines' agreement."""
 
 
-def run_scenes(quick: bool, progress=None) -> list:
+def run_scenes(quick: bool, progress: Callable[[str], object] | None = None) -> list:
     """Each shipped scene at its own step, and its agreement at coarser steps.
 
     Quick runs cap every scene at 0.2 s and sweep two steps only.
@@ -148,7 +152,9 @@ def render(ctx: ReportContext) -> str:
     return environment().get_template("report.html.j2").render(sections=sections)
 
 
-def build_report(out="reports/agreement.html", n_states=None, seed=0, quick=False, model=None, progress=None):
+def build_report(out: str | os.PathLike = "reports/agreement.html", n_states: int | None = None, seed: int = 0,
+                 quick: bool = False, model: str | os.PathLike | None = None,
+                 progress: Callable[[str], object] | None = None) -> tuple[Path, ReportContext]:
     """Run everything and write the report atomically.
 
     Returns:

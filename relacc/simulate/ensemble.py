@@ -73,7 +73,8 @@ def require_ensemble_memory(scene: Scene, n: int) -> None:
                    "use record_every > 1, or fewer members per call")
 
 
-def ensemble(scene: Scene, q0, u0, *, engine: str = "relacc", threads: int | None = None) -> Ensemble:
+def ensemble(scene: Scene, q0: np.ndarray, u0: np.ndarray, *, engine: str = "relacc", threads: int | None = None
+             ) -> Ensemble:
     """Run the scene from every initial state ``q0 (N, nq)``, ``u0 (N, 12)`` (its case's coordinates) on one engine.
 
     Args:

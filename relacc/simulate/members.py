@@ -23,7 +23,7 @@ MEMBER_CHUNK = 1024
 """Members per random chunk (and the granularity of a cluster's ensemble tasks)."""
 
 
-def perturbed(scene: Scene, n: int, spread: float, seed: int, start: int = 0):
+def perturbed(scene: Scene, n: int, spread: float, seed: int, start: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """``(q0 (n, nq), u0 (n, nv))``: members ``start .. start + n - 1`` of the scene's ensemble.
 
     Member 0 is the scene's own state. The others: positions and angles plus ``spread`` times

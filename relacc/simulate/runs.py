@@ -21,7 +21,9 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import os
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -96,7 +98,7 @@ class SimulationResult:
                 f"{'that engine reads' if len(parts) == 1 else 'those engines read'} the model or the scene's effects "
                 "differently (relacc compare FILE says where)")
 
-    def differences(self):
+    def differences(self) -> tuple[float, float, dict]:
         """Largest G2 position (m) and velocity (m/s) difference over the run, over every pair; and the pairs."""
         pos = max((p["position"] for p in self.pairs.values()), default=0.0)
         vel = max((p["velocity"] for p in self.pairs.values()), default=0.0)
@@ -167,7 +169,8 @@ class _Run:
         return block
 
 
-def run(scene: Scene, engines=None, progress=None, *, keep: bool = True, out=None) -> SimulationResult:
+def run(scene: Scene, engines: Sequence[str] | None = None, progress: Callable[[str, float], object] | None = None, *,
+        keep: bool = True, out: str | os.PathLike | None = None) -> SimulationResult:
     """Simulate a scene on its engines (or ``engines``), in lockstep, and compare them.
 
     Args:
@@ -273,7 +276,7 @@ def format_text(result: SimulationResult) -> str:
     return "\n".join(out)
 
 
-def scene_notes(scene) -> list[str]:
+def scene_notes(scene: Scene) -> list[str]:
     """One line per engine a model's default scene runs without, and per kind of element the run leaves out."""
     return ([f"left out: {name}: {why}" for name, why in scene.left_out]
             + [f"not evaluated: {line}" for line in scene.unevaluated])

@@ -3,10 +3,14 @@ states what is measured)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from relacc.tradeoff import derivatives, integrators
+
+if TYPE_CHECKING:
+    from relacc.fixtures import Fixture
 
 QUICK: dict[str, Any] = {"states": 20, "scenes": ("tumbling", "gravity_spring"), "duration": 0.25, "factors": (8, 4, 2),
          "euler_factors": (8, 4, 2), "tolerances": (1e-6, 1e-9), "repeats": 1}
@@ -38,7 +42,7 @@ class Tradeoff:
         }
 
 
-def pareto(rows, error="error", cost="seconds"):
+def pareto(rows: Iterable[dict], error: str = "error", cost: str = "seconds") -> list[dict]:
     """The rows not beaten on both error and cost by another row, cheapest first (diverged runs excluded)."""
     front, best = [], float("inf")
     for r in sorted((r for r in rows if not r.get("diverged")), key=lambda r: (r[cost], r[error])):
@@ -48,7 +52,8 @@ def pareto(rows, error="error", cost="seconds"):
     return front
 
 
-def run(quick: bool = False, seed: int = 0, progress=None, fixture=None, profile: dict | None = None) -> Tradeoff:
+def run(quick: bool = False, seed: int = 0, progress: Callable[[str], object] | None = None,
+        fixture: Fixture | None = None, profile: dict | None = None) -> Tradeoff:
     """Run both sweeps (``quick``: a small one for tests and CI; ``profile``: QUICK, REPORT or FULL)."""
     from relacc.engines import available, load_engine
     from relacc.fixtures import load, shipped

@@ -20,7 +20,10 @@ frame the ball turns from. Cases 1-2 share ``q``: a MuJoCo state ``(qpos, qvel)`
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from relacc.core.cases import Case, as_case, as_numbers, check_int, quaternion_norm_deviation
 from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion, quaternion_from_123
@@ -29,6 +32,10 @@ from relacc.core.states import States
 from relacc.core.tolerances import MAX_CONDITION, QUATERNION_NORM_TOLERANCE
 from relacc.core.tree.walk import angular_map, mv, walk
 from relacc.errors import InputError, SingularityError
+
+if TYPE_CHECKING:
+    from relacc.core.states import States
+    from relacc.core.tree.model import Tree
 
 
 def rotations(tree, case):
@@ -129,7 +136,7 @@ def warn_near_lock(tree, q3, consequence: str, stacklevel: int = 2):
             + consequence.format(cond=c, cond2=c * c, err=c * EPS), AccuracyWarning, stacklevel=stacklevel + 1)
 
 
-def reference_q(tree, case) -> np.ndarray:
+def reference_q(tree: Tree, case: int) -> np.ndarray:
     """``(nq,)`` the tree as placed: free bodies where their placement puts them, balls at identity, hinges
     and slides at ``ref`` (MuJoCo's ``qpos0``)."""
     c = int(as_case(case))
@@ -168,7 +175,8 @@ def q_in_case(tree, source: int, target: int, q):
     return out
 
 
-def convert(tree, q, u=None, udot=None, *, source, target):
+def convert(tree: Tree, q: ArrayLike, u: ArrayLike | None = None, udot: ArrayLike | None = None, *, source: int,
+            target: int) -> tuple[np.ndarray, Any, Any]:
     """A state of case ``source`` in case ``target``: ``(q, u, udot)`` (each None where not given).
 
     The motion is the same: every body's pose, velocity and acceleration are unchanged. A ball's
@@ -208,7 +216,7 @@ def convert(tree, q, u=None, udot=None, *, source, target):
             theta = qtf[part, a:a + 3] if t == 3 else None
             A_t, _ = angular_map(t, kind, rec, theta, np.zeros_like(theta) if t == 3 else None)
             ut[part, d:d + 3] = np.linalg.solve(A_t, rel[..., None])[..., 0]
-            if ud is not None:
+            if ud is not None and udt is not None:  # the rates were given, so converted
                 _, A_dot_t = angular_map(t, kind, rec, theta, ut[part, d:d + 3] if t == 3 else None)
                 rel_dot = mv(jf.A, ud[part, d:d + 3]) + mv(jf.A_dot, u_j)
                 udt[part, d:d + 3] = np.linalg.solve(A_t, (rel_dot - mv(A_dot_t, ut[part, d:d + 3]))[..., None])[
@@ -217,7 +225,7 @@ def convert(tree, q, u=None, udot=None, *, source, target):
     return np.broadcast_to(qt, batch + (qt.shape[-1],)).copy(), shape(ut), shape(udt)
 
 
-def random_states(tree, case, n: int, seed: int, *, size: float | None = None):
+def random_states(tree: Tree, case: int, n: int, seed: int, *, size: float | None = None) -> States:
     """``n`` random states (``numpy.random.default_rng(seed)``), drawn in case 2 and converted: a
     :class:`relacc.core.states.States` of ``tree``.
 

@@ -34,6 +34,7 @@ from relacc.core.cases import Case
 from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
 from relacc.core.tree.coordinates import reference_q
+from relacc.errors import InputError
 from relacc.validation.compare import Comparison
 from relacc.validation.robots.audit import Scales
 
@@ -167,11 +168,14 @@ def compare_dynamics(reference, robot, states: States) -> dict:
             worst = max(worst, r)
         return worst
 
-    paths = structural_paths(states.tree, links, dofs)
+    tree = states.tree
+    if tree is None:
+        raise InputError("the dynamics comparison takes a model's states (States.tree), not the note's chain's")
+    paths = structural_paths(tree, links, dofs)
     shared_q = np.intersect1d(reference.qdofs, robot.qdofs)
     held = np.setdiff1d(np.arange(states.q.shape[1]), shared_q)  # positions of joints one of the two lacks
     Q, V, A = states.q.copy(), np.zeros_like(states.u), np.zeros_like(states.udot)
-    Q[:, held] = reference_q(states.tree, 2)[held]  # unshared joints locked at rest (MuJoCo's qpos0) in both
+    Q[:, held] = reference_q(tree, 2)[held]  # unshared joints locked at rest (MuJoCo's qpos0) in both
     V[:, dofs], A[:, dofs] = states.u[:, dofs], states.udot[:, dofs]
     for start in range(0, len(Q), CHUNK):  # each evaluator batched over a chunk of states
         at = slice(start, start + CHUNK)

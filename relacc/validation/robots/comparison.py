@@ -20,8 +20,11 @@ compared with relacc's reading, and the refusal is one line of the result.
 
 from __future__ import annotations
 
+import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,6 +41,10 @@ from relacc.validation.robots.causes import READINGS, Cause
 from relacc.validation.robots.reading import structure
 from relacc.validation.robots.referee import referee, voters
 from relacc.validation.robots.tree import TreeRobot
+
+if TYPE_CHECKING:
+    from relacc.core.tree import Tree
+    from relacc.engines.base import Adapter
 
 URDF_CAUSE = "the URDF (Pinocchio's input) and the MJCF describe this element differently"
 
@@ -133,7 +140,7 @@ def _finite(x: float) -> float | None:
     return x if np.isfinite(x) else None
 
 
-def load_robot(engine, path, tree, urdf=None):
+def load_robot(engine: str, path: str | os.PathLike, tree: Tree, urdf: str | os.PathLike | None = None) -> Adapter:
     """``path`` in one engine, matched to ``tree`` (relacc's reading; Pinocchio: from ``urdf`` when given).
 
     Raises:
@@ -143,7 +150,8 @@ def load_robot(engine, path, tree, urdf=None):
     return load_adapter(engine, path, tree, **options)
 
 
-def compare(model, *, urdf=None, engines=None, n_states: int = 20, seed: int = 0) -> RobotComparison:
+def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, engines: Sequence[str] | None = None,
+            n_states: int = 20, seed: int = 0) -> RobotComparison:
     """Compare every engine's reading of ``model`` (an MJCF or a URDF) with relacc's own (module docstring).
 
     Args:
