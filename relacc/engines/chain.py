@@ -1,7 +1,8 @@
 """The note's chain through one engine: G2's kinematics, the equations of motion and steps, on the engine's adapters.
 
 The chain's engine files are just models: each route is one adapter (:mod:`relacc.engines.base`), whose reference
-coordinates are those of relacc's tree of the route's MJCF:
+coordinates are those of relacc's tree of the route's MJCF (relacc's own reading of it,
+:func:`relacc.reading.read_tree`; MuJoCo is matched to it like Pinocchio and Drake, none of them the judge):
 
 * ``"quaternion"`` (cases 1, 2, 3): ``two_body.xml`` (Pinocchio: its MJCF, composites split; Drake: the plant built
   from relacc's tree, its parser would turn the ball into roll-pitch-yaw angles). The tree's case-2 coordinates
@@ -243,15 +244,17 @@ def chain_engine(name: str, fixture: Fixture, split: bool = True) -> ChainEngine
         FixtureError: unreadable or stale model files. ModelError: an engine that cannot read them.
     """
     from relacc.engines import load
+    from relacc.reading import read_tree
 
     with fixture.engine_files() as paths:
         xml, euler_xml, urdf = paths["two_body.xml"], paths["two_body_euler.xml"], paths["two_body_euler.urdf"]
-        mq, me = load("mujoco", xml), load("mujoco", euler_xml)
+        # every engine, MuJoCo too, is matched to relacc's own reading of the generated files: no engine is the judge
+        quaternion, euler = read_tree(xml), read_tree(euler_xml)
         if name == "mujoco":
-            return ChainEngine(name, {"quaternion": mq, "euler": me})
-        if name == "pinocchio":
-            routes = {"quaternion": load(name, xml, mq.reference, split=split),
-                      "euler": load(name, urdf, me.reference, urdf=urdf)}
+            routes = {"quaternion": load(name, xml, quaternion), "euler": load(name, euler_xml, euler)}
+        elif name == "pinocchio":
+            routes = {"quaternion": load(name, xml, quaternion, split=split),
+                      "euler": load(name, urdf, euler, urdf=urdf)}
         else:
-            routes = {"quaternion": load(name, xml, mq.reference, build=True), "euler": load(name, urdf, me.reference)}
+            routes = {"quaternion": load(name, xml, quaternion, build=True), "euler": load(name, urdf, euler)}
         return ChainEngine(name, routes)
