@@ -70,8 +70,8 @@ def test_relaccs_reading_is_mujocos_compiled_model_where_mujoco_reads_the_file(r
     except ModelError:
         return  # MuJoCo's refusal: tests/test_corpus.py's rows say what relacc answers then
     reading = read(path)
-    for key, _, applies, change in READINGS["mujoco"]:
-        if key == "massless_inertia" and applies(reading):
+    for known in READINGS["mujoco"]:
+        if known.key == "massless_inertia" and known.applies(reading):
             assert any(f.condition == "no mass but an inertia" for f in reading.findings)
-            reading = change(reading)
+            reading = known.change(reading)
     assert differences(reading, mujoco) == []

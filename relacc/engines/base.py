@@ -115,6 +115,23 @@ class Structure:
 
 
 @dataclass(frozen=True)
+class KnownBehaviour:
+    """An engine behaviour relacc knows and reproduces, so that a difference it explains is named as such.
+
+    Attributes:
+        key: a short name. text: the sentence a cause quotes.
+        applies: whether it applies, given relacc's reading (a file's behaviours) or an adapter (an algorithm's).
+        change: relacc's reading read the engine's way (a file's behaviours, returning a new reading), or the adapter
+            rebuilt without the difference (an algorithm's, returning a new adapter).
+    """
+
+    key: str
+    text: str
+    applies: Callable[[Any], bool]
+    change: Callable[[Any], Any]
+
+
+@dataclass(frozen=True)
 class EngineStates:
     """A batch of reference states in an engine's coordinates (:meth:`Adapter.to_engine`).
 

@@ -109,8 +109,8 @@ def adapter_module(name: str) -> ModuleType:
 
 def readings(name: str) -> tuple:
     """An engine's ``ENGINE_READINGS``: the known differences in its algorithms (rather than its reading of a file,
-    which :data:`relacc.validation.robots.causes.READINGS` reproduces), each ``(key, text, applies(adapter),
-    rebuild(adapter))``; MuJoCo: none."""
+    which :data:`relacc.validation.robots.causes.READINGS` reproduces), each a
+    :class:`relacc.engines.base.KnownBehaviour` whose ``change`` rebuilds the adapter without it; MuJoCo: none."""
     return importlib.import_module(f"{adapter_module(name).__name__}.readings").ENGINE_READINGS
 
 

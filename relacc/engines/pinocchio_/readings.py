@@ -1,18 +1,24 @@
 """The difference in Pinocchio's algorithms relacc knows (how Pinocchio's MJCF parser *reads* a file differently,
 relacc's reader reproduces itself: :data:`relacc.validation.robots.causes.READINGS`).
 
-Each entry is ``(key, text, applies(adapter), rebuild(adapter))``: ``rebuild`` gives the adapter without the
+Each entry is a :class:`relacc.engines.base.KnownBehaviour` whose ``change`` gives the adapter without the
 difference, so that a known bug does not vote (:mod:`relacc.validation.robots.referee`) and a row that it explains
 says so.
 """
 
 from __future__ import annotations
 
+from relacc.engines.base import KnownBehaviour
+
 ENGINE_READINGS = (
-    ("composite_jdot", "Pinocchio's Jacobian time variation (J_dot v) of a JointModelComposite, which its MJCF parser "
-     "makes of a body with several joints, is wrong (stack-of-tasks/pinocchio#2519): with the composites split "
-     "into simple joints Pinocchio agrees",
-     lambda robot: bool(robot.composites()), lambda robot: _split(robot)),
+    KnownBehaviour(
+        "composite_jdot",
+        "Pinocchio's Jacobian time variation (J_dot v) of a JointModelComposite, which its MJCF parser "
+        "makes of a body with several joints, is wrong (stack-of-tasks/pinocchio#2519): with the composites split "
+        "into simple joints Pinocchio agrees",
+        lambda robot: bool(robot.composites()),
+        lambda robot: _split(robot),
+    ),
 )
 """Differences in Pinocchio's algorithms rather than its reading of the file."""
 

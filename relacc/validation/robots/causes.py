@@ -12,10 +12,11 @@ difference comes from. Kinds:
 * ``not explained``: nothing known reproduces it; the place says where to look.
 
 :data:`READINGS` holds known engine behaviours as changes to relacc's own reading (:class:`relacc.reading.Reading`),
-so that they apply whichever engine reads the file, MuJoCo included: each ``(key, text, applies(reading),
-change(reading) -> Reading)``; the audit applies those that apply and takes ``text`` as the cause of the differences
-that disappear. Most are relacc's own reader reading the file the engine's way (:data:`relacc.reading.mjcf.VARIANTS`):
-they need no engine, MuJoCo included, to read the file.
+so that they apply whichever engine reads the file, MuJoCo included: each a
+:class:`relacc.engines.base.KnownBehaviour` (``applies(reading)``, ``change(reading) -> Reading``); the audit
+applies those that apply and takes ``text`` as the cause of the differences that disappear. Most are relacc's own
+reader reading the file the engine's way (:data:`relacc.reading.mjcf.VARIANTS`): they need no engine, MuJoCo
+included, to read the file.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from relacc.core.tree.model import Tree
+from relacc.engines.base import KnownBehaviour
 
 KINDS = ("explained", "finding", "taken", "urdf", "singular", "not explained")
 
@@ -72,13 +74,16 @@ def _urdf_inertial_turned(reading) -> bool:
 
 def _unturned_inertials(reading):
     """Each turned inertial as if its ``rpy`` were zero: the inertia as written, in the link's axes."""
-    return _bodies(reading, lambda b: replace(b, inertia=reading.turned_inertials[b.name])
-                   if b.name in reading.turned_inertials else None)
+    return _bodies(
+        reading,
+        lambda b: replace(b, inertia=reading.turned_inertials[b.name]) if b.name in reading.turned_inertials else None,
+    )
 
 
 def _reread(*variant):
     """The change that reads the file again the engine's way (:data:`relacc.reading.mjcf.VARIANTS`), on top of the
     variants the reading already follows."""
+
     def change(reading):
         from relacc.reading import read
 
@@ -93,58 +98,125 @@ def _mjcf(reading) -> bool:
 
 READINGS = {
     "mujoco": (
-        ("massless_inertia", "the file gives a body no mass but an inertia (a finding); MuJoCo's compiler drops the "
-         "inertia of a massless body", _massless_with_inertia, _drop_massless_inertia),
-        ("urdf_inertial_rotation", "MuJoCo's URDF reader up to 3.13 drops the rotation of an <inertial>'s <origin "
-         "rpy> (google-deepmind/mujoco#3559, fixed in 3.14): it takes the inertia as if written in the link's axes",
-         _urdf_inertial_turned, _unturned_inertials),
+        KnownBehaviour(
+            "massless_inertia",
+            "the file gives a body no mass but an inertia (a finding); MuJoCo's compiler drops the "
+            "inertia of a massless body",
+            _massless_with_inertia,
+            _drop_massless_inertia,
+        ),
+        KnownBehaviour(
+            "urdf_inertial_rotation",
+            "MuJoCo's URDF reader up to 3.13 drops the rotation of an <inertial>'s <origin "
+            "rpy> (google-deepmind/mujoco#3559, fixed in 3.14): it takes the inertia as if written in the link's axes",
+            _urdf_inertial_turned,
+            _unturned_inertials,
+        ),
     ),
     "pinocchio": (
-        ("first_body", "Pinocchio's MJCF parser reads only the first <body> written directly in the main file's "
-         "<worldbody> (it expands no <include>); the others are dropped",
-         lambda r: _mjcf(r) and r.facts["world_children"] > 1, _reread("first_body_only")),
-        ("fixed_root", "Pinocchio's MJCF parser drops the pos and orientation of a first <body> that has no joint (it "
-         "puts that body at the world frame)", lambda r: _mjcf(r) and r.facts["placed_jointless_first"],
-         _reread("first_body_unplaced")),
-        ("settotalmass", "Pinocchio ignores <compiler settotalmass>, which makes MuJoCo scale every mass",
-         lambda r: _mjcf(r) and r.facts["settotalmass"], _reread("settotalmass_ignored")),
-        ("default_mass", "Pinocchio's MJCF parser ignores a geom's mass inherited from a <default> class (it honours "
-         "one written on the geom) and takes the geom's density times its volume",
-         lambda r: _mjcf(r) and r.facts["default_geom_masses"] > 0, _reread("default_geom_mass_ignored")),
-        ("visual_geoms", "Pinocchio's MJCF parser takes geoms with contype=0 and conaffinity=0 as visual and leaves "
-         "them out of the inertia; MuJoCo counts every geom in inertiagrouprange",
-         lambda r: _mjcf(r) and r.facts["visual_geoms"] > 0, _reread("visual_geoms_ignored")),
-        ("mesh_inertia", "Pinocchio's MJCF parser gives a mesh geom 1 kg and a unit inertia at the geom's frame (it "
-         "reads neither the mesh's volume nor the geom's mass)", lambda r: _mjcf(r) and r.facts["mesh_bodies"],
-         _reread("mesh_unit_inertia")),
-        ("unnamed_bodies", "Pinocchio's MJCF parser names an unnamed <body> after its parent (<parent>Bis), so of "
-         "several unnamed children of one body only the first is read; the others and their subtrees are dropped",
-         lambda r: _mjcf(r) and r.facts.get("unnamed_dropped", 0) > 0, _reread("unnamed_siblings_dropped")),
-        ("gravity", "Pinocchio's MJCF parser ignores <option gravity> and <flag gravity=\"disable\"/> and keeps "
-         "(0, 0, -9.81)", lambda r: _mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
-         _reread("gravity_default")),
+        KnownBehaviour(
+            "first_body",
+            "Pinocchio's MJCF parser reads only the first <body> written directly in the main file's "
+            "<worldbody> (it expands no <include>); the others are dropped",
+            lambda r: _mjcf(r) and r.facts["world_children"] > 1,
+            _reread("first_body_only"),
+        ),
+        KnownBehaviour(
+            "fixed_root",
+            "Pinocchio's MJCF parser drops the pos and orientation of a first <body> that has no joint (it "
+            "puts that body at the world frame)",
+            lambda r: _mjcf(r) and r.facts["placed_jointless_first"],
+            _reread("first_body_unplaced"),
+        ),
+        KnownBehaviour(
+            "settotalmass",
+            "Pinocchio ignores <compiler settotalmass>, which makes MuJoCo scale every mass",
+            lambda r: _mjcf(r) and r.facts["settotalmass"],
+            _reread("settotalmass_ignored"),
+        ),
+        KnownBehaviour(
+            "default_mass",
+            "Pinocchio's MJCF parser ignores a geom's mass inherited from a <default> class (it honours "
+            "one written on the geom) and takes the geom's density times its volume",
+            lambda r: _mjcf(r) and r.facts["default_geom_masses"] > 0,
+            _reread("default_geom_mass_ignored"),
+        ),
+        KnownBehaviour(
+            "visual_geoms",
+            "Pinocchio's MJCF parser takes geoms with contype=0 and conaffinity=0 as visual and leaves "
+            "them out of the inertia; MuJoCo counts every geom in inertiagrouprange",
+            lambda r: _mjcf(r) and r.facts["visual_geoms"] > 0,
+            _reread("visual_geoms_ignored"),
+        ),
+        KnownBehaviour(
+            "mesh_inertia",
+            "Pinocchio's MJCF parser gives a mesh geom 1 kg and a unit inertia at the geom's frame (it "
+            "reads neither the mesh's volume nor the geom's mass)",
+            lambda r: _mjcf(r) and r.facts["mesh_bodies"],
+            _reread("mesh_unit_inertia"),
+        ),
+        KnownBehaviour(
+            "unnamed_bodies",
+            "Pinocchio's MJCF parser names an unnamed <body> after its parent (<parent>Bis), so of "
+            "several unnamed children of one body only the first is read; the others and their subtrees are dropped",
+            lambda r: _mjcf(r) and r.facts.get("unnamed_dropped", 0) > 0,
+            _reread("unnamed_siblings_dropped"),
+        ),
+        KnownBehaviour(
+            "gravity",
+            'Pinocchio\'s MJCF parser ignores <option gravity> and <flag gravity="disable"/> and keeps (0, 0, -9.81)',
+            lambda r: _mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
+            _reread("gravity_default"),
+        ),
     ),
     "drake": (
-        ("stacked_joints", "Drake's MJCF parser reads the position and axis of every joint but the last of a body "
-         "with several joints in the parent body's frame instead of the body's",
-         lambda r: _mjcf(r) and r.facts["stacked"] > 0, _reread("stacked_joints_in_parent")),
-        ("armature", "Drake's MJCF parser keeps a joint's armature only as the reflected inertia of an actuator it "
-         "reads on that joint (<motor> or <position>); joints without one lose it",
-         lambda r: _mjcf(r) and r.facts["unactuated_armature"] > 0, _reread("armature_without_actuator")),
-        ("free_damping", "Drake's MJCF parser drops a free joint's damping (it warns that damping is not supported "
-         "for free bodies)", lambda r: _mjcf(r) and r.facts["damped_free"] > 0, _reread("free_damping_dropped")),
-        ("default_chain", "Drake's MJCF parser inherits a <default> class's <joint> or <geom> attributes only "
-         "through classes that have that element themselves: a class without one gives its joints or geoms nothing "
-         "of its ancestors' (damping, armature, mass, size...)",
-         lambda r: _mjcf(r) and r.facts.get("broken_defaults", 0) > 0, _reread("default_chain_broken")),
-        ("settotalmass", "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
-         lambda r: _mjcf(r) and r.facts["settotalmass"], _reread("settotalmass_ignored")),
-        ("gravity_flag", "Drake's MJCF parser ignores <flag gravity=\"disable\"/> and keeps <option gravity>",
-         lambda r: _mjcf(r) and r.facts["gravity_disabled"], _reread("gravity_flag_ignored")),
-        ("massless_kilogram", "the file gives a body no mass but an inertia (a finding); Drake's URDF parser gives "
-         "such a link a mass of 1 kg", lambda r: r.format == "urdf" and _massless_with_inertia(r),
-         _massless_get_a_kilogram),
+        KnownBehaviour(
+            "stacked_joints",
+            "Drake's MJCF parser reads the position and axis of every joint but the last of a body "
+            "with several joints in the parent body's frame instead of the body's",
+            lambda r: _mjcf(r) and r.facts["stacked"] > 0,
+            _reread("stacked_joints_in_parent"),
+        ),
+        KnownBehaviour(
+            "armature",
+            "Drake's MJCF parser keeps a joint's armature only as the reflected inertia of an actuator it "
+            "reads on that joint (<motor> or <position>); joints without one lose it",
+            lambda r: _mjcf(r) and r.facts["unactuated_armature"] > 0,
+            _reread("armature_without_actuator"),
+        ),
+        KnownBehaviour(
+            "free_damping",
+            "Drake's MJCF parser drops a free joint's damping (it warns that damping is not supported for free bodies)",
+            lambda r: _mjcf(r) and r.facts["damped_free"] > 0,
+            _reread("free_damping_dropped"),
+        ),
+        KnownBehaviour(
+            "default_chain",
+            "Drake's MJCF parser inherits a <default> class's <joint> or <geom> attributes only "
+            "through classes that have that element themselves: a class without one gives its joints or geoms nothing "
+            "of its ancestors' (damping, armature, mass, size...)",
+            lambda r: _mjcf(r) and r.facts.get("broken_defaults", 0) > 0,
+            _reread("default_chain_broken"),
+        ),
+        KnownBehaviour(
+            "settotalmass",
+            "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
+            lambda r: _mjcf(r) and r.facts["settotalmass"],
+            _reread("settotalmass_ignored"),
+        ),
+        KnownBehaviour(
+            "gravity_flag",
+            'Drake\'s MJCF parser ignores <flag gravity="disable"/> and keeps <option gravity>',
+            lambda r: _mjcf(r) and r.facts["gravity_disabled"],
+            _reread("gravity_flag_ignored"),
+        ),
+        KnownBehaviour(
+            "massless_kilogram",
+            "the file gives a body no mass but an inertia (a finding); Drake's URDF parser gives "
+            "such a link a mass of 1 kg",
+            lambda r: r.format == "urdf" and _massless_with_inertia(r),
+            _massless_get_a_kilogram,
+        ),
     ),
 }
 """Known engine behaviours as changes to relacc's reading (module docstring), per engine."""
-

@@ -289,11 +289,12 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
     causes: dict = {}
     left = {i.key for i in items}
     current = reading
-    for key, text, applies, change in READINGS.get(engine, ()):
-        if not left or not applies(current):
+    for known in READINGS.get(engine, ()):
+        text = known.text
+        if not left or not known.applies(current):
             continue
         try:
-            candidate = change(current)
+            candidate = known.change(current)
         except ModelError:
             continue
         after = {i.key for i in differences(structure(candidate), robot.structure, REFERENCE, engine, sc)}
@@ -381,27 +382,28 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
 
     engine = robot.engine
     current, texts = reading, []
-    for _, text, applies, change in READINGS.get(engine, ()):
-        if applies(current):
+    for known in READINGS.get(engine, ()):
+        if known.applies(current):
             try:
-                current, texts = change(current), texts + [text]
+                current, texts = known.change(current), texts + [known.text]
             except ModelError:
                 continue
     read_as = TreeRobot(current, 2, reading.tree) if texts else None
     if read_as is not None and _explained(compare_dynamics(read_as, robot, states), quantity, before):
         return Cause("explained", "explained by the audit: " + "; ".join(texts))
-    for _, text, applies, rebuild in readings(engine):
-        if applies(robot):
+    for known in readings(engine):
+        text = known.text
+        if known.applies(robot):
             try:
-                fixed = rebuild(robot)
+                fixed = known.change(robot)
             except (ModelError, EngineError):
                 continue
             if _explained(compare_dynamics(reference, fixed, states), quantity, before):
                 return Cause("explained", text)
             if read_as is not None and _explained(compare_dynamics(read_as, fixed, states), quantity, before):
                 return Cause("explained", text + "; and the audit: " + "; ".join(texts))
-    known = ALGORITHM_CAUSES.get(engine)
-    text = known(quantity, reference, robot, states) if known else ""
+    explain = ALGORITHM_CAUSES.get(engine)
+    text = explain(quantity, reference, robot, states) if explain else ""
     if text:
         return Cause("explained", text)
     if before.singular:

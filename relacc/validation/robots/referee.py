@@ -39,10 +39,10 @@ def voters(reference, robots, states, reading) -> list[Voter]:
     out = [Voter(reference.engine, reference)]
     for robot in robots:
         why, evaluator = "", robot
-        for _, text, applies, rebuild in readings(robot.engine):
-            if applies(robot):
+        for known in readings(robot.engine):
+            if known.applies(robot):
                 try:
-                    evaluator, why = rebuild(robot), text
+                    evaluator, why = known.change(robot), known.text
                 except (ModelError, EngineError):
                     continue
         out.append(Voter(robot.engine, evaluator, why))
