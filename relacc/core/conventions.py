@@ -6,6 +6,8 @@ number never travels without its meaning.
 
 from __future__ import annotations
 
+from enum import StrEnum
+
 QUANTITIES = ("position", "velocity", "acceleration", "V", "Vdot")
 """The outputs of :func:`relacc.g2_kinematics` that are cross-validated."""
 
@@ -123,14 +125,29 @@ TREE_ENGINE_SPEEDS = {
 }
 """Each engine's own speeds at a model's joints, which its adapter maps to case 2 (``v_e = T(q) v``) once."""
 
+class ModelQuantity(StrEnum):
+    """What ``relacc compare`` compares between evaluators of a model file, in report order; each member's value is
+    its display name (and its key in the JSON), its meaning in :data:`MODEL_MEANINGS`."""
+
+    MASS_MATRIX = "mass matrix"
+    BIAS_FORCES = "bias forces"
+    GRAVITY_FORCES = "gravity forces"
+    FORWARD_DYNAMICS = "forward dynamics"
+    COM_POSITION = "COM position"
+    COM_JACOBIAN = "COM Jacobian"
+    JDOT_V = "J_dot v"
+    CLASSICAL_ACCELERATION = "classical acceleration"
+
+
 MODEL_MEANINGS = {
-    "mass matrix": "M (nv x nv) over the shared speeds, in case c's speeds",
-    "bias forces": "Coriolis, centrifugal and gravity generalized forces, M a + bias = tau",
-    "gravity forces": "bias at zero speeds",
-    "forward dynamics": "a = M^-1 (-bias): no passive force, actuator or contact",
-    "COM position": "each link's mass centre, fixed components, m",
-    "COM Jacobian": "d v_G / d u per link, fixed components",
-    "J_dot v": "each link's mass centre, fixed components, m/s^2 (classical: a = J u_dot + J_dot u)",
-    "classical acceleration": "each link's mass centre at random speed rates, fixed components, m/s^2 (classical)",
+    ModelQuantity.MASS_MATRIX: "M (nv x nv) over the shared speeds, in case c's speeds",
+    ModelQuantity.BIAS_FORCES: "Coriolis, centrifugal and gravity generalized forces, M a + bias = tau",
+    ModelQuantity.GRAVITY_FORCES: "bias at zero speeds",
+    ModelQuantity.FORWARD_DYNAMICS: "a = M^-1 (-bias): no passive force, actuator or contact",
+    ModelQuantity.COM_POSITION: "each link's mass centre, fixed components, m",
+    ModelQuantity.COM_JACOBIAN: "d v_G / d u per link, fixed components",
+    ModelQuantity.JDOT_V: "each link's mass centre, fixed components, m/s^2 (classical: a = J u_dot + J_dot u)",
+    ModelQuantity.CLASSICAL_ACCELERATION: "each link's mass centre at random speed rates, fixed components, m/s^2 "
+                                          "(classical)",
 }
 """What each of a model's compared quantities is: which point, which components, classical or spatial."""

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from relacc.core.cases import Case
+from relacc.core.conventions import ModelQuantity
 from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
 from relacc.core.tree.coordinates import reference_q
@@ -38,8 +39,9 @@ from relacc.errors import InputError
 from relacc.validation.compare import Comparison
 from relacc.validation.robots.audit import Scales
 
-QUANTITIES = ("mass matrix", "bias forces", "gravity forces", "forward dynamics", "COM position", "COM Jacobian",
-              "J_dot v", "classical acceleration")
+QTY = ModelQuantity
+"""A short name for the quantities in the comparison's arithmetic below."""
+QUANTITIES = tuple(ModelQuantity)
 """What is compared, in report order."""
 KINEMATIC = QUANTITIES[4:]
 """The quantities of each link's mass centre, which are also measured link by link (``Comparison.per_link``)."""
@@ -168,6 +170,9 @@ def compare_dynamics(reference, robot, states: States) -> dict:
             worst = max(worst, r)
         return worst
 
+    def add(quantity, x, ref, scale):
+        errors[quantity].append(_err(x, ref, scale, quantity))
+
     tree = states.tree
     if tree is None:
         raise InputError("the dynamics comparison takes a model's states (States.tree), not the note's chain's")
@@ -202,29 +207,24 @@ def compare_dynamics(reference, robot, states: States) -> dict:
                     singular.setdefault(name, [])
                     singular[name] += [j for j in inertialess(reference, M, dofs) if j not in singular[name]]
             m_scale = max(np.abs(np.diag(M0)).max(initial=0), np.abs(np.diag(M1)).max(initial=0))
-            errors["mass matrix"].append(_err(M1, M0, m_scale if m_scale > 0 else sc.inertia, "mass matrix"))
-            errors["bias forces"].append(_err(b1, b0, bias_scale, "bias forces"))
+            add(QTY.MASS_MATRIX, M1, M0, m_scale if m_scale > 0 else sc.inertia)
+            add(QTY.BIAS_FORCES, b1, b0, bias_scale)
             g_scale = G[i] + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0)
-            errors["gravity forces"].append(_err(g1, g0, max(g_scale, sc.mass * sc.length * gravity),
-                                                 "gravity forces"))
+            add(QTY.GRAVITY_FORCES, g1, g0, max(g_scale, sc.mass * sc.length * gravity))
             f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
             if np.isnan(f0).any() and np.isnan(f1).any():  # both undefined: they agree there is no answer
-                errors["forward dynamics"].append(0.0)
+                errors[QTY.FORWARD_DYNAMICS].append(0.0)
             else:
-                errors["forward dynamics"].append(_err(f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
-                                                       "forward dynamics"))
+                add(QTY.FORWARD_DYNAMICS, f1, f0, inv * f_terms if np.isfinite(inv) else np.inf)
             if links:
                 J0 = k0.J[i][:, :, dofs]
                 jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length, paths)
                 # positions and Jacobians: at least the model's size (a lever arm is a difference of positions)
-                errors["COM position"].append(_err(k1.position[i], k0.position[i],
-                                                   max(np.abs(k0.position[i]).max(initial=0), sc.length),
-                                                   "COM position"))
-                errors["COM Jacobian"].append(_err(k1.J[i], J0, max(np.abs(J0).max(initial=0), sc.length),
-                                                   "COM Jacobian"))
-                errors["J_dot v"].append(_err(k1.Jdot_v[i], k0.Jdot_v[i], jdv, "J_dot v"))
-                errors["classical acceleration"].append(_err(k1.acceleration[i], k0.acceleration[i], acc,
-                                                             "classical acceleration"))
+                add(QTY.COM_POSITION, k1.position[i], k0.position[i], max(np.abs(k0.position[i]).max(initial=0),
+                                                                        sc.length))
+                add(QTY.COM_JACOBIAN, k1.J[i], J0, max(np.abs(J0).max(initial=0), sc.length))
+                add(QTY.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)
+                add(QTY.CLASSICAL_ACCELERATION, k1.acceleration[i], k0.acceleration[i], acc)
     out = {}
     tol = robot_tolerance(n_links)
     for k, e in errors.items():
@@ -232,7 +232,7 @@ def compare_dynamics(reference, robot, states: States) -> dict:
             continue
         errors_k = np.asarray(e, dtype=float)
         out[k] = Comparison(2, robot.engine, "model", k, errors_k, np.full(errors_k.shape, tol), True, tol, diffs[k],
-                            singular=singular if k == "forward dynamics" else {}, per_link=per_link.get(k, {}))
+                            singular=singular if k == QTY.FORWARD_DYNAMICS else {}, per_link=per_link.get(k, {}))
     return out
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from relacc.core.conventions import ModelQuantity
 from relacc.core.tolerances import robot_tolerance
 from relacc.engines.base import com
 
@@ -21,7 +22,7 @@ def mujoco_cause(quantity: str, reference, mujoco, states) -> str:
     """The cause text when MuJoCo's acceleration routine at zero rates agrees with relacc's ``J_dot v`` on every link
     (normalized as :func:`relacc.validation.robots.agreement.point_terms`), else empty. ``reference``: relacc's
     reading as an evaluator; ``mujoco``: MuJoCo's adapter matched to it."""
-    if quantity not in ("J_dot v", "classical acceleration"):
+    if quantity not in (ModelQuantity.JDOT_V, ModelQuantity.CLASSICAL_ACCELERATION):
         return ""
     from relacc.validation.robots.agreement import CHUNK, point_terms, shared_links
 
