@@ -32,7 +32,7 @@ def harness(fixture):
 @pytest.mark.parametrize("case,engine,route,quantity", COMBOS, ids=lambda x: str(x))
 def test_core_agrees_with_engine(harness, case, engine, route, quantity):
     """The corrected core equals the engine to c*eps of the terms' magnitude on every state."""
-    comp = harness.compare(case, engine, route, quantity)
+    comp = harness.comparison(case, engine, route, quantity)
     assert comp.passed, (
         f"case {case} {engine}/{route} {quantity}: max {comp.max_error / EPS:.1f} eps at state "
         f"{comp.worst_state} > {comp.tolerance / EPS:.0f} eps (seed [{SEED}, {case}])"
@@ -43,7 +43,7 @@ def test_printed_variant_disagrees_with_engines(harness):
     """The note's printed formulas, taken together, disagree with both engines in every case."""
     for case in (1, 2, 3):
         for engine in ENGINES:
-            comp = harness.compare(case, engine, "quaternion", "acceleration", variant="printed")
+            comp = harness.comparison(case, engine, "quaternion", "acceleration", variant="printed")
             assert comp.median_error > 1e-3, f"case {case} {engine}: printed variant agrees"
 
 
@@ -61,7 +61,7 @@ def test_check_streams_in_chunks(fixture, monkeypatch):
     h = Harness(fixture, engines=("mujoco",), n_states=1000, seed=SEED)
     assert [c[2] for c in h.chunks()] == [400, 400, 200]
     report = h.check(cases=(2,))
-    parts = [h.compare(2, "mujoco", "quaternion", "acceleration", k=k) for k in range(3)]
+    parts = [h.comparison(2, "mujoco", "quaternion", "acceleration", k=k) for k in range(3)]
     merged = next(c for c in report.comparisons if c.quantity == "acceleration")
     errors = np.concatenate([p.errors for p in parts])
     assert merged.n == 1000 and merged.errors is None

@@ -121,7 +121,7 @@ class Harness:
         return self._cached(case, k, ("core", tuple(sorted(resolve_variant(variant)))),
                             lambda: relacc.g2_kinematics(self.chain, case, s.q, s.u, s.udot, variant=variant))
 
-    def compare(self, case, engine, route, quantity, variant="corrected", k: int = 0) -> Comparison:
+    def comparison(self, case, engine, route, quantity, variant="corrected", k: int = 0) -> Comparison:
         """The core (``variant``) against one engine route, one quantity, on chunk ``k``, state by state.
 
         The engine's value is its own, the reference the core's: the error
@@ -167,7 +167,7 @@ class CheckReport:
     seed: int
     versions: dict
     referee: tuple = ()
-    """:class:`relacc.validation.referee.Verdict` of each failed comparison: which evaluator is the odd one out."""
+    """:class:`relacc.validation.referee.RouteVerdict` of each failed comparison: which evaluator is the odd one out."""
 
     @property
     def passed(self) -> bool:

@@ -70,7 +70,7 @@ def _max_errors(harness: Harness, equations) -> dict:
                         for slot, variant in ((1, "corrected"), (0, {eq.id})):
                             if slot == 0 and eq.kind == "missing":
                                 continue
-                            comp = harness.compare(case, engine, route, eq.quantity, variant, k=k)
+                            comp = harness.comparison(case, engine, route, eq.quantity, variant, k=k)
                             worst[eq.id][slot] = max(worst[eq.id][slot], comp.max_error)
     return worst
 

@@ -34,7 +34,7 @@ CORE, REFERENCE, COMPLEX_STEP = "relacc", "relacc-reference", "complex-step"
 
 
 @dataclass(frozen=True)
-class Verdict:
+class RouteVerdict:
     """The referee's verdict on one case x route x quantity.
 
     Attributes:
@@ -95,7 +95,7 @@ def judge(values: dict, bounds: dict, scale) -> tuple[str | None, tuple, dict]:
     return None, tuple(names) if all(r <= 1.0 for r in pairs.values()) else (), pairs
 
 
-def referee(harness, case, quantity, route: str = "quaternion", k: int = 0) -> Verdict:
+def referee(harness, case, quantity, route: str = "quaternion", k: int = 0) -> RouteVerdict:
     """Every evaluator on chunk ``k`` of a case's states, for one quantity and route, judged.
 
     Args:
@@ -120,7 +120,7 @@ def referee(harness, case, quantity, route: str = "quaternion", k: int = 0) -> V
             values = {n: (np.einsum("nij,nj->ni", v, s.u) if n != COMPLEX_STEP else v) for n, v in values.items()}
             scale = term_scales(chain, case, s.q, s.u, s.udot).velocity
     odd, agreeing, pairs = judge(values, bounds, scale)
-    return Verdict(int(case), route, quantity, odd, agreeing, pairs)
+    return RouteVerdict(int(case), route, quantity, odd, agreeing, pairs)
 
 
 def _complex_step(chain, case, s, quantity):
