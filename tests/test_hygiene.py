@@ -15,15 +15,19 @@ ROOT = Path(__file__).resolve().parents[1]
 CLOSE = {"allclose", "isclose", "assert_allclose"}
 
 
+def _calls(source: str):
+    """``(call node, the called function's name)`` of every call in ``source``."""
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Call):
+            yield node, node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+
+
 def loose_tolerances(source: str, name: str = "<source>") -> list[str]:
     """``file:line`` of every ``allclose``/``isclose``/``assert_allclose`` call without ``rtol=`` (numpy's default
     hides a relative 1e-5 or 1e-7) and every ``approx`` call with neither ``abs=`` nor ``rel=`` (pytest's default is a
     relative 1e-6)."""
     bad = []
-    for node in ast.walk(ast.parse(source)):
-        if not isinstance(node, ast.Call):
-            continue
-        func = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+    for node, func in _calls(source):
         keys = {k.arg for k in node.keywords}
         if (func in CLOSE and "rtol" not in keys) or (func == "approx" and not keys & {"abs", "rel"}):
             bad.append(f"{name}:{node.lineno}")
@@ -77,10 +81,7 @@ def unexplained_tolerances(source: str, name: str = "<source>") -> list[str]:
     (a float in (0, 1)) with neither a name from :mod:`relacc.core.tolerances` (an upper-case constant) in it nor a
     comment beside it (the call's lines or the two above): each tolerance comes from the error model or says why."""
     lines, bad = source.splitlines(), []
-    for node in ast.walk(ast.parse(source)):
-        if not isinstance(node, ast.Call):
-            continue
-        func = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+    for node, func in _calls(source):
         if func not in CLOSE:
             continue
         for kw in node.keywords:

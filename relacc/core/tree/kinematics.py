@@ -18,8 +18,25 @@ from relacc.errors import InputError
 from relacc.limits import require_memory
 
 
+class _Evaluated:
+    """What an evaluation computed only when asked: :meth:`required` names what was not."""
+
+    def required(self, name: str) -> np.ndarray:
+        """The array ``name``, which this evaluation must have computed (the partials need ``partials=True``, the
+        accelerations ``udot``).
+
+        Raises:
+            InputError: it was not computed (the message says what to pass).
+        """
+        value = getattr(self, name)
+        if value is None:
+            raise InputError(f"{name} was not computed: pass udot for accelerations, partials=True for the partial "
+                             "velocities")
+        return value
+
+
 @dataclass(frozen=True, eq=False)
-class TreeKinematics:
+class TreeKinematics(_Evaluated):
     """Kinematics of a tree's bodies in the fixed frame R. Immutable unless written into ``out`` buffers.
 
     Every array is in **fixed-frame components** and starts with the batch shape ``...`` of the
@@ -66,22 +83,9 @@ class TreeKinematics:
             if isinstance(value, np.ndarray) and name not in self.buffers:
                 value.setflags(write=False)
 
-    def required(self, name: str) -> np.ndarray:
-        """The array ``name``, which this evaluation must have computed (the partials need ``partials=True``, the
-        accelerations ``udot``).
-
-        Raises:
-            InputError: it was not computed (the message says what to pass).
-        """
-        value = getattr(self, name)
-        if value is None:
-            raise InputError(f"{name} was not computed: pass udot for accelerations, partials=True for the partial "
-                             "velocities")
-        return value
-
 
 @dataclass(frozen=True, eq=False)
-class PointKinematics:
+class PointKinematics(_Evaluated):
     """Named points fixed in bodies (MJCF sites, URDF frames), fixed-frame components.
 
     Attributes:
@@ -97,19 +101,6 @@ class PointKinematics:
     acceleration: np.ndarray | None
     V: np.ndarray | None
     Vdot: np.ndarray | None
-
-    def required(self, name: str) -> np.ndarray:
-        """The array ``name``, which this evaluation must have computed (the partials need ``partials=True``, the
-        accelerations ``udot``).
-
-        Raises:
-            InputError: it was not computed (the message says what to pass).
-        """
-        value = getattr(self, name)
-        if value is None:
-            raise InputError(f"{name} was not computed: pass udot for accelerations, partials=True for the partial "
-                             "velocities")
-        return value
 
 
 def _point_set(tree, points):
