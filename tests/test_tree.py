@@ -223,6 +223,46 @@ def test_the_chain_is_one_instance(case):
                                                        what=f"case {case} {name}", seed=11)
 
 
+@pytest.mark.parametrize("case", [1, 2, 3])
+def test_the_error_models_magnitudes_at_g2_are_the_notes_levers(case):
+    """The tree's error model at the chain's B2 (which ``term_scales`` is) is the chain's, written here from the note's
+    vectors: the lever ``l = |q2'| + |s2'| + |r2'|`` (``s2'`` one vector, its three slides orthogonal), ``W`` and
+    ``A`` the two angular blocks' norms. Only ``position`` sums its terms in another order (one rounding of the
+    magnitude, 2 eps relative)."""
+    from relacc.core.cases import layout
+    from relacc.core.scales import term_scales
+    from relacc.core.states import random_states as chain_states
+
+    chain = relacc.fixtures.load().chain
+    s = chain_states(case, 200, 12)
+    lay, n = layout(case), lambda a: np.linalg.norm(a, axis=-1)
+    lever = n(chain.q2) + n(s.q[:, lay.s2_p]) + n(chain.r2)
+    w, a = n(s.u[:, 3:6]) + n(s.u[:, 9:12]), n(s.udot[:, 3:6]) + n(s.udot[:, 9:12])
+    sd2 = n(s.u[:, 6:9])
+    expected = {"position": n(s.q[:, lay.s1]) + lever, "V": 1 + lever, "velocity": n(s.u[:, 0:3]) + sd2 + lever * w,
+                "Vdot": w * (1 + lever) + sd2,
+                "acceleration": n(s.udot[:, 0:3]) + n(s.udot[:, 6:9]) + lever * a + w * (w * lever + 2 * sd2)}
+    tree_sc = tree_scales(relacc.Tree.from_chain(chain), case, s.q, s.u, s.udot)
+    chain_sc = term_scales(chain, case, s.q, s.u, s.udot)
+    for name, ref in expected.items():
+        for got in (tree_sc.of(name)[:, 1], chain_sc.of(name)):
+            np.testing.assert_allclose(got, ref, rtol=2 * EPS, atol=0, err_msg=f"case {case} {name}, seed 12")
+
+
+def test_slides_that_are_not_orthogonal_add_their_magnitudes():
+    """Two slides at 45 degrees can cancel (``s e1 - s e2`` is short when ``s`` is long): their terms' magnitudes
+    add, ``|s1| + |s2|``; two orthogonal ones are one vector, ``sqrt(s1^2 + s2^2)``."""
+    r = np.sqrt(0.5)
+    for axes, combine in ((([1, 0, 0], [r, r, 0])), lambda a, b: abs(a) + abs(b)), \
+            ((([1, 0, 0], [0, 0, 1])), lambda a, b: np.hypot(a, b)):
+        body = relacc.Body("b", -1, joints=tuple(relacc.Joint.slide(f"s{i}", ax) for i, ax in enumerate(axes)),
+                           mass=1.0, com=np.zeros(3), inertia=np.eye(3))
+        tree = relacc.Tree("slides", (body,))
+        q, u = np.array([3.0, -2.0]), np.array([0.5, 4.0])
+        sc = tree_scales(tree, 2, q, u)
+        assert sc.position[0] == combine(3.0, -2.0) and sc.velocity[0] == combine(0.5, 4.0)
+
+
 def test_the_chain_toml_and_its_mjcf_are_the_same_tree():
     """Tree.from_file reads the chain's TOML directly and its MJCF by relacc's own reading: the same geometry and
     inertia, bit for bit (the reading keeps a ``fullinertia`` as written, where MuJoCo's compiler would store it on

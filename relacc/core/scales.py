@@ -14,6 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from relacc.core.cases import layout
+from relacc.core.conventions import QUANTITIES
+from relacc.core.tree.model import chain_tree
+from relacc.core.tree.scales import tree_scales
 
 
 @dataclass(frozen=True)
@@ -94,9 +97,11 @@ def offset_error(lost: float, quantity: str, chain, case, q, u, udot=None):
 
 
 def term_scales(chain, case, q, u, udot=None) -> TermScales:
-    """Magnitudes of the terms of position, velocity, acceleration, V and Vdot.
+    """Magnitudes of the terms of position, velocity, acceleration, V and Vdot: the tree's error model
+    (:func:`relacc.core.tree.scales.tree_scales`) of the chain's tree (:func:`relacc.core.tree.model.chain_tree`)
+    at B2's mass centre, which for this tree is
 
-    With ``l = |q2'| + |s2'| + |r2'|`` (lever from B1's origin to G2),
+    with ``l = |q2'| + |s2'| + |r2'|`` (lever from B1's origin to G2),
     ``W = |u_ang1| + |u_ang2|`` (angular speeds; the 1-2-3 partial matrices
     have unit columns, so their norm is at most sqrt(3), absorbed in c),
     ``A = |udot_ang1| + |udot_ang2|``:
@@ -114,29 +119,8 @@ def term_scales(chain, case, q, u, udot=None) -> TermScales:
         u: ``(..., 12)`` speeds of the case.
         udot: ``(..., 12)`` speed derivatives, or None (acceleration scale 0).
     """
-    lay = layout(case)
-    q, u = np.asarray(q), np.asarray(u)
-    n = lambda a: np.linalg.norm(np.real(a), axis=-1)  # noqa: E731
-    lever = n(chain.q2) + n(q[..., lay.s2_p]) + n(chain.r2)
-    s1 = n(q[..., lay.s1])
-    sd1, sd2 = n(u[..., 0:3]), n(u[..., 6:9])
-    w = n(u[..., 3:6]) + n(u[..., 9:12])
-    if udot is None:
-        acc = np.zeros_like(w)
-    else:
-        udot = np.asarray(udot)
-        sdd = n(udot[..., 0:3]) + n(udot[..., 6:9])
-        alpha = n(udot[..., 3:6]) + n(udot[..., 9:12])
-        acc = sdd + lever * alpha + w * (w * lever + 2 * sd2)
-    shape = np.broadcast_shapes(lever.shape, w.shape)
-    b = lambda a: np.broadcast_to(a, shape)  # noqa: E731
-    return TermScales(
-        position=b(s1 + lever),
-        velocity=b(sd1 + sd2 + lever * w),
-        acceleration=b(acc),
-        V=b(1 + lever),
-        Vdot=b(w * (1 + lever) + sd2),
-    )
+    sc = tree_scales(chain_tree(chain), case, q, u, udot)
+    return TermScales(**{name: sc.of(name)[..., 1] for name in QUANTITIES})
 
 
 def dynamics_scales(chain, case, q, u, effects=None):

@@ -16,8 +16,10 @@ MuJoCo's) and moves with the body it is welded to. Units: m, kg, kg m^2, rad.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -418,3 +420,15 @@ class Tree:
                   inertia=chain.I2)
         points = (Point("B1_origin", 0), Point("Q2", 0, chain.q2), Point("G2", 1, chain.r2))
         return cls(name, (b1, b2), points=points, source=source)
+
+
+_CHAIN_TREES: "weakref.WeakKeyDictionary[Any, Tree]" = weakref.WeakKeyDictionary()
+
+
+def chain_tree(chain) -> Tree:
+    """The chain's tree (:meth:`Tree.from_chain`, named ``two_body``), built once per chain and kept while the chain
+    lives: the one model every layer above the note's formulas evaluates the chain with."""
+    tree = _CHAIN_TREES.get(chain)
+    if tree is None:
+        tree = _CHAIN_TREES[chain] = Tree.from_chain(chain)
+    return tree

@@ -10,7 +10,9 @@ the magnitude of those terms, accumulated root first, with
 * ``S``: the translational speeds summed (a free root's ``|p_dot|``, slides' rates), ``S2`` the slides'
   alone; ``Sa`` their rates;
 
-as the two-body chain's :func:`relacc.core.scales.term_scales` (which this reproduces for B2):
+a run of slides on one body with mutually orthogonal axes counts as one vector (its length, as the chain's ``s2'``;
+slides that are not orthogonal add their magnitudes). The two-body chain's :func:`relacc.core.scales.term_scales` is
+this for its tree's B2 (:meth:`relacc.Tree.from_chain`):
 
 * position ``P``; V ``1 + L``; velocity ``S + L W``; Vdot ``W (1 + L) + S2``;
 * acceleration ``Sa + L A + W (W L + 2 S2)``; omega ``W``; alpha ``A + W^2``; Omega 1; Omegadot ``W``.
@@ -28,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from relacc.core.tolerances import EPS, ROUNDING_FACTOR
+from relacc.core.tree.model import AXIS_TOLERANCE
 
 
 @dataclass(frozen=True)
@@ -65,7 +68,6 @@ def tree_scales(tree, case, q, u, udot=None, *, at=None) -> TreeScales:
     c = int(case)
     q, u = np.asarray(q), np.asarray(u)
     n = lambda a: np.linalg.norm(np.real(a), axis=-1)  # noqa: E731
-    a_ = lambda x: np.abs(np.real(x))  # noqa: E731
     batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
     zero = np.zeros(batch)
     ud = None if udot is None else np.asarray(udot)
@@ -77,19 +79,20 @@ def tree_scales(tree, case, q, u, udot=None, *, at=None) -> TreeScales:
         p = body.parent
         P, L, W, A, S, S2, Sa = ((acc[k][p] if p >= 0 else zero) for k in ("P", "L", "W", "A", "S", "S2", "Sa"))
         P, L = P + n(body.pos), L + n(body.pos)
-        for k in tree.body_joints[b]:
-            j = tree.joints[k][1]
+        for group in _joint_groups(tree, b):
+            j, k = tree.joints[group[0]][1], group[0]
             qa, d = qadr[k], dofadr[k]
             if j.type == "free":  # the body's pose is its own: nothing of the parent's path remains
                 P, L, S2 = n(q[..., qa:qa + 3]) + zero, zero, zero
                 S, W = n(u[..., d:d + 3]) + zero, n(u[..., d + 3:d + 6]) + zero
                 Sa, A = (zero, zero) if ud is None else (n(ud[..., d:d + 3]) + zero, n(ud[..., d + 3:d + 6]) + zero)
-            elif j.type == "slide":
-                s = a_(q[..., qa] - j.ref)
+            elif j.type == "slide":  # one slide, or orthogonal slides in a row: one displacement vector
+                s = n(np.stack([q[..., qadr[i]] - tree.joints[i][1].ref for i in group], axis=-1))
+                rate = n(np.stack([u[..., dofadr[i]] for i in group], axis=-1))
                 P, L = P + s, L + s
-                S, S2 = S + a_(u[..., d]), S2 + a_(u[..., d])
+                S, S2 = S + rate, S2 + rate
                 if ud is not None:
-                    Sa = Sa + a_(ud[..., d])
+                    Sa = Sa + n(np.stack([ud[..., dofadr[i]] for i in group], axis=-1))
             else:
                 lever = 2 * n(j.pos)
                 P, L = P + lever, L + lever
@@ -111,6 +114,23 @@ def tree_scales(tree, case, q, u, udot=None, *, at=None) -> TreeScales:
         out["Omega"].append(np.ones(batch))
         out["Omegadot"].append(W)
     return TreeScales(**{k: np.stack(np.broadcast_arrays(*v), axis=-1) for k, v in out.items()})
+
+
+def _joint_groups(tree, b) -> list[list[int]]:
+    """A body's joints in order as groups of joint indices: a run of slides with mutually orthogonal axes is one group
+    (their displacements are the orthogonal components of one vector, as the chain's ``s2'``: its length is the
+    magnitude of their terms, each component rounded on its own); every other joint is a group of its own. Slides
+    that are not orthogonal stay apart (their terms can cancel, so their magnitudes add)."""
+    groups: list[list[int]] = []
+    for k in tree.body_joints[b]:
+        j = tree.joints[k][1]
+        last = groups[-1] if groups else None
+        if (j.type == "slide" and last is not None and tree.joints[last[0]][1].type == "slide"
+                and all(abs(float(j.axis @ tree.joints[i][1].axis)) <= AXIS_TOLERANCE for i in last)):
+            last.append(k)
+        else:
+            groups.append([k])
+    return groups
 
 
 def extent(tree) -> float:
