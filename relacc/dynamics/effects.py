@@ -99,37 +99,6 @@ class Effects:
         """True when no external force or torque acts (internal springs and dampers allowed)."""
         return not set(self.active()) & {"gravity", "force_G2", "torque_B1", "torque_B2"}
 
-    def joint_forces(self, s2: np.ndarray, s2_dot: np.ndarray, omega_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The generalized forces of the effects that act on the joints, ``(slides, ball)``.
-
-        Args:
-            s2: ``(..., 3)`` the prismatic offset ``s2'``, m, B1 components.
-            s2_dot: ``(..., 3)`` its rate ``s2'_dot``, m/s, B1 components.
-            omega_hat: ``(..., 3)`` B2's angular velocity relative to B1, rad/s, B1 components.
-
-        Returns:
-            slides: ``(..., 3)`` force on the slides ``-k (s2' - rest) - c s2'_dot``, N, B1 components;
-            ball: ``(..., 3)`` torque on the ball ``-c omega_hat_B2``, N m, B1 components.
-            Zero where the effect is off.
-        """
-        slides = np.zeros(np.shape(s2_dot))
-        ball = np.zeros(np.shape(omega_hat))
-        if self.spring_stiffness is not None:
-            slides -= self.spring_stiffness * (s2 - self.spring_rest)
-        if self.spring_damping is not None:
-            slides -= self.spring_damping * s2_dot
-        if self.ball_damping is not None:
-            ball -= self.ball_damping * omega_hat
-        return slides, ball
-
-    def spring_energy(self, s2: np.ndarray) -> np.ndarray:
-        """``(...,)`` the spring's potential energy ``1/2 sum k (s2' - rest)^2``, J (zero when it is off);
-        ``s2``: ``(..., 3)`` the prismatic offset ``s2'``, m, B1 components."""
-        if self.spring_stiffness is None:
-            return np.zeros(np.shape(s2)[:-1])
-        d = s2 - self.spring_rest
-        return 0.5 * np.sum(self.spring_stiffness * d * d, -1)
-
     def without(self, name: str) -> "Effects":
         """The same effects with one switched off (``spring_stiffness`` also drops ``spring_rest``)."""
         return replace(self, **{name: None}, **({"spring_rest": None} if name == "spring_stiffness" else {}))

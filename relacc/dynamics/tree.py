@@ -67,16 +67,19 @@ def _ball_quaternion(case, q, a):
     return quaternion_from_123(q[:, a:a + 3]) if case == Case.ANGLE_RATES else q[:, a:a + 4]
 
 
-def equations(tree, case, q, u, effects=None, t=0.0):
-    """``(M (n, nv, nv), f (n, nv))`` for flat, checked ``q (n, nq)``, ``u (n, nv)`` (see the module docstring)."""
+def equations(tree, case, q, u, effects=None, t=0.0, *, active_only: bool = False):
+    """``(M (n, nv, nv), f (n, nv))`` for flat, checked ``q (n, nq)``, ``u (n, nv)`` (see the module docstring), real
+    or complex (complex-step derivatives). ``active_only``: ``f`` is the generalized forces of the effects alone
+    (gravity, body loads, joint springs and dampers; no inertial term, no armature) and ``M`` is zero."""
     effects = NO_EFFECTS if effects is None else effects
     if not isinstance(effects, TreeEffects):
         raise InputError(f"effects: expected a relacc.dynamics.tree_effects.TreeEffects, got {type(effects).__name__}")
     gravity, joint_effects, loads = effects.resolve(tree)
     n, nv = q.shape[0], tree.nv
     frames, joints = walk(tree, case, q, u)
-    M = np.zeros((n, nv, nv))
-    f = np.zeros((n, nv))
+    dtype = np.result_type(q, u, float)
+    M = np.zeros((n, nv, nv), dtype=dtype)
+    f = np.zeros((n, nv), dtype=dtype)
     load_at = {b: load for b, load in loads}
     for b, (fr, body) in enumerate(zip(frames, tree.bodies)):
         dofs = np.asarray(tree.path_dofs[b])
@@ -89,15 +92,19 @@ def equations(tree, case, q, u, effects=None, t=0.0):
         u_b = u[:, dofs]
         I_w = fr.R @ body.inertia @ np.swapaxes(fr.R, -1, -2)
         w = mv(Om, u_b)
-        F = body.mass * (gravity - mv(Vdot, u_b))
-        T = -mv(I_w, mv(Omd, u_b)) - np.cross(w, mv(I_w, w))
+        if active_only:
+            F, T = np.broadcast_to(body.mass * gravity, (n, 3)), np.zeros((n, 3))
+        else:
+            F = body.mass * (gravity - mv(Vdot, u_b))
+            T = -mv(I_w, mv(Omd, u_b)) - np.cross(w, mv(I_w, w))
         if b in load_at:
             s = np.broadcast_to(load_at[b].factor(t), (n,))[:, None]
             F, T = F + s * load_at[b].force, T + s * load_at[b].torque
-        sub = (slice(None), dofs[:, None], dofs[None, :])
-        M[sub] += body.mass * np.einsum("nia,nib->nab", V, V) + np.einsum("nia,nij,njb->nab", Om, I_w, Om)
+        if not active_only:
+            sub = (slice(None), dofs[:, None], dofs[None, :])
+            M[sub] += body.mass * np.einsum("nia,nib->nab", V, V) + np.einsum("nia,nij,njb->nab", Om, I_w, Om)
         f[:, dofs] += np.einsum("nia,ni->na", V, F) + np.einsum("nia,ni->na", Om, T)
-    _joint_terms(tree, case, q, u, joints, joint_effects, M, f)
+    _joint_terms(tree, case, q, u, joints, joint_effects, M, f, armature=not active_only)
     return M, f
 
 
@@ -113,18 +120,20 @@ def _passive(kind, eff, rest, x, w) -> np.ndarray:
     return out
 
 
-def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
-    """Armature, springs and dampers: terms on case-2 speeds, mapped to the case's through ``[B]``."""
+def _joint_terms(tree, case, q, u, joints, joint_effects, M, f, armature: bool = True):
+    """Armature (unless not ``armature``), springs and dampers: terms on case-2 speeds, mapped to the case's through
+    ``[B]``."""
     effect_at = {k: (eff, rest) for k, eff, rest in joint_effects}
     rot = {k: (kind, a, d) for k, kind, a, d in rotations(tree, case)}
     for k, ((_, j), a, d) in enumerate(zip(tree.joints, tree.qadr(case), tree.dofadr)):
         eff, rest = effect_at.get(k, (None, None))
-        if not (np.any(j.armature) or eff is not None):
+        arm = j.armature if armature else np.zeros_like(j.armature)
+        if not (np.any(arm) or eff is not None):
             continue
         lin = 3 if j.type == "free" else (1 if j.type in ("hinge", "slide") else 0)
         for i in range(lin):  # hinge, slide, a free joint's translation: case-2 speeds in every case
-            if j.armature[i]:
-                M[:, d + i, d + i] += j.armature[i]
+            if arm[i]:
+                M[:, d + i, d + i] += arm[i]
         if eff is not None and lin:
             f[:, d:d + lin] += _passive(j.type, eff, rest, q[:, a:a + lin], u[:, d:d + lin])
         if k not in rot:
@@ -132,11 +141,11 @@ def _joint_terms(tree, case, q, u, joints, joint_effects, M, f):
         kind, qa, da = rot[k]
         B, B_dot = _speed_map(case, kind, joints[k], q.shape[0])
         u2 = mv(B, u[:, da:da + 3])
-        arm = j.armature[lin:lin + 3]
-        if np.any(arm):
+        arm_r = arm[lin:lin + 3]
+        if np.any(arm_r):
             blk = (slice(None), slice(da, da + 3), slice(da, da + 3))
-            M[blk] += np.swapaxes(B, -1, -2) @ (arm[:, None] * B)
-        tau2 = -arm * mv(B_dot, u[:, da:da + 3])
+            M[blk] += np.swapaxes(B, -1, -2) @ (arm_r[:, None] * B)
+        tau2 = -arm_r * mv(B_dot, u[:, da:da + 3])
         if eff is not None:
             x = _ball_quaternion(case, q, qa) if kind == "ball" and eff.stiffness else None
             tau2 = tau2 + _passive(kind, eff, rest, x, u2)
@@ -194,6 +203,20 @@ def tree_dynamics(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, effects:
     M.setflags(write=False)
     f.setflags(write=False)
     return TreeDynamics(M, f, c)
+
+
+def generalized_forces(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, effects: TreeEffects | None = None,
+                       t: ArrayLike = 0.0) -> np.ndarray:
+    """``{Q}`` ``(..., nv)``: the generalized forces of the effects alone, conjugate to the case's speeds (N, or N m per
+    unit angular speed): ``sum_b [V_b]^T (m_b g + F_b) + [Omega_b]^T T_b`` plus the joints' springs and dampers
+    through ``[B]^T`` (module docstring), no inertial term. Real or complex inputs; arguments as
+    :func:`tree_dynamics`."""
+    nb, nv = (tree.nb, tree.nv) if isinstance(tree, Tree) else (0, 0)
+    c, q, u, _, batch = inputs(tree, case, q, u, bytes_per_state=8.0 * (4 * nb * 3 * nv * 3), what="the forces of")
+    t_arr = np.asarray(t, dtype=float)
+    tt = np.broadcast_to(t_arr, batch).reshape(-1) if t_arr.ndim else float(t_arr)
+    _, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt, active_only=True)
+    return f.reshape(batch + (tree.nv,))
 
 
 def _model_magnitude(tree) -> tuple[str, float]:
@@ -424,6 +447,8 @@ def solve(tree, M, rhs):
     from relacc.core.tolerances import PIVOT_FLOOR
 
     flatM = M.reshape(-1, tree.nv, tree.nv)
+    if np.iscomplexobj(M) or np.iscomplexobj(rhs):  # complex steps: M is complex symmetric, not Hermitian (no Cholesky)
+        return np.linalg.solve(M, rhs[..., None])[..., 0]
     names = tree.speed_names()
     try:
         L = np.linalg.cholesky(M)
@@ -467,4 +492,5 @@ def _dependent_speeds(M, floor) -> list[int]:
     return out
 
 
-__all__ = ["TreeDynamics", "TreeEffects", "equations", "solve", "tree_accelerations", "tree_dynamics"]
+__all__ = ["TreeDynamics", "TreeEffects", "equations", "generalized_forces", "solve", "tree_accelerations",
+           "tree_dynamics"]
