@@ -1,4 +1,4 @@
-"""The referee names the odd one out among three engines, relacc's kernels, its reference and complex steps."""
+"""The referee names the odd ones out among three engines, relacc's kernels, its reference and complex steps."""
 
 import json
 
@@ -26,10 +26,10 @@ def test_pinocchio_composite_joint_is_the_odd_one_out(fixture, mujoco):
     assert {(c.engine, c.quantity) for c in report.failures} == {("pinocchio", "Vdot")}
     assert {v.case for v in report.referee} == {1, 2, 3}
     for verdict in report.referee:
-        assert verdict.odd_one_out == "pinocchio", verdict.sentence()
+        assert verdict.odd_ones_out == ("pinocchio",), verdict.sentence()
         assert set(verdict.agreeing) == {"mujoco", "drake", "relacc", "relacc-reference", "complex-step"}
     as_json = report.as_json()["referee"][0]
-    assert as_json["odd_one_out"] == "pinocchio" and "odd one out is pinocchio" in as_json["verdict"]
+    assert as_json["odd_ones_out"] == ["pinocchio"] and "the odd one out: pinocchio" in as_json["verdict"]
 
 
 class _Faulty(ChainEngine):
@@ -49,21 +49,30 @@ def test_a_planted_fault_is_named(fixture, mujoco):
     h = Harness(fixture, engines=engines, n_states=100, seed=SEED)
     report = h.check()
     assert {(c.engine, c.quantity) for c in report.failures} == {("drake", "acceleration")}
-    assert [v.odd_one_out for v in report.referee] == ["drake"] * len(report.referee)
+    assert [v.odd_ones_out for v in report.referee] == [("drake",)] * len(report.referee)
     clean = referee(h, 2, "Vdot")
-    assert clean.everyone_agrees and clean.odd_one_out is None
+    assert clean.everyone_agrees and clean.odd_ones_out == () and "no odd one out" in clean.sentence()
 
 
-def test_no_single_odd_one_out_is_said_so():
-    """When two evaluators each disagree with the rest, no single one is blamed."""
+def test_the_largest_agreeing_side_blames_everyone_outside_it():
+    """One judgement for the chain's routes and a model's comparison: the largest group that agrees pairwise is the side
+    that agrees, and whoever is outside it is odd, however many; equal sides are a split, said so; no two agreeing
+    blames everyone."""
+    from relacc.validation.referee import pair_ratios
+
     rng = np.random.default_rng(SEED)
     x = rng.normal(size=(5, 3))
     values = {"a": x, "b": x, "c": x * (1 + 1e-6), "d": x * (1 - 1e-6)}
     bounds = {k: np.full(5, 1e-14) for k in values}
-    odd, agreeing, pairs = judge(values, bounds, np.ones(5))
-    assert odd is None and agreeing == () and pairs["a|b"] <= 1 < pairs["c|d"]
+    pairs = pair_ratios(values, bounds, np.ones(5))
+    assert pairs["a|b"] <= 1 < pairs["c|d"], f"seed {SEED}"
+    assert judge(list(values), pairs) == (("c", "d"), ("a", "b"), ()), f"seed {SEED}"
     values["d"] = x
-    assert judge(values, bounds, np.ones(5))[0] == "c"
+    assert judge(list(values), pair_ratios(values, bounds, np.ones(5))) == (("c",), ("a", "b", "d"), ())
+    split = {"a": x, "b": x, "c": x * (1 + 1e-6), "d": x * (1 + 1e-6)}
+    assert judge(list(split), pair_ratios(split, bounds, np.ones(5))) == ((), (), (("a", "b"), ("c", "d")))
+    alone = {"a": x, "c": x * (1 + 1e-6), "d": x * (1 - 1e-6)}
+    assert judge(list(alone), pair_ratios(alone, bounds, np.ones(5))) == (("a", "c", "d"), (), ())
 
 
 def test_check_prints_the_referee(capsys, fixture, monkeypatch):
@@ -73,6 +82,6 @@ def test_check_prints_the_referee(capsys, fixture, monkeypatch):
     monkeypatch.setattr(chain, "ChainEngine", _Faulty)
     assert main(["check", "--states", "50", "--cases", "1", "--quiet", "--model", str(fixture.source)]) == 1
     out = capsys.readouterr().out
-    assert "referee: case 1 acceleration (quaternion route): the odd one out is drake" in out
+    assert "referee: case 1 acceleration (quaternion route): the odd one out: drake (up to" in out
     assert main(["check", "--states", "50", "--cases", "1", "--quiet", "--json", "--model", str(fixture.source)]) == 1
-    assert json.loads(capsys.readouterr().out)["referee"][0]["odd_one_out"] == "drake"
+    assert json.loads(capsys.readouterr().out)["referee"][0]["odd_ones_out"] == ["drake"]

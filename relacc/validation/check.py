@@ -167,7 +167,7 @@ class CheckReport:
     seed: int
     versions: dict
     referee: tuple = ()
-    """:class:`relacc.validation.referee.RouteVerdict` of each failed comparison: which evaluator is the odd one out."""
+    """:class:`relacc.validation.referee.Verdict` of each failed comparison: which evaluators are the odd ones out."""
 
     @property
     def passed(self) -> bool:

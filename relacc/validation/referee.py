@@ -12,14 +12,15 @@ evaluators of G2's kinematics on the same states:
   along the motion (for velocity, V, acceleration and Vdot), exact to rounding.
 
 Two evaluators *agree* on a quantity when, at every state, their normalized
-difference is within the sum of their bounds. The odd one out is the
-evaluator that disagrees with every other while all the others agree among
-themselves; when no single evaluator explains the disagreements, the
-referee says so and gives the pairwise table.
+difference is within the sum of their bounds. The judgement is the one every
+referee of relacc's makes (:func:`judge`, ``relacc compare``'s too): the largest
+group that agrees pairwise is the side that agrees, and whoever is outside it is
+an odd one out; groups of equal size are a split, said so with the pairwise table.
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -34,48 +35,97 @@ CORE, REFERENCE, COMPLEX_STEP = "relacc", "relacc-reference", "complex-step"
 
 
 @dataclass(frozen=True)
-class RouteVerdict:
-    """The referee's verdict on one case x route x quantity.
+class Verdict:
+    """The referee on one quantity: which evaluators are the odd ones out, for the chain's routes and for a model's
+    comparison alike (:func:`judge`).
 
     Attributes:
-        odd_one_out: the evaluator that disagrees with all the others while
-            they agree among themselves, or None (everyone agrees, or no single
-            evaluator explains the disagreements).
-        agreeing: the evaluators that agree with each other (all but the odd one out).
-        pairs: ``{"a|b": largest difference / (bound_a + bound_b)}``; a pair agrees when <= 1.
+        quantity: what was judged.
+        odd_ones_out: the evaluators outside the agreeing side (empty when everyone agrees).
+        agreeing: that side: the largest group in which every pair agrees, when it is the only one that large and holds
+            at least two (empty otherwise).
+        split: the sides of equal votes when no side is larger (empty otherwise).
+        pairs: ``{"a|b": largest difference / the pair's tolerance}``; a pair agrees when <= 1.
+        voted_as: ``{engine: why}`` for engines that voted rebuilt without a known difference (a model's comparison).
+        joined: a note when relacc and MuJoCo voted as one (relacc took part of the model from MuJoCo).
+        case, route: the chain's case and route, or None (a model's comparison).
     """
 
-    case: int
-    route: str
     quantity: str
-    odd_one_out: str | None
+    odd_ones_out: tuple
     agreeing: tuple
+    split: tuple
     pairs: dict = field(repr=False)
+    voted_as: dict = field(default_factory=dict)
+    joined: str = ""
+    case: int | None = None
+    route: str | None = None
 
     @property
     def everyone_agrees(self) -> bool:
         return all(r <= 1.0 for r in self.pairs.values())
 
     def sentence(self) -> str:
-        """One line for ``relacc check`` and the report."""
-        where = f"case {self.case} {self.quantity} ({self.route} route)"
-        if self.everyone_agrees:
-            return f"{where}: every evaluator agrees"
-        if self.odd_one_out is None:
-            worst = max(self.pairs, key=lambda pair: self.pairs[pair])
-            return (f"{where}: no single odd one out; the worst pair is {worst.replace('|', ' vs ')} at "
-                    f"{self.pairs[worst]:.3g} of its bound")
-        ratio = max(r for k, r in self.pairs.items() if self.odd_one_out in k.split("|"))
-        return (f"{where}: the odd one out is {self.odd_one_out} (up to {ratio:.3g} x its bound away); "
-                f"{', '.join(self.agreeing)} agree")
+        """One line for ``relacc check``, ``relacc compare`` and the reports."""
+        join = lambda names: ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]  # noqa: E731
+        where = self.quantity if self.case is None else f"case {self.case} {self.quantity} ({self.route} route)"
+        known = f" (once {join(sorted(self.voted_as))}'s known difference is removed)" if self.voted_as else ""
+        note = f" ({self.joined})" if self.joined else ""
+        if self.split:
+            sides = " against ".join(join(list(side)) for side in self.split)
+            return f"{where}: no majority, {sides}{known}{note}"
+        if not self.agreeing:
+            return f"{where}: no two evaluators agree ({join(list(self.odd_ones_out))}){known}{note}"
+        if not self.odd_ones_out:
+            return f"{where}: no odd one out: {join(list(self.agreeing))} agree{known}{note}"
+        ratio = max(r for k, r in self.pairs.items() if set(k.split("|")) & set(self.odd_ones_out))
+        return (f"{where}: the odd one{'s' if len(self.odd_ones_out) > 1 else ''} out: {join(list(self.odd_ones_out))}"
+                f" (up to {ratio:.3g} x the tolerance away); {join(list(self.agreeing))} agree{known}{note}")
 
     def as_json(self) -> dict:
-        return {"case": self.case, "route": self.route, "quantity": self.quantity, "odd_one_out": self.odd_one_out,
-                "agreeing": list(self.agreeing), "pairs": self.pairs, "verdict": self.sentence()}
+        out = {"quantity": self.quantity, "odd_ones_out": list(self.odd_ones_out), "agreeing": list(self.agreeing),
+               "split": [list(side) for side in self.split],
+               "pairs": {k: (v if np.isfinite(v) else None) for k, v in self.pairs.items()},
+               "voted_as": dict(self.voted_as), "joined": self.joined, "verdict": self.sentence()}
+        return out if self.case is None else {"case": self.case, "route": self.route, **out}
 
 
-def judge(values: dict, bounds: dict, scale) -> tuple[str | None, tuple, dict]:
-    """``(odd_one_out, agreeing, pairs)`` from every evaluator's values ``(n, ...)`` and bounds ``(n,)``."""
+def judge(names, pairs: dict, weight: dict | None = None) -> tuple[tuple, tuple, tuple]:
+    """``(odd_ones_out, agreeing, split)`` from the evaluators' ``names`` and ``pairs`` (``"a|b"``: the worst ratio to
+    the pair's tolerance; a pair agrees at <= 1). The side that agrees is the largest group in which every pair agrees
+    (by ``weight``, votes: 1 each by default), when it is the only one that large and holds at least two; everyone
+    outside it is odd. Groups of equal votes are a split; no two agreeing leaves every evaluator odd."""
+    agree = {frozenset(k.split("|")) for k, r in pairs.items() if r <= 1}
+    weight = {n: 1 for n in names} if weight is None else weight
+    groups = _cliques(list(names), agree)
+    votes = lambda g: sum(weight[n] for n in g)  # noqa: E731
+    best = max(votes(g) for g in groups)
+    top = [g for g in groups if votes(g) == best]
+    if max(len(g) for g in groups) < 2:
+        return tuple(names), (), ()
+    if len(top) > 1:  # sides of equal votes: each named, with whoever stands in none of them
+        return (tuple(n for n in names if all(n not in g for g in top)), (),
+                tuple(tuple(n for n in names if n in g) for g in top))
+    return tuple(n for n in names if n not in top[0]), tuple(n for n in names if n in top[0]), ()
+
+
+def _cliques(names, agree) -> list[frozenset]:
+    """The maximal groups of ``names`` in which every pair agrees (``agree``: agreeing pairs), brute force (at most a
+    handful of evaluators)."""
+    groups: list[frozenset] = []
+    for k in range(len(names), 0, -1):
+        for combo in itertools.combinations(names, k):
+            g = frozenset(combo)
+            if any(g <= h for h in groups):
+                continue
+            if all(frozenset(p) in agree for p in itertools.combinations(combo, 2)):
+                groups.append(g)
+    return groups
+
+
+def pair_ratios(values: dict, bounds: dict, scale) -> dict:
+    """``{"a|b": largest normalized difference / (bound_a + bound_b)}`` of every pair of evaluators' values ``(n, ...)``
+    with their bounds ``(n,)`` (infinite where either is not finite)."""
     names = list(values)
     pairs = {}
     for i, a in enumerate(names):
@@ -83,19 +133,10 @@ def judge(values: dict, bounds: dict, scale) -> tuple[str | None, tuple, dict]:
             err = normalized_error(values[a], values[b], scale)
             finite = np.all(np.isfinite(values[a])) and np.all(np.isfinite(values[b]))
             pairs[f"{a}|{b}"] = float(np.max(err / (bounds[a] + bounds[b]))) if finite else float("inf")
-
-    def agree(a, b):
-        return pairs.get(f"{a}|{b}", pairs.get(f"{b}|{a}")) <= 1.0
-
-    odd = [x for x in names
-           if all(agree(a, b) for a in names for b in names if a < b and x not in (a, b))
-           and not any(agree(x, y) for y in names if y != x)]
-    if len(odd) == 1 and len(names) >= 3:
-        return odd[0], tuple(n for n in names if n != odd[0]), pairs
-    return None, tuple(names) if all(r <= 1.0 for r in pairs.values()) else (), pairs
+    return pairs
 
 
-def referee(harness, case, quantity, route: str = "quaternion", k: int = 0) -> RouteVerdict:
+def referee(harness, case, quantity, route: str = "quaternion", k: int = 0) -> Verdict:
     """Every evaluator on chunk ``k`` of a case's states, for one quantity and route, judged.
 
     Args:
@@ -119,8 +160,9 @@ def referee(harness, case, quantity, route: str = "quaternion", k: int = 0) -> R
         if quantity == "V":  # complex steps give V u, not V: judge V u for everyone
             values = {n: (np.einsum("nij,nj->ni", v, s.u) if n != COMPLEX_STEP else v) for n, v in values.items()}
             scale = term_scales(chain, case, s.q, s.u, s.udot).velocity
-    odd, agreeing, pairs = judge(values, bounds, scale)
-    return RouteVerdict(int(case), route, quantity, odd, agreeing, pairs)
+    pairs = pair_ratios(values, bounds, scale)
+    odd, agreeing, split = judge(list(values), pairs)
+    return Verdict(quantity, odd, agreeing, split, pairs, case=int(case), route=route)
 
 
 def _complex_step(chain, case, s, quantity):

@@ -6,6 +6,7 @@ relacc reads the file itself (:mod:`relacc.reading`) and holds every engine, MuJ
 (:mod:`~relacc.validation.robots.referee`). This package hands those names on; the modules hold the logic.
 """
 
+from relacc.validation.referee import Verdict
 from relacc.validation.robots.audit import Item
 from relacc.validation.robots.comparison import (
     REFERENCE,
@@ -15,6 +16,5 @@ from relacc.validation.robots.comparison import (
     compare,
     load_robot,
 )
-from relacc.validation.robots.referee import Verdict
 
 __all__ = ["REFERENCE", "URDF_CAUSE", "EngineReport", "Item", "RobotComparison", "Verdict", "compare", "load_robot"]

@@ -79,7 +79,7 @@ class RobotComparison:
         dynamics: ``{quantity: {evaluator: Comparison}}`` against relacc's case 2: each engine, and relacc's cases 1
             and 3 as ``relacc (case 1)``, ``relacc (case 3)``.
         n_states, seed: the random states (plus the reference configuration, state 0).
-        referee: one :class:`relacc.validation.robots.referee.Verdict` per quantity with a disagreement.
+        referee: one :class:`relacc.validation.referee.Verdict` per quantity with a disagreement.
         geometry: what each evaluator made of the model at the reference configuration (the page's drawing).
         findings: :class:`relacc.reading.Finding` per body of the file that is not physical.
         taken: ``{body: what relacc took from an engine}``. unevaluated, notes: relacc's reading's lines.
