@@ -13,8 +13,8 @@ anything until a fixture is used.
 """
 
 from relacc.testing.agree import SPEED_NAMES, assert_agrees
-from relacc.testing.expected import Expected
+from relacc.testing.expected import Expected, Truth
 from relacc.testing.grade import check_formula
-from relacc.testing.truth import Truth, states, truth
+from relacc.testing.truth import states, truth
 
 __all__ = ["SPEED_NAMES", "Expected", "Truth", "assert_agrees", "check_formula", "states", "truth"]

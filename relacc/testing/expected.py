@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+
+from relacc.errors import InputError
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,4 +42,38 @@ class Expected:
         return self.values.shape
 
 
-__all__ = ["Expected"]
+@dataclass(frozen=True, eq=False)
+class Truth:
+    """An evaluator's reference values for a batch of states, each quantity an :class:`Expected`: the chain's G2
+    (:func:`relacc.testing.truth.truth`) or every body of a model (:func:`relacc.testing.trees.model_truth`,
+    ``(n, nb, ...)``). ``truth.velocity`` is ``truth.of("velocity")``.
+
+    Attributes:
+        source: who computed the values (``mujoco/quaternion``, ``relacc``). states: the
+            :class:`relacc.core.states.States` evaluated. quantities: ``{name: Expected}``, what the evaluator gives for
+            the case.
+    """
+
+    source: str
+    states: Any = field(repr=False)
+    quantities: dict = field(repr=False)
+
+    def of(self, quantity: str) -> Expected:
+        """One quantity's :class:`Expected`.
+
+        Raises:
+            InputError: a quantity the evaluator does not give for the case, naming those it gives.
+        """
+        if quantity not in self.quantities:
+            raise InputError(f"{self.source} gives no {quantity!r} for case {int(self.states.case)}; it gives "
+                             f"{', '.join(self.quantities)}")
+        return self.quantities[quantity]
+
+    def __getattr__(self, name: str) -> Expected:
+        quantities = self.__dict__.get("quantities", {})  # not self.quantities: no recursion before it is set
+        if name in quantities:
+            return quantities[name]
+        raise AttributeError(name)
+
+
+__all__ = ["Expected", "Truth"]

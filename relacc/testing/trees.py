@@ -8,8 +8,6 @@ relacc's error model for trees (:mod:`relacc.core.tree.scales`), per body.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from relacc.core.cases import Case, as_case, check_int
@@ -19,7 +17,7 @@ from relacc.core.tree import Tree, convert, random_states, tree_kinematics
 from relacc.core.tree.coordinates import rotations
 from relacc.core.tree.scales import tree_scales, tree_tolerance
 from relacc.errors import EngineError, InputError
-from relacc.testing.expected import Expected
+from relacc.testing.expected import Expected, Truth
 
 TREE_QUANTITIES = ("position", "velocity", "acceleration", "omega", "alpha", "V", "Vdot", "Omega", "Omegadot")
 """Per-body quantities of :class:`relacc.TreeKinematics` a test or a grade may ask for."""
@@ -123,26 +121,6 @@ def adapter_of(tree, engine: str):
     return load(engine, source)
 
 
-@dataclass(frozen=True, eq=False)
-class ModelTruth:
-    """An evaluator's kinematics of every body of a model for a batch of states; each quantity an Expected."""
-
-    source: str
-    states: States = field(repr=False)
-    quantities: dict = field(repr=False)
-
-    def of(self, quantity: str):
-        if quantity not in self.quantities:
-            have = ", ".join(self.quantities)
-            raise InputError(f"{self.source} gives no {quantity!r} for case {self.states.case}; it gives {have}")
-        return self.quantities[quantity]
-
-    def __getattr__(self, name):
-        if name in TREE_QUANTITIES:
-            return self.of(name)
-        raise AttributeError(name)
-
-
-def truth_of(s: States, engine: str = "relacc") -> ModelTruth:
-    """:func:`model_truth` as a :class:`ModelTruth` (``truth.velocity``, ``truth.of("V")``)."""
-    return ModelTruth(engine, s, model_truth(s, engine))
+def truth_of(s: States, engine: str = "relacc") -> Truth:
+    """:func:`model_truth` as a :class:`relacc.testing.expected.Truth` (``truth.velocity``, ``truth.of("V")``)."""
+    return Truth(engine, s, model_truth(s, engine))

@@ -13,8 +13,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,12 +23,11 @@ from relacc.core.scales import term_scales
 from relacc.core.states import States, random_states
 from relacc.core.tolerances import rounding_tolerance
 from relacc.errors import InputError
-from relacc.testing.expected import Expected
+from relacc.testing.expected import Expected, Truth
 
 if TYPE_CHECKING:
     from relacc.core.chain import TwoBodyChain
     from relacc.core.tree import Tree
-    from relacc.testing.trees import ModelTruth
 
 
 def states(case: int, n: int = 200, seed: int | Sequence[int] = 0, hard: bool = False,
@@ -74,31 +72,8 @@ def states(case: int, n: int = 200, seed: int | Sequence[int] = 0, hard: bool = 
     return States(as_case(c), q, u, udot, ["hard", seed])
 
 
-@dataclass(frozen=True, eq=False)
-class Truth:
-    """An evaluator's G2 kinematics for a batch of states; each quantity an :class:`Expected`."""
-
-    source: str
-    states: States
-    kinematics: Any = field(repr=False)
-    scales: Any = field(repr=False)
-    bounds: dict = field(repr=False)
-
-    def of(self, quantity: str) -> Expected:
-        if quantity not in QUANTITIES:
-            raise InputError(f"unknown quantity {quantity!r}: accepted are {', '.join(QUANTITIES)}")
-        return Expected(quantity, int(self.states.case), getattr(self.kinematics, quantity),
-                        self.scales.of(quantity), self.bounds[quantity], self.states.seed, self.source)
-
-    position = property(lambda self: self.of("position"))
-    velocity = property(lambda self: self.of("velocity"))
-    acceleration = property(lambda self: self.of("acceleration"))
-    V = property(lambda self: self.of("V"))
-    Vdot = property(lambda self: self.of("Vdot"))
-
-
 def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain: TwoBodyChain | None = None
-          ) -> "Truth | ModelTruth":
+          ) -> Truth:
     """G2's kinematics for the states ``s`` by an engine (or ``"relacc"``: the corrected formulas).
 
     Args:
@@ -130,11 +105,17 @@ def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain
 
         k = g2_kinematics(fixture.chain, c, s.q, s.u, s.udot)
         tol = np.full(len(s), rounding_tolerance())
-        return Truth("relacc", s, k, scales, {q: tol for q in QUANTITIES})
+        return _truth("relacc", s, k, scales, {q: tol for q in QUANTITIES})
     from relacc.engines import load_engine
 
     e = load_engine(engine, fixture)
     k = e.g2_kinematics(c, s.q, s.u, s.udot, route=route)
     bounds = {q: np.broadcast_to(e.bound(route, q, fixture.chain, c, s.q, s.u, s.udot), (len(s),))
               for q in QUANTITIES}
-    return Truth(f"{engine}/{route}", s, k, scales, bounds)
+    return _truth(f"{engine}/{route}", s, k, scales, bounds)
+
+
+def _truth(source: str, s: States, k, scales, bounds: dict) -> Truth:
+    """G2's :class:`Truth`: each quantity of ``k`` with its term scale and the evaluator's bound."""
+    return Truth(source, s, {q: Expected(q, int(s.case), getattr(k, q), scales.of(q), bounds[q], s.seed, source)
+                             for q in QUANTITIES})
