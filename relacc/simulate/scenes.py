@@ -145,28 +145,35 @@ class Scene:
         return self.tree
 
     @property
+    def subject_tree(self) -> Tree:
+        """The tree the scene runs on: a model file's, or the chain's (:func:`relacc.core.tree.model.chain_tree`,
+        with G2 a named point)."""
+        if self.tree is not None:
+            return self.tree
+        from relacc.core.tree.model import chain_tree
+
+        return chain_tree(self.chain)
+
+    @property
     def conserves_momentum(self) -> bool:
         """No external force or torque: the effects exert none, and every root body is free (a body jointed to the
         world takes reaction forces from it)."""
-        if not self.effects.conserves_momentum:
-            return False
-        return self.is_chain or all(b.joints and b.joints[0].type == "free" for b in self.model_tree.bodies
-                                    if b.parent < 0)
+        return self.effects.conserves_momentum and all(b.joints and b.joints[0].type == "free"
+                                                       for b in self.subject_tree.bodies if b.parent < 0)
 
     @property
-    def engine_effects(self):
+    def engine_effects(self) -> TreeEffects:
         """The effects as the engines' adapters take them: by joint and body name
-        (:class:`relacc.dynamics.tree_effects.TreeEffects`)."""
-        return self.effects.for_tree() if self.is_chain else self.effects
+        (:class:`relacc.dynamics.tree_effects.TreeEffects`; the chain's converted, :meth:`Effects.for_tree`)."""
+        return self.effects.for_tree() if isinstance(self.effects, Effects) else self.effects
 
     @property
     def point(self) -> tuple[str, str]:
-        """The observed point as an adapter's point spec: ``G2``, a named point, or a body's mass centre."""
+        """The observed point as an adapter's point spec: a named point (the chain's ``G2``), or a body's mass
+        centre."""
         from relacc.engines.base import body, point
 
-        if self.is_chain or self.observe in self.model_tree.point_names:
-            return point(self.observe)
-        return body(self.observe)
+        return point(self.observe) if self.observe in self.subject_tree.point_names else body(self.observe)
 
     def integrator_for(self, engine: str) -> tuple[str, float | None]:
         """``(integrator, accuracy)`` an engine runs: the scene's, or for an engine with error-controlled integrators

@@ -33,16 +33,10 @@ def _observation(position, velocity, acceleration, energy_terms, momentum, angul
 
 def reference_state(scene, q, u, case=None) -> tuple[np.ndarray, np.ndarray]:
     """States of ``case`` (default the scene's) ``(n, nq)``, ``(n, nv)`` in the reference's coordinates (the
-    adapters')."""
-    case = scene.case if case is None else case
-    if scene.is_chain:
-        from relacc.core.speeds import to_body_speeds
-
-        q14, nu, _ = to_body_speeds(case, q, u)
-        return q14, nu
+    adapters'): the case-2 coordinates of the scene's tree (the chain's too)."""
     from relacc.core.tree.coordinates import convert
 
-    q2, u2, _ = convert(scene.tree, q, u, source=case, target=2)
+    q2, u2, _ = convert(scene.subject_tree, q, u, source=scene.case if case is None else case, target=2)
     return q2, u2
 
 
