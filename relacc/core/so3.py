@@ -24,7 +24,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from relacc.core.rotations import (
-    angles_123_from_matrix,
     matrix_from_123,
     matrix_from_quaternion,
     omega_partials_123,
@@ -93,10 +92,6 @@ class SO3:
         """``(..., 3, 3)`` the active rotation matrix (body components to reference-frame components)."""
         return matrix_from_quaternion(self.wxyz)
 
-    def as_123(self) -> np.ndarray:
-        """1-2-3 angles ``(..., 3)`` (rad) of the same rotation, ``theta2`` in ``[-pi/2, pi/2]``."""
-        return angles_123_from_matrix(np.real(self.as_matrix()))
-
     def inverse(self) -> "SO3":
         """The inverse rotation (the conjugate quaternion)."""
         return SO3(self.wxyz * np.array([1.0, -1.0, -1.0, -1.0]))
@@ -104,10 +99,6 @@ class SO3:
     def __matmul__(self, other: "SO3") -> "SO3":
         """Composition ``self (x) other``: its matrix is ``self.as_matrix() @ other.as_matrix()``."""
         return SO3(quaternion_multiply(self.wxyz, other.wxyz))
-
-    def apply(self, v) -> np.ndarray:
-        """``R v`` for vectors ``(..., 3)``."""
-        return np.einsum("...ij,...j->...i", self.as_matrix(), v)
 
     def log(self) -> np.ndarray:
         """``Log(R)``: the rotation vector ``(..., 3)`` (rad) of angle in ``[0, pi]``, the inverse of :meth:`exp`."""

@@ -221,10 +221,6 @@ class ChainEngine:
         x = self.engine_input("quaternion", as_case(case), np.asarray(q)[None], np.asarray(u)[None], None)
         return x.q[0], x.v[0]
 
-    def body_state(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Engine coordinates ``(n, nq_e)``, ``(n, nv_e)`` to case 2's ``(q14, nu)``."""
-        return self.adapter.from_engine(q, v)
-
     def energy_terms(self, chain: TwoBodyChain, q: np.ndarray, v: np.ndarray, effects: Effects
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(kinetic, gravity, spring)`` energies, J, ``(n,)`` each, of a batch of engine states."""
