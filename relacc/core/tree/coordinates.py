@@ -225,13 +225,15 @@ def convert(tree: Tree, q: ArrayLike, u: ArrayLike | None = None, udot: ArrayLik
     return np.broadcast_to(qt, batch + (qt.shape[-1],)).copy(), shape(ut), shape(udt)
 
 
-def random_states(tree: Tree, case: int, n: int, seed: int, *, size: float | None = None) -> States:
+def random_states(tree: Tree, case: int, n: int, seed: int, *, size: float | None = None,
+                  ranges: dict | None = None) -> States:
     """``n`` random states (``numpy.random.default_rng(seed)``), drawn in case 2 and converted: a
     :class:`relacc.core.states.States` of ``tree``.
 
     Free joints: a position within ``size`` (default: the tree's extent, at least 1 m) of the origin and a
     uniformly random unit quaternion; balls: a random unit quaternion; hinges uniform in ``[-pi, pi]``;
-    slides within ``size``. Speeds and rates: standard normals in case 2. States within the gimbal-lock
+    slides within ``size``; a hinge or slide named in ``ranges`` (``{joint name: (lower, upper)}``, a file's limits)
+    uniform in its range. Speeds and rates: standard normals in case 2. States within the gimbal-lock
     limit of case 3 are drawn again.
     """
     from relacc.limits import require_memory, tree_states_bytes
@@ -251,6 +253,9 @@ def random_states(tree: Tree, case: int, n: int, seed: int, *, size: float | Non
                 q[:, a:a + 3] = rng.uniform(-size, size, (n, 3))
                 a += 3
             q[:, a:a + 4] = quat
+        elif ranges and j.name in ranges:
+            lo, hi = ranges[j.name]
+            q[:, a] = rng.uniform(lo, hi, n)
         else:
             q[:, a] = rng.uniform(-np.pi, np.pi, n) if j.type == "hinge" else rng.uniform(-size, size, n)
     u, udot = rng.standard_normal((n, tree.nv)), rng.standard_normal((n, tree.nv))

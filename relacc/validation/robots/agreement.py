@@ -26,8 +26,6 @@ otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` 
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from relacc.core.cases import Case
@@ -51,39 +49,19 @@ CHUNK = 64
 
 
 def random_states(reference, n: int, seed: int) -> States:
-    """The reference configuration at rest, then ``n`` random states (``numpy.random.default_rng(seed)``): case-2
-    :class:`relacc.core.states.States` of the reference's tree (``u``, ``udot``: speeds and rates). ``reference``:
-    relacc's reading as an evaluator (:class:`relacc.validation.robots.tree.TreeRobot`).
+    """The reference configuration at rest, then ``n`` random states of the reference's tree in case 2: the tree's
+    draw (:func:`relacc.core.tree.coordinates.random_states`, ``numpy.random.default_rng(seed)``) with each limited
+    hinge or slide uniform in the range the file gives it and the model's size the largest distance of a link's mass
+    centre from its frame (at least 1 m). ``reference``: relacc's reading as an evaluator
+    (:class:`relacc.validation.robots.tree.TreeRobot`)."""
+    from relacc.core.tree.coordinates import random_states as tree_states
 
-    Per joint: free, a position within the model's size of the origin and a uniformly random unit
-    quaternion; ball, a random unit quaternion; hinge and slide, uniform in their range when limited,
-    else hinge in ``[-pi, pi]`` and slide within the model's size. Speeds and their rates: standard normals.
-    """
-    from relacc.limits import require_memory
-
-    tree, rng = reference.tree, np.random.default_rng(seed)
-    nq, nv = tree.nq(2), tree.nv
-    require_memory(8.0 * (n + 1) * (nq + 2 * nv + 8), f"{n} random states of {Path(reference.path).name}",
-                   "ask for fewer states (--states)")
-    size = max([np.linalg.norm(link.com) for link in reference.structure.links] + [1.0])
-    q = np.repeat(reference.default_q()[None], n + 1, axis=0)
-    v, a = np.zeros((n + 1, nv)), np.zeros((n + 1, nv))
-    v[1:], a[1:] = rng.standard_normal((n, nv)), rng.standard_normal((n, nv))
-    ranges = reference.reading.ranges
-    for (_, joint), at in zip(tree.joints, tree.qadr(2)):
-        if joint.type in ("free", "ball"):
-            quat = rng.standard_normal((n, 4))
-            quat /= np.linalg.norm(quat, axis=1, keepdims=True)
-            if joint.type == "free":
-                q[1:, at:at + 3] = rng.uniform(-size, size, (n, 3))
-                at += 3
-            q[1:, at:at + 4] = quat
-        elif joint.name in ranges:
-            lo, hi = ranges[joint.name]
-            q[1:, at] = rng.uniform(lo, hi, n)
-        else:
-            q[1:, at] = rng.uniform(-np.pi, np.pi, n) if joint.type == "hinge" else rng.uniform(-size, size, n)
-    return States(Case.BODY_FRAME, q, v, a, seed, tree)
+    tree = reference.tree
+    size = float(max([np.linalg.norm(link.com) for link in reference.structure.links] + [1.0]))
+    s = tree_states(tree, 2, n, seed, size=size, ranges=reference.reading.ranges)
+    rest = States(Case.BODY_FRAME, reference.default_q()[None], np.zeros((1, tree.nv)), np.zeros((1, tree.nv)),
+                  seed, tree)
+    return rest.and_then(s, seed)
 
 
 def _gravity_terms(reference, q, v, a, dofs, gravity) -> np.ndarray:
