@@ -35,6 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tolerances import MAX_CONDITION
+from relacc.kernels.jit import leaf
 from relacc.kernels.perstate import HAVE_NUMBA, bad_inputs, jitable, numba
 from relacc.kernels.so3 import cross, exp_mul, jr_inv, mv, quat_matrix, r123, w123_dot_mv, w123_mv, w123_solve
 from relacc.kernels.trig import LIMIT, sincos
@@ -163,7 +164,7 @@ def _newton_euler(m, I, Iinv, C, F, T, w):
     return _scale(1.0 / m, F), mv(C, ab[0], ab[1], ab[2])
 
 
-@jitable
+@leaf
 def rates(case, q, u, cp, ep):
     """One state's ``(tangent, udot)``, 12-tuples: what the integrators move along, and the speeds' rates.
 
@@ -257,7 +258,7 @@ def rates(case, q, u, cp, ep):
     return tangent, udot
 
 
-@jitable
+@leaf
 def move(case, q, delta, out):
     """``out = q`` moved by the tangent vector ``delta`` (cases 1-2: ``quat (x) Exp``; case 3: ``q + delta``)."""
     if case == 3:

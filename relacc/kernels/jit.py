@@ -44,6 +44,21 @@ def jitable(fn=None, *, inline=False):
     return numba.extending.register_jitable(inline="always")(fn) if inline else numba.extending.register_jitable(fn)
 
 
+def leaf(fn):
+    """A compiled per-state function that allocates nothing, compiled on its own without numba's reference counting
+    (``_nrt=False``); plain Python without numba.
+
+    A numba function increfs each array it is handed on entry and decrefs it on return (an atomic operation and a call
+    each): a kernel's per-state helpers take 20 to 35 arrays (the tree's, the scratch), so a call cost 0.4-0.5 us
+    whatever the work, 40% of gymnasium's ant's forward dynamics and 70% of a two-body model's (docs/benchmarks.md,
+    "What a call costs"). A leaf is handed arrays its caller owns for the whole call, so nothing is lost by not
+    counting; it must not allocate (numba refuses to compile it if it does) nor keep an array past its return.
+    """
+    if not HAVE_NUMBA:
+        return fn
+    return numba.njit(_nrt=False, cache=True)(fn)
+
+
 def inline_twin(fn):
     """The same code as the (already :func:`jitable`) ``fn``, registered again to be inlined into its callers at
     numba's level: one source, two ways of compiling it."""

@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, jitable, numba, parallel_pays
+from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba, parallel_pays
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mm_inline as mm
 from relacc.kernels.so3 import mv_inline as mv
@@ -202,7 +202,7 @@ def angular(case, kind, q, u, i, a, d, Rb, wb, Rp, wp, Ra):
     return A, Ad, mv(A, u0, u1, u2)
 
 
-@jitable
+@leaf
 def walk_state(case, q, u, i, T, qadr, o, R, w, V, Om, Vd, Omd):
     """The walk of state ``i``: every body's origin ``o (nb, 3)``, orientation ``R (nb, 9)``, angular velocity
     ``w (nb, 3)`` and the path columns of the scratch ``V``, ``Om``, ``Vd``, ``Omd`` ``(nb, 3, nv)``."""
@@ -308,7 +308,7 @@ def _nonfinite(x):
     return 0 if (x - x) == 0.0 else 1
 
 
-@jitable
+@leaf
 def point_out(T, b, px, py, pz, o, R, w, V, Om, Vd, Omd, u, ud, i, with_acc, j, pos, vel, acc, PV, PVd):
     """A point fixed in body ``b`` at ``p`` (body frame) into row ``(i, j)`` of the outputs: position, velocity,
     acceleration (if ``with_acc``) and every column of ``V``, ``Vdot``. Returns the count of non-finite values.
@@ -352,7 +352,7 @@ def point_out(T, b, px, py, pz, o, R, w, V, Om, Vd, Omd, u, ud, i, with_acc, j, 
     return bad + _nonfinite(pos[i, j, 0] + pos[i, j, 1] + pos[i, j, 2])
 
 
-@jitable
+@leaf
 def body_out(T, b, o, R, w, V, Om, Vd, Omd, u, ud, i, with_acc, pos, vel, acc, omega, alpha, rot, BV, BVd, BOm,
              BOmd):
     """Body ``b``'s mass centre, angular velocity and acceleration, orientation and all partial columns, row ``i``."""

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tolerances import PIVOT_FLOOR
-from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
+from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import FREE, HINGE, SLIDE
 from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, rank_one, spd_inverse, sym_mv
 
@@ -56,7 +56,7 @@ def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent, Ic,
     return 0
 
 
-@jitable
+@leaf
 def backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd, floor):
     """The articulated inertias, leaves to root (module docstring), and the composite rigid inertias ``Ic`` (from
     the bodies' own, in ``Ic`` on entry) for the pivots' test. Returns 1 when a joint's ``D`` is not positive
@@ -140,7 +140,7 @@ def backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, 
     return 0
 
 
-@jitable
+@leaf
 def accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out):
     """Root to leaves: each joint's ``udot = D^-1 (u - U^T a')`` into ``out[i]``, bodies' spatial accelerations."""
     for b in range(T.parent.shape[0]):

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tolerances import PIVOT_FLOOR
-from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
+from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import BALL, FREE, HINGE, SLIDE
 from relacc.kernels.tree_spatial import bad_inputs, forward, joint_B, sym_mv
 
@@ -48,7 +48,7 @@ def dof_paths(tree):
     return anc, np.array([len(p) for p in paths], np.int64)
 
 
-@jitable
+@leaf
 def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x, tmp):
     """``M`` (path rows: ``M[k, t]`` with speed ``anc[k, t]``, the diagonal at ``M[k, depth[k]]``) and
     ``x = tau - bias`` of state ``i``, after :func:`relacc.kernels.tree_spatial.forward`."""
@@ -114,7 +114,7 @@ def _rotational_armature(case, q, u, i, T, qadr, k, b, at, depth, arm, R, V, M, 
         x[at + r] -= s
 
 
-@jitable
+@leaf
 def factor_solve(M, x, anc, depth, diag, floor):
     """``x = M^-1 x`` through ``M = L^T D L`` on the speeds' paths, in place; each update a contiguous loop (an
     earlier speed's path is a prefix of a later one's). Returns 1 when a pivot is not above ``floor`` times its

@@ -127,11 +127,11 @@ def _angle_rates(tree, q, u, tau, gravity, out, algorithm):
 
 
 if HAVE_NUMBA:
-    from relacc.kernels.jit import numba
+    from relacc.kernels.jit import leaf
     from relacc.kernels.so3 import r123, w123_dot_mv, w123_mv, w123_solve
     from relacc.kernels.tree import BALL, FREE
 
-    @numba.njit(cache=True)
+    @leaf
     def _angles(q, i, k, T):  # pragma: no cover - compiled
         """``(a, d, c1, c2, s1, s2, R)``: joint ``k``'s (a ball's or free joint's) first angle and first angular
         speed, the cosines and sines of ``theta1``, ``theta2`` and ``R = Rx Ry Rz`` (row-major) at state ``i``."""
@@ -141,7 +141,7 @@ if HAVE_NUMBA:
         s1, s2, s3 = np.sin(q[i, a]), np.sin(q[i, a + 1]), np.sin(q[i, a + 2])
         return a, d, c1, c2, s1, s2, r123(c1, c2, c3, s1, s2, s3)
 
-    @numba.njit(cache=True)  # about 50 ns a state: a parallel loop would not pay below ~5000 states
+    @leaf  # ~50 ns a state (a parallel loop would not pay below ~5000)
     def rates_to_speeds(q, u, tau, T, u2, tau2):  # pragma: no cover - compiled
         for i in range(q.shape[0]):
             for c in range(u.shape[1]):
@@ -162,7 +162,7 @@ if HAVE_NUMBA:
                 tau2[i, d + 1] = R[1] * x0 + R[4] * x1 + R[7] * x2
                 tau2[i, d + 2] = R[2] * x0 + R[5] * x1 + R[8] * x2
 
-    @numba.njit(cache=True)
+    @leaf
     def speeds_to_rates(q, u, a2, T, out):  # pragma: no cover - compiled
         for i in range(q.shape[0]):
             for c in range(u.shape[1]):

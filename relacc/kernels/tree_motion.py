@@ -17,7 +17,7 @@ import weakref
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, numba, parallel_pays
+from relacc.kernels.jit import HAVE_NUMBA, leaf, numba, parallel_pays
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mv_inline as mv
 from relacc.kernels.tree import BALL, BLOCK, FREE, arrays_of, row9, writable
@@ -40,7 +40,7 @@ def subtree_roots(tree) -> np.ndarray:
 if HAVE_NUMBA:
     from relacc.kernels.tree_spatial import forward
 
-    @numba.njit(cache=True)
+    @leaf
     def _origin(i, r, q, T, qadr, base):  # pragma: no cover - compiled
         """Into ``base``: where the point ``O`` of the subtree rooted at body ``r`` is, fixed components (m): a free
         root's position, or the root body's placement on the world."""
@@ -51,7 +51,7 @@ if HAVE_NUMBA:
         else:
             base[0], base[1], base[2] = T.bpos[r, 0], T.bpos[r, 1], T.bpos[r, 2]
 
-    @numba.njit(cache=True)
+    @leaf
     def _point(i, b, px, py, pz, base, o, R, V, acc, with_acc, pos, vel, accel, j):  # pragma: no cover - compiled
         """Body ``b``'s point at ``(px, py, pz)`` (body components) into row ``j`` of ``pos``, ``vel``, ``accel``."""
         r0, r1, r2 = mv(row9(R, b), px, py, pz)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
-from relacc.kernels.jit import jitable
+from relacc.kernels.jit import jitable, leaf
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mm_inline as mm
 from relacc.kernels.so3 import mv_inline as mv
@@ -29,7 +29,7 @@ def inertia_arrays(tree):
             np.array([any(j.type == "free" for j in b.joints) for b in tree.bodies]))
 
 
-@jitable
+@leaf
 def bad_inputs(case, q, u, i, T, qadr):
     """The number of non-finite inputs and non-unit quaternions of state ``i``."""
     bad = 0
@@ -46,7 +46,7 @@ def bad_inputs(case, q, u, i, T, qadr):
     return bad
 
 
-@jitable
+@leaf
 def forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA):
     """State ``i``, root to leaves: every speed's column ``S (nv, 6)``, every joint's ``c = S_dot u_j`` (``C (nj,
     6)``), every body's origin from ``O`` (``o``), orientation ``R``, spatial velocity ``V (nb, 6)``, spatial inertia

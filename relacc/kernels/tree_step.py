@@ -28,7 +28,7 @@ from typing import NamedTuple
 import numpy as np
 
 from relacc.core.tolerances import MAX_CONDITION, PIVOT_FLOOR
-from relacc.kernels.jit import HAVE_NUMBA, jitable, numba
+from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import exp_mul, jr_inv
 from relacc.kernels.so3 import mv_inline as mv
@@ -244,7 +244,7 @@ if HAVE_NUMBA:
                        np.empty((14, max(nq, nv, 1))), np.empty((1, nv)), np.zeros((1, nv)), np.empty((1, nv)),
                        np.empty((1, nv)), np.zeros(1 + nq), np.zeros((nj1, 9)))
 
-    @numba.njit(cache=True)
+    @leaf
     def _failed_stage(case, W, failed):  # pragma: no cover - compiled
         nq, nv = W.Q.shape[1], W.U.shape[1]
         failed[0] = W.stage[11, 0]
@@ -253,7 +253,7 @@ if HAVE_NUMBA:
         for c in range(nv):
             failed[1 + nq + c] = W.rates[0, c] if case == 3 else W.U[0, c]  # the stage's speeds, of its case
 
-    @numba.njit(cache=True)
+    @leaf
     def rates(case, aba, q, u, t, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E, W, a):  # pragma: no cover
         """``a = udot`` of the state ``(q, u)`` of ``case`` (2, or 3: solved in case-2 speeds on the angles and mapped
         to the rates, as :func:`relacc.kernels.tree_dynamics.accelerations`) at time ``t`` under the effects; returns
@@ -338,7 +338,7 @@ if HAVE_NUMBA:
                 return NON_FINITE
         return OK
 
-    @numba.njit(cache=True)
+    @leaf
     def step(case, method, aba, q, u, t, h, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,
              W):  # pragma: no cover - compiled
         """One step of ``h`` s from time ``t``, in place on ``q (nq,)``, ``u (nv,)``; returns the status (the state
