@@ -12,8 +12,8 @@ tree's, every body's partial velocities from :mod:`relacc.core.tree.walk`:
         + the slides' springs and dampers and the ball's damper,
 
 ``[I_b]`` about the mass centre in fixed components. What stays the chain's own is the compiled form of this tree
-(:mod:`relacc.kernels.dynamics`, Newton-Euler block by block, ``backend="fast"``): about 13 times faster per step than
-the general tree kernels on this tree (docs/architecture.md), held to Kane's equations to rounding
+(:mod:`relacc.kernels.dynamics`, Newton-Euler block by block, ``backend="fast"``): 6 to 7 times faster per step than
+the general tree kernels on this tree (``benchmarks/chain_form.py``), held to Kane's equations to rounding
 (``tests/test_dynamics.py``).
 """
 
