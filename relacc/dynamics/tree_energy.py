@@ -48,11 +48,13 @@ def spring_energy(tree, q, effects, case: int = 2) -> np.ndarray:
 
 
 def _motion(tree, q, v, case):
-    """Each body's kinematics (reference walk, real or complex), masses and inertias in fixed components."""
+    """Each body's kinematics (the compiled walk; the reference walk for complex inputs), masses and inertias in fixed
+    components."""
     from relacc.core.tree import tree_kinematics
 
     q, v = np.atleast_2d(np.asarray(q)), np.atleast_2d(np.asarray(v))
-    k = tree_kinematics(tree, case, q, v, partials=False, backend="reference")
+    complex_step = np.iscomplexobj(q) or np.iscomplexobj(v)  # the compiled walk takes real inputs only
+    k = tree_kinematics(tree, case, q, v, partials=False, backend="reference" if complex_step else "auto")
     m = np.array([b.mass for b in tree.bodies])
     I = np.stack([np.asarray(b.inertia, dtype=float) for b in tree.bodies])
     return q, v, k, m, k.rotation @ I[None] @ np.swapaxes(k.rotation, -1, -2)
