@@ -7,8 +7,9 @@ of gymnasium's MuJoCo assets that relacc and Pinocchio both read: ``--states`` r
 coordinates and laid out column-major before timing; one thread each (the same threads: issue 35), microseconds per
 state, median and best of ``--repeats``, and the largest difference of the two accelerations in Pinocchio's speeds
 (relative to their largest entry). That difference is not an error of either: it is large exactly where Pinocchio's
-reading of the file is another model (joints it leaves out, armature, masses from geoms: ``relacc compare`` names
-each), and then the two times are not of the same work; ``pinocchio_nv`` and ``shared_speeds`` say so.
+reading of the file is another model (bodies it leaves out, ``settotalmass`` ignored, geoms left out of the masses:
+``relacc compare`` names each), and then the two times are not of the same work; ``pinocchio_nv`` and
+``shared_speeds`` say so.
 
 Run:  python benchmarks/gym_models.py [--states 20000] [--repeats 7] [--json PATH]
 """
