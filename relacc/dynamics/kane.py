@@ -44,6 +44,17 @@ def _checked(chain, effects, case, q, u, values: bool = True) -> tuple[Case, np.
     return c, check_q(c, q, values=values), check_u(f"u for case {int(c)}", u, values=values)
 
 
+def _rows(q: np.ndarray, u: np.ndarray) -> tuple[tuple[int, ...], np.ndarray, np.ndarray]:
+    """``(batch, q (n, nq), u (n, 12))``: checked states broadcast against each other, one state a row."""
+    try:
+        batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
+    except ValueError:
+        raise InputError(f"batch shapes of q {q.shape} and u {u.shape} do not broadcast") from None
+    qf = np.broadcast_to(q, batch + q.shape[-1:]).reshape(-1, q.shape[-1])
+    uf = np.broadcast_to(u, batch + u.shape[-1:]).reshape(-1, u.shape[-1])
+    return batch, qf, uf
+
+
 def generalized_forces(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, effects: Effects) -> np.ndarray:
     """``{Q}`` ``(..., 12)`` of the active effects only (N, or N m per unit angular speed), conjugate to the case's
     speeds: the chain's tree's (:func:`relacc.dynamics.tree.generalized_forces`); an absent effect adds nothing."""
@@ -75,9 +86,8 @@ def equations_of_motion(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLi
         AccuracyWarning: case 3 near the gimbal lock (``M`` in the rates is conditioned as the square of the rate map).
     """
     c, q, u = _checked(chain, effects, case, q, u)
-    d = tree_dynamics(chain_tree(chain), int(c), q, u, effects=effects.for_tree())
+    d = tree_dynamics(chain_tree(chain), int(c), q, u, effects=effects.for_tree())  # refuses non-finite results
     M, f = np.array(d.M), np.array(d.f)
-    check_finite_result((M, f), q, u)
     if out is None:
         return M, f
     if not isinstance(out, (tuple, list)) or len(out) != 2:
@@ -161,8 +171,7 @@ def energy_terms(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, eff
     terms, the scale energy drift is normalized by.
     """
     c, q, u = _checked(chain, effects, case, q, u)
-    batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
-    qf, uf = (np.broadcast_to(a, batch + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in (q, u))
+    batch, qf, uf = _rows(q, u)
     terms = tree_energy(chain_tree(chain), qf, uf, effects.for_tree(), int(c))
     return tuple(t.reshape(batch) for t in terms)  # type: ignore[return-value]
 
@@ -177,7 +186,6 @@ def momenta(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike) -> tuple
     """Linear momentum ``(..., 3)`` (kg m/s) and angular momentum about R's origin ``(..., 3)`` (kg m^2/s), fixed
     components: the chain's tree's (:func:`relacc.dynamics.tree_energy.tree_momenta`)."""
     c, q, u = _checked(chain, NONE, case, q, u)
-    batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
-    qf, uf = (np.broadcast_to(a, batch + a.shape[-1:]).reshape(-1, a.shape[-1]) for a in (q, u))
+    batch, qf, uf = _rows(q, u)
     p, H = tree_momenta(chain_tree(chain), qf, uf, int(c))
     return p.reshape(batch + (3,)), H.reshape(batch + (3,))

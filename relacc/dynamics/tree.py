@@ -194,8 +194,7 @@ def tree_dynamics(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, effects:
         warn_near_lock(tree, q, "the mass matrix in the rates, [W_b]^T M2 [W_b] with M2 the mass matrix in case-2 "
                        "speeds, has a condition number up to {cond2:.3g} times M2's and is singular at the lock "
                        "(relacc.tree_accelerations solves in case-2 speeds instead)")
-    t_arr = np.asarray(t, dtype=float)
-    tt = np.broadcast_to(t_arr, batch).reshape(-1) if t_arr.ndim else float(t_arr)
+    tt = _flat_time(t, batch)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one sentence
         M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
     check_finite_result((M, f), q, u, model=_model_magnitude(tree))
@@ -213,10 +212,16 @@ def generalized_forces(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, eff
     :func:`tree_dynamics`."""
     nb, nv = (tree.nb, tree.nv) if isinstance(tree, Tree) else (0, 0)
     c, q, u, _, batch = inputs(tree, case, q, u, bytes_per_state=8.0 * (4 * nb * 3 * nv * 3), what="the forces of")
-    t_arr = np.asarray(t, dtype=float)
-    tt = np.broadcast_to(t_arr, batch).reshape(-1) if t_arr.ndim else float(t_arr)
+    tt = _flat_time(t, batch)
     _, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt, active_only=True)
     return f.reshape(batch + (tree.nv,))
+
+
+def _flat_time(t: ArrayLike, batch: tuple[int, ...]) -> np.ndarray | float:
+    """The time ``t`` (s) for a flattened batch: ``(n,)`` when ``t`` has a shape (broadcast against ``batch``), the
+    scalar itself otherwise."""
+    t_arr = np.asarray(t, dtype=float)
+    return np.broadcast_to(t_arr, batch).reshape(-1) if t_arr.ndim else float(t_arr)
 
 
 def _model_magnitude(tree) -> tuple[str, float]:
@@ -311,7 +316,7 @@ def _angle_rates(tree, q, u, tau, effects, t, backend, out):
         if tau2 is not None:
             tau2[:, d:d + 3] = np.linalg.solve(np.swapaxes(W, -1, -2), tau2[:, d:d + 3, None])[..., 0]
         maps.append((d, W, W_dot))
-    tt = np.broadcast_to(np.asarray(t), batch).reshape(n) if np.ndim(t) else t
+    tt = _flat_time(t, batch)
     a2 = tree_accelerations(tree, 2, q_in_case(tree, 3, 2, qf), u2, tau=tau2, effects=effects, t=tt,
                             backend=backend)
     res = np.array(a2)
@@ -343,7 +348,7 @@ def _effect_forces(tree, case, q, u, effects, t):
     if loads:
         from relacc.kernels.tree_loads import load_forces
 
-        tt = np.broadcast_to(np.asarray(t, dtype=float), batch).reshape(-1) if np.ndim(t) else float(t)
+        tt = _flat_time(t, batch)
         s = np.stack([np.broadcast_to(load.factor(tt), (n,)) for _, load in loads], axis=1)[..., None]  # (n, L, 1)
         force = s * np.array([load.force for _, load in loads])
         torque = s * np.array([load.torque for _, load in loads])
@@ -448,7 +453,9 @@ def solve(tree, M, rhs):
 
     flatM = M.reshape(-1, tree.nv, tree.nv)
     if np.iscomplexobj(M) or np.iscomplexobj(rhs):  # complex steps: M is complex symmetric, not Hermitian (no Cholesky)
-        return np.linalg.solve(M, rhs[..., None])[..., 0]
+        out = np.linalg.solve(M, rhs[..., None])[..., 0]
+        out.setflags(write=False)
+        return out
     names = tree.speed_names()
     try:
         L = np.linalg.cholesky(M)
