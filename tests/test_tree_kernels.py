@@ -165,6 +165,50 @@ def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed, algorithm):
         assert np.all(err <= bound), f"case {case}: worst {np.max(err / bound):.3g} of the bound (seed {seed})"
 
 
+def _welded_tree():
+    """A free root carrying two welded bodies in a row (a hinge body on the second) and a welded body whose child
+    turns on a ball; every body off-axis, rotated and massive."""
+    from relacc.core.rotations import matrix_from_123, quaternion_from_123
+
+    rng = np.random.default_rng(4)
+
+    def body(name, parent, joints=()):
+        Q = matrix_from_123(rng.uniform(-1, 1, 3))  # principal moments in [1, 2): the triangle inequality holds
+        return relacc.Body(name, parent, pos=rng.uniform(-0.3, 0.3, 3), quat=quaternion_from_123(rng.uniform(-1, 1, 3)),
+                           joints=joints, mass=float(rng.uniform(0.5, 2)), com=rng.uniform(-0.1, 0.1, 3),
+                           inertia=0.01 * Q @ np.diag(rng.uniform(1, 2, 3)) @ Q.T)
+
+    return relacc.Tree("welded", (body("root", -1, (relacc.Joint.free("root"),)), body("w1", "root"),
+                                  body("w2", "w1"), body("h", "w2", (relacc.Joint.hinge("h", (0.6, 0.0, 0.8)),)),
+                                  body("w3", "root"), body("b", "w3", (relacc.Joint.ball("b"),))),
+                       gravity=(0.0, 0.0, -9.81))
+
+
+def test_welded_bodies_fold_into_their_parents_with_the_same_dynamics():
+    """:func:`relacc.core.tree.model.welded_folded`, which the dynamics kernels run on: w1 and w2 fold into the root,
+    w3 stays (in case 1 a ball's speeds are in its parent body's components). Kane's equations of the folded tree (a
+    different description of the same bodies: masses summed, inertias moved by Steiner's theorem) against the
+    tree's, both by the reference path, every case, within the perturbation bound of a solve; a tree without
+    welded bodies is its own fold."""
+    from relacc.core.tree.model import welded_folded
+
+    tree = _welded_tree()
+    folded = welded_folded(tree)
+    assert folded.body_names == ("root", "h", "w3", "b") and folded.nv == tree.nv
+    np.testing.assert_allclose(sum(b.mass for b in folded.bodies), sum(b.mass for b in tree.bodies), rtol=0,
+                               atol=8 * EPS * 10)  # six masses under 2 kg summed: a few roundings of 10
+    st = random_states(tree, 2, 40, 4)
+    for case in (1, 2, 3):
+        q, u, _ = convert(tree, st.q, st.u, source=2, target=case)
+        ref = relacc.tree_accelerations(tree, case, q, u, backend="reference")
+        got = relacc.tree_accelerations(folded, case, q, u, backend="reference")
+        bound = _dynamics_scale(tree, case, q, u, ref) * 64 * 2.2e-16 * max(tree.depth)
+        err = np.abs(got - ref).max(axis=1)
+        assert np.all(err <= bound), f"case {case}: worst {np.max(err / bound):.3g} of the bound (seed 4)"
+    plain = relacc.Tree.from_file(models_dir() / "two_body.xml")
+    assert welded_folded(plain) is plain
+
+
 @pytest.mark.parametrize("seed", [2, 5, 9])
 def test_effects_through_the_kernel_are_kanes_equations(tmp_path, seed):
     """``auto`` forward dynamics with joint springs and dampers and sinusoidal body loads (the kernel, with the

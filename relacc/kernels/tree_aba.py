@@ -13,8 +13,10 @@ import numpy as np
 
 from relacc.core.tolerances import PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
-from relacc.kernels.tree import FREE, HINGE, SLIDE
-from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, rank_one, spd_inverse, sym_mv
+from relacc.kernels.tree import ANGLES_CASE2, FREE, HINGE, SLIDE
+from relacc.kernels.tree_crba import RATES_DIRECT
+from relacc.kernels.tree_spatial import (SYM, bad_inputs, forward, joint_B, rank_one, row_to_rates, row_to_speeds,
+                                         spd_inverse, sym_mv)
 
 BLOCK = 64
 """States per parallel task."""
@@ -182,25 +184,38 @@ if HAVE_NUMBA:
     @numba.njit(cache=True)
     def aba_block(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out, start,
                   stop):  # pragma: no cover - compiled
-        """States ``start .. stop - 1``; ``(bad inputs, singular states)`` (a plain compiled function under a thin
-        parallel loop: numba compiles big ``prange`` bodies slowly, and caches them worse, numba/numba#8085)."""
+        """States ``start .. stop - 1``; ``(bad inputs, singular states)``; case 3 as
+        :func:`relacc.kernels.tree_crba.crba_block` (a plain compiled function under a thin parallel loop: numba
+        compiles big ``prange`` bodies slowly, and caches them worse, numba/numba#8085)."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA, acc = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6))
         U, uu, Dinv, tmp = np.empty((nv, 6)), np.empty(nv), np.empty((max(nj, 1), 36)), np.empty(60)
         Ic, cd = np.empty((nb, 21)), np.empty(6)
+        Q1, U1, F1, X1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv)), np.empty((1, nv))
         bad_in, singular = 0, 0
+        mode = ANGLES_CASE2 if case == 3 else (3 if case == RATES_DIRECT else case)
         for i in range(start, stop):
-            bad_in += bad_inputs(case, q, u, i, T, qadr)
-            forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
+            bad_in += bad_inputs(min(case, 3), q, u, i, T, qadr)
+            if mode == ANGLES_CASE2:
+                for c in range(q.shape[1]):
+                    Q1[0, c] = q[i, c]
+                row_to_speeds(q, u, tau, i, T, U1, F1, 0)
+                qq, uu_, tt, r = Q1, U1, F1, 0
+            else:
+                qq, uu_, tt, r = q, u, tau, i
+            forward(mode, qq, uu_, r, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
             for b in range(nb):  # the bodies' own spatial inertias: the composite ones grow from them
                 for x in range(21):
                     Ic[b, x] = IA[b, x]
-            failed = backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd,
-                               PIVOT_FLOOR)
+            failed = backward(mode, qq, uu_, tt, r, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd,
+                              PIVOT_FLOOR)
             if failed:
                 for c in range(nv):
                     out[i, c] = np.nan
+            elif mode == ANGLES_CASE2:
+                accelerate(T, g, free, S, C, U, uu, Dinv, acc, 0, X1)
+                row_to_rates(q, u, i, X1, 0, T, out)
             else:
                 accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
             singular += failed

@@ -14,11 +14,15 @@ import numpy as np
 
 from relacc.core.tolerances import PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
-from relacc.kernels.tree import BALL, FREE, HINGE, SLIDE
-from relacc.kernels.tree_spatial import bad_inputs, forward, joint_B, sym_mv
+from relacc.kernels.tree import ANGLES_CASE2, BALL, FREE, HINGE, SLIDE
+from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, row_to_rates, row_to_speeds, sym_mv
 
 BLOCK = 64
 """States per parallel task."""
+
+RATES_DIRECT = 5
+"""The block kernels' case for case 3 solved in the rates themselves (Kane's equations in the 1-2-3 rates, whose
+error grows as the rate map's condition number squared: for tests); their case 3 is solved in case-2 speeds."""
 
 
 def dof_paths(tree):
@@ -74,17 +78,40 @@ def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, 
             for k in range(6):
                 f[p, k] += f[b, k]
     for b in range(nb):
+        r = b  # a path that starts at a free joint starts with its three translations along the world's axes (their
+        while T.parent[r] >= 0 and not free[r]:  # columns [0; e_k]) and three rotations about O ([a; 0])
+            r = T.parent[r]
+        floating = free[r]
         for k in range(T.jstart[b], T.jstart[b] + T.jnum[b]):
             d = T.dofadr[k]
-            nd = 6 if T.jtype[k] == FREE else (3 if T.jtype[k] == BALL else 1)
+            kind = T.jtype[k]
+            nd = 6 if kind == FREE else (3 if kind == BALL else 1)
             for c in range(d, d + nd):
-                F = sym_mv(IA, b, S, c)
+                if kind == FREE and c < d + 3:  # Ic [0; e_k]: a column of Ic
+                    e = 3 + c - d
+                    F = (IA[b, SYM[0, e]], IA[b, SYM[1, e]], IA[b, SYM[2, e]], IA[b, SYM[3, e]], IA[b, SYM[4, e]],
+                         IA[b, SYM[5, e]])
+                elif kind == FREE:  # Ic [a; 0]
+                    a0, a1, a2 = S[c, 0], S[c, 1], S[c, 2]
+                    F = (IA[b, 0] * a0 + IA[b, 1] * a1 + IA[b, 2] * a2, IA[b, 1] * a0 + IA[b, 6] * a1 + IA[b, 7] * a2,
+                         IA[b, 2] * a0 + IA[b, 7] * a1 + IA[b, 11] * a2, IA[b, 3] * a0 + IA[b, 8] * a1 + IA[b, 12] * a2,
+                         IA[b, 4] * a0 + IA[b, 9] * a1 + IA[b, 13] * a2, IA[b, 5] * a0 + IA[b, 10] * a1 + IA[b, 14] * a2)
+                else:
+                    F = sym_mv(IA, b, S, c)
                 dc = depth[c]
                 M[c, dc] = S[c, 0] * F[0] + S[c, 1] * F[1] + S[c, 2] * F[2] + S[c, 3] * F[3] + S[c, 4] * F[4] \
                     + S[c, 5] * F[5] + arm[c]
                 x[c] = tau[i, c] - (S[c, 0] * f[b, 0] + S[c, 1] * f[b, 1] + S[c, 2] * f[b, 2] + S[c, 3] * f[b, 3]
                                     + S[c, 4] * f[b, 4] + S[c, 5] * f[b, 5])
-                for t in range(dc):
+                t0 = 0
+                if floating:
+                    for t in range(min(dc, 3)):
+                        M[c, t] = F[3 + t]
+                    for t in range(3, min(dc, 6)):
+                        j = anc[c, t]
+                        M[c, t] = S[j, 0] * F[0] + S[j, 1] * F[1] + S[j, 2] * F[2]
+                    t0 = min(dc, 6)
+                for t in range(t0, dc):
                     j = anc[c, t]
                     M[c, t] = S[j, 0] * F[0] + S[j, 1] * F[1] + S[j, 2] * F[2] + S[j, 3] * F[3] + S[j, 4] * F[4] \
                         + S[j, 5] * F[5]
@@ -122,23 +149,20 @@ def factor_solve(M, x, anc, depth, diag, floor):
     nv = x.shape[0]
     for k in range(nv):
         diag[k] = M[k, depth[k]]
-    for k in range(nv - 1, -1, -1):
+    for k in range(nv - 1, -1, -1):  # with the solve of L^T D y = x: x[k] is final once its descendants are done
         dk = depth[k]
         piv = M[k, dk]
         if not piv > floor * diag[k]:
             return 1
+        xk = x[k]
         for t in range(dk - 1, -1, -1):
             i = anc[k, t]
             s = M[k, t] / piv
             for r in range(t + 1):  # row i's entries: its path is anc[k, :t], its diagonal at t
                 M[i, r] -= s * M[k, r]
             M[k, t] = s
-    for k in range(nv - 1, -1, -1):
-        xk = x[k]
-        for t in range(depth[k]):
-            x[anc[k, t]] -= M[k, t] * xk
-    for k in range(nv):
-        x[k] /= M[k, depth[k]]
+            x[i] -= s * xk
+        x[k] = xk / piv
     for k in range(nv):
         s = x[k]
         for t in range(depth[k]):
@@ -152,21 +176,42 @@ if HAVE_NUMBA:
     @numba.njit(cache=True)
     def crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, start,
                    stop):  # pragma: no cover - compiled
-        """States ``start .. stop - 1``; ``(bad inputs, singular states)``. A plain compiled function: numba's
-        cached ``parallel=True`` code runs slower than fresh (numba/numba#8085), so the parallel loop stays thin."""
+        """States ``start .. stop - 1``; ``(bad inputs, singular states)``. Case 3 is solved in case-2 speeds on its
+        angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`), :data:`RATES_DIRECT` in the rates
+        themselves. A plain compiled function: numba's cached ``parallel=True`` code runs slower than fresh
+        (numba/numba#8085), so the parallel loop stays thin."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
         A, f = np.empty((nb, 6)), np.empty((nb, 6))
         M, x, tmp, diag = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18), np.empty(nv)
+        Q1, U1, F1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv))  # case 3's state in case 2
         bad_in, singular = 0, 0
+        mode = ANGLES_CASE2 if case == 3 else (3 if case == RATES_DIRECT else case)
         for i in range(start, stop):
-            bad_in += bad_inputs(case, q, u, i, T, qadr)
-            forward(case, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
-            mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x, tmp)
+            bad_in += bad_inputs(min(case, 3), q, u, i, T, qadr)
+            if mode == ANGLES_CASE2:
+                for c in range(q.shape[1]):
+                    Q1[0, c] = q[i, c]
+                row_to_speeds(q, u, tau, i, T, U1, F1, 0)
+                forward(mode, Q1, U1, 0, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
+                mass_matrix(mode, Q1, U1, F1, 0, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x,
+                            tmp)
+            else:
+                forward(mode, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
+                mass_matrix(mode, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x,
+                            tmp)
             failed = factor_solve(M, x, anc, depth, diag, PIVOT_FLOOR)
-            for c in range(nv):
-                out[i, c] = np.nan if failed else x[c]
+            if failed:
+                for c in range(nv):
+                    out[i, c] = np.nan
+            elif mode == ANGLES_CASE2:
+                for c in range(nv):
+                    U1[0, c] = x[c]
+                row_to_rates(q, u, i, U1, 0, T, out)
+            else:
+                for c in range(nv):
+                    out[i, c] = x[c]
             singular += failed
         return bad_in, singular
 

@@ -18,6 +18,7 @@ from relacc.kernels.jit import jitable, leaf
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mm_inline as mm
 from relacc.kernels.so3 import mv_inline as mv
+from relacc.kernels.so3 import r123, w123_dot_mv, w123_mv, w123_solve
 from relacc.kernels.tree import BALL, FREE, HINGE, SLIDE, angular, axis_rotation, rotation9, row9
 
 
@@ -304,3 +305,62 @@ def rank_one(IA, b, U0, U1, U2, U3, U4, U5, Di):
     IA[b, 18] -= V4 * U4
     IA[b, 19] -= V4 * U5
     IA[b, 20] -= V5 * U5
+
+
+# Case 3 is solved in case-2 speeds: each ball's and free joint's rates ``theta_dot`` to its body angular velocity
+# ``u2 = R^T W theta_dot`` and ``tau`` to ``tau2 = R^T W^-T tau`` (``R = Rx Ry Rz``, ``W`` the 1-2-3 rate map; hinges
+# and slides unchanged), the forward dynamics in ANGLES_CASE2 (the angles, case-2 speeds), then
+# ``theta_ddot = W^-1 (R u2_dot - W_dot theta_dot)`` (``R^T W_dot``'s other term, ``omega x omega``, is zero). The
+# error is ``cond(W)`` times case 2's, as :func:`relacc.dynamics.tree._angle_rates`.
+
+
+@jitable
+def _angles(q, i, k, T):
+    """``(d, c1, c2, s1, s2, R)``: joint ``k``'s (a ball's or free joint's) first angular speed, the cosines and sines
+    of ``theta1``, ``theta2`` and ``R = Rx Ry Rz`` (row-major) at state ``i`` (case-3 coordinates)."""
+    kind = T.jtype[k]
+    a, d = T.qadr3[k] + (3 if kind == FREE else 0), T.dofadr[k] + (3 if kind == FREE else 0)
+    c1, c2, c3 = np.cos(q[i, a]), np.cos(q[i, a + 1]), np.cos(q[i, a + 2])
+    s1, s2, s3 = np.sin(q[i, a]), np.sin(q[i, a + 1]), np.sin(q[i, a + 2])
+    return d, c1, c2, s1, s2, r123(c1, c2, c3, s1, s2, s3)
+
+
+@leaf
+def row_to_speeds(q, u, tau, i, T, u2, tau2, r):
+    """Row ``i`` of case 3's ``(u, tau)`` to case-2 speeds and forces, into row ``r`` of ``(u2, tau2)``."""
+    for c in range(u.shape[1]):
+        u2[r, c], tau2[r, c] = u[i, c], tau[i, c]
+    for k in range(T.jtype.shape[0]):
+        kind = T.jtype[k]
+        if kind != BALL and kind != FREE:
+            continue
+        d, c1, c2, s1, s2, R = _angles(q, i, k, T)
+        w0, w1, w2 = w123_mv(c1, c2, s1, s2, u[i, d], u[i, d + 1], u[i, d + 2])
+        u2[r, d] = R[0] * w0 + R[3] * w1 + R[6] * w2  # R^T (W theta_dot)
+        u2[r, d + 1] = R[1] * w0 + R[4] * w1 + R[7] * w2
+        u2[r, d + 2] = R[2] * w0 + R[5] * w1 + R[8] * w2
+        b0, b1, b2 = tau[i, d], tau[i, d + 1], tau[i, d + 2]
+        e = (b2 - s2 * b0) / c2  # W^-T b: x0 = b0, then a rotation by theta1
+        x0, x1, x2 = b0, c1 * b1 - s1 * e, s1 * b1 + c1 * e
+        tau2[r, d] = R[0] * x0 + R[3] * x1 + R[6] * x2
+        tau2[r, d + 1] = R[1] * x0 + R[4] * x1 + R[7] * x2
+        tau2[r, d + 2] = R[2] * x0 + R[5] * x1 + R[8] * x2
+
+
+@leaf
+def row_to_rates(q, u, i, a2, r, T, out):
+    """Row ``r`` of ``a2``, the case-2 speeds' accelerations of state ``i`` (case 3's ``q``, ``u``), to case 3's, into
+    ``out[i]``."""
+    for c in range(u.shape[1]):
+        out[i, c] = a2[r, c]
+    for k in range(T.jtype.shape[0]):
+        kind = T.jtype[k]
+        if kind != BALL and kind != FREE:
+            continue
+        d, c1, c2, s1, s2, R = _angles(q, i, k, T)
+        x0, x1, x2 = a2[r, d], a2[r, d + 1], a2[r, d + 2]
+        r0 = R[0] * x0 + R[1] * x1 + R[2] * x2  # R u2_dot
+        r1 = R[3] * x0 + R[4] * x1 + R[5] * x2
+        r2 = R[6] * x0 + R[7] * x1 + R[8] * x2
+        h0, h1, h2 = w123_dot_mv(c1, c2, s1, s2, u[i, d], u[i, d + 1], u[i, d + 1], u[i, d + 2])
+        out[i, d], out[i, d + 1], out[i, d + 2] = w123_solve(c1, c2, s1, s2, r0 - h0, r1 - h1, r2 - h2)

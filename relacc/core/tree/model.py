@@ -432,3 +432,60 @@ def chain_tree(chain) -> Tree:
     if tree is None:
         tree = _CHAIN_TREES[chain] = Tree.from_chain(chain)
     return tree
+
+
+_WELDED: "weakref.WeakKeyDictionary[Any, Tree]" = weakref.WeakKeyDictionary()
+
+
+def welded_folded(tree: Tree) -> Tree:
+    """The same tree for forward dynamics, with every body that has no joint of its own and a parent body folded
+    into that parent (computed once per tree).
+
+    A welded body moves with its parent, so the two are one rigid body: the fold adds its mass, and its inertia
+    about the pair's mass centre (Steiner's theorem, in the parent's frame), to the parent's, and places its children
+    in the parent's frame (``pos' = P + R pos``, ``quat' = q_P (x) quat``). The joints, their order and the speeds are
+    unchanged, so the forward dynamics (``udot``) are the tree's in every case; bodies, their indices and named points
+    are not (the kernels that report bodies use :class:`Tree` itself). Bodies welded to the world stay, and so does a
+    welded body whose child turns on a ball (in case 1 a ball's speeds are in its parent body's components). Each fold
+    rounds the inertias once (a few ulps of the larger term). Returns ``tree`` itself when there is nothing to fold.
+    """
+    if tree in _WELDED:
+        return _WELDED[tree] or tree
+    from relacc.core.rotations import matrix_from_quaternion, quaternion_multiply
+
+    host, frame = [], []  # per body: the kept body it belongs to (new index), its frame in that body's (pos, quat)
+    kept: list[dict] = []
+    ball_parents = {b.parent for b in tree.bodies if any(j.type == "ball" for j in b.joints)}
+    for i, b in enumerate(tree.bodies):
+        p = b.parent
+        if b.joints or p < 0 or i in ball_parents:
+            if p >= 0:
+                P, qP = frame[p]
+                pos, quat = P + matrix_from_quaternion(qP) @ b.pos, quaternion_multiply(qP, b.quat)
+                parent = host[p]
+            else:
+                pos, quat, parent = b.pos, b.quat, -1
+            host.append(len(kept))
+            frame.append((np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])))
+            kept.append(dict(name=b.name, parent=parent, pos=pos, quat=quat, joints=b.joints, mass=b.mass,
+                             com=b.com, inertia=np.array(b.inertia), physical=b.physical))
+            continue
+        P, qP = frame[p]
+        pos, quat = P + matrix_from_quaternion(qP) @ b.pos, quaternion_multiply(qP, b.quat)
+        host.append(host[p])
+        frame.append((pos, quat))
+        h = kept[host[p]]
+        R = matrix_from_quaternion(quat)
+        m1, m2 = h["mass"], b.mass
+        c1, c2 = h["com"], pos + R @ b.com
+        m = m1 + m2
+        c = (m1 * c1 + m2 * c2) / m if m != 0.0 else c1
+        J = h["inertia"] + R @ b.inertia @ R.T
+        for mi, ci in ((m1, c1), (m2, c2)):
+            d = ci - c
+            J = J + mi * (float(d @ d) * np.eye(3) - np.outer(d, d))
+        h.update(mass=m, com=c, inertia=0.5 * (J + J.T), physical=False)  # a sum of checked inertias
+    folded = None if len(kept) == tree.nb else Tree(tree.name, tuple(Body(**k) for k in kept), gravity=tree.gravity,
+                                                     source=tree.source)
+    _WELDED[tree] = folded  # None, not the tree itself: a weak key's value must not hold its key
+    return folded or tree
