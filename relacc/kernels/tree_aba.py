@@ -15,8 +15,17 @@ from relacc.core.tolerances import PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import ANGLES_CASE2, FREE, HINGE, SLIDE
 from relacc.kernels.tree_crba import RATES_DIRECT
-from relacc.kernels.tree_spatial import (SYM, bad_inputs, forward, joint_B, rank_one, row_to_rates, row_to_speeds,
-                                         spd_inverse, sym_mv)
+from relacc.kernels.tree_spatial import (
+    SYM,
+    bad_inputs,
+    forward,
+    joint_B,
+    rank_one,
+    row_to_rates,
+    row_to_speeds,
+    spd_inverse,
+    sym_mv,
+)
 
 BLOCK = 64
 """States per parallel task."""

@@ -93,9 +93,12 @@ def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, 
                          IA[b, SYM[5, e]])
                 elif kind == FREE:  # Ic [a; 0]
                     a0, a1, a2 = S[c, 0], S[c, 1], S[c, 2]
-                    F = (IA[b, 0] * a0 + IA[b, 1] * a1 + IA[b, 2] * a2, IA[b, 1] * a0 + IA[b, 6] * a1 + IA[b, 7] * a2,
-                         IA[b, 2] * a0 + IA[b, 7] * a1 + IA[b, 11] * a2, IA[b, 3] * a0 + IA[b, 8] * a1 + IA[b, 12] * a2,
-                         IA[b, 4] * a0 + IA[b, 9] * a1 + IA[b, 13] * a2, IA[b, 5] * a0 + IA[b, 10] * a1 + IA[b, 14] * a2)
+                    F = (IA[b, 0] * a0 + IA[b, 1] * a1 + IA[b, 2] * a2,
+                         IA[b, 1] * a0 + IA[b, 6] * a1 + IA[b, 7] * a2,
+                         IA[b, 2] * a0 + IA[b, 7] * a1 + IA[b, 11] * a2,
+                         IA[b, 3] * a0 + IA[b, 8] * a1 + IA[b, 12] * a2,
+                         IA[b, 4] * a0 + IA[b, 9] * a1 + IA[b, 13] * a2,
+                         IA[b, 5] * a0 + IA[b, 10] * a1 + IA[b, 14] * a2)
                 else:
                     F = sym_mv(IA, b, S, c)
                 dc = depth[c]

@@ -78,8 +78,10 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
 
     ``algorithm``: ``"crba"`` or ``"aba"`` to force one (default: :func:`method`). Case 3 is solved in case-2 speeds
     on its own coordinates and mapped to the rates, state by state inside the kernel
-    (:func:`relacc.kernels.tree_spatial.row_to_speeds`, :func:`~relacc.kernels.tree_spatial.row_to_rates`); ``rates=False`` solves Kane's equations in
-    the rates themselves (whose error grows as the rate map's condition number squared: for tests).
+    (:func:`relacc.kernels.tree_spatial.row_to_speeds`, :func:`~relacc.kernels.tree_spatial.row_to_rates`);
+    ``rates=False`` solves Kane's equations in the rates themselves (whose error grows as the rate map's condition
+    number squared: for tests). The kernels run on the tree with its welded bodies folded into their parents
+    (:func:`relacc.core.tree.model.welded_folded`).
 
     Returns:
         ``(udot (n, nv), n_bad_inputs, n_singular)``: the counts of states with non-finite inputs or non-unit
