@@ -202,6 +202,7 @@ if HAVE_NUMBA:
         U, uu, Dinv, tmp = np.empty((nv, 6)), np.empty(nv), np.empty((max(nj, 1), 36)), np.empty(60)
         Ic, cd = np.empty((nb, 21)), np.empty(6)
         Q1, U1, F1, X1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv)), np.empty((1, nv))
+        trig = np.empty((max(nj, 1), 6))
         bad_in, singular = 0, 0
         mode = ANGLES_CASE2 if case == 3 else (3 if case == RATES_DIRECT else case)
         for i in range(start, stop):
@@ -209,7 +210,7 @@ if HAVE_NUMBA:
             if mode == ANGLES_CASE2:
                 for c in range(q.shape[1]):
                     Q1[0, c] = q[i, c]
-                row_to_speeds(q, u, tau, i, T, U1, F1, 0)
+                row_to_speeds(q, u, tau, i, T, U1, F1, 0, trig)
                 qq, uu_, tt, r = Q1, U1, F1, 0
             else:
                 qq, uu_, tt, r = q, u, tau, i
@@ -224,7 +225,7 @@ if HAVE_NUMBA:
                     out[i, c] = np.nan
             elif mode == ANGLES_CASE2:
                 accelerate(T, g, free, S, C, U, uu, Dinv, acc, 0, X1)
-                row_to_rates(q, u, i, X1, 0, T, out)
+                row_to_rates(q, u, i, X1, 0, T, out, trig)
             else:
                 accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
             singular += failed

@@ -15,7 +15,7 @@ import numpy as np
 from relacc.core.tolerances import PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import ANGLES_CASE2, BALL, FREE, HINGE, SLIDE
-from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, row_to_rates, row_to_speeds, sym_mv
+from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, rigid_mv, row_to_rates, row_to_speeds
 
 BLOCK = 64
 """States per parallel task."""
@@ -67,7 +67,7 @@ def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, 
         for k in range(T.jstart[b], T.jstart[b] + T.jnum[b]):
             for c in range(6):
                 A[b, c] += C[k, c]
-        fa = sym_mv(IA, b, A, b)
+        fa = rigid_mv(IA, b, A, b)
         for c in range(6):
             f[b, c] = fa[c] + pA[b, c]
     for b in range(nb - 1, -1, -1):  # composite inertias and subtree forces (not across free joints)
@@ -100,7 +100,7 @@ def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, 
                          IA[b, 4] * a0 + IA[b, 9] * a1 + IA[b, 13] * a2,
                          IA[b, 5] * a0 + IA[b, 10] * a1 + IA[b, 14] * a2)
                 else:
-                    F = sym_mv(IA, b, S, c)
+                    F = rigid_mv(IA, b, S, c)
                 dc = depth[c]
                 M[c, dc] = S[c, 0] * F[0] + S[c, 1] * F[1] + S[c, 2] * F[2] + S[c, 3] * F[3] + S[c, 4] * F[4] \
                     + S[c, 5] * F[5] + arm[c]
@@ -189,6 +189,7 @@ if HAVE_NUMBA:
         A, f = np.empty((nb, 6)), np.empty((nb, 6))
         M, x, tmp, diag = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18), np.empty(nv)
         Q1, U1, F1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv))  # case 3's state in case 2
+        trig = np.empty((max(nj, 1), 6))
         bad_in, singular = 0, 0
         mode = ANGLES_CASE2 if case == 3 else (3 if case == RATES_DIRECT else case)
         for i in range(start, stop):
@@ -196,7 +197,7 @@ if HAVE_NUMBA:
             if mode == ANGLES_CASE2:
                 for c in range(q.shape[1]):
                     Q1[0, c] = q[i, c]
-                row_to_speeds(q, u, tau, i, T, U1, F1, 0)
+                row_to_speeds(q, u, tau, i, T, U1, F1, 0, trig)
                 forward(mode, Q1, U1, 0, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
                 mass_matrix(mode, Q1, U1, F1, 0, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x,
                             tmp)
@@ -211,7 +212,7 @@ if HAVE_NUMBA:
             elif mode == ANGLES_CASE2:
                 for c in range(nv):
                     U1[0, c] = x[c]
-                row_to_rates(q, u, i, U1, 0, T, out)
+                row_to_rates(q, u, i, U1, 0, T, out, trig)
             else:
                 for c in range(nv):
                     out[i, c] = x[c]

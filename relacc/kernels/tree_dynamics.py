@@ -114,23 +114,6 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     return out, int(bad_in), int(singular)
 
 
-if HAVE_NUMBA:
-    from relacc.kernels.jit import leaf
-    from relacc.kernels.tree_spatial import row_to_rates, row_to_speeds
-
-    @leaf
-    def rates_to_speeds(q, u, tau, T, u2, tau2):  # pragma: no cover - compiled
-        """Every row of ``(u, tau)``, case 3's, to case-2 speeds and forces (:func:`row_to_speeds`)."""
-        for i in range(q.shape[0]):
-            row_to_speeds(q, u, tau, i, T, u2, tau2, i)
-
-    @leaf
-    def speeds_to_rates(q, u, a2, T, out):  # pragma: no cover - compiled
-        """Every row of ``a2``, case-2 speeds' accelerations, to case 3's (:func:`row_to_rates`)."""
-        for i in range(q.shape[0]):
-            row_to_rates(q, u, i, a2, i, T, out)
-
-
 def one_state(tree, case: int, q, u, gravity):
     """``(udot (nv,), bad input, singular)`` of one state ``q (nq,)``, ``u (nv,)`` (float64, shapes checked by the
     caller), no applied forces: the single-state lane of :func:`relacc.tree_accelerations`, on the calling thread with

@@ -210,6 +210,22 @@ def sym_mv(P, b, x, j):
             P[b, 5] * x0 + P[b, 10] * x1 + P[b, 14] * x2 + P[b, 17] * x3 + P[b, 19] * x4 + P[b, 20] * x5)
 
 
+@jitable(inline=True)
+def rigid_mv(P, b, x, j):
+    """``P[b] x[j]`` for a packed rigid-body spatial inertia, a body's own or a sum of them (:func:`body_inertia`: its
+    lower right block ``m 1``, its upper right ``[h~]``), skipping the entries that are 0 and reading ``m`` once; the
+    other products are summed in :func:`sym_mv`'s order, so the result is its, bit for bit (an articulated inertia
+    is not rigid: :func:`sym_mv`)."""
+    x0, x1, x2, x3, x4, x5 = x[j, 0], x[j, 1], x[j, 2], x[j, 3], x[j, 4], x[j, 5]
+    m = P[b, 15]
+    return (P[b, 0] * x0 + P[b, 1] * x1 + P[b, 2] * x2 + P[b, 4] * x4 + P[b, 5] * x5,
+            P[b, 1] * x0 + P[b, 6] * x1 + P[b, 7] * x2 + P[b, 8] * x3 + P[b, 10] * x5,
+            P[b, 2] * x0 + P[b, 7] * x1 + P[b, 11] * x2 + P[b, 12] * x3 + P[b, 13] * x4,
+            P[b, 8] * x1 + P[b, 12] * x2 + m * x3,
+            P[b, 4] * x0 + P[b, 13] * x2 + m * x4,
+            P[b, 5] * x0 + P[b, 10] * x1 + m * x5)
+
+
 @jitable
 def spd_inverse(D, n, out, slot, diag, floor):
     """``out[slot]`` (n x n, row-major) = ``D^-1`` for a symmetric positive definite ``D`` (row-major, n <= 6), by
@@ -315,26 +331,29 @@ def rank_one(IA, b, U0, U1, U2, U3, U4, U5, Di):
 
 
 @jitable
-def _angles(q, i, k, T):
-    """``(d, c1, c2, s1, s2, R)``: joint ``k``'s (a ball's or free joint's) first angular speed, the cosines and sines
-    of ``theta1``, ``theta2`` and ``R = Rx Ry Rz`` (row-major) at state ``i`` (case-3 coordinates)."""
+def _trig(q, i, k, T):
+    """``(d, c1, c2, c3, s1, s2, s3)``: joint ``k``'s (a ball's or free joint's) first angular speed and the cosines and
+    sines of its three 1-2-3 angles at state ``i`` (case-3 coordinates)."""
     kind = T.jtype[k]
     a, d = T.qadr3[k] + (3 if kind == FREE else 0), T.dofadr[k] + (3 if kind == FREE else 0)
     c1, c2, c3 = np.cos(q[i, a]), np.cos(q[i, a + 1]), np.cos(q[i, a + 2])
     s1, s2, s3 = np.sin(q[i, a]), np.sin(q[i, a + 1]), np.sin(q[i, a + 2])
-    return d, c1, c2, s1, s2, r123(c1, c2, c3, s1, s2, s3)
+    return d, c1, c2, c3, s1, s2, s3
 
 
 @leaf
-def row_to_speeds(q, u, tau, i, T, u2, tau2, r):
-    """Row ``i`` of case 3's ``(u, tau)`` to case-2 speeds and forces, into row ``r`` of ``(u2, tau2)``."""
+def row_to_speeds(q, u, tau, i, T, u2, tau2, r, trig):
+    """Row ``i`` of case 3's ``(u, tau)`` to case-2 speeds and forces, into row ``r`` of ``(u2, tau2)``; each ball's
+    and free joint's cosines and sines into ``trig[k, :6]`` (``(nj, >= 6)`` scratch) for :func:`row_to_rates`."""
     for c in range(u.shape[1]):
         u2[r, c], tau2[r, c] = u[i, c], tau[i, c]
     for k in range(T.jtype.shape[0]):
         kind = T.jtype[k]
         if kind != BALL and kind != FREE:
             continue
-        d, c1, c2, s1, s2, R = _angles(q, i, k, T)
+        d, c1, c2, c3, s1, s2, s3 = _trig(q, i, k, T)
+        trig[k, 0], trig[k, 1], trig[k, 2], trig[k, 3], trig[k, 4], trig[k, 5] = c1, c2, c3, s1, s2, s3
+        R = r123(c1, c2, c3, s1, s2, s3)
         w0, w1, w2 = w123_mv(c1, c2, s1, s2, u[i, d], u[i, d + 1], u[i, d + 2])
         u2[r, d] = R[0] * w0 + R[3] * w1 + R[6] * w2  # R^T (W theta_dot)
         u2[r, d + 1] = R[1] * w0 + R[4] * w1 + R[7] * w2
@@ -348,16 +367,18 @@ def row_to_speeds(q, u, tau, i, T, u2, tau2, r):
 
 
 @leaf
-def row_to_rates(q, u, i, a2, r, T, out):
+def row_to_rates(q, u, i, a2, r, T, out, trig):
     """Row ``r`` of ``a2``, the case-2 speeds' accelerations of state ``i`` (case 3's ``q``, ``u``), to case 3's, into
-    ``out[i]``."""
+    ``out[i]``, with the cosines and sines :func:`row_to_speeds` left in ``trig`` for this state."""
     for c in range(u.shape[1]):
         out[i, c] = a2[r, c]
     for k in range(T.jtype.shape[0]):
         kind = T.jtype[k]
         if kind != BALL and kind != FREE:
             continue
-        d, c1, c2, s1, s2, R = _angles(q, i, k, T)
+        d = T.dofadr[k] + (3 if kind == FREE else 0)
+        c1, c2, c3, s1, s2, s3 = trig[k, 0], trig[k, 1], trig[k, 2], trig[k, 3], trig[k, 4], trig[k, 5]
+        R = r123(c1, c2, c3, s1, s2, s3)
         x0, x1, x2 = a2[r, d], a2[r, d + 1], a2[r, d + 2]
         r0 = R[0] * x0 + R[1] * x1 + R[2] * x2  # R u2_dot
         r1 = R[3] * x0 + R[4] * x1 + R[5] * x2

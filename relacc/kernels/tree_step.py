@@ -192,8 +192,7 @@ if HAVE_NUMBA:
     from relacc.kernels.tree import ANGLES_CASE2
     from relacc.kernels.tree_aba import accelerate, backward
     from relacc.kernels.tree_crba import factor_solve, mass_matrix
-    from relacc.kernels.tree_dynamics import rates_to_speeds, speeds_to_rates
-    from relacc.kernels.tree_spatial import bad_inputs, forward
+    from relacc.kernels.tree_spatial import bad_inputs, forward, row_to_rates, row_to_speeds
 
     class Scratch(NamedTuple):
         """One member's work arrays (see :func:`scratch`)."""
@@ -280,7 +279,7 @@ if HAVE_NUMBA:
                         W.near[0] = (1.0 + s2) / c2
                         for c in range(nq):
                             W.near[1 + c] = q[c]
-            rates_to_speeds(W.Q, W.rates, W.zeros, T, W.U, W.tau2)
+            row_to_speeds(W.Q, W.rates, W.zeros, 0, T, W.U, W.tau2, 0, W.Bm)  # Bm: case 1's, free here
             mode = ANGLES_CASE2
         forward(mode, W.Q, W.U, 0, T, qadr, mass, com, inertia, W.S, W.C, W.o, W.R, W.V, W.IA, W.pA)
         if case == 1:  # each rotation's B = R_after^T R_parent: the joint forces act on case-2 speeds B u
@@ -327,7 +326,7 @@ if HAVE_NUMBA:
             for c in range(nv):
                 W.a2[0, c] = W.x[c]
         if case == 3:
-            speeds_to_rates(W.Q, W.rates, W.a2, T, W.out)
+            row_to_rates(W.Q, W.rates, 0, W.a2, 0, T, W.out, W.Bm)
             for c in range(nv):
                 a[c] = W.out[0, c]
         else:
