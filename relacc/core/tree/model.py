@@ -434,7 +434,7 @@ def chain_tree(chain) -> Tree:
     return tree
 
 
-_WELDED: "weakref.WeakKeyDictionary[Any, Tree]" = weakref.WeakKeyDictionary()
+_WELDED: "weakref.WeakKeyDictionary[Any, Tree | None]" = weakref.WeakKeyDictionary()
 
 
 def welded_folded(tree: Tree) -> Tree:
