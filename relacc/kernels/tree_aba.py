@@ -14,7 +14,6 @@ import numpy as np
 from relacc.core.tolerances import PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import ANGLES_CASE2, FREE, HINGE, SLIDE
-from relacc.kernels.tree_crba import RATES_DIRECT
 from relacc.kernels.tree_spatial import (
     SYM,
     bad_inputs,
@@ -204,9 +203,9 @@ if HAVE_NUMBA:
         Q1, U1, F1, X1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv)), np.empty((1, nv))
         trig = np.empty((max(nj, 1), 6))
         bad_in, singular = 0, 0
-        mode = ANGLES_CASE2 if case == 3 else (3 if case == RATES_DIRECT else case)
+        mode = ANGLES_CASE2 if case == 3 else case
         for i in range(start, stop):
-            bad_in += bad_inputs(min(case, 3), q, u, i, T, qadr)
+            bad_in += bad_inputs(case, q, u, i, T, qadr)
             if mode == ANGLES_CASE2:
                 for c in range(q.shape[1]):
                     Q1[0, c] = q[i, c]

@@ -20,10 +20,6 @@ from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, rigid
 BLOCK = 64
 """States per parallel task."""
 
-RATES_DIRECT = 5
-"""The block kernels' case for case 3 solved in the rates themselves (Kane's equations in the 1-2-3 rates, whose
-error grows as the rate map's condition number squared: for tests); their case 3 is solved in case-2 speeds."""
-
 
 def dof_paths(tree):
     """``(anc (nv, D), depth (nv,))``: each speed's earlier speeds on its path, in order (an earlier speed's path is
@@ -180,9 +176,9 @@ if HAVE_NUMBA:
     def crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, start,
                    stop):  # pragma: no cover - compiled
         """States ``start .. stop - 1``; ``(bad inputs, singular states)``. Case 3 is solved in case-2 speeds on its
-        angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`), :data:`RATES_DIRECT` in the rates
-        themselves. A plain compiled function: numba's cached ``parallel=True`` code runs slower than fresh
-        (numba/numba#8085), so the parallel loop stays thin."""
+        angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`). A plain compiled function:
+        numba's cached ``parallel=True`` code runs slower than fresh (numba/numba#8085), so the parallel loop stays
+        thin."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
@@ -191,9 +187,9 @@ if HAVE_NUMBA:
         Q1, U1, F1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv))  # case 3's state in case 2
         trig = np.empty((max(nj, 1), 6))
         bad_in, singular = 0, 0
-        mode = ANGLES_CASE2 if case == 3 else (3 if case == RATES_DIRECT else case)
+        mode = ANGLES_CASE2 if case == 3 else case
         for i in range(start, stop):
-            bad_in += bad_inputs(min(case, 3), q, u, i, T, qadr)
+            bad_in += bad_inputs(case, q, u, i, T, qadr)
             if mode == ANGLES_CASE2:
                 for c in range(q.shape[1]):
                     Q1[0, c] = q[i, c]

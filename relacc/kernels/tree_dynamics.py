@@ -20,7 +20,7 @@ import numpy as np
 from relacc.core.tree.model import welded_folded
 from relacc.kernels.jit import HAVE_NUMBA, parallel_pays
 from relacc.kernels.tree import arrays_of, writable
-from relacc.kernels.tree_crba import BLOCK, RATES_DIRECT, dof_paths
+from relacc.kernels.tree_crba import BLOCK, dof_paths
 from relacc.kernels.tree_spatial import inertia_arrays
 
 ABA_FROM = 100.0
@@ -73,15 +73,14 @@ def method(tree) -> str:
     return plan(welded_folded(tree)).method
 
 
-def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str | None = None, rates: bool = True):
+def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str | None = None):
     """``udot`` of checked-shape, C-contiguous float64 ``(n, .)`` inputs (into ``out`` if given).
 
     ``algorithm``: ``"crba"`` or ``"aba"`` to force one (default: :func:`method`). Case 3 is solved in case-2 speeds
     on its own coordinates and mapped to the rates, state by state inside the kernel
-    (:func:`relacc.kernels.tree_spatial.row_to_speeds`, :func:`~relacc.kernels.tree_spatial.row_to_rates`);
-    ``rates=False`` solves Kane's equations in the rates themselves (whose error grows as the rate map's condition
-    number squared: for tests). The kernels run on the tree with its welded bodies folded into their parents
-    (:func:`relacc.core.tree.model.welded_folded`).
+    (:func:`relacc.kernels.tree_spatial.row_to_speeds`, :func:`~relacc.kernels.tree_spatial.row_to_rates`): its
+    error is ``cond(W)`` times case 2's, where Kane's equations in the rates would have it squared. The kernels run
+    on the tree with its welded bodies folded into their parents (:func:`relacc.core.tree.model.welded_folded`).
 
     Returns:
         ``(udot (n, nv), n_bad_inputs, n_singular)``: the counts of states with non-finite inputs or non-unit
@@ -96,8 +95,6 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     n = q.shape[0]
     out = np.empty((n, tree.nv)) if out is None else out
     qadr = T.qadr3 if case >= 3 else T.qadr
-    if case == 3 and not rates:
-        case = RATES_DIRECT
     serial = not parallel_pays(n, US_PER_SPEED * tree.nv, BLOCK)
     if algorithm == "aba":
         from relacc.kernels.tree_aba import aba_block, aba_loop
