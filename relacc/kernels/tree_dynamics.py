@@ -27,9 +27,10 @@ ABA_FROM = 100.0
 """``sum_k d_k^2 / (2 nv)`` above which the articulated-body algorithm is faster (measured on hinge chains: the
 two meet near 25 speeds, where this is about 100)."""
 
-US_PER_SPEED = 0.2
-"""About the forward dynamics' cost per state and per speed on one core, in us (gymnasium's ant 2.8 us for 14 speeds,
-humanoid 4.4 us for 23, a 30-link chain 5.8 us for 35): what :func:`relacc.kernels.jit.parallel_pays` weighs."""
+US_PER_SPEED = 0.14
+"""About the forward dynamics' cost per state and per speed on one core, in us (gymnasium's ant 1.8 us for 14 speeds,
+humanoid 3.2 us for 23, a 30-link chain 6.0 us for 35: ``trees-2026-11-25-run{8,9,10}``): what
+:func:`relacc.kernels.jit.parallel_pays` weighs."""
 
 _PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
