@@ -257,6 +257,11 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
         AccuracyWarning: case 3 near the lock (above :data:`relacc.core.tolerances.CONDITION_WARNING`), naming the
             joint, its ``theta2``, the distance to the lock and the relative error to expect.
     """
+    if (tau is None and effects is None and out is None and backend == "auto" and type(case) is int
+            and (case == 1 or case == 2) and type(tree) is Tree):  # one plain state: the single-state lane, first
+        one = _one_state(tree, case, q, u, None)
+        if one is not None:
+            return one
     if backend not in ("auto", "fast", "reference"):
         raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
     simple = effects is None or (isinstance(effects, TreeEffects) and not effects.joints and not effects.bodies)
@@ -428,7 +433,7 @@ def _one_state(tree, case, q, u, effects):
         return None
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
     res, bad_in, singular = _kernel().one_state(tree, case, q, u, gravity)
-    if bad_in or singular or not np.isfinite(res).all():
+    if bad_in or singular or not math.isfinite(res.sum()):  # an overflow in the sum only sends it the long way
         return None
     res.setflags(write=False)
     return res
@@ -436,9 +441,15 @@ def _one_state(tree, case, q, u, effects):
 
 def _kernel():
     """:mod:`relacc.kernels.tree_dynamics`, imported on first use (it loads numba)."""
-    from relacc.kernels import tree_dynamics
+    global _KERNEL
+    if _KERNEL is None:
+        from relacc.kernels import tree_dynamics
 
-    return tree_dynamics
+        _KERNEL = tree_dynamics
+    return _KERNEL
+
+
+_KERNEL = None
 
 
 def _plain_row(a, n) -> bool:

@@ -125,9 +125,13 @@ def one_state(tree, case: int, q, u, gravity):
 
 def _single(tree, case, gravity):
     """``(block function, its arguments, q (1, nq), u (1, nv), out (1, nv))``: buffers and arguments of the block
-    function for one state, cached per tree, case, gravity and thread (each thread writes its own buffers)."""
-    key = (int(case), bytes(np.asarray(gravity, dtype=float)), threading.get_ident())
-    cache = _SINGLE.setdefault(tree, {})
+    function for one state, cached per tree, case, gravity and thread (each thread writes its own buffers); the
+    tree's own gravity is keyed without reading it (a call's fixed cost is what this lane is for)."""
+    grav = None if gravity is tree.gravity else bytes(np.asarray(gravity, dtype=float))
+    key = (case, grav, threading.get_ident())
+    cache = _SINGLE.get(tree)
+    if cache is None:
+        cache = _SINGLE[tree] = {}
     if key not in cache:
         folded = welded_folded(tree)
         T = arrays_of(folded)
