@@ -103,13 +103,20 @@ def mass_matrix(case, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, 
                 x[c] = tau[i, c] - (S[c, 0] * f[b, 0] + S[c, 1] * f[b, 1] + S[c, 2] * f[b, 2] + S[c, 3] * f[b, 3]
                                     + S[c, 4] * f[b, 4] + S[c, 5] * f[b, 5])
                 t0 = 0
-                if floating:
+                if floating and dc >= 6:  # a column below the free root: its six written out
+                    M[c, 0], M[c, 1], M[c, 2] = F[3], F[4], F[5]
+                    j3, j4, j5 = anc[c, 3], anc[c, 4], anc[c, 5]
+                    M[c, 3] = S[j3, 0] * F[0] + S[j3, 1] * F[1] + S[j3, 2] * F[2]
+                    M[c, 4] = S[j4, 0] * F[0] + S[j4, 1] * F[1] + S[j4, 2] * F[2]
+                    M[c, 5] = S[j5, 0] * F[0] + S[j5, 1] * F[1] + S[j5, 2] * F[2]
+                    t0 = 6
+                elif floating:  # the free joint's own columns
                     for t in range(min(dc, 3)):
                         M[c, t] = F[3 + t]
-                    for t in range(3, min(dc, 6)):
+                    for t in range(3, dc):
                         j = anc[c, t]
                         M[c, t] = S[j, 0] * F[0] + S[j, 1] * F[1] + S[j, 2] * F[2]
-                    t0 = min(dc, 6)
+                    t0 = dc
                 for t in range(t0, dc):
                     j = anc[c, t]
                     M[c, t] = S[j, 0] * F[0] + S[j, 1] * F[1] + S[j, 2] * F[2] + S[j, 3] * F[3] + S[j, 4] * F[4] \
@@ -140,6 +147,34 @@ def _rotational_armature(case, q, u, i, T, qadr, k, b, at, depth, arm, R, V, M, 
         x[at + r] -= s
 
 
+@jitable(inline=True)
+def _first_six(M, x, anc, k, piv, xk):
+    """:func:`factor_solve`'s elimination of row ``k`` into its first six ancestors' rows (``t = 5 .. 0``)."""
+    v0, v1, v2, v3, v4, v5 = M[k, 0], M[k, 1], M[k, 2], M[k, 3], M[k, 4], M[k, 5]
+    s0, s1, s2, s3, s4, s5 = v0 / piv, v1 / piv, v2 / piv, v3 / piv, v4 / piv, v5 / piv
+    i = anc[k, 5]
+    M[i, 0], M[i, 1], M[i, 2] = M[i, 0] - s5 * v0, M[i, 1] - s5 * v1, M[i, 2] - s5 * v2
+    M[i, 3], M[i, 4], M[i, 5] = M[i, 3] - s5 * v3, M[i, 4] - s5 * v4, M[i, 5] - s5 * v5
+    x[i] -= s5 * xk
+    i = anc[k, 4]
+    M[i, 0], M[i, 1], M[i, 2] = M[i, 0] - s4 * v0, M[i, 1] - s4 * v1, M[i, 2] - s4 * v2
+    M[i, 3], M[i, 4] = M[i, 3] - s4 * v3, M[i, 4] - s4 * v4
+    x[i] -= s4 * xk
+    i = anc[k, 3]
+    M[i, 0], M[i, 1], M[i, 2], M[i, 3] = M[i, 0] - s3 * v0, M[i, 1] - s3 * v1, M[i, 2] - s3 * v2, M[i, 3] - s3 * v3
+    x[i] -= s3 * xk
+    i = anc[k, 2]
+    M[i, 0], M[i, 1], M[i, 2] = M[i, 0] - s2 * v0, M[i, 1] - s2 * v1, M[i, 2] - s2 * v2
+    x[i] -= s2 * xk
+    i = anc[k, 1]
+    M[i, 0], M[i, 1] = M[i, 0] - s1 * v0, M[i, 1] - s1 * v1
+    x[i] -= s1 * xk
+    i = anc[k, 0]
+    M[i, 0] -= s0 * v0
+    x[i] -= s0 * xk
+    M[k, 0], M[k, 1], M[k, 2], M[k, 3], M[k, 4], M[k, 5] = s0, s1, s2, s3, s4, s5
+
+
 @leaf
 def factor_solve(M, x, anc, depth, diag, floor):
     """``x = M^-1 x`` through ``M = L^T D L`` on the speeds' paths, in place; each update a contiguous loop (an
@@ -154,13 +189,16 @@ def factor_solve(M, x, anc, depth, diag, floor):
         if not piv > floor * diag[k]:
             return 1
         xk = x[k]
-        for t in range(dk - 1, -1, -1):
+        low = 6 if dk >= 6 else 0
+        for t in range(dk - 1, low - 1, -1):
             i = anc[k, t]
             s = M[k, t] / piv
             for r in range(t + 1):  # row i's entries: its path is anc[k, :t], its diagonal at t
                 M[i, r] -= s * M[k, r]
             M[k, t] = s
             x[i] -= s * xk
+        if low:  # the path's first six speeds (a free root's, on a floating tree) written out: the same operations
+            _first_six(M, x, anc, k, piv, xk)  # in the same order, without six short loops
         x[k] = xk / piv
     for k in range(nv):
         s = x[k]
