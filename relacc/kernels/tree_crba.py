@@ -148,9 +148,22 @@ def _rotational_armature(case, q, u, i, T, qadr, k, b, at, depth, arm, R, V, M, 
 
 
 @jitable(inline=True)
-def _first_six(M, x, anc, k, piv, xk):
-    """:func:`factor_solve`'s elimination of row ``k`` into its first six ancestors' rows (``t = 5 .. 0``)."""
+def _past_six(M, x, anc, k, dk, piv, xk):
+    """:func:`factor_solve`'s elimination of row ``k`` (``depth >= 6``) into its ancestors' rows, with the entries of
+    its first six ancestors written out: the same operations in the same order as the loops, without short loops
+    (numba's vectorized short loops cost more than their arithmetic here)."""
     v0, v1, v2, v3, v4, v5 = M[k, 0], M[k, 1], M[k, 2], M[k, 3], M[k, 4], M[k, 5]
+    for t in range(dk - 1, 5, -1):
+        i = anc[k, t]
+        s = M[k, t] / piv
+        M[i, 0], M[i, 1], M[i, 2] = M[i, 0] - s * v0, M[i, 1] - s * v1, M[i, 2] - s * v2
+        M[i, 3], M[i, 4], M[i, 5] = M[i, 3] - s * v3, M[i, 4] - s * v4, M[i, 5] - s * v5
+        r = 6
+        while r <= t:
+            M[i, r] -= s * M[k, r]
+            r += 1
+        M[k, t] = s
+        x[i] -= s * xk
     s0, s1, s2, s3, s4, s5 = v0 / piv, v1 / piv, v2 / piv, v3 / piv, v4 / piv, v5 / piv
     i = anc[k, 5]
     M[i, 0], M[i, 1], M[i, 2] = M[i, 0] - s5 * v0, M[i, 1] - s5 * v1, M[i, 2] - s5 * v2
@@ -189,16 +202,16 @@ def factor_solve(M, x, anc, depth, diag, floor):
         if not piv > floor * diag[k]:
             return 1
         xk = x[k]
-        low = 6 if dk >= 6 else 0
-        for t in range(dk - 1, low - 1, -1):
-            i = anc[k, t]
-            s = M[k, t] / piv
-            for r in range(t + 1):  # row i's entries: its path is anc[k, :t], its diagonal at t
-                M[i, r] -= s * M[k, r]
-            M[k, t] = s
-            x[i] -= s * xk
-        if low:  # the path's first six speeds (a free root's, on a floating tree) written out: the same operations
-            _first_six(M, x, anc, k, piv, xk)  # in the same order, without six short loops
+        if dk >= 6:  # the path's first six speeds (a free root's, on a floating tree) written out
+            _past_six(M, x, anc, k, dk, piv, xk)
+        else:
+            for t in range(dk - 1, -1, -1):
+                i = anc[k, t]
+                s = M[k, t] / piv
+                for r in range(t + 1):  # row i's entries: its path is anc[k, :t], its diagonal at t
+                    M[i, r] -= s * M[k, r]
+                M[k, t] = s
+                x[i] -= s * xk
         x[k] = xk / piv
     for k in range(nv):
         s = x[k]
