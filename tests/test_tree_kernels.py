@@ -304,3 +304,21 @@ def test_threads_are_used_only_where_they_pay(tmp_path):
                       relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, partials=False).acceleration)
     for a, b in zip(got[1], got[2]):
         np.testing.assert_array_equal(a, b)
+
+
+def test_a_forked_child_runs_its_batches_on_its_own_threads(tmp_path):
+    """A batch split over Python threads (``relacc.kernels.jit.split``) after the parent made its pool, then the same
+    batch in a forked child (``relacc.isolate.run``, as ``relacc grade`` runs a user's function): the parent's pool
+    threads do not exist there, so the child makes its own (an inherited pool would wait for them for ever: the
+    timeout says so) and computes the same numbers, bit for bit."""
+    from relacc import isolate
+    from relacc.kernels.jit import threads
+
+    tree = read_tree(_tree_file(tmp_path, 4, 6))
+    st = random_states(tree, 2, 3000, 4)
+    with threads(2):
+        parent = np.array(relacc.tree_accelerations(tree, 2, st.q, st.u))
+        child = isolate.run(lambda: np.array(relacc.tree_accelerations(tree, 2, st.q, st.u)), timeout=60)
+    assert isinstance(child, np.ndarray), f"the child did not answer: {child!r}"
+    np.testing.assert_array_equal(child, parent)
+

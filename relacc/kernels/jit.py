@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import threading
 import types
 
 try:  # numba is a dependency; without it the functions stay plain Python
@@ -91,6 +92,54 @@ def parallel_pays(n_states: int, us_per_state: float, block: int) -> bool:
         return False
     t = min(numba.get_num_threads(), -(-n_states // block))
     return t > 1 and n_states * us_per_state * (1.0 - 1.0 / t) > LAUNCH_US
+
+
+def split(fn, args: tuple, n: int, block: int) -> tuple:
+    """``fn(*args, start, stop)`` over the states ``0 .. n - 1`` on numba's current thread count (at most one per
+    ``block``), in equal shares of whole blocks: the calling thread runs the first share, a pool of Python threads
+    the others (``fn`` is compiled with ``nogil=True``); returns the shares' results summed (counts, or tuples of
+    counts element by element; None for a function that returns nothing).
+
+    relacc's tree kernels (forward dynamics, kinematics, loads) run their batches this way rather than through a
+    numba ``prange``: on this project's
+    2-core VM numba's ``workqueue`` pool ran one call in four to eight 1.4-2x slower than the others (its two workers
+    woken for every call while the calling thread waits), where the calling thread working beside one pool thread
+    held every call within a few percent (docs/benchmarks.md, "Less work a state"). A forked child starts without
+    the pool (``os.register_at_fork``) and makes its own when it needs one."""
+    t = max(1, min(numba.get_num_threads() if HAVE_NUMBA else 1, -(-n // block)))
+    cuts = [min(n, (n * k // t) // block * block) for k in range(t)] + [n]
+    pending = [_pool(t - 1).submit(fn, *args, cuts[k], cuts[k + 1]) for k in range(1, t)] if t > 1 else []
+    results = [fn(*args, cuts[0], cuts[1])] + [f.result() for f in pending]
+    if results[0] is None:
+        return None
+    if isinstance(results[0], tuple):
+        return tuple(sum(r[i] for r in results) for i in range(len(results[0])))
+    return sum(results)
+
+
+_POOL: list = []
+_POOL_LOCK = threading.Lock()
+
+
+def _pool(workers: int):
+    """The process's pool of at least ``workers`` Python threads (made on first use, grown when asked for more)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with _POOL_LOCK:
+        if not _POOL or _POOL[0][0] < workers:
+            _POOL[:] = [(workers, ThreadPoolExecutor(max_workers=workers, thread_name_prefix="relacc"))]
+        return _POOL[0][1]
+
+
+def _forget_pool() -> None:
+    """In a forked child: the parent's pool threads do not exist there."""
+    global _POOL_LOCK
+    _POOL.clear()
+    _POOL_LOCK = threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
 
 
 @contextlib.contextmanager

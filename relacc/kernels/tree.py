@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba, parallel_pays
+from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba, parallel_pays, split
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mm_inline as mm
 from relacc.kernels.so3 import mv_inline as mv
@@ -383,11 +383,11 @@ def body_out(T, b, o, R, w, V, Om, Vd, Omd, u, ud, i, with_acc, pos, vel, acc, o
 
 if HAVE_NUMBA:
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, nogil=True)
     def _kinematics_block(case, q, u, ud, with_acc, T, qadr, pos, vel, acc, omega, alpha, rot, V, Vd, Om, Omd,
                           with_points, ppos, pvel, pacc, PV, PVd, start, stop):  # pragma: no cover - compiled
-        """States ``start .. stop - 1``; the count of non-finite results (a plain compiled function under a thin
-        parallel loop: numba compiles big ``prange`` bodies slowly, and caches them worse, numba/numba#8085)."""
+        """States ``start .. stop - 1``; the count of non-finite results (without the GIL: a batch's shares run on
+        Python threads at once, :func:`relacc.kernels.jit.split`)."""
         nv, nb = u.shape[1], T.parent.shape[0]
         o, R, w = np.empty((nb, 3)), np.empty((nb, 9)), np.empty((nb, 3))
         sV, sOm, sVd, sOmd = (np.zeros((nb, 3, nv)), np.zeros((nb, 3, nv)), np.zeros((nb, 3, nv)),
@@ -402,17 +402,6 @@ if HAVE_NUMBA:
                 for j in range(T.pbody.shape[0]):
                     bad += point_out(T, T.pbody[j], T.ppos[j, 0], T.ppos[j, 1], T.ppos[j, 2], o, R, w, sV, sOm, sVd,
                                      sOmd, u, ud, i, with_acc, j, ppos, pvel, pacc, PV, PVd)
-        return bad
-
-    @numba.njit(parallel=True, cache=True)
-    def _kinematics_loop(case, q, u, ud, with_acc, T, qadr, pos, vel, acc, omega, alpha, rot, V, Vd, Om, Omd,
-                         with_points, ppos, pvel, pacc, PV, PVd):  # pragma: no cover - compiled
-        n = q.shape[0]
-        bad = 0
-        for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            bad += _kinematics_block(case, q, u, ud, with_acc, T, qadr, pos, vel, acc, omega, alpha, rot, V, Vd, Om,
-                                     Omd, with_points, ppos, pvel, pacc, PV, PVd, blk * BLOCK,
-                                     min(n, (blk + 1) * BLOCK))
         return bad
 
 
@@ -452,7 +441,7 @@ def kinematics(tree, case: int, q, u, udot, points: bool, out=None):
     args = (int(case), q, u, ud, with_acc, T, T.qadr3 if case == 3 else T.qadr, *res.values(), npt > 0,
             *pts.values())
     if parallel_pays(n, US_PER_BODY_SPEED * nb * nv, BLOCK):
-        bad = _kinematics_loop(*args)
+        bad = split(_kinematics_block, args, n, BLOCK)
     else:
         bad = _kinematics_block(*args, 0, n)
     if not with_acc:

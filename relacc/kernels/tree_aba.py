@@ -189,12 +189,11 @@ def accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out):
 
 if HAVE_NUMBA:
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, nogil=True)
     def aba_block(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out, start,
                   stop):  # pragma: no cover - compiled
-        """States ``start .. stop - 1``; ``(bad inputs, singular states)``; case 3 as
-        :func:`relacc.kernels.tree_crba.crba_block` (a plain compiled function under a thin parallel loop: numba
-        compiles big ``prange`` bodies slowly, and caches them worse, numba/numba#8085)."""
+        """States ``start .. stop - 1``; ``(bad inputs, singular states)``; case 3 and threads as
+        :func:`relacc.kernels.tree_crba.crba_block`."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA, acc = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6))
@@ -228,15 +227,4 @@ if HAVE_NUMBA:
             else:
                 accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
             singular += failed
-        return bad_in, singular
-
-    @numba.njit(parallel=True, cache=True)
-    def aba_loop(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out):  # pragma: no cover - compiled
-        n = q.shape[0]
-        bad_in, singular = 0, 0
-        for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            b, s = aba_block(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out, blk * BLOCK,
-                             min(n, (blk + 1) * BLOCK))
-            bad_in += b
-            singular += s
         return bad_in, singular

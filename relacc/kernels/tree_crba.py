@@ -223,13 +223,12 @@ def factor_solve(M, x, anc, depth, diag, floor):
 
 if HAVE_NUMBA:
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, nogil=True)
     def crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, start,
                    stop):  # pragma: no cover - compiled
         """States ``start .. stop - 1``; ``(bad inputs, singular states)``. Case 3 is solved in case-2 speeds on its
-        angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`). A plain compiled function:
-        numba's cached ``parallel=True`` code runs slower than fresh (numba/numba#8085), so the parallel loop stays
-        thin."""
+        angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`). Without the GIL: a batch's
+        shares run on Python threads at once (:func:`relacc.kernels.jit.split`)."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
@@ -266,17 +265,5 @@ if HAVE_NUMBA:
             singular += failed
         return bad_in, singular
 
-    @numba.njit(parallel=True, cache=True)
-    def crba_loop(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
-                  out):  # pragma: no cover - compiled
-        n = q.shape[0]
-        bad_in, singular = 0, 0
-        for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            b, s = crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out,
-                              blk * BLOCK, min(n, (blk + 1) * BLOCK))
-            bad_in += b
-            singular += s
-        return bad_in, singular
 
-
-__all__ = ["HINGE", "SLIDE", "crba_loop", "dof_paths", "factor_solve", "mass_matrix"]
+__all__ = ["HINGE", "SLIDE", "dof_paths", "factor_solve", "mass_matrix"]

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from relacc.core.tree.model import welded_folded
-from relacc.kernels.jit import HAVE_NUMBA, parallel_pays
+from relacc.kernels.jit import HAVE_NUMBA, parallel_pays, split
 from relacc.kernels.tree import arrays_of, writable
 from relacc.kernels.tree_crba import BLOCK, dof_paths
 from relacc.kernels.tree_spatial import inertia_arrays
@@ -98,17 +98,16 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     qadr = T.qadr3 if case >= 3 else T.qadr
     serial = not parallel_pays(n, US_PER_SPEED * tree.nv, BLOCK)
     if algorithm == "aba":
-        from relacc.kernels.tree_aba import aba_block, aba_loop
+        from relacc.kernels.tree_aba import aba_block as fn
 
         args = (int(case), writable(q), writable(u), writable(tau), T, qadr, mass, com, inertia, arm, free,
                 writable(gravity), out)
-        bad_in, singular = aba_block(*args, 0, n) if serial else aba_loop(*args)
     else:
-        from relacc.kernels.tree_crba import crba_block, crba_loop
+        from relacc.kernels.tree_crba import crba_block as fn
 
         args = (int(case), writable(q), writable(u), writable(tau), T, qadr, anc, depth, mass, com, inertia, arm,
                 free, writable(gravity), out)
-        bad_in, singular = crba_block(*args, 0, n) if serial else crba_loop(*args)
+    bad_in, singular = fn(*args, 0, n) if serial else split(fn, args, n, BLOCK)
     return out, int(bad_in), int(singular)
 
 

@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, numba, parallel_pays
+from relacc.kernels.jit import HAVE_NUMBA, numba, parallel_pays, split
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mv_inline as mv
 from relacc.kernels.tree import BLOCK, US_PER_BODY_SPEED, arrays_of, row9, walk_state, writable
 
 if HAVE_NUMBA:
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, nogil=True)
     def _loads_block(case, q, u, T, qadr, bodies, F, M, out, start, stop):  # pragma: no cover - compiled
         nv, nb = u.shape[1], T.parent.shape[0]
         o, R, w = np.empty((nb, 3)), np.empty((nb, 9)), np.empty((nb, 3))
@@ -41,12 +41,6 @@ if HAVE_NUMBA:
                     out[i, c] += (sV[b, 0, c] * f0 + sV[b, 1, c] * f1 + sV[b, 2, c] * f2
                                   + sOm[b, 0, c] * m0 + sOm[b, 1, c] * m1 + sOm[b, 2, c] * m2)
 
-    @numba.njit(parallel=True, cache=True)
-    def _loads_loop(case, q, u, T, qadr, bodies, F, M, out):  # pragma: no cover - compiled
-        n = q.shape[0]
-        for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            _loads_block(case, q, u, T, qadr, bodies, F, M, out, blk * BLOCK, min(n, (blk + 1) * BLOCK))
-
 
 def load_forces(tree, case: int, q, u, bodies, force, torque) -> np.ndarray:
     """``(n, nv)`` the generalized forces, conjugate to the case's speeds (N or N m per speed), of loads on bodies.
@@ -62,7 +56,7 @@ def load_forces(tree, case: int, q, u, bodies, force, torque) -> np.ndarray:
     args = (int(case), writable(q), writable(u), T, T.qadr3 if case == 3 else T.qadr,
             np.ascontiguousarray(bodies, dtype=np.int64), writable(force), writable(torque), out)
     if parallel_pays(n, US_PER_BODY_SPEED * tree.nb * tree.nv, BLOCK):
-        _loads_loop(*args)
+        split(_loads_block, args, n, BLOCK)
     else:
         _loads_block(*args, 0, n)
     return out

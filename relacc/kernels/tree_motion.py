@@ -17,7 +17,7 @@ import weakref
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, leaf, numba, parallel_pays
+from relacc.kernels.jit import HAVE_NUMBA, leaf, numba, parallel_pays, split
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mv_inline as mv
 from relacc.kernels.tree import BALL, BLOCK, FREE, arrays_of, row9, writable
@@ -68,7 +68,7 @@ if HAVE_NUMBA:
             accel[i, j, 1] = acc[b, 4] + a1 + d1
             accel[i, j, 2] = acc[b, 5] + a2 + d2
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, nogil=True)
     def motion_block(case, q, u, ud, with_acc, T, qadr, roots, mass, com, inertia, pos, vel, accel, omega, alpha,
                      rot, with_points, ppos, pvel, pacc, start, stop):  # pragma: no cover - compiled
         """States ``start .. stop - 1``: every body's mass centre and angular motion, every point's motion."""
@@ -106,14 +106,6 @@ if HAVE_NUMBA:
                     _point(i, b, T.ppos[j, 0], T.ppos[j, 1], T.ppos[j, 2], base, o, R, V, acc, with_acc, ppos, pvel,
                            pacc, j)
 
-    @numba.njit(parallel=True, cache=True)
-    def motion_loop(case, q, u, ud, with_acc, T, qadr, roots, mass, com, inertia, pos, vel, accel, omega, alpha, rot,
-                    with_points, ppos, pvel, pacc):  # pragma: no cover - compiled
-        n = q.shape[0]
-        for blk in numba.prange((n + BLOCK - 1) // BLOCK):
-            motion_block(case, q, u, ud, with_acc, T, qadr, roots, mass, com, inertia, pos, vel, accel, omega, alpha,
-                         rot, with_points, ppos, pvel, pacc, blk * BLOCK, min(n, (blk + 1) * BLOCK))
-
 
 def motion(tree, case: int, q, u, udot, points: bool, out=None):
     """The outputs of :func:`relacc.tree_kinematics` without partial velocities, for checked C-contiguous float64
@@ -133,12 +125,12 @@ def motion(tree, case: int, q, u, udot, points: bool, out=None):
     res = {k: out[k] if out.get(k) is not None else np.empty((n, nb) + t) for k, t in shapes.items()}
     pts = {k: np.empty((n, npt, 3)) for k in ("position", "velocity", "acceleration")}
     q, u, ud = (writable(a) for a in (q, u, udot if with_acc else np.zeros((n, tree.nv))))
+    args = (int(case), q, u, ud, with_acc, T, T.qadr3 if case == 3 else T.qadr, _roots(tree), mass, com, inertia,
+            *res.values(), npt > 0, *pts.values())
     if not parallel_pays(n, US_PER_BODY * nb, BLOCK):
-        motion_block(int(case), q, u, ud, with_acc, T, T.qadr3 if case == 3 else T.qadr, _roots(tree), mass, com,
-                     inertia, *res.values(), npt > 0, *pts.values(), 0, n)
+        motion_block(*args, 0, n)
     else:
-        motion_loop(int(case), q, u, ud, with_acc, T, T.qadr3 if case == 3 else T.qadr, _roots(tree), mass, com,
-                    inertia, *res.values(), npt > 0, *pts.values())
+        split(motion_block, args, n, BLOCK)
     bad = sum(int(np.count_nonzero(~np.isfinite(res[k]))) for k in shapes
               if with_acc or k not in ("acceleration", "alpha"))
     if not with_acc:
