@@ -258,7 +258,7 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
             joint, its ``theta2``, the distance to the lock and the relative error to expect.
     """
     if (tau is None and effects is None and out is None and backend == "auto" and type(case) is int
-            and (case == 1 or case == 2) and type(tree) is Tree):  # one plain state: the single-state lane, first
+            and (case == Case.FIXED_FRAME or case == Case.BODY_FRAME) and type(tree) is Tree):  # the single-state lane
         one = _one_state(tree, case, q, u, None)
         if one is not None:
             return one

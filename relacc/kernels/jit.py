@@ -12,6 +12,7 @@ import contextlib
 import os
 import threading
 import types
+from typing import Any
 
 try:  # numba is a dependency; without it the functions stay plain Python
     import numba
@@ -94,7 +95,7 @@ def parallel_pays(n_states: int, us_per_state: float, block: int) -> bool:
     return t > 1 and n_states * us_per_state * (1.0 - 1.0 / t) > LAUNCH_US
 
 
-def split(fn, args: tuple, n: int, block: int) -> tuple:
+def split(fn, args: tuple, n: int, block: int) -> Any:
     """``fn(*args, start, stop)`` over the states ``0 .. n - 1`` on numba's current thread count (at most one per
     ``block``), in equal shares of whole blocks: the calling thread runs the first share, a pool of Python threads
     the others (``fn`` is compiled with ``nogil=True``); returns the shares' results summed (counts, or tuples of
