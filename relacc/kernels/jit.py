@@ -26,9 +26,10 @@ except ImportError:  # pragma: no cover - exercised only without numba
 THREADING_LAYER = "workqueue"
 """numba's threading layer for relacc's ``prange`` kernels (the chain's, the tree stepper's ensembles; the tree's
 forward dynamics, kinematics and loads split their batches over Python threads instead: :func:`split`), unless
-``NUMBA_THREADING_LAYER`` says otherwise: numba's own pool. It survives ``fork`` (``relacc grade`` runs a user's function, which may call relacc, in a forked child; GNU
-OpenMP, numba's first choice where it is installed, ends such a child: "fork() called from a process already using
-GNU OpenMP"), and it does not spin while waiting for work, which costs a loaded machine's other processes."""
+``NUMBA_THREADING_LAYER`` says otherwise: numba's own pool. It survives ``fork`` (``relacc grade`` runs a user's
+function, which may call relacc, in a forked child; GNU OpenMP, numba's first choice where it is installed, ends such
+a child: "fork() called from a process already using GNU OpenMP"), and it does not spin while waiting for work, which
+costs a loaded machine's other processes."""
 
 if HAVE_NUMBA and "NUMBA_THREADING_LAYER" not in os.environ:
     numba.config.THREADING_LAYER = THREADING_LAYER
