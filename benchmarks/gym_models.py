@@ -16,25 +16,13 @@ Run:  python benchmarks/gym_models.py [--states 20000] [--repeats 7] [--json PAT
 
 import argparse
 import json
-import statistics
 import sys
-import time
 from importlib.util import find_spec
 from pathlib import Path
 
 import numpy as np
 
 from relacc.files import write_text
-
-
-def _timed(fn, repeats: int) -> list[float]:
-    fn()
-    out = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - start)
-    return out
 
 
 def one_model(path: Path, n: int, repeats: int) -> dict:
@@ -44,7 +32,8 @@ def one_model(path: Path, n: int, repeats: int) -> dict:
     from relacc.core.tree import random_states
     from relacc.engines import load
     from relacc.kernels.jit import threads
-    from relacc.kernels.tree_dynamics import plan
+    from relacc.kernels.tree_dynamics import method
+    from relacc.tradeoff.throughput import wall_times
 
     tree = relacc.Tree.from_file(path)
     engine = load("pinocchio", path, tree)
@@ -54,15 +43,15 @@ def one_model(path: Path, n: int, repeats: int) -> dict:
     tau, a_pin = np.zeros_like(ve), np.zeros_like(ve)
     pool = pin.ModelPool(engine.model, 1)
     with threads(1):
-        mine = _timed(lambda: relacc.tree_accelerations(tree, 2, s.q, s.u), repeats)
+        mine = wall_times(lambda: relacc.tree_accelerations(tree, 2, s.q, s.u), repeats)  # (median, best) s
         a_mine = np.asarray(relacc.tree_accelerations(tree, 2, s.q, s.u))
-    theirs = _timed(lambda: pin.abaInParallel(1, pool, qe, ve, tau, a_pin), repeats)
+    theirs = wall_times(lambda: pin.abaInParallel(1, pool, qe, ve, tau, a_pin), repeats)
     mapped = engine.to_engine(s.q, s.u, a_mine).a  # relacc's accelerations in Pinocchio's speeds
     difference = float(np.max(np.abs(mapped - a_pin.T)) / max(np.max(np.abs(a_pin)), 1e-300))
-    r = {"model": path.name, "nv": tree.nv, "bodies": tree.nb, "method": plan(tree).method,
+    r = {"model": path.name, "nv": tree.nv, "bodies": tree.nb, "method": method(tree),
          "pinocchio_nv": int(engine.model.nv), "shared_speeds": len(engine.dofs),
-         "relacc_us": {"median": statistics.median(mine) / n * 1e6, "best": min(mine) / n * 1e6},
-         "abaInParallel_us": {"median": statistics.median(theirs) / n * 1e6, "best": min(theirs) / n * 1e6},
+         "relacc_us": {"median": mine[0] / n * 1e6, "best": mine[1] / n * 1e6},
+         "abaInParallel_us": {"median": theirs[0] / n * 1e6, "best": theirs[1] / n * 1e6},
          "relative_difference": difference}
     r["ratio_of_medians"] = r["abaInParallel_us"]["median"] / r["relacc_us"]["median"]
     return r

@@ -104,11 +104,10 @@ def split(fn, args: tuple, n: int, block: int) -> Any:
     counts element by element; None for a function that returns nothing).
 
     relacc's tree kernels (forward dynamics, kinematics, loads) run their batches this way rather than through a
-    numba ``prange``: on this project's
-    2-core VM numba's ``workqueue`` pool ran one call in four to eight 1.4-2x slower than the others (its two workers
-    woken for every call while the calling thread waits), where the calling thread working beside one pool thread
-    held every call within a few percent (docs/benchmarks.md, "Less work a state"). A forked child starts without
-    the pool (``os.register_at_fork``) and makes its own when it needs one."""
+    numba ``prange``: on this project's 2-core VM numba's ``workqueue`` pool ran one call in four to eight 1.4-2x
+    slower than the others (its two workers woken for every call while the calling thread waits), where the calling
+    thread working beside one pool thread held every call within a few percent (docs/benchmarks.md, "Less work a
+    state"). A forked child starts without the pool (``os.register_at_fork``) and makes its own when it needs one."""
     t = max(1, min(numba.get_num_threads() if HAVE_NUMBA else 1, -(-n // block)))
     cuts = [min(n, (n * k // t) // block * block) for k in range(t)] + [n]
     pending = [_pool(t - 1).submit(fn, *args, cuts[k], cuts[k + 1]) for k in range(1, t)] if t > 1 else []

@@ -244,13 +244,11 @@ if HAVE_NUMBA:
                 for c in range(q.shape[1]):
                     Q1[0, c] = q[i, c]
                 row_to_speeds(q, u, tau, i, T, U1, F1, 0, trig)
-                forward(mode, Q1, U1, 0, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
-                mass_matrix(mode, Q1, U1, F1, 0, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x,
-                            tmp)
+                qq, uu, tt, r = Q1, U1, F1, 0
             else:
-                forward(mode, q, u, i, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
-                mass_matrix(mode, q, u, tau, i, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x,
-                            tmp)
+                qq, uu, tt, r = q, u, tau, i
+            forward(mode, qq, uu, r, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
+            mass_matrix(mode, qq, uu, tt, r, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x, tmp)
             failed = factor_solve(M, x, anc, depth, diag, PIVOT_FLOOR)
             if failed:
                 for c in range(nv):

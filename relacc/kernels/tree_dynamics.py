@@ -87,28 +87,29 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
         ``(udot (n, nv), n_bad_inputs, n_singular)``: the counts of states with non-finite inputs or non-unit
         quaternions, and of states whose equations are singular (their rows are NaN); callers check and name them.
     """
-    folded = welded_folded(tree)  # the same joints and speeds, fewer bodies
-    T = arrays_of(folded)
-    p = plan(folded)
-    chosen = p.method
-    anc, depth, mass, com, inertia, arm, free = p.arrays()
-    algorithm = chosen if algorithm is None else algorithm
     n = q.shape[0]
     out = np.empty((n, tree.nv)) if out is None else out
-    qadr = T.qadr3 if case >= 3 else T.qadr
+    fn, args = _block_call(tree, case, algorithm, writable(q), writable(u), writable(tau), writable(gravity), out)
     serial = not parallel_pays(n, US_PER_SPEED * tree.nv, BLOCK)
-    if algorithm == "aba":
-        from relacc.kernels.tree_aba import aba_block as fn
-
-        args = (int(case), writable(q), writable(u), writable(tau), T, qadr, mass, com, inertia, arm, free,
-                writable(gravity), out)
-    else:
-        from relacc.kernels.tree_crba import crba_block as fn
-
-        args = (int(case), writable(q), writable(u), writable(tau), T, qadr, anc, depth, mass, com, inertia, arm,
-                free, writable(gravity), out)
     bad_in, singular = fn(*args, 0, n) if serial else split(fn, args, n, BLOCK)
     return out, int(bad_in), int(singular)
+
+
+def _block_call(tree, case, algorithm, q, u, tau, gravity, out):
+    """``(block function, its arguments but the states' range)``: the algorithm (``algorithm``, else the plan's) on
+    the folded tree's arrays (:func:`relacc.core.tree.model.welded_folded`: the same joints and speeds, fewer
+    bodies)."""
+    folded = welded_folded(tree)
+    T, p = arrays_of(folded), plan(folded)
+    anc, depth, mass, com, inertia, arm, free = p.arrays()
+    qadr = T.qadr3 if case >= 3 else T.qadr
+    if (algorithm or p.method) == "aba":
+        from relacc.kernels.tree_aba import aba_block
+
+        return aba_block, (int(case), q, u, tau, T, qadr, mass, com, inertia, arm, free, gravity, out)
+    from relacc.kernels.tree_crba import crba_block
+
+    return crba_block, (int(case), q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, gravity, out)
 
 
 def one_state(tree, case: int, q, u, gravity):
@@ -132,23 +133,10 @@ def _single(tree, case, gravity):
     if cache is None:
         cache = _SINGLE[tree] = {}
     if key not in cache:
-        folded = welded_folded(tree)
-        T = arrays_of(folded)
-        p = plan(folded)
-        chosen = p.method
-        anc, depth, mass, com, inertia, arm, free = p.arrays()
-        qadr = T.qadr3 if case >= 3 else T.qadr
         Q, U, tau, out = np.zeros((1, tree.nq(case))), np.zeros((1, tree.nv)), np.zeros((1, tree.nv)), \
             np.zeros((1, tree.nv))
-        g = np.array(gravity, dtype=float)
-        if chosen == "aba":
-            from relacc.kernels.tree_aba import aba_block as fn
-
-            args = (int(case), Q, U, tau, T, qadr, mass, com, inertia, arm, free, g, out, 0, 1)
-        else:
-            from relacc.kernels.tree_crba import crba_block as fn
-
-            args = (int(case), Q, U, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, 0, 1)
+        fn, args = _block_call(tree, case, None, Q, U, tau, np.array(gravity, dtype=float), out)
+        args = args + (0, 1)
         cache[key] = (_entry_point(fn, args), args, Q, U, out)
     return cache[key]
 

@@ -458,20 +458,17 @@ def welded_folded(tree: Tree) -> Tree:
     ball_parents = {b.parent for b in tree.bodies if any(j.type == "ball" for j in b.joints)}
     for i, b in enumerate(tree.bodies):
         p = b.parent
+        if p >= 0:  # the body's frame in its parent's host's
+            P, qP = frame[p]
+            pos, quat = P + matrix_from_quaternion(qP) @ b.pos, quaternion_multiply(qP, b.quat)
+        else:
+            pos, quat = b.pos, b.quat
         if b.joints or p < 0 or i in ball_parents:
-            if p >= 0:
-                P, qP = frame[p]
-                pos, quat = P + matrix_from_quaternion(qP) @ b.pos, quaternion_multiply(qP, b.quat)
-                parent = host[p]
-            else:
-                pos, quat, parent = b.pos, b.quat, -1
             host.append(len(kept))
             frame.append((np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])))
-            kept.append(dict(name=b.name, parent=parent, pos=pos, quat=quat, joints=b.joints, mass=b.mass,
-                             com=b.com, inertia=np.array(b.inertia), physical=b.physical))
+            kept.append(dict(name=b.name, parent=host[p] if p >= 0 else -1, pos=pos, quat=quat, joints=b.joints,
+                             mass=b.mass, com=b.com, inertia=np.array(b.inertia), physical=b.physical))
             continue
-        P, qP = frame[p]
-        pos, quat = P + matrix_from_quaternion(qP) @ b.pos, quaternion_multiply(qP, b.quat)
         host.append(host[p])
         frame.append((pos, quat))
         h = kept[host[p]]
