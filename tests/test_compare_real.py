@@ -514,3 +514,83 @@ def test_pinocchio_keeping_one_unnamed_child_per_body_is_a_known_reading(tmp_pat
     rows = [a.as_json() for a in result.audit]
     assert rows and all("names an unnamed <body> after its parent" in r["cause"] for r in rows), rows
     assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"
+
+
+def test_pinocchio_ignoring_a_joints_pos_from_its_default_class_is_a_known_reading(tmp_path):
+    """dm_control's dog: its lumbar joints take ``pos="0.012 0 0.01"`` from their class. Pinocchio's MJCF parser
+    ignores a joint's pos inherited from a <default> (a class's or the main default's; one written on the joint is
+    honoured): its joint sits at the body's origin (Pinocchio's own joint placement is the reference). Each audit row
+    carries the reproduced cause, and the dynamics' differences are explained by it."""
+    path = tmp_path / "joint_pos.xml"
+    path.write_text('<mujoco model="joint_pos"><default><default class="lumbar"><joint pos="0.012 0 0.01"/>'
+                    '<default class="extend"><joint damping="1"/></default></default></default><worldbody>'
+                    '<body name="a" pos="0 0 1"><joint name="j1" class="extend" axis="0 1 0"/>'
+                    '<geom type="capsule" size="0.02 0.1" pos="0.1 0 0" euler="0 90 0"/>'
+                    '<body name="b" pos="0.2 0 0"><joint name="j2" class="lumbar" axis="0 0 1" pos="0.05 0 0"/>'
+                    '<geom type="sphere" size="0.05" pos="0.1 0 0"/></body></body></worldbody></mujoco>')
+    import pinocchio as pin
+
+    model = pin.buildModelFromMJCF(str(path))  # Pinocchio's own reading, as the cause says
+    np.testing.assert_allclose(model.jointPlacements[1].translation, [0, 0, 1], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(model.jointPlacements[2].translation, [0.25, 0, 0], rtol=0, atol=1e-15)
+    result = compare(path, engines=["pinocchio"], n_states=3, seed=9)
+    rows = [a.as_json() for a in result.audit]
+    assert [r["item"] for r in rows] == ["joint position (world, m)"], rows
+    assert "ignores a joint's pos inherited from a <default>" in rows[0]["cause"], rows
+    assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"
+
+
+SPRINGDAMPER = """<mujoco model="springdamper"><worldbody>
+  <body name="base" pos="0 0 1"><freejoint name="root"/><geom type="box" size="0.2 0.1 0.05"/>
+    <body name="arm" pos="0.2 0 0">
+      <joint name="hinge" axis="0 1 0" armature="0.01" springdamper="0.2 0.7" springref="10"/>
+      <geom type="capsule" size="0.03 0.15" pos="0.15 0 0" euler="0 90 0"/>
+      <body name="wrist" pos="0.3 0 0"><joint name="ball" type="ball" springdamper="0.05 2" damping="0.3"/>
+        <geom type="sphere" size="0.05" pos="0.05 0.02 0"/>
+        <body name="tip" pos="0.1 0 0"><joint name="slide" type="slide" axis="1 0 0" springdamper="1 1"/>
+          <geom type="sphere" size="0.02"/></body></body></body></body>
+  <body name="float" pos="1 0 1"><joint name="floating" type="free" springdamper="0.3 1"/>
+    <geom type="box" size="0.1 0.2 0.3" euler="10 20 30"/></body>
+</worldbody></mujoco>"""
+
+
+def test_a_springdampers_stiffness_and_damping_are_mujocos_and_the_other_parsers_ignore_it(tmp_path):
+    """dm_control's dog: joints with ``springdamper="timeconst dampratio"``, whose stiffness and damping MuJoCo's
+    compiler sets from the joint's inertia at the reference configuration. relacc kept the values written and the
+    audit called MuJoCo's 21 dampings "not explained", blaming the engine that follows the format. relacc now
+    computes them as the compiler does (``dof_invweight0`` from relacc's own mass matrix): MuJoCo's compiled values
+    are the reference, on a hinge with armature, a ball, a slide and a free joint beside a free root (the free and
+    ball blocks averaged). Tolerance: the inverse mass matrix's diagonal carries cond(M) eps relative error, times 10
+    for the few operations around it. Pinocchio and Drake keep the written values, and Pinocchio drops the ball's
+    damping: reproduced causes."""
+    import mujoco
+
+    from relacc.core.tolerances import EPS
+    from relacc.engines.mujoco_.adapter import full_inertia
+    from relacc.reading import read
+
+    path = tmp_path / "springdamper.xml"
+    path.write_text(SPRINGDAMPER)
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    M = np.zeros((model.nv, model.nv))
+    full_inertia(model, data, M)
+    bound = 10 * np.linalg.cond(M) * EPS
+    reading = read(path)
+    for name in ("hinge", "ball", "slide", "floating"):
+        j = model.joint(name)
+        dofs = slice(model.jnt_dofadr[j.id], model.jnt_dofadr[j.id] + len(reading.damping[name]))
+        np.testing.assert_allclose(reading.damping[name], model.dof_damping[dofs], rtol=bound, atol=0, err_msg=name)
+        if name in ("hinge", "ball", "slide"):
+            stiffness, springref = reading.stiffness[name]
+            np.testing.assert_allclose(stiffness, model.jnt_stiffness[j.id], rtol=bound, atol=0, err_msg=name)
+            np.testing.assert_allclose(springref, model.qpos_spring[model.jnt_qposadr[j.id]] if name != "ball" else 0,
+                                       rtol=2 * EPS, atol=0, err_msg=name)  # one rounding of degrees to radians each
+    assert any("springdamper" in n for n in reading.notes), reading.notes
+    result = compare(path, engines=["mujoco", "pinocchio", "drake"], n_states=3, seed=10)
+    rows = [a.as_json() for a in result.audit]
+    assert not [r for r in rows if "mujoco" in r], rows  # MuJoCo reads the file as relacc does
+    dampings = [r for r in rows if r["item"] == "damping"]
+    assert dampings and all("ignores a joint's springdamper" in r["cause"] for r in dampings), rows
+    assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"

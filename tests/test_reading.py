@@ -291,6 +291,39 @@ def test_a_model_file_that_is_not_a_path_is_one_error(given, message):
         relacc.Tree.from_file(given)
 
 
+def test_a_urdf_spherical_joint_is_a_ball_as_mujoco_reads_it(tmp_path):
+    """pybullet_data's humanoid.urdf and spherical_joint_limit.urdf use joint type ``spherical``, which is not URDF's:
+    urdfdom (Pinocchio) and Drake refuse it, MuJoCo's URDF reader makes a ball about the joint frame's origin. relacc
+    refused the file; it now reads the ball as MuJoCo does (MuJoCo's compiled model is the reference, every body and
+    joint) and notes that the type is not the specification's."""
+    path = tmp_path / "spherical.urdf"
+    path.write_text(_urdf().replace('type="continuous"', 'type="spherical"'))
+    reading = agrees_with_mujoco(path)
+    assert [j.type for _, j in reading.tree.joints] == ["hinge", "ball"]
+    assert any("1 spherical joint (j2)" in n for n in reading.notes), reading.notes
+
+
+@pytest.mark.parametrize("kind", ["urdf", "mjcf"])
+def test_numbers_separated_by_commas_are_refused_as_the_engines_refuse_them(tmp_path, kind):
+    """pybullet_data's bicycle/bike.urdf writes ``xyz="0.07, 0, -0.69"``: relacc read it as three numbers, a model
+    none of the engines reads (each refuses the file). Now relacc refuses it too, naming the attribute; MuJoCo's
+    refusal of the same text is the reference."""
+    import mujoco
+
+    if kind == "urdf":
+        path = tmp_path / "commas.urdf"
+        path.write_text(_urdf().replace('<origin xyz="0 0 -0.4"/>', '<origin xyz="0, 0, -0.4"/>'))
+    else:
+        path = tmp_path / "commas.xml"
+        path.write_text('<mujoco><worldbody><body name="a" pos="0, 0, 1"><joint name="j"/>'
+                        '<geom type="sphere" size="0.1"/></body></worldbody></mujoco>')
+    with pytest.raises(ModelError, match=r"xyz='0, 0, -0.4' separates its numbers with commas" if kind == "urdf"
+                       else r"pos='0, 0, 1' separates its numbers with commas"):
+        read(path)
+    with pytest.raises(ValueError, match="bad format in attribute"):
+        mujoco.MjModel.from_xml_path(str(path))
+
+
 def test_the_chain_tree_is_unchanged_by_the_reading():
     """models/two_body.xml read by relacc is the note's chain (Tree.from_chain of the shipped TOML), body by body."""
     from relacc.fixtures import load as load_fixture
@@ -327,12 +360,21 @@ def test_mujoco_compiles_what_relacc_reads_for_every_shape(tmp_path):
                                        err_msg=f"{kind} shell={shell} size {size}")
 
 
-def test_a_joints_springdamper_is_said_not_evaluated(tmp_path):
+def test_a_joints_springdamper_replaces_the_written_stiffness_and_damping(tmp_path):
     """MuJoCo computes a springdamper joint's stiffness and damping from its inertia at the reference configuration
-    (dm_control's dog: 0.25 where the class writes 0.01); relacc does not, and says so rather than reporting the
-    written values as what the file means."""
+    (dm_control's dog: 0.25 where the class writes 0.01). relacc said so and kept the written values; it now computes
+    them as the compiler does, notes it, and no longer lists the joint as not evaluated. MuJoCo's compiled damping is
+    the reference; the one-joint model's mass matrix is a number, so the bound is a few roundings (8 eps)."""
+    import mujoco
+
+    from relacc.core.tolerances import EPS
+
     path = tmp_path / "sd.xml"
     path.write_text('<mujoco><worldbody><body><joint name="tail" axis="0 1 0" damping="0.01" springdamper="0.001 50"/>'
                     '<geom size="0.1" pos="0.2 0 0"/></body></worldbody></mujoco>')
-    said = read(path).unevaluated
-    assert any("1 joint with springdamper (tail)" in line for line in said), said
+    reading = read(path)
+    assert not any("springdamper" in line for line in reading.unevaluated), reading.unevaluated
+    assert any("1 joint with springdamper (tail)" in line for line in reading.notes), reading.notes
+    model = mujoco.MjModel.from_xml_path(str(path))
+    np.testing.assert_allclose(reading.damping["tail"], model.dof_damping, rtol=8 * EPS, atol=0)
+    np.testing.assert_allclose(reading.stiffness["tail"][0], model.jnt_stiffness[0], rtol=8 * EPS, atol=0)

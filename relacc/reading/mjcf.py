@@ -23,11 +23,11 @@ short:
   mass and inertia scaled so that the bodies' masses sum to it).
 * **Joints**: ``type`` (hinge by default), ``pos``, ``axis`` (normalized), ``ref`` (a hinge's in the compiler's
   angle unit), ``armature``, ``damping``, ``stiffness`` with ``springref``, ``range`` where limited (``limited``, or
-  ``autolimits``: a range given); ``<freejoint>``; a ``mocap`` body is welded to the world.
+  ``autolimits``: a range given), ``springdamper`` (stiffness and damping set from the joint's inertia at the
+  reference configuration, as MuJoCo's compiler does); ``<freejoint>``; a ``mocap`` body is welded to the world.
 * **Gravity**: ``<option gravity>``, zero with ``<flag gravity="disable"/>``. **Points**: every ``<site>``.
 * Left out, and said (``unevaluated``): ``<equality>`` constraints, ``<tendon>`` elements, actuators with activation
-  dynamics, a joint's ``springdamper`` (MuJoCo computes stiffness and damping from the reference inertia; relacc
-  keeps those written). Refused: ``<replicate>``, ``<attach>``, ``<composite>``, ``<flexcomp>``, ``<compiler coordinate=
+  dynamics. Refused: ``<replicate>``, ``<attach>``, ``<composite>``, ``<flexcomp>``, ``<compiler coordinate=
   "global">`` (relacc cannot read them yet: the message says so).
 """
 
@@ -70,10 +70,14 @@ class MeshGeom:
     attributes: dict
 
 
+MJMINVAL = 1e-15
+"""MuJoCo's ``mjMINVAL``: the floor of the divisors in its springdamper computation."""
+
 VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored", "visual_geoms_ignored",
             "mesh_unit_inertia", "gravity_default", "settotalmass_ignored", "gravity_flag_ignored",
             "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
-            "unnamed_siblings_dropped")
+            "unnamed_siblings_dropped", "default_joint_pos_ignored",
+            "springdamper_ignored", "ball_damping_dropped")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
@@ -90,6 +94,14 @@ Pinocchio's:
 * ``unnamed_siblings_dropped``: of several unnamed ``<body>`` children of one body only the first, with its subtree
   (Pinocchio names an unnamed body after its parent, ``<parent>Bis``, so the later ones collide and are dropped;
   measured on pin 4.1: three unnamed children of 10, 100 and 1000 kg read as 10 kg);
+* ``default_joint_pos_ignored``: a joint's ``pos`` inherited from a ``<default>`` (a class or the main default)
+  ignored, the joint at the body's origin (one written on the joint is honoured; measured on pin 4.1, and the
+  ``axis`` and ``armature`` of a class are read: dm_control's dog moves its lumbar joints by their class's
+  ``pos="0.012 0 0.01"``);
+* ``ball_damping_dropped`` (with ``free_damping_dropped``: Pinocchio's): a ball joint's damping dropped (measured
+  on pin 4.1: its model's damping is 0 on a ball's and a free joint's speeds, the written value on a hinge's);
+* ``springdamper_ignored`` (Pinocchio's and Drake's): a joint's ``springdamper`` ignored, the stiffness and damping
+  written kept;
 * ``settotalmass_ignored`` (Pinocchio's and Drake's): no scaling by ``<compiler settotalmass>``.
 
 Drake's:
@@ -185,8 +197,9 @@ class _Reader:
         self.classes = self._classes()
         self.broken_classes = self._classes(broken=True)
         self.broken_defaults = 0  # elements whose defaults default_chain_broken reads otherwise
+        self.default_joint_pos = 0  # joints whose pos comes from a <default>
         self.unnamed_dropped = 0  # unnamed bodies after the first among one parent's children
-        self.springdamper: list[str] = []  # joints whose stiffness and damping MuJoCo computes (springdamper)
+        self.springdamper: dict[str, tuple] = {}  # joint: (timeconst, dampratio, springref) of a springdamper
         self.assets = {m.get("name") or Path(m.get("file", "")).stem: m
                        for a in root.findall("asset") for m in a.findall("mesh")}
         self.bodies: list[Body] = []
@@ -196,7 +209,7 @@ class _Reader:
         self.njoints = 0
         self.default_masses = 0
         self.first_body = None
-        self.visual_geoms = self.stacked = self.unactuated = self.damped_free = 0
+        self.visual_geoms = self.stacked = self.unactuated = self.damped_free = self.damped_balls = 0
         self.driven = {a.get("joint") for s in root.findall("actuator") for a in s.children
                        if a.tag in ("motor", "position") and a.get("joint")}
 
@@ -255,6 +268,10 @@ class _Reader:
             self.broken_defaults += 1
             if "default_chain_broken" in self.variant:
                 merged = broken
+        if node.tag == "joint" and "pos" in merged and "pos" not in node.attrib:  # a joint's pos from its class
+            self.default_joint_pos += 1
+            if "default_joint_pos_ignored" in self.variant:
+                del merged["pos"]
         if node.tag == "geom" and "mass" in merged and "mass" not in node.attrib:  # a mass from its class
             merged["_default_mass"] = "1"  # a mark, never an MJCF attribute (they have no leading underscore)
             if "default_geom_mass_ignored" in self.variant:
@@ -289,6 +306,49 @@ class _Reader:
         return np.array(numbers(node, "pos", 3, [0.0, 0.0, 0.0])), self.rotation(node)
 
     # ---- the tree --------------------------------------------------------------------------------------------
+    def _spring_dampers(self, tree: Tree) -> None:
+        """The stiffness and damping of the joints with ``springdamper="timeconst dampratio"``, as MuJoCo's compiler
+        sets them (``mjCModel::AutoSpringDamper``): the joint's inertia ``n / sum(dof_invweight0)`` over its ``n``
+        speeds, ``dof_invweight0`` the diagonal of ``M^-1`` at the reference configuration (case 2, armature
+        included; a free joint's three translations and three rotations each averaged, a ball's three), stiffness
+        that over ``(timeconst dampratio)^2``, damping twice that over ``timeconst``. ``M`` is Kane's
+        ``sum_b m_b V_b^T V_b + Omega_b^T I_b Omega_b`` from the note's partial velocities (the reference walk of
+        :mod:`relacc.core.tree.walk`). Where ``M`` is singular the values written stay, and a note says so."""
+        from relacc.core.tree.coordinates import reference_q
+        from relacc.core.tree.kinematics import tree_kinematics
+
+        k = tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv), backend="reference")
+        assert k.V is not None and k.Omega is not None  # the partials: asked for (partials=True)
+        M = np.diag(np.concatenate([j.armature for _, j in tree.joints]))
+        for b, body in enumerate(tree.bodies):
+            R, V, W = k.rotation[b], k.V[b], k.Omega[b]
+            M += body.mass * V.T @ V + W.T @ (R @ body.inertia @ R.T) @ W
+        names = ", ".join(list(self.springdamper)[:3]) + (" ..." if len(self.springdamper) > 3 else "")
+        try:
+            inverse = np.diag(np.linalg.inv(M)).copy()
+        except np.linalg.LinAlgError:
+            inverse = np.full(tree.nv, np.nan)
+        if not np.all(np.isfinite(inverse)):
+            self.notes.append(f"springdamper of {names}: the mass matrix at the reference configuration is singular; "
+                              "the stiffness and damping written are kept (MuJoCo's compiler divides by its inverse)")
+            return
+        for (_, joint), d in zip(tree.joints, tree.dofadr):  # dof_invweight0: averaged per block
+            blocks = {"free": ((d, d + 3), (d + 3, d + 6)), "ball": ((d, d + 3),)}.get(joint.type, ())
+            for lo, hi in blocks:
+                inverse[lo:hi] = inverse[lo:hi].mean()
+        for (_, joint), d in zip(tree.joints, tree.dofadr):
+            if joint.name not in self.springdamper:
+                continue
+            timeconst, dampratio, springref = self.springdamper[joint.name]
+            inertia = joint.nv / max(MJMINVAL, float(inverse[d:d + joint.nv].sum()))
+            stiffness = inertia / max(MJMINVAL, timeconst * timeconst * dampratio * dampratio)
+            if joint.type != "free":  # relacc keeps no free joint's spring (as for one written)
+                self.stiffness[joint.name] = (stiffness, springref)
+            self.damping[joint.name] = np.full(joint.nv, 2 * inertia / max(MJMINVAL, timeconst))
+        self.notes.append(f"{len(self.springdamper)} joint{'s' if len(self.springdamper) > 1 else ''} with "
+                          f"springdamper ({names}): stiffness and damping set from the joint's inertia at the "
+                          "reference configuration, as MuJoCo's compiler does")
+
     def reading(self) -> Reading:
         worlds = self.root.findall("worldbody")
         self.first_body = next((b for w in worlds for b in w.findall("body") if b.file == str(self.path)), None)
@@ -316,6 +376,8 @@ class _Reader:
             gravity = np.zeros(3)
         name = self.root.get("model") or self.path.stem
         tree = Tree(name, tuple(self.bodies), gravity=gravity, points=tuple(self.points), source=str(self.path))
+        if self.springdamper and "springdamper_ignored" not in self.variant:
+            self._spring_dampers(tree)
         first = self.first_body
         facts = {"world_children": sum(1 for w in self.root.findall("worldbody") for b in w.findall("body")),
                  "default_geom_masses": self.default_masses, "gravity_written": written.tolist(),
@@ -324,7 +386,9 @@ class _Reader:
                  and any(first.get(k) is not None for k in ("pos", "quat", "axisangle", "euler", "xyaxes", "zaxis")),
                  "visual_geoms": self.visual_geoms, "mesh_bodies": bool(self.taken),
                  "stacked": self.stacked, "unactuated_armature": self.unactuated, "damped_free": self.damped_free,
-                 "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped}
+                 "damped_balls": self.damped_balls,
+                 "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
+                 "default_joint_pos": self.default_joint_pos, "springdamper": tuple(self.springdamper)}
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
                        self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
                        tuple(self.findings), facts=facts, variant=self.variant)
@@ -427,10 +491,15 @@ class _Reader:
                     armature = 0.0
             damping = number(j, "damping", 0.0)
             if j.get("springdamper") is not None and all(x > 0 for x in required_numbers(j, "springdamper", 2)):
-                self.springdamper.append(name)
+                springref = number(j, "springref", 0.0) * (self.angle(1.0) if kind == "hinge" else 1.0)
+                self.springdamper[name] = (*required_numbers(j, "springdamper", 2), springref)
             if kind == "free" and damping:
                 self.damped_free += 1
                 if "free_damping_dropped" in self.variant:
+                    damping = 0.0
+            if kind == "ball" and damping:
+                self.damped_balls += 1
+                if "ball_damping_dropped" in self.variant:
                     damping = 0.0
             if damping:
                 self.damping[name] = np.full(nv, damping)
@@ -599,10 +668,4 @@ class _Reader:
         if dynamic:
             out.append(f"{len(dynamic)} actuator{'s' if len(dynamic) > 1 else ''} with activation dynamics: their "
                        "states are not evaluated")
-        if self.springdamper:
-            names = ", ".join(self.springdamper[:3]) + (" ..." if len(self.springdamper) > 3 else "")
-            out.append(f"{len(self.springdamper)} joint{'s' if len(self.springdamper) > 1 else ''} with springdamper "
-                       f"({names}): MuJoCo's compiler sets their stiffness and damping from the joint's inertia at the "
-                       "reference configuration; relacc keeps the stiffness and damping written and does not compute "
-                       "that")
         return out

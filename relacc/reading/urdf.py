@@ -8,8 +8,9 @@
   roll, pitch, yaw), then by the joint: ``revolute`` and ``continuous`` a hinge, ``prismatic`` a slide, along
   ``<axis xyz>`` (joint frame, default ``1 0 0``; a direction: normalized as the engines do, and noted);
   ``floating`` a free joint; ``fixed`` welds the child to the parent (relacc keeps it a body of its own, without
-  joints). ``<limit lower upper>`` bounds revolute and prismatic joints (random states are drawn inside);
-  ``<dynamics damping>`` is a damper. ``planar`` joints are refused (relacc has no planar joint).
+  joints); ``spherical`` (not in the specification; MuJoCo's URDF reader and pybullet read it) a ball joint about the
+  joint frame's origin, noted. ``<limit lower upper>`` bounds revolute and prismatic joints (random states are drawn
+  inside); ``<dynamics damping>`` is a damper. ``planar`` joints are refused (relacc has no planar joint).
 * The root link (the one that is no joint's child) is welded to the world, as MuJoCo, Pinocchio and Drake read a
   URDF by default; a root link named ``world`` is the world itself, and a joint may name ``world`` as its parent
   without a link of that name (the world, as Gazebo and Drake read it).
@@ -31,8 +32,10 @@ from relacc.reading import frames, physical
 from relacc.reading.model import Reading
 from relacc.reading.xml import Node, number, numbers, parse_file
 
-JOINTS = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide", "floating": "free", "fixed": None}
-"""URDF joint types and relacc's joint of each (``fixed``: none, the child is welded)."""
+JOINTS = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide", "floating": "free", "fixed": None,
+          "spherical": "ball"}
+"""URDF joint types and relacc's joint of each (``fixed``: none, the child is welded; ``spherical``: not the
+specification's, MuJoCo's and pybullet's extension, a ball about the joint frame's origin as MuJoCo reads it)."""
 
 
 def read(path) -> Reading:
@@ -100,6 +103,11 @@ def read(path) -> Reading:
         unevaluated.append(f"{len(mimics)} mimic joint{'s' if len(mimics) > 1 else ''} ({', '.join(mimics)}): "
                            "a constraint coupling joints; the comparisons are the tree's without constraints, every "
                            "joint free")
+    spherical = [j.get("name") for j in joints.values() if j.get("type") == "spherical"]
+    if spherical:
+        notes.append(f"{len(spherical)} spherical joint{'s' if len(spherical) > 1 else ''} ({', '.join(spherical[:3])}"
+                     f"{' ...' if len(spherical) > 3 else ''}): not a URDF joint type; read as a ball about the joint "
+                     "frame's origin, as MuJoCo's URDF reader does (urdfdom and Drake refuse it)")
     for name in order:
         if world and name == roots[0]:
             continue  # a root link named world is the world
@@ -171,6 +179,8 @@ def _origin(node: Node, normalized) -> tuple[np.ndarray, np.ndarray]:
 def _joint(name: str, kind: str, node: Node, normalized) -> Joint:
     if kind == "free":
         return Joint.free(name)
+    if kind == "ball":
+        return Joint.ball(name)
     axis = node.find("axis")
     xyz = numbers(axis, "xyz", 3, [1.0, 0.0, 0.0]) if axis is not None else [1.0, 0.0, 0.0]
     unit = normalized.unit("joint axis", xyz, node.place)

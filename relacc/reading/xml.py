@@ -125,15 +125,21 @@ def numbers(node: Node, key: str, count: int | None, default: list[float]) -> li
 def numbers(node: Node, key: str, count: int | None = None, default: list[float] | None = None) -> list[float] | None:
     """The attribute ``key`` of ``node`` as ``count`` real numbers (any count when None), or ``default`` when absent.
 
+    Numbers are separated by whitespace, as URDF and MJCF specify; a comma is refused, as urdfdom, MuJoCo and Drake
+    refuse it (reading ``"0.07, 0, -0.69"`` as three numbers would make a model no engine reads).
+
     Raises:
-        ModelError: not numbers, the wrong count, or a NaN or infinity (naming the element, its place and the
-            attribute).
+        ModelError: not numbers, separated by commas, the wrong count, or a NaN or infinity (naming the element, its
+            place and the attribute).
     """
     text = node.get(key)
     if text is None:
         return default
+    if "," in text:
+        raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} separates its numbers with commas; URDF and MJCF "
+                         "separate them with spaces (urdfdom, MuJoCo and Drake refuse commas too)")
     try:
-        values = [float(x) for x in text.replace(",", " ").split()]
+        values = [float(x) for x in text.split()]
     except ValueError:
         raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} is not a list of numbers") from None
     if count is not None and len(values) != count:

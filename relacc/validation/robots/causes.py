@@ -163,6 +163,26 @@ READINGS = {
             _reread("unnamed_siblings_dropped"),
         ),
         KnownBehaviour(
+            "default_joint_pos",
+            "Pinocchio's MJCF parser ignores a joint's pos inherited from a <default> (it honours one written on "
+            "the joint) and puts the joint at its body's origin",
+            lambda r: _mjcf(r) and r.facts.get("default_joint_pos", 0) > 0,
+            _reread("default_joint_pos_ignored"),
+        ),
+        KnownBehaviour(
+            "springdamper",
+            "Pinocchio's MJCF parser ignores a joint's springdamper, from which MuJoCo's compiler sets the stiffness "
+            "and damping (it keeps those written)",
+            lambda r: _mjcf(r) and bool(r.facts.get("springdamper")),
+            _reread("springdamper_ignored"),
+        ),
+        KnownBehaviour(
+            "ball_free_damping",
+            "Pinocchio's MJCF parser drops the damping of a ball or free joint (it keeps a hinge's and a slide's)",
+            lambda r: _mjcf(r) and (r.facts.get("damped_free", 0) + r.facts.get("damped_balls", 0)) > 0,
+            _reread("free_damping_dropped", "ball_damping_dropped"),
+        ),
+        KnownBehaviour(
             "gravity",
             'Pinocchio\'s MJCF parser ignores <option gravity> and <flag gravity="disable"/> and keeps (0, 0, -9.81)',
             lambda r: _mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
@@ -203,6 +223,13 @@ READINGS = {
             "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
             lambda r: _mjcf(r) and r.facts["settotalmass"],
             _reread("settotalmass_ignored"),
+        ),
+        KnownBehaviour(
+            "springdamper",
+            "Drake's MJCF parser ignores a joint's springdamper, from which MuJoCo's compiler sets the stiffness "
+            "and damping (it keeps those written)",
+            lambda r: _mjcf(r) and bool(r.facts.get("springdamper")),
+            _reread("springdamper_ignored"),
         ),
         KnownBehaviour(
             "gravity_flag",
