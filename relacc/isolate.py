@@ -1,7 +1,7 @@
 """A step run in a forked child process, its result brought back by value (engine-free, POSIX).
 
-Two uses of a forked child, one mechanism (and :func:`captured_stderr` for C code that writes to stderr in this
-process):
+Two uses of a forked child, one mechanism (and :func:`captured_output` for C code that writes to stderr or stdout
+in this process):
 
 * an engine's C++ abort contained (:func:`relacc.engines.contain.survives`): the child's output goes nowhere and
   only how it ended matters;
@@ -15,6 +15,7 @@ Where ``os.fork`` is missing, :func:`run` calls the step in this process (:data:
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import faulthandler
 import os
 import pickle
@@ -142,20 +143,36 @@ def _kill(pid: int) -> None:
 
 
 @contextlib.contextmanager
-def captured_stderr():
+def captured_output(stdout: bool = False):
     """Inside the block, what C and C++ code writes to file descriptor 2 (a parser's own error lines, which no Python
-    handler sees) goes to a temporary file; the list yielded receives its lines (stripped, non-empty) at the end, for
-    the caller to say in its own words. Python's ``sys.stderr`` is flushed before and after."""
-    sys.stderr.flush()
+    handler sees), and with ``stdout`` to descriptor 1 too (Pinocchio's MJCF parser prints its warnings with
+    ``std::cout``, which would land in a ``--json`` document), goes to a temporary file; the list yielded receives its
+    lines (stripped, non-empty) at the end, for the caller to say in its own words. Python's streams and C's
+    ``stdio`` buffers are flushed before and after."""
+    fds = (1, 2) if stdout else (2,)
+    _flush_all()
     lines: list[str] = []
-    saved = os.dup(2)
+    saved = [os.dup(fd) for fd in fds]
     with tempfile.TemporaryFile() as sink:
-        os.dup2(sink.fileno(), 2)
+        for fd in fds:
+            os.dup2(sink.fileno(), fd)
         try:
             yield lines
         finally:
-            sys.stderr.flush()
-            os.dup2(saved, 2)
-            os.close(saved)
+            _flush_all()
+            for fd, kept in zip(fds, saved):
+                os.dup2(kept, fd)
+                os.close(kept)
             sink.seek(0)
             lines.extend(x.strip() for x in sink.read().decode("utf-8", "replace").splitlines() if x.strip())
+
+
+def _flush_all() -> None:
+    """Python's ``sys.stdout`` and ``sys.stderr``, and every C ``stdio`` stream (``fflush(NULL)``, where libc is
+    found): what was written before a redirection goes where it was meant to."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError):  # no C library to ask (not expected on Linux or macOS)
+        pass

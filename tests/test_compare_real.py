@@ -594,3 +594,39 @@ def test_a_springdampers_stiffness_and_damping_are_mujocos_and_the_other_parsers
     dampings = [r for r in rows if r["item"] == "damping"]
     assert dampings and all("ignores a joint's springdamper" in r["cause"] for r in dampings), rows
     assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"
+
+
+def test_what_an_engines_parser_prints_on_stdout_stays_out_of_the_json(tmp_path, capfd):
+    """myosuite's soccer_ball.xml: a cube texture from six files, not one. Pinocchio's MJCF parser prints "Warning -
+    Only texture with files are supported" with std::cout, which landed at the head of ``relacc compare --json``'s
+    document on stdout (no longer JSON). The parser's lines are now captured at the file descriptor and reported as
+    its warnings; stdout holds the document alone (checked at the descriptor, where C++ writes)."""
+    path = tmp_path / "textured.xml"
+    faces = " ".join(f'file{side}="{side}.png"' for side in ("up", "down", "left", "right", "front", "back"))
+    path.write_text(f'<mujoco model="textured"><asset><texture name="t" type="cube" {faces}/>'
+                    '<material name="m" texture="t"/></asset><worldbody>'
+                    '<body name="ball" pos="0 0 1"><freejoint/><geom type="sphere" size="0.1" material="m"/></body>'
+                    '</worldbody></mujoco>')
+    assert main(["compare", str(path), "--json", "--states", "3", "--engines", "pinocchio"]) == 0
+    data = json.loads(capfd.readouterr().out)
+    assert "Warning - Only texture with files are supported" in data["engines"]["pinocchio"]["warnings"], data
+
+
+def test_pinocchio_expanding_no_include_inside_the_first_body_is_its_known_reading(tmp_path):
+    """metaworld's sawyer_*.xml: the first world body (the mug) is a free joint whose geoms come from an <include>.
+    Pinocchio's MJCF parser expands no <include>, so it reads that body with no mass (its own model is the
+    reference); relacc's first-body reading now leaves out the included parts too, and the rows are explained."""
+    (tmp_path / "mug.xml").write_text('<mujoco><geom type="cylinder" size="0.04 0.05" mass="0.11"/></mujoco>')
+    path = tmp_path / "scene.xml"
+    path.write_text('<mujoco model="scene"><worldbody><body name="obj" pos="0 0.6 0.1"><joint name="mug" '
+                    'type="free"/><include file="mug.xml"/></body><body name="arm" pos="0 0 0.5">'
+                    '<joint name="j" axis="0 0 1"/><geom type="capsule" size="0.05 0.2"/></body></worldbody></mujoco>')
+    import pinocchio as pin
+
+    model = pin.buildModelFromMJCF(str(path))  # Pinocchio's own reading, as the cause says
+    np.testing.assert_allclose(sum(i.mass for i in model.inertias), 0.0, rtol=0, atol=0)
+    result = compare(path, engines=["pinocchio"], n_states=3, seed=11)
+    rows = [a.as_json() for a in result.audit]
+    assert any(r["item"] == "mass (kg)" and r["pinocchio"] == 0.0 for r in rows), rows
+    assert all("reads only the first <body>" in r["cause"] for r in rows), rows
+    assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"

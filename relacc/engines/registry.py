@@ -98,9 +98,9 @@ def adapter_module(name: str) -> ModuleType:
     if not installed(name):
         raise EngineError(f"engine {name} is not installed here (pip install {traits(name).pip}); installed: "
                           f"{', '.join(available()) or 'none'}")
-    from relacc.isolate import captured_stderr
+    from relacc.isolate import captured_output
 
-    with captured_stderr() as lines:  # an engine's C++ logs its failed initialization when an interrupt lands while
+    with captured_output() as lines:  # an engine's C++ logs its failed initialization when an interrupt lands while
         module = importlib.import_module(f"relacc.engines.{name}_")  # it loads (pydrake: 41 lines): the interrupt
     for line in lines:  # is relacc's one line; what it writes when it loads is passed on
         print(line, file=sys.stderr)

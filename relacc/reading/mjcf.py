@@ -81,8 +81,9 @@ VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
-* ``first_body_only``: only the first ``<body>`` written directly in the main file's ``<worldbody>`` (it expands no
-  ``<include>``);
+* ``first_body_only``: only the first ``<body>`` written directly in the main file's ``<worldbody>``, and of it only
+  what the main file writes (it expands no ``<include>``: metaworld's sawyer files include the mug's geoms into their
+  first body, which Pinocchio reads as 0 kg);
 * ``first_body_unplaced``: that first body, when it has no joint, at the world frame (its pos and orientation
   dropped);
 * ``default_geom_mass_ignored``: a geom's ``mass`` inherited from a ``<default>`` class ignored, its density used (a
@@ -169,6 +170,12 @@ def _inline(node: Node, directory: Path, depth: int) -> None:
         _inline(included, directory, depth + 1)
         node.children[k:k + 1] = included.children
         k += len(included.children)
+
+
+def _written_in(node: Node, file: str) -> Node:
+    """``node`` with only the descendants written in ``file`` (an ``<include>``'s elements left out)."""
+    return Node(node.tag, node.attrib, node.file, node.line,
+                [_written_in(c, file) for c in node.children if c.file == file])
 
 
 class _Reader:
@@ -352,8 +359,8 @@ class _Reader:
     def reading(self) -> Reading:
         worlds = self.root.findall("worldbody")
         self.first_body = next((b for w in worlds for b in w.findall("body") if b.file == str(self.path)), None)
-        if "first_body_only" in self.variant:
-            first = self.first_body
+        if "first_body_only" in self.variant:  # and, as Pinocchio expands no <include>, none of its included parts
+            first = None if self.first_body is None else _written_in(self.first_body, str(self.path))
             worlds = [Node("worldbody", {}, str(self.path), 0, [] if first is None else [first])]
         for world in worlds:
             self._children(world, -1, np.zeros(3), np.eye(3), "main")

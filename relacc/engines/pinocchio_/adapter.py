@@ -63,14 +63,14 @@ class PinocchioAdapter(Adapter):
             urdf = path
         self.from_urdf = urdf is not None
         root_free = bool(reference.joints) and reference.joints[0][1].type == "free"
-        loaded = parse(path, urdf, root_free)
+        loaded, printed = parse(path, urdf, root_free)
         self.args, self.composite_model = (path, reference, urdf), loaded
         self.model = split_composites(loaded) if split else loaded
         self.gravity0 = self.model.gravity.linear.copy()
         m = self.model
         note = dynamics_text(urdf)[1] if urdf is not None else None  # what it was not given of the URDF
         super().__init__(reference, match(m, reference, urdf is not None), m.nq, m.nv,
-                         Path(urdf) if urdf is not None else Path(path), [note] if note else [])
+                         Path(urdf) if urdf is not None else Path(path), ([note] if note else []) + printed)
         self.link_frames, self.body_frames = {}, {}
         self._add_frames()
         require_memory(data_bytes(m.nv), f"Pinocchio's data of {Path(path).name} ({m.nv} speeds)",

@@ -32,21 +32,24 @@ def kind(joint) -> str | None:
     return None
 
 
-def parse(path, urdf=None, root_free: bool = False) -> "pin.Model":
-    """Pinocchio's model of ``path`` (MJCF), or of ``urdf`` by its URDF parser.
+def parse(path, urdf=None, root_free: bool = False) -> tuple["pin.Model", list[str]]:
+    """Pinocchio's model of ``path`` (MJCF), or of ``urdf`` by its URDF parser, and the lines the parser printed
+    (its warnings, on stdout or stderr: captured, never mixed into relacc's output).
 
     Raises:
         ModelError: the parser's message.
     """
-    from relacc.isolate import captured_stderr
+    from relacc.isolate import captured_output
 
     text = dynamics_text(urdf)[0] if urdf is not None else None  # its kinematics and inertials only
     try:
-        with captured_stderr() as printed:  # urdfdom prints its errors to stderr itself: they go in the message
+        with captured_output(stdout=True) as printed:  # urdfdom prints its errors to stderr: they go in the message
             if text is not None:
-                return pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free else \
+                model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free else \
                     pin.buildModelFromXML(text)
-            return pin.buildModelFromMJCF(str(path))
+            else:
+                model = pin.buildModelFromMJCF(str(path))
+        return model, printed
     except Exception as exc:  # Pinocchio raises ValueError/RuntimeError with its parser's message
         said = " ".join(" ".join(printed).split())
         raise ModelError(f"{urdf or path}: Pinocchio cannot read it: {' '.join(str(exc).split())}"
