@@ -58,13 +58,14 @@ class PinocchioAdapter(Adapter):
     engine = "pinocchio"
     global_coordinates = frozenset({"velocity", "V", "Vdot"})
 
-    def __init__(self, path, reference, urdf=None, split=False):
+    def __init__(self, path, reference, urdf=None, split=False, armature_as_case2=False):
         if urdf is None and Path(path).suffix.lower() == ".urdf":  # a URDF goes to Pinocchio's URDF parser
             urdf = path
         self.from_urdf = urdf is not None
         root_free = bool(reference.joints) and reference.joints[0][1].type == "free"
         loaded, printed = parse(path, urdf, root_free)
         self.args, self.composite_model = (path, reference, urdf), loaded
+        self.split, self.armature_as_case2 = split, armature_as_case2
         self.model = split_composites(loaded) if split else loaded
         self.gravity0 = self.model.gravity.linear.copy()
         m = self.model
@@ -221,6 +222,32 @@ class PinocchioAdapter(Adapter):
             for name, load in effects.bodies.items():
                 J = six(pin.getFrameJacobian(m, d, self.body_frames[name], LWA))
                 tau[i] += float(load.factor(t[i] if np.ndim(t) else t)) * (J[:3].T @ load.force + J[3:].T @ load.torque)
+        return tau
+
+    def free_armature(self) -> dict:
+        """``{v index of a free joint's first speed: (3,) its translations' armature}`` where nonzero: Pinocchio adds
+        it in its own speeds (the body-frame velocity of the body's origin), MuJoCo and relacc in case 2's (the
+        world-frame one)."""
+        m = self.model
+        out = {}
+        for j in range(1, m.njoints):
+            if m.joints[j].shortname() == "JointModelFreeFlyer":
+                a = m.armature[m.joints[j].idx_v:m.joints[j].idx_v + 3]
+                if np.any(a != 0):
+                    out[m.joints[j].idx_v] = a.copy()
+        return out
+
+    def generalized_forces(self, qe, ve, effects, t=0.0) -> np.ndarray:
+        """As :meth:`Adapter.generalized_forces`; with ``armature_as_case2`` (a known behaviour's change, not the
+        engine as it is) also ``A T_dot u = -a (omega x v)`` on a free joint's translations (``a`` their armature,
+        ``omega`` and ``v`` its body-frame angular and linear speeds, ``T_dot`` of :meth:`v_block`): mapped to case 2,
+        Pinocchio's equations carry ``-T^T A T_dot u`` from its armature, added in its own speeds; this undoes it, so
+        that the armature acts as MuJoCo's and relacc's, added in case 2's."""
+        tau = super().generalized_forces(qe, ve, effects, t)
+        if self.armature_as_case2:
+            ve = np.atleast_2d(ve)
+            for k, a in self.free_armature().items():
+                tau[:, k:k + 3] -= a * np.cross(ve[:, k + 3:k + 6], ve[:, k:k + 3])
         return tau
 
     def equations(self, qe, ve, effects=None, t=0.0):

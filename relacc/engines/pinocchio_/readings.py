@@ -19,6 +19,14 @@ ENGINE_READINGS = (
         lambda robot: bool(robot.composites()),
         lambda robot: _split(robot),
     ),
+    KnownBehaviour(
+        "free_armature",
+        "Pinocchio adds a free joint's armature in its own speeds (the body-frame velocity of the body's origin), "
+        "MuJoCo and relacc in case 2's (the world-frame velocity): for an armature equal on the three translations "
+        "the same mass matrix, but bias forces that differ by the armature times omega x v",
+        lambda robot: bool(robot.free_armature()),
+        lambda robot: _armature_as_case2(robot),
+    ),
 )
 """Differences in Pinocchio's algorithms rather than its reading of the file."""
 
@@ -27,4 +35,11 @@ def _split(robot):
     from relacc.engines.pinocchio_ import PinocchioAdapter
 
     path, reference, urdf = robot.args
-    return PinocchioAdapter(path, reference, urdf=urdf, split=True)
+    return PinocchioAdapter(path, reference, urdf=urdf, split=True, armature_as_case2=robot.armature_as_case2)
+
+
+def _armature_as_case2(robot):
+    from relacc.engines.pinocchio_ import PinocchioAdapter
+
+    path, reference, urdf = robot.args
+    return PinocchioAdapter(path, reference, urdf=urdf, split=robot.split, armature_as_case2=True)
