@@ -48,7 +48,9 @@ def same_model(tree):
     """Pinocchio's ``Model`` of relacc's tree, built joint by joint (hinges and slides only; ``None`` otherwise).
 
     A body's joints are applied in order, each hinge about its anchor (``Joint.pos``) in the body frame as moved by
-    the joints before it, as MuJoCo and relacc do; Pinocchio's coordinate is relacc's minus the joint's ``ref``.
+    the joints before it, as MuJoCo and relacc do; a body with several joints gets one ``JointModelComposite``, as
+    Pinocchio's own MJCF parser builds it (one body in its recursions, not one per joint). Pinocchio's coordinate is
+    relacc's minus the joint's ``ref``.
     """
     import pinocchio as pin
 
@@ -62,12 +64,21 @@ def same_model(tree):
         joint, frame = frames[body.parent]
         w, x, y, z = body.quat
         frame = frame * pin.SE3(pin.Quaternion(w, x, y, z).toRotationMatrix(), np.asarray(body.pos))
-        for j in body.joints:
-            hinge = j.type == "hinge"
-            anchor = np.asarray(j.pos) if hinge else np.zeros(3)
-            joint = model.addJoint(joint, _joint_model(hinge, j.axis), frame * pin.SE3(np.eye(3), anchor), j.name)
-            frame = pin.SE3(np.eye(3), -anchor)
-            armature.extend(j.armature)
+        if body.joints:
+            parts, before = [], np.zeros(3)  # (joint model, placement after the one before)
+            for j in body.joints:
+                anchor = np.asarray(j.pos) if j.type == "hinge" else np.zeros(3)
+                parts.append((_joint_model(j.type == "hinge", j.axis), pin.SE3(np.eye(3), anchor - before)))
+                before = anchor
+                armature.extend(j.armature)
+            if len(parts) == 1:
+                kind, placement = parts[0][0], frame * parts[0][1]
+            else:  # each part placed after the one before; the first in the composite's frame
+                kind, placement = pin.JointModelComposite(), frame
+                for part, after in parts:
+                    kind.addJoint(part, after)
+            joint = model.addJoint(joint, kind, placement, body.joints[0].name)
+            frame = pin.SE3(np.eye(3), -before)
         model.appendBodyToJoint(joint, pin.Inertia(body.mass, np.asarray(body.com), np.asarray(body.inertia)), frame)
         frames[i] = (joint, frame)
     model.armature = np.asarray(armature)
