@@ -83,6 +83,40 @@ def test_a_urdf_with_a_welded_base_runs_observed_at_its_first_moving_link(tmp_pa
         assert "l1" in out.out
 
 
+def test_an_unnamed_body_is_observed_on_every_engine(tmp_path, capsys):
+    """pybullet_data's cylinder.xml: one unnamed free body. relacc names it "body 1" (MuJoCo's index), Pinocchio
+    "Bis", Drake "body1": Pinocchio's adapter raised a KeyError and Drake's a RuntimeError, each a traceback out of
+    ``relacc simulate --model``. The body is now found through the joint that moves it; the four engines' G2 agree
+    to the error model (the run's own verdict, exit 0)."""
+    path = _model(tmp_path, "unnamed.xml", '<mujoco><worldbody><body pos="0 0 1"><joint type="free"/>'
+                                           '<geom size="0.05 0.1" type="cylinder"/></body></worldbody></mujoco>')
+    code = main(["simulate", "--model", str(path), "--duration", "0.02", "--json", "--quiet"])
+    out = capsys.readouterr()
+    assert code == 0 and not out.err, out.err
+    assert sorted(json.loads(out.out)["engines"]) == ["drake", "mujoco", "pinocchio", "relacc"], out.out
+
+
+def test_an_engine_whose_reading_has_no_mass_is_left_out_with_the_reason(tmp_path, capsys):
+    """brax's double_pendulum.xml: every geom ``contype="0" conaffinity="0"``, which Pinocchio's MJCF parser leaves
+    out of the inertia (its own model weighs 0 kg: the reference). Its forward dynamics is not finite, and the run
+    ended "the integration diverged ... reduce the step", advice that cannot help. The default scene now leaves
+    Pinocchio out and says why; asked for by name, it is one line saying the same, exit 2."""
+    import pinocchio as pin
+
+    path = _model(tmp_path, "visual.xml", '<mujoco><default><geom contype="0" conaffinity="0"/></default><worldbody>'
+                                          '<body name="a"><joint name="h1" axis="1 0 0"/><geom size=".15" mass="1" '
+                                          'pos="0 .5 0"/><body name="b" pos="0 .5 0"><joint name="h2" axis="1 0 0"/>'
+                                          '<geom size=".15" mass="1" pos="0 .5 0"/></body></body></worldbody></mujoco>')
+    assert sum(i.mass for i in pin.buildModelFromMJCF(str(path)).inertias) == 0.0
+    code = main(["simulate", "--model", str(path), "--duration", "0.02", "--json", "--quiet"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and "pinocchio" not in out["engines"], out["engines"]
+    assert "mass matrix is singular" in out["left_out"]["pinocchio"], out["left_out"]
+    code = main(["simulate", "--model", str(path), "--duration", "0.02", "--engines", "relacc,pinocchio", "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "forward dynamics at the initial state is not finite" in err[0], err
+
+
 def test_an_engine_that_lacks_joints_is_left_out_of_the_default_scene_and_said(tmp_path, capsys):
     path = _model(tmp_path, "two_roots.xml", TWO_ROOTS)
     code = main(["simulate", "--model", str(path), "--duration", "0.02", "--json", "--quiet"])

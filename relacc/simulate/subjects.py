@@ -52,6 +52,13 @@ def adapter(scene, name: str):
     if lacks:
         raise EngineError(f"{name} cannot simulate {scene.model_path.name}: its reading lacks the joints "
                           f"{', '.join(lacks)} (relacc compare says why)")
+    q2, u2 = reference_state(scene, scene.q, scene.u)
+    with np.errstate(all="ignore"):
+        forward = engine.dynamics(q2, u2).forward
+    if forward is not None and not np.all(np.isfinite(forward)):  # no trajectory: say why, not "reduce the step"
+        raise EngineError(f"{name} cannot simulate {scene.model_path.name}: its forward dynamics at the initial state "
+                          "is not finite (its mass matrix is singular: it reads the file as another model, relacc "
+                          "compare says how)")
     return engine
 
 

@@ -163,8 +163,14 @@ class DrakeAdapter(Adapter):
             link = self._link(name, head)
             X = p.EvalBodyPoseInWorld(self.context, head)
             return head, X.inverse().multiply(link.com)
-        if kind == "body":
-            body = p.GetBodyByName(name)
+        if kind == "body":  # by name, else (an unnamed body: Drake names it otherwise) by the joint that moves it
+            if p.HasBodyNamed(name):
+                body = p.GetBodyByName(name)
+            elif name in self.heads:
+                body = self.heads[name]
+            else:
+                raise EngineError(f"{self.source or 'the plant'}: relacc finds no Drake body for {name!r} (its parser "
+                                  "names it otherwise and no matched joint moves it)")
             return body, np.asarray(self.reference.bodies[self.reference.body(name)].com, dtype=float)
         if not p.HasFrameNamed(name):
             raise EngineError(f"{self.source or 'the plant'}: Drake has no frame named {name!r}")

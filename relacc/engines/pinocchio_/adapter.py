@@ -111,12 +111,26 @@ class PinocchioAdapter(Adapter):
             placement = pin.SE3(np.eye(3), m.inertias[j].lever.copy())
             self.link_frames[name] = (j, tuple(bodies), m.addFrame(pin.Frame(f"relacc_com_{name}", j, placement,
                                                                               pin.FrameType.OP_FRAME)))
-        for body in tree.bodies:
-            if m.existFrame(body.name, pin.FrameType.BODY):
-                f = m.frames[m.getFrameId(body.name, pin.FrameType.BODY)]
+        for b, body in enumerate(tree.bodies):
+            found = self._body_frame(b, last)
+            if found is not None:
+                f = m.frames[found]
                 at = f.placement * pin.SE3(np.eye(3), np.asarray(body.com, dtype=float))
                 self.body_frames[body.name] = m.addFrame(pin.Frame(f"relacc_body_{body.name}", f.parentJoint, at,
                                                                    pin.FrameType.OP_FRAME))
+
+    def _body_frame(self, b: int, last: dict) -> int | None:
+        """Pinocchio's BODY frame of the reference's body ``b``: by name, else (an unnamed body, which Pinocchio names
+        ``<parent>Bis``) the one BODY frame on the joint that carries the body's last matched joint; None if neither
+        says."""
+        m, name = self.model, self.reference.bodies[b].name
+        if m.existFrame(name, pin.FrameType.BODY):
+            return m.getFrameId(name, pin.FrameType.BODY)
+        if b not in last:
+            return None
+        j = self._joint_of(last[b].v[-1])
+        on = [i for i, f in enumerate(m.frames) if f.type == pin.FrameType.BODY and f.parentJoint == j]
+        return on[0] if len(on) == 1 else None
 
     def _structure(self) -> Structure:
         m, d = self.model, self.model.createData()
@@ -290,6 +304,9 @@ class PinocchioAdapter(Adapter):
         if kind == "com":
             return self.link_frames[name][2]
         if kind == "body":
+            if name not in self.body_frames:
+                raise EngineError(f"{self.source}: relacc finds no Pinocchio body for {name!r} (its parser names it "
+                                  "otherwise and no matched joint carries it)")
             return self.body_frames[name]
         frames = [i for i, f in enumerate(self.model.frames) if f.name == name]
         if not frames:
