@@ -286,3 +286,22 @@ def test_an_interrupt_at_any_moment_is_one_line_and_130(tmp_path, signum, delay)
                                                                                      "was changed")
     assert finished or interrupted, (signum, delay, proc.returncode, out[-300:], err[-2000:])
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_engine_run_alone_is_checked_at_its_own_states_normalized_and_says_so(tmp_path):
+    """A scene run on Drake alone with its explicit Euler (a scene file's ``drake_integrator``): relacc's acceleration
+    is checked along Drake's trajectory, whose free-joint quaternion drifts off unit by Euler's truncation error
+    (well above the 1e-12 relacc accepts as input), so the check ended "pass unit quaternions". It is now made at
+    those quaternions normalized, which is the rotation Drake itself evaluates (its rotation of a quaternion is
+    ``2 / |q|^2``-scaled); the result says whose trajectory and how far they were off; the accelerations agree
+    within the run's own bound."""
+    from relacc import simulate
+    from relacc.simulate import scenes
+
+    path = _model(tmp_path, "unnamed.xml", '<mujoco><worldbody><body pos="0 0 1"><joint type="free"/>'
+                                           '<geom size="0.05 0.1" type="cylinder"/></body></worldbody></mujoco>')
+    base = scenes.model_scene(path, seed=0, duration=0.4, dt=0.08)
+    result = simulate.run(base.replace(engines=("drake",), drake_integrator="euler"), keep=False)
+    c = result.note_check["drake"]
+    assert c["along"] == "drake" and c["quaternions_normalized"] > 1e-12, c
+    assert c["error"] <= c["bound"], c
