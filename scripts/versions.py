@@ -6,12 +6,15 @@
 ``--mujoco`` replaces MuJoCo by another release inside the declared range (3.3.7: the URDF inertial rotation bug,
 google-deepmind/mujoco#3559; 3.10.0: ``mj_fullM``'s new signature), to run the suite against a known engine bug.
 Prints the versions installed, then pytest's summary; exits with pytest's code. Writes only the environment
-(default: a new temporary directory, removed at the end unless --venv names one).
+(default: a new temporary directory, removed at the end unless --venv names one) and numba's cache of the run, in
+that temporary directory: another numba over the same source tree would otherwise replace the working copy's
+compiled kernels beside the package (the next run in the development venv then compiles cold).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import subprocess
 import sys
 import tempfile
@@ -45,7 +48,8 @@ def main() -> int:
         listed = run(uv, "pip", "list", "--python", python, capture_output=True, text=True).stdout.splitlines()
         print("\n".join(line for line in listed if line.split(" ")[0].lower() in SHOWN), flush=True)
         tests = pytest_args or ["-n", "2", "-q", "-m", "not slow", "tests"]
-        return run(python, "-m", "pytest", *tests, check=False, cwd=ROOT).returncode
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(Path(scratch) / "numba-cache")}  # not the working copy's cache
+        return run(python, "-m", "pytest", *tests, check=False, cwd=ROOT, env=env).returncode
 
 
 if __name__ == "__main__":
