@@ -29,6 +29,9 @@ size="0.02"/></body>
 <body name="target" pos="0.2 0.2 0"><joint name="target_x" type="slide" axis="1 0 0"/><geom type="sphere" size="0.02"/>
 </body></worldbody></mujoco>
 """
+UNNAMED_FREE = '<mujoco><worldbody><body pos="0 0 1"><joint type="free"/><geom size="0.05 0.1" type="cylinder"/>' \
+    '</body></worldbody></mujoco>'
+"""pybullet_data's cylinder.xml: one unnamed free body (relacc's ``body 1``, Pinocchio's ``Bis``, Drake's ``body1``)."""
 SHORT = {"simulate": ["--duration", "0.02"], "tradeoff": ["--quick"], "check": ["--states", "2"],
          "report": ["--quick", "--states", "2"], "compare": ["--states", "2"]}
 
@@ -89,8 +92,7 @@ def test_an_unnamed_body_is_observed_on_every_engine(tmp_path, capsys):
     "Bis", Drake "body1": Pinocchio's adapter raised a KeyError and Drake's a RuntimeError, each a traceback out of
     ``relacc simulate --model``. The body is now found through the joint that moves it; the four engines' G2 agree
     to the error model (the run's own verdict, exit 0)."""
-    path = _model(tmp_path, "unnamed.xml", '<mujoco><worldbody><body pos="0 0 1"><joint type="free"/>'
-                                           '<geom size="0.05 0.1" type="cylinder"/></body></worldbody></mujoco>')
+    path = _model(tmp_path, "unnamed.xml", UNNAMED_FREE)
     code = main(["simulate", "--model", str(path), "--duration", "0.02", "--json", "--quiet"])
     out = capsys.readouterr()
     assert code == 0 and not out.err, out.err
@@ -103,8 +105,7 @@ def test_the_integrator_sweep_of_a_free_body_runs_every_engines_explicit_schemes
     need their final positions, also checked relacc's acceleration at those states: relacc refuses a non-unit
     quaternion, so the command ended "pass unit quaternions", exit 2. The sweep's runs no longer check (the engines
     are judged once, on the run with relacc in it); every scheme gives a row, Drake's Euler at first order."""
-    path = _model(tmp_path, "unnamed.xml", '<mujoco><worldbody><body pos="0 0 1"><joint type="free"/>'
-                                           '<geom size="0.05 0.1" type="cylinder"/></body></worldbody></mujoco>')
+    path = _model(tmp_path, "unnamed.xml", UNNAMED_FREE)
     code = main(["tradeoff", "--model", str(path), "--quick", "--quiet", "--json"])
     out = capsys.readouterr()
     assert code == 0 and not out.err, out.err
@@ -125,24 +126,25 @@ def test_an_engine_whose_reading_has_no_mass_is_left_out_with_the_reason(tmp_pat
                                           'pos="0 .5 0"/><body name="b" pos="0 .5 0"><joint name="h2" axis="1 0 0"/>'
                                           '<geom size=".15" mass="1" pos="0 .5 0"/></body></body></worldbody></mujoco>')
     assert sum(i.mass for i in pin.buildModelFromMJCF(str(path)).inertias) == 0.0
-    code = main(["simulate", "--model", str(path), "--duration", "0.02", "--json", "--quiet"])
-    out = json.loads(capsys.readouterr().out)
-    assert code == 0 and "pinocchio" not in out["engines"], out["engines"]
-    assert "mass matrix is singular" in out["left_out"]["pinocchio"], out["left_out"]
-    code = main(["simulate", "--model", str(path), "--duration", "0.02", "--engines", "relacc,pinocchio", "--quiet"])
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(err) == 1 and "forward dynamics at the initial state is not finite" in err[0], err
+    _pinocchio_left_out_then_one_line(path, capsys, "mass matrix is singular",
+                                      "forward dynamics at the initial state is not finite")
 
 
 def test_an_engine_that_lacks_joints_is_left_out_of_the_default_scene_and_said(tmp_path, capsys):
     path = _model(tmp_path, "two_roots.xml", TWO_ROOTS)
+    _pinocchio_left_out_then_one_line(path, capsys, "target_x", "lacks the joints target_x")
+
+
+def _pinocchio_left_out_then_one_line(path, capsys, why: str, line: str):
+    """The model's default scene runs without Pinocchio and says ``why`` (exit 0); asked for by name, Pinocchio is
+    one line holding ``line``, exit 2."""
     code = main(["simulate", "--model", str(path), "--duration", "0.02", "--json", "--quiet"])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and "pinocchio" not in out["engines"], out["engines"]
-    assert "target_x" in out["left_out"]["pinocchio"], out["left_out"]
+    assert why in out["left_out"]["pinocchio"], out["left_out"]
     code = main(["simulate", "--model", str(path), "--duration", "0.02", "--engines", "relacc,pinocchio", "--quiet"])
     err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(err) == 1 and "lacks the joints target_x" in err[0], err
+    assert code == 2 and len(err) == 1 and line in err[0], err
 
 
 @pytest.mark.parametrize("engine", ["relacc", "pinocchio", "mujoco", "drake"])
@@ -298,8 +300,7 @@ def test_an_engine_run_alone_is_checked_at_its_own_states_normalized_and_says_so
     from relacc import simulate
     from relacc.simulate import scenes
 
-    path = _model(tmp_path, "unnamed.xml", '<mujoco><worldbody><body pos="0 0 1"><joint type="free"/>'
-                                           '<geom size="0.05 0.1" type="cylinder"/></body></worldbody></mujoco>')
+    path = _model(tmp_path, "unnamed.xml", UNNAMED_FREE)
     base = scenes.model_scene(path, seed=0, duration=0.4, dt=0.08)
     result = simulate.run(base.replace(engines=("drake",), drake_integrator="euler"), keep=False)
     c = result.note_check["drake"]

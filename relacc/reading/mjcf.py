@@ -320,7 +320,9 @@ class _Reader:
         included; a free joint's three translations and three rotations each averaged, a ball's three), stiffness
         that over ``(timeconst dampratio)^2``, damping twice that over ``timeconst``. ``M`` is Kane's
         ``sum_b m_b V_b^T V_b + Omega_b^T I_b Omega_b`` from the note's partial velocities (the reference walk of
-        :mod:`relacc.core.tree.walk`). Where ``M`` is singular the values written stay, and a note says so."""
+        :mod:`relacc.core.tree.walk`; :func:`relacc.dynamics.tree.equations` sums the same terms a batch at a time,
+        with the forces, in the layer above the reading). Where ``M`` is singular the values written stay, and a
+        note says so."""
         from relacc.core.tree.coordinates import reference_q
         from relacc.core.tree.kinematics import tree_kinematics
 

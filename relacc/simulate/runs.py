@@ -241,16 +241,17 @@ def _unit_quaternions(tree, q) -> tuple[np.ndarray, float]:
     normalized, and the largest ``| |q|^2 - 1 |`` so corrected (0.0: nothing changed). The engines evaluate a
     quaternion's rotation as if unit (Drake through ``2 / |q|^2``, MuJoCo normalizing every step), so the normalized
     state is the one they mean; the caller says so."""
+    from relacc.core.cases import quaternion_norm_deviation
     from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
     from relacc.core.tree.coordinates import rotations
 
     q, drift = np.array(q, dtype=float), 0.0
     for _, _, a, _ in rotations(tree, 2):
-        squared = np.sum(q[:, a:a + 4] ** 2, axis=1)
-        far = np.abs(squared - 1) > QUATERNION_NORM_TOLERANCE
+        dev = quaternion_norm_deviation(q[:, a:a + 4])  # what relacc's input check measures
+        far = dev > QUATERNION_NORM_TOLERANCE
         if np.any(far):
-            drift = max(drift, float(np.max(np.abs(squared - 1))))
-            q[far, a:a + 4] /= np.sqrt(squared[far])[:, None]
+            drift = max(drift, float(np.max(dev)))
+            q[far, a:a + 4] /= np.linalg.norm(q[far, a:a + 4], axis=1)[:, None]
     return q, drift
 
 

@@ -239,8 +239,8 @@ class PinocchioAdapter(Adapter):
         return tau
 
     def free_armature(self) -> dict:
-        """``{v index of a free joint's first speed: (3,) its translations' armature}`` where nonzero: Pinocchio adds
-        it in its own speeds (the body-frame velocity of the body's origin), MuJoCo and relacc in case 2's (the
+        """``{v index of a free joint's first speed: (3,) its translations' armature, kg}`` where nonzero: Pinocchio
+        adds it in its own speeds (the body-frame velocity of the body's origin), MuJoCo and relacc in case 2's (the
         world-frame one)."""
         m = self.model
         out = {}
