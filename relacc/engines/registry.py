@@ -98,12 +98,14 @@ def adapter_module(name: str) -> ModuleType:
     if not installed(name):
         raise EngineError(f"engine {name} is not installed here (pip install {traits(name).pip}); installed: "
                           f"{', '.join(available()) or 'none'}")
+    from relacc.files import PENDING
     from relacc.isolate import captured_output
 
     with captured_output() as lines:  # an engine's C++ logs its failed initialization when an interrupt lands while
         module = importlib.import_module(f"relacc.engines.{name}_")  # it loads (pydrake: 41 lines): the interrupt
-    for line in lines:  # is relacc's one line; what it writes when it loads is passed on
-        print(line, file=sys.stderr)
+    if PENDING[0] is None:  # is relacc's one line, also when the engine caught it and loaded anyway (its stack and
+        for line in lines:  # "KeyboardInterrupt" are the interrupt's, not news); what it writes otherwise is passed on
+            print(line, file=sys.stderr)
     return module
 
 
