@@ -104,7 +104,7 @@ def one_model(path: Path, n: int, repeats: int) -> dict:
     from relacc.core.tree import random_states
     from relacc.engines import load
     from relacc.kernels.jit import threads
-    from relacc.kernels.tree_dynamics import method
+    from relacc.kernels.tree_dynamics import algorithm_used
     from relacc.tradeoff.throughput import wall_times
 
     tree = relacc.Tree.from_file(path)
@@ -117,7 +117,7 @@ def one_model(path: Path, n: int, repeats: int) -> dict:
     theirs, a_pin = _time_pinocchio(engine.model, x.q, x.v, repeats)
     mapped = engine.to_engine(s.q, s.u, a_mine).a  # relacc's accelerations in Pinocchio's speeds
     difference = float(np.max(np.abs(mapped - a_pin)) / max(np.max(np.abs(a_pin)), 1e-300))
-    r = {"model": path.name, "nv": tree.nv, "bodies": tree.nb, "method": method(tree),
+    r = {"model": path.name, "nv": tree.nv, "bodies": tree.nb, "method": algorithm_used(tree, 2),
          "pinocchio_nv": int(engine.model.nv), "shared_speeds": len(engine.dofs),
          "relacc_us": {"median": mine[0] / n * 1e6, "best": mine[1] / n * 1e6},
          "abaInParallel_us": {"median": theirs[0] / n * 1e6, "best": theirs[1] / n * 1e6},
@@ -154,7 +154,7 @@ def main(argv=None) -> int:
             skipped[path.name] = str(exc)
     print("one thread, us per state: median (best); ratio of medians; largest relative difference")
     for r in rows:
-        print(f"  {r['model']:28s} nv {r['nv']:3d} {r['method']}  relacc {r['relacc_us']['median']:6.2f} "
+        print(f"  {r['model']:28s} nv {r['nv']:3d} {r['method']:5s}  relacc {r['relacc_us']['median']:6.2f} "
               f"({r['relacc_us']['best']:.2f})  abaInParallel {r['abaInParallel_us']['median']:6.2f} "
               f"({r['abaInParallel_us']['best']:.2f})  x{r['ratio_of_medians']:.2f}  {r['relative_difference']:.1e}"
               + ("" if r["pinocchio_nv"] == r["nv"] == r["shared_speeds"] and r["relative_difference"] < 1e-6 else

@@ -35,7 +35,7 @@ def test_two_balls_on_one_body_are_refused_in_every_case(case, backend):
         relacc.tree_accelerations(tree, case, s.q, s.u, backend=backend)
 
 
-@pytest.mark.parametrize("algorithm", ["crba", "aba"])
+@pytest.mark.parametrize("algorithm", ["lanes", "crba", "aba"])
 @pytest.mark.parametrize("case", [1, 2, 3])
 def test_both_kernels_flag_every_state_of_a_rank_deficient_tree(algorithm, case):
     tree = _two_balls()
@@ -56,11 +56,13 @@ def test_an_ill_conditioned_but_regular_tree_is_answered_alike_by_both_kernels(c
     s = random_states(tree, case, 64, SEED + 10 * case)
     crba, _, n1 = kernel.accelerations(tree, case, s.q, s.u, np.zeros_like(s.u), tree.gravity, algorithm="crba")
     aba, _, n2 = kernel.accelerations(tree, case, s.q, s.u, np.zeros_like(s.u), tree.gravity, algorithm="aba")
-    assert n1 == n2 == 0
+    lanes, _, n3 = kernel.accelerations(tree, case, s.q, s.u, np.zeros_like(s.u), tree.gravity, algorithm="lanes")
+    assert n1 == n2 == n3 == 0
     M = relacc.tree_dynamics(tree, case, s.q, s.u).M
     bound = 64 * np.finfo(float).eps * np.linalg.cond(M)
-    err = np.abs(crba - aba).max(axis=1) / np.abs(crba).max(axis=1)
-    assert np.all(err <= bound), f"seed {SEED + 10 * case}: {err.max():.3g} > {bound.max():.3g}"
+    for other in (aba, lanes):
+        err = np.abs(crba - other).max(axis=1) / np.abs(crba).max(axis=1)
+        assert np.all(err <= bound), f"seed {SEED + 10 * case}: {err.max():.3g} > {bound.max():.3g}"
     assert PIVOT_FLOOR * np.linalg.cond(M).max() < 1
 
 

@@ -142,10 +142,11 @@ def _dynamics_scale(tree, case, q, u, acc):
     return np.array(out)
 
 
-@pytest.mark.parametrize("algorithm", ["crba", "aba"])
+@pytest.mark.parametrize("algorithm", ["lanes", "crba", "aba"])
 @pytest.mark.parametrize("seed", [0, 3, 7, 11])
 def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed, algorithm):
-    """Forward dynamics by composite inertias and L^T D L, and by the articulated-body algorithm, against Kane's
+    """Forward dynamics by composite inertias and L^T D L (numba's, and its code traced into vector lanes), and by the
+    articulated-body algorithm, against Kane's
     equations solved by Cholesky, every case, within the perturbation bound of a solve
     (``||M^-1|| (||M|| |udot| + |f|) c eps depth``)."""
     from relacc.kernels import tree_dynamics

@@ -1,6 +1,6 @@
-"""Kernels: the fused, compiled (numba) evaluations of the core's corrected formulas.
+"""Kernels: the fused, compiled (numba, and LLVM through llvmlite) evaluations of the core's corrected formulas.
 
-Layer rule: imports the core and numba; never an engine. Nothing here is
+Layer rule: imports the core, numba and llvmlite; never an engine. Nothing here is
 imported by ``import relacc``: :mod:`relacc.core.kinematics` and
 :mod:`relacc.dynamics` import these modules at the first batched call.
 
@@ -9,6 +9,9 @@ imported by ``import relacc``: :mod:`relacc.core.kinematics` and
 * :mod:`~relacc.kernels.perstate`: the per-state arithmetic shared by the loops.
 * :mod:`~relacc.kernels.kinematics`: batch loops behind :func:`relacc.g2_kinematics`.
 * :mod:`~relacc.kernels.dynamics`: Kane's ``M``, ``f`` per state, and the SO(3) steps.
+* :mod:`~relacc.kernels.tree_dynamics` and its ``tree_*`` modules: a tree's forward dynamics, kinematics and loads.
+* :mod:`~relacc.kernels.lanes`: the tree's forward dynamics code traced once per tree and compiled over several
+  states at once in vector lanes.
 """
 
 __all__: list[str] = []

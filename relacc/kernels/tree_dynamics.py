@@ -77,8 +77,10 @@ def method(tree) -> str:
 def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str | None = None):
     """``udot`` of checked-shape, C-contiguous float64 ``(n, .)`` inputs (into ``out`` if given).
 
-    ``algorithm``: ``"crba"`` or ``"aba"`` to force one (default: :func:`method`). Case 3 is solved in case-2 speeds
-    on its own coordinates and mapped to the rates, state by state inside the kernel
+    ``algorithm``: ``"lanes"``, ``"crba"`` or ``"aba"`` to force one. By default :func:`method`'s algorithm traced
+    and compiled over several states at once (:mod:`relacc.kernels.lanes`) where it is available (llvmlite, a tree
+    within :data:`relacc.kernels.lanes.MAX_OPS`), else the same algorithm's numba kernel. Case 3 is solved in
+    case-2 speeds on its own coordinates and mapped to the rates, state by state inside the kernel
     (:func:`relacc.kernels.tree_spatial.row_to_speeds`, :func:`~relacc.kernels.tree_spatial.row_to_rates`): its
     error is ``cond(W)`` times case 2's, where Kane's equations in the rates would have it squared. The kernels run
     on the tree with its welded bodies folded into their parents (:func:`relacc.core.tree.model.welded_folded`).
@@ -89,10 +91,40 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     """
     n = q.shape[0]
     out = np.empty((n, tree.nv)) if out is None else out
+    lane = _lanes(tree, case, algorithm)
+    if lane is not None:
+        args = (writable(q), writable(u), writable(tau), writable(np.asarray(gravity, dtype=float)), out)
+        serial = not parallel_pays(n, LANES_US_PER_SPEED * tree.nv, BLOCK)
+        bad_in, singular = lane.block(*args, 0, n) if serial else split(lane.block, args, n, BLOCK)
+        return out, int(bad_in), int(singular)
     fn, args = _block_call(tree, case, algorithm, writable(q), writable(u), writable(tau), writable(gravity), out)
     serial = not parallel_pays(n, US_PER_SPEED * tree.nv, BLOCK)
     bad_in, singular = fn(*args, 0, n) if serial else split(fn, args, n, BLOCK)
     return out, int(bad_in), int(singular)
+
+
+LANES_US_PER_SPEED = 0.025
+"""The lanes' cost per state and per speed on one core, in us (gymnasium's ant 0.32 us for 14 speeds, humanoid 0.6 us
+for 23: ``trees-2026-11-25-run18``), what :func:`relacc.kernels.jit.parallel_pays` weighs for them."""
+
+
+def _lanes(tree, case, algorithm):
+    """The tree's :class:`relacc.kernels.lanes.Kernel` for ``case`` when ``algorithm`` asks for it or leaves the choice
+    (None where it is not available and not asked for by name)."""
+    if algorithm not in (None, "lanes"):
+        return None
+    from relacc.kernels import lanes
+
+    folded = welded_folded(tree)
+    lane = lanes.kernel(folded, int(case), plan(folded).method)
+    if lane is None and algorithm == "lanes":
+        raise ValueError(f"the lanes kernel is not available for tree {tree.name!r} (llvmlite, its size)")
+    return lane
+
+
+def algorithm_used(tree, case: int) -> str:
+    """``"lanes"``, ``"crba"`` or ``"aba"``: what :func:`accelerations` runs for this tree and case by default."""
+    return "lanes" if _lanes(tree, case, None) is not None else method(tree)
 
 
 def _block_call(tree, case, algorithm, q, u, tau, gravity, out):
@@ -119,7 +151,8 @@ def one_state(tree, case: int, q, u, gravity):
     the kernel and little else."""
     fn, args, Q, U, out = _single(tree, case, gravity)
     Q[0], U[0] = q, u
-    bad_in, singular = fn(*args)
+    res = fn(*args)
+    bad_in, singular = (int(args[5][0]), res) if len(args) == 8 else res
     return out[0].copy(), bad_in, singular
 
 
@@ -135,10 +168,31 @@ def _single(tree, case, gravity):
     if key not in cache:
         Q, U, tau, out = np.zeros((1, tree.nq(case))), np.zeros((1, tree.nv)), np.zeros((1, tree.nv)), \
             np.zeros((1, tree.nv))
+        lane = _lanes(tree, case, None)
+        if lane is not None:  # the compiled function on the buffers' addresses: a call is the kernel and ctypes
+            g, bad = np.array(gravity, dtype=float), np.zeros(1, np.int64)
+            keep = (Q, U, tau, g, out, bad, lane)
+            fn = _ZeroingCall(lane.fn, bad, keep)
+            cache[key] = (fn, tuple(a.ctypes.data for a in keep[:5]) + (bad, 0, 1), Q, U, out)
+            return cache[key]
         fn, args = _block_call(tree, case, None, Q, U, tau, np.array(gravity, dtype=float), out)
         args = args + (0, 1)
         cache[key] = (_entry_point(fn, args), args, Q, U, out)
     return cache[key]
+
+
+class _ZeroingCall:
+    """The lanes' compiled function for one state on fixed buffers: zeroes the bad-input count, passes its address
+    (the arguments' sixth is the count's array) and keeps the buffers alive as long as the call is cached."""
+
+    __slots__ = ("fn", "bad", "at", "keep")
+
+    def __init__(self, fn, bad, keep):
+        self.fn, self.bad, self.at, self.keep = fn, bad, bad.ctypes.data, keep
+
+    def __call__(self, q, u, tau, g, out, _bad, start, stop):
+        self.bad[0] = 0
+        return self.fn(q, u, tau, g, out, self.at, start, stop)
 
 
 def _entry_point(fn, args):

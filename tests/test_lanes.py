@@ -1,0 +1,156 @@
+"""The lanes kernel (relacc.kernels.lanes): the numba kernel's code traced per tree and compiled over several states
+at once. Its numbers against Kane's equations are checked with the other kernels' (tests/test_tree_kernels.py,
+tests/test_singular.py, parametrized over the algorithm); here what is its own: a state's answer does not depend on
+its lane, its batch or the lane width; bad inputs are counted per state; the object code is cached and reused; a tree
+the lanes do not take runs the numba kernels."""
+
+import numpy as np
+import pytest
+
+import relacc
+from relacc.core.tree import random_states
+from relacc.engines.mujoco_.spec import read_tree
+from relacc.kernels import lanes
+from relacc.kernels import tree_dynamics as kernel
+from tests.test_tree import _tree_file
+
+
+def _random_tree(tmp_path, seed=5, nb=6):
+    return read_tree(_tree_file(tmp_path, seed, nb))
+
+
+@pytest.mark.parametrize("case", [1, 2, 3])
+def test_a_states_answer_does_not_depend_on_its_lane_or_its_batch(tmp_path, case):
+    """13 states (not a multiple of 4 or 8: a partly filled last vector) in a batch, in reverse order, and one at a
+    time through the single-state lane: every row the same bits, since every lane runs the same instructions."""
+    seed = 5 + case
+    tree = _random_tree(tmp_path, seed)
+    s = random_states(tree, case, 13, seed)
+    tau = np.random.default_rng(seed).standard_normal((13, tree.nv))
+    batch, bad, singular = kernel.accelerations(tree, case, s.q, s.u, tau, tree.gravity, algorithm="lanes")
+    assert bad == singular == 0, f"seed {seed}"
+    back = kernel.accelerations(tree, case, s.q[::-1].copy(), s.u[::-1].copy(), tau[::-1].copy(), tree.gravity,
+                                algorithm="lanes")[0]
+    np.testing.assert_array_equal(back[::-1], batch, err_msg=f"seed {seed}")
+    if case < 3:
+        for i in range(13):
+            one = kernel.one_state(tree, case, s.q[i], s.u[i], tree.gravity)[0]
+            alone = kernel.accelerations(tree, case, s.q[i:i + 1], s.u[i:i + 1], np.zeros((1, tree.nv)),
+                                         tree.gravity, algorithm="lanes")[0][0]
+            np.testing.assert_array_equal(one, alone, err_msg=f"state {i}, seed {seed}")
+
+
+def test_the_lane_width_changes_no_number(tmp_path):
+    """The same trace compiled over 4 lanes (AVX2) and over 8 (AVX-512, or two AVX2 registers where the CPU has no
+    AVX-512): the same instructions on each state, so the same bits."""
+    tree = _random_tree(tmp_path, 9)
+    tr = lanes.trace(tree, 2)
+    s = random_states(tree, 2, 21, 9)
+    tau, g = np.zeros((21, tree.nv)), np.asarray(tree.gravity, dtype=float)
+    outs = []
+    for width in (4, 8):
+        name = f"width_test_{width}"
+        fn, engine = lanes.compile_cached(lambda: lanes.emit(tr, width, name), name)
+        k = lanes.Kernel(fn, engine, width, 0, tr.nq, tr.nv)
+        out = np.empty((21, tree.nv))
+        assert k.block(s.q, s.u, tau, g, out, 0, 21) == (0, 0)
+        outs.append(out)
+    np.testing.assert_array_equal(outs[0], outs[1])
+
+
+def test_bad_inputs_are_counted_per_state(tmp_path):
+    """A NaN coordinate, an infinite speed and a quaternion 1.1 long in three of 11 states: 3 states counted (two bad
+    values in one state count once), and ``tree_accelerations`` names the first; the other rows are answered."""
+    tree = _random_tree(tmp_path, 4)
+    s = random_states(tree, 2, 11, 4)
+    q, u = s.q.copy(), s.u.copy()
+    q[2, 0] = np.nan
+    u[2, 1] = np.nan
+    u[5, 1] = np.inf
+    q[7, 3:7] *= 1.1  # the free root's quaternion
+    out, bad, singular = kernel.accelerations(tree, 2, q, u, np.zeros_like(u), tree.gravity, algorithm="lanes")
+    assert (bad, singular) == (3, 0)
+    good = [i for i in range(11) if i not in (2, 5, 7)]
+    ref = kernel.accelerations(tree, 2, s.q[good], s.u[good], np.zeros((8, tree.nv)), tree.gravity,
+                               algorithm="lanes")[0]
+    np.testing.assert_array_equal(out[good], ref)
+    with pytest.raises(relacc.InputError, match="non-finite"):
+        relacc.tree_accelerations(tree, 2, q, u)
+
+
+def test_the_object_code_is_cached_and_loaded_by_the_next_tree(tmp_path, monkeypatch):
+    """The first tree's kernel leaves its object code in the cache directory; an equal tree read again (another
+    object: another process sees the same) loads it without emitting IR, and computes the same bits. A cache that
+    cannot be written is skipped."""
+    cache = tmp_path / "cache"
+    monkeypatch.setattr(lanes, "_cache_dir", lambda: str(cache))
+    path = _tree_file(tmp_path, 6, 5)
+    first = read_tree(path)
+    s = random_states(first, 2, 9, 6)
+    a = kernel.accelerations(first, 2, s.q, s.u, np.zeros_like(s.u), first.gravity, algorithm="lanes")[0]
+    files = sorted(p.name for p in cache.iterdir())
+    assert len(files) == 1 and files[0].startswith("lanes_") and files[0].endswith(".o"), files
+
+    def no_ir(*_a, **_k):
+        raise AssertionError("IR emitted although the object code was cached")
+
+    monkeypatch.setattr(lanes, "emit", no_ir)
+    again = read_tree(path)
+    b = kernel.accelerations(again, 2, s.q, s.u, np.zeros_like(s.u), again.gravity, algorithm="lanes")[0]
+    np.testing.assert_array_equal(a, b)
+    monkeypatch.undo()
+    blocked = tmp_path / "a-file"
+    blocked.write_text("")
+    monkeypatch.setattr(lanes, "_cache_dir", lambda: str(blocked / "sub"))
+    third = read_tree(path)
+    c = kernel.accelerations(third, 2, s.q, s.u, np.zeros_like(s.u), third.gravity, algorithm="lanes")[0]
+    np.testing.assert_array_equal(a, c)
+
+
+def test_a_tree_beyond_the_lanes_runs_the_numba_kernels(tmp_path):
+    """A 40-ball chain (126 speeds): even its articulated-body algorithm is estimated over ``MAX_OPS`` traced
+    operations (53,000 when traced), so that algorithm's numba kernel runs it; asking for the lanes by name says why
+    not."""
+    from relacc.tradeoff.trees import chain_mjcf
+
+    path = tmp_path / "chain.xml"
+    path.write_text(chain_mjcf(40, "ball"))
+    deep = read_tree(path)
+    assert kernel.method(deep) == "aba" and lanes.estimate(deep, "aba") > lanes.MAX_OPS
+    assert kernel.algorithm_used(deep, 2) == "aba"
+    assert lanes.kernel(deep, 2, "aba") is None
+    s = random_states(deep, 2, 2, 1)
+    with pytest.raises(ValueError, match="lanes kernel is not available"):
+        kernel.accelerations(deep, 2, s.q, s.u, np.zeros_like(s.u), deep.gravity, algorithm="lanes")
+
+
+def test_the_trace_folds_the_trees_constants():
+    """A pendulum on a hinge about a coordinate axis costs fewer operations than the same pendulum about an oblique
+    axis: the axis' zero components fold away (a product with 0, a sum with 0), which is where much of the lanes'
+    saving over the numba kernel comes from."""
+    def pendulum(axis):
+        return relacc.Tree("p", [relacc.Body("a", joints=[relacc.Joint.hinge("h", axis)], mass=1.0,
+                                             com=(0.3, 0.1, 0.0), inertia=np.diag([0.1, 0.2, 0.3]))])
+
+    along = sum(lanes._needed(lanes.trace(pendulum((0, 0, 1)), 2)))
+    oblique = sum(lanes._needed(lanes.trace(pendulum((0.6, 0.0, 0.8)), 2)))
+    assert along < oblique, (along, oblique)
+
+
+def test_a_freed_kernels_code_goes_with_it_and_the_next_compiles(tmp_path, monkeypatch):
+    """Kernels compiled one after another, each freed (its tree gone) before the next: each engine takes its own
+    target machine with it (before, one machine shared by the engines was used after the first was freed: a crash
+    in LLVM at the second compilation)."""
+    import gc
+
+    monkeypatch.setattr(lanes, "_cache_dir", lambda: None)
+    path = _tree_file(tmp_path, 3, 4)
+    answers = []
+    for _ in range(3):
+        tree = read_tree(path)
+        s = random_states(tree, 2, 5, 3)
+        answers.append(kernel.accelerations(tree, 2, s.q, s.u, np.zeros_like(s.u), tree.gravity,
+                                            algorithm="lanes")[0])
+        del tree
+        gc.collect()
+    np.testing.assert_array_equal(answers[0], answers[2])
