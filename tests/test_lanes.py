@@ -154,3 +154,17 @@ def test_a_freed_kernels_code_goes_with_it_and_the_next_compiles(tmp_path, monke
         del tree
         gc.collect()
     np.testing.assert_array_equal(answers[0], answers[2])
+
+
+def test_a_branch_on_a_states_value_stops_the_trace():
+    """The trace takes the tree's branches, never a state's: a comparison or a truth test of a symbolic value raises
+    ``Untraceable`` (the tree then runs the numba kernel), except the factorization's pivot tests, which become the
+    state's singular flag."""
+    g = lanes._Graph()
+    x = g.node("in", "q", 0)
+    for branch in (lambda: x > 0.5, lambda: x < 0.5, lambda: x == 0.5, lambda: bool(x), lambda: float(x)):
+        with pytest.raises(lanes.Untraceable):
+            branch()
+    g.pivots_allowed = True
+    assert (x * 2.0 > 1e-12) is True
+    assert g.pivots == [(g.ops.index(("mul", 0, ("c", 2.0))), ("c", 1e-12))]
