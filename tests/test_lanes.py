@@ -108,15 +108,14 @@ def test_the_object_code_is_cached_and_loaded_by_the_next_tree(tmp_path, monkeyp
 
 
 def test_a_tree_beyond_the_lanes_runs_the_numba_kernels(tmp_path):
-    """A 40-ball chain (126 speeds): even its articulated-body algorithm is estimated over ``MAX_OPS`` traced
-    operations (53,000 when traced), so that algorithm's numba kernel runs it; asking for the lanes by name says why
-    not."""
+    """A 40-ball chain (126 speeds): even its articulated-body algorithm traces to more than ``MAX_OPS`` operations
+    (53,000), so that algorithm's numba kernel runs it; asking for the lanes by name says why not."""
     from relacc.tradeoff.trees import chain_mjcf
 
     path = tmp_path / "chain.xml"
     path.write_text(chain_mjcf(40, "ball"))
     deep = read_tree(path)
-    assert kernel.method(deep) == "aba" and lanes.estimate(deep, "aba") > lanes.MAX_OPS
+    assert kernel.method(deep) == "aba" and sum(lanes._needed(lanes.trace(deep, 2, "aba"))) > lanes.MAX_OPS
     assert kernel.algorithm_used(deep, 2) == "aba"
     assert lanes.kernel(deep, 2, "aba") is None
     s = random_states(deep, 2, 2, 1)

@@ -460,9 +460,10 @@ def _needed(tr: Trace) -> list:
 
 
 MAX_OPS = 40000
-"""The most operations a traced tree may have: LLVM's time grows with the function (about 0.1 ms an operation here:
-gymnasium's ant's 4,900 in 0.4-0.5 s, humanoid's 9,000 in 0.9 s); a larger tree (a long chain, whose
-factorization grows as the cube of its speeds) stays with the numba kernels, the articulated-body algorithm's O(n)."""
+"""The most operations a traced tree may have: LLVM's time grows with the function, a little faster than linearly
+(gymnasium's ant's 4,900 operations in 0.3 s, humanoid's 9,300 in 0.9 s, a 60-link chain's 35,000 in 3.6 s, a
+40-ball chain's 53,000 in 5.7 s and 360 MB); a larger tree stays with the numba kernels. A tree whose
+:func:`estimate` is over twice this is not traced at all."""
 
 
 def estimate(tree, algorithm: str = "crba") -> int:
@@ -525,13 +526,13 @@ def _build(tree, case, algorithm):
         import llvmlite.binding  # noqa: F401
     except ImportError:  # pragma: no cover - llvmlite comes with numba
         return None
-    if estimate(tree, algorithm) > MAX_OPS:
+    if estimate(tree, algorithm) > 2 * MAX_OPS:  # not even traced: the trace of a long chain's CRBA is itself slow
         return None
     try:
         tr = trace(tree, case, algorithm)
     except Untraceable:
         return None
-    if len(tr.ops) > MAX_OPS:
+    if sum(_needed(tr)) > MAX_OPS:
         return None
     width = lanes()
     name = "lanes_" + _key(tr, width)[:32]
