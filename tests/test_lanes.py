@@ -51,7 +51,7 @@ def test_the_lane_width_changes_no_number(tmp_path):
     for width in (4, 8):
         name = f"width_test_{width}"
         fn, engine = lanes.compile_cached(lambda: lanes.emit(tr, width, name), name)
-        k = lanes.Kernel(fn, engine, width, 0, tr.nq, tr.nv)
+        k = lanes.Kernel(fn, engine, 2, width, 0, tr.nq, tr.nv)
         out = np.empty((21, tree.nv))
         assert k.block(s.q, s.u, tau, g, out, 0, 21) == (0, 0)
         outs.append(out)
@@ -89,7 +89,7 @@ def test_the_object_code_is_cached_and_loaded_by_the_next_tree(tmp_path, monkeyp
     s = random_states(first, 2, 9, 6)
     a = kernel.accelerations(first, 2, s.q, s.u, np.zeros_like(s.u), first.gravity, algorithm="lanes")[0]
     files = sorted(p.name for p in cache.iterdir())
-    assert len(files) == 1 and files[0].startswith("lanes_") and files[0].endswith(".o"), files
+    assert len(files) == 1 and files[0].startswith("lanes_") and files[0].endswith("_O0.o"), files
 
     def no_ir(*_a, **_k):
         raise AssertionError("IR emitted although the object code was cached")
@@ -167,3 +167,24 @@ def test_a_branch_on_a_states_value_stops_the_trace():
     g.pivots_allowed = True
     assert (x * 2.0 > 1e-12) is True
     assert g.pivots == [(g.ops.index(("mul", 0, ("c", 2.0))), ("c", 1e-12))]
+
+
+def test_the_optimized_code_takes_over_with_the_same_bits(tmp_path, monkeypatch):
+    """A kernel starts at ``-O0`` and is compiled at ``-O2`` once it has run ``UPGRADE_STATES`` states; the fused
+    multiply-adds are in the IR and no fast-math flag is set, so the two give the same bits; the ``-O2`` object code
+    is cached and the next tree starts with it."""
+    cache = tmp_path / "cache"
+    monkeypatch.setattr(lanes, "_cache_dir", lambda: str(cache))
+    monkeypatch.setattr(lanes, "UPGRADE_STATES", 50)
+    path = _tree_file(tmp_path, 8, 6)
+    tree = read_tree(path)
+    s = random_states(tree, 3, 40, 8)
+    tau = np.random.default_rng(8).standard_normal((40, tree.nv))
+    k = kernel._lanes(tree, 3, "lanes")  # the kernel of the tree as the dynamics run it (welded bodies folded)
+    first = kernel.accelerations(tree, 3, s.q, s.u, tau, tree.gravity, algorithm="lanes")[0]
+    assert (k.level, k.states) == (0, 40)
+    second = kernel.accelerations(tree, 3, s.q, s.u, tau, tree.gravity, algorithm="lanes")[0]
+    assert (k.level, k.states) == (2, 80)
+    np.testing.assert_array_equal(first, second)
+    assert sorted(p.name[-5:] for p in cache.iterdir()) == ["_O0.o", "_O2.o"]
+    assert kernel._lanes(read_tree(path), 3, "lanes").level == 2

@@ -10,8 +10,9 @@ branch and fold into the arithmetic (a product with an axis' zero component disa
 of operations on the state's coordinates, speeds, forces and gravity. Each operation is emitted as one LLVM vector
 instruction on ``W`` states (:data:`LANES`: 8 where the CPU has AVX-512, else 4), a block of states the innermost
 dimension, and JIT-compiled for the host CPU through llvmlite (numba's own dependency: nothing to compile at install
-time). The same operations in the same order as the numba kernel, so the same rounding but for the multiply-adds
-LLVM fuses (``contract``, as the numba kernels' ``fastmath={'contract'}``).
+time). The same operations in the same order as the numba kernel, so the same rounding but for the multiply-adds:
+a product used only by one sum is fused with it (:func:`_fused`, ``llvm.fma``: one rounding), where numba's kernels
+let LLVM fuse what it chooses (``fastmath={'contract'}``).
 
 A pivot of the factorization not above :data:`relacc.core.tolerances.PIVOT_FLOOR` times its diagonal entry makes that
 state's row NaN and is counted, as the numba kernel does; non-finite inputs and non-unit quaternions are counted per
@@ -22,6 +23,7 @@ from __future__ import annotations
 
 import ctypes
 import math
+import struct
 import threading
 import weakref
 from contextlib import contextmanager
@@ -312,134 +314,167 @@ def lanes() -> int:
 
 
 def emit(tr: Trace, width: int, name: str = "lanes") -> str:
-    """LLVM IR of ``i64 name(double* q, double* u, double* tau, double* g, double* out, i64* bad, i64 start,
+    """LLVM IR (text) of ``i64 name(double* q, double* u, double* tau, double* g, double* out, i64* bad, i64 start,
     i64 stop)``: rows ``start .. stop - 1`` of C-contiguous ``q (n, nq)``, ``u``, ``tau (n, nv)`` to ``out (n, nv)``,
     ``width`` states a step; returns the number of singular states and adds the number of states with bad inputs to
-    ``*bad``."""
-    import llvmlite.ir as ir
-
-    d, i64, i1 = ir.DoubleType(), ir.IntType(64), ir.IntType(1)
-    vt, mt = ir.VectorType(d, width), ir.VectorType(i1, width)
-    dp = d.as_pointer()
-    mod = ir.Module(name)
-    fn = ir.Function(mod, ir.FunctionType(i64, [dp, dp, dp, dp, dp, i64.as_pointer(), i64, i64]), name)
-    qp, up, tp, gp, op, badp, start, stop = fn.args
-    intr = {k: ir.Function(mod, ir.FunctionType(vt, [vt]), f"llvm.{k}.v{width}f64") for k in ("sqrt", "sin", "cos")}
-    fabs = ir.Function(mod, ir.FunctionType(vt, [vt]), f"llvm.fabs.v{width}f64")
-    entry, loop, done = fn.append_basic_block("entry"), fn.append_basic_block("loop"), fn.append_basic_block("done")
-    b0 = ir.IRBuilder(entry)
-    empty = b0.icmp_signed(">=", start, stop)
-    b0.cbranch(empty, done, loop)
-    bld = ir.IRBuilder(loop)
-    i = bld.phi(i64)
-    nsing = bld.phi(i64)
-    nbad = bld.phi(i64)
-    i.add_incoming(start, entry)
-    nsing.add_incoming(ir.Constant(i64, 0), entry)
-    nbad.add_incoming(ir.Constant(i64, 0), entry)
-    last = bld.sub(stop, ir.Constant(i64, 1))
-    rows, live = [], []
-    for lane in range(width):
-        r = bld.add(i, ir.Constant(i64, lane))
-        ok = bld.icmp_signed("<", r, stop)
-        live.append(ok)
-        rows.append(bld.select(ok, r, last))
+    ``*bad``. A last step with fewer than ``width`` rows left repeats the last row in its other lanes (the same state,
+    so the same bits written twice) and counts only its own rows. Written as text: llvmlite's IR builder took half of
+    a small tree's compilation."""
+    W = width
+    vt, mt = f"<{W} x double>", f"<{W} x i1>"
+    lines = [f"define i64 @{name}(double* %q, double* %u, double* %tau, double* %g, double* %out, i64* %bad, "
+             "i64 %start, i64 %stop) {", "entry:", "  %empty = icmp sge i64 %start, %stop",
+             "  br i1 %empty, label %done, label %loop", "loop:",
+             "  %i = phi i64 [%start, %entry], [%next, %loop]", "  %ns = phi i64 [0, %entry], [%cs, %loop]",
+             "  %nb = phi i64 [0, %entry], [%cb, %loop]", "  %last = sub i64 %stop, 1"]
+    add = lines.append
+    for lane in range(W):
+        add(f"  %r{lane}a = add i64 %i, {lane}")
+        add(f"  %live{lane} = icmp slt i64 %r{lane}a, %stop")
+        add(f"  %r{lane} = select i1 %live{lane}, i64 %r{lane}a, i64 %last")
     sizes = {"q": tr.nq, "u": tr.nv, "tau": tr.nv}
-    ptrs = {"q": qp, "u": up, "tau": tp}
-    undef = ir.Constant(vt, ir.Undefined)
+    consts: dict = {}
 
-    def splat(c):
-        return ir.Constant(vt, [c] * width)
+    def const(c):
+        name_ = consts.get(c)
+        if name_ is None:
+            bits = struct.unpack("<Q", struct.pack("<d", c))[0]
+            name_ = consts[c] = f"<{', '.join([f'double 0x{bits:016X}'] * W)}>"
+        return name_
 
-    def load(name, c):
-        if name == "g":
-            s = bld.load(bld.gep(gp, [ir.Constant(i64, c)]))
-            v = bld.insert_element(undef, s, ir.Constant(ir.IntType(32), 0))
-            return bld.shuffle_vector(v, undef, ir.Constant(ir.VectorType(ir.IntType(32), width), [0] * width))
-        v = undef
-        for lane in range(width):
-            at = bld.add(bld.mul(rows[lane], ir.Constant(i64, sizes[name])), ir.Constant(i64, c))
-            v = bld.insert_element(v, bld.load(bld.gep(ptrs[name], [at])), ir.Constant(ir.IntType(32), lane))
-        return v
-
-    def contract(inst):
-        inst.flags.append("contract")
-        return inst
-
-    vals: list = [None] * len(tr.ops)
+    def load(var, arr, c):
+        if arr == "g":
+            add(f"  %{var}p = getelementptr double, double* %g, i64 {c}")
+            add(f"  %{var}s = load double, double* %{var}p")
+            add(f"  %{var}i = insertelement {vt} undef, double %{var}s, i32 0")
+            add(f"  %{var} = shufflevector {vt} %{var}i, {vt} undef, <{W} x i32> zeroinitializer")
+            return
+        prev = "undef"
+        for lane in range(W):
+            add(f"  %{var}o{lane} = mul i64 %r{lane}, {sizes[arr]}")
+            add(f"  %{var}a{lane} = add i64 %{var}o{lane}, {c}")
+            add(f"  %{var}p{lane} = getelementptr double, double* %{arr}, i64 %{var}a{lane}")
+            add(f"  %{var}s{lane} = load double, double* %{var}p{lane}")
+            cur = f"%{var}e{lane}" if lane < W - 1 else f"%{var}"
+            add(f"  {cur} = insertelement {vt} {prev}, double %{var}s{lane}, i32 {lane}")
+            prev = cur
 
     def val(ref):
-        return splat(ref[1]) if isinstance(ref, tuple) else vals[ref]
+        return const(ref[1]) if isinstance(ref, tuple) else f"%v{ref}"
 
     need = _needed(tr)
+    fused = _fused(tr, need)
+    products = set(fused.values())
+    fma = f"@llvm.fma.v{W}f64"
     for k, (opn, a, b) in enumerate(tr.ops):
-        if not need[k]:
+        if not need[k] or k in products:
             continue
-        if opn == "in":
-            vals[k] = load(a, b)
-        elif opn == "add":
-            vals[k] = contract(bld.fadd(val(a), val(b)))
-        elif opn == "sub":
-            vals[k] = contract(bld.fsub(val(a), val(b)))
-        elif opn == "mul":
-            vals[k] = contract(bld.fmul(val(a), val(b)))
-        elif opn == "div":
-            vals[k] = bld.fdiv(val(a), val(b))
+        m = fused.get(k)
+        if m is not None:  # a product used only here, rounded once with the sum: a b + c, a b - c, c - a b
+            x, y = val(tr.ops[m][1]), val(tr.ops[m][2])
+            if opn == "add":
+                c3 = val(b if m == a else a)
+            elif m == a:
+                add(f"  %n{k} = fneg {vt} {val(b)}")
+                c3 = f"%n{k}"
+            else:
+                add(f"  %n{k} = fneg {vt} {x}")
+                x, c3 = f"%n{k}", val(a)
+            add(f"  %v{k} = call {vt} {fma}({vt} {x}, {vt} {y}, {vt} {c3})")
+        elif opn == "in":
+            load(f"v{k}", a, b)
+        elif opn in ("add", "sub", "mul", "div"):
+            add(f"  %v{k} = f{opn} {vt} {val(a)}, {val(b)}")
         elif opn == "neg":
-            vals[k] = bld.fneg(val(a)) if hasattr(bld, "fneg") else bld.fsub(splat(-0.0), val(a))
+            add(f"  %v{k} = fneg {vt} {val(a)}")
         else:
-            vals[k] = bld.call(intr[opn], [val(a)])
-    ok = ir.Constant(mt, [1] * width)
-    for a, b in tr.pivots:
-        ok = bld.and_(ok, bld.fcmp_ordered(">", val(a), val(b)))
+            add(f"  %v{k} = call {vt} @llvm.{opn}.v{W}f64({vt} {val(a)})")
+    ok = f"<{', '.join(['i1 true'] * W)}>"
+    for n, (a, b) in enumerate(tr.pivots):
+        add(f"  %pc{n} = fcmp ogt {vt} {val(a)}, {val(b)}")
+        add(f"  %pk{n} = and {mt} {ok}, %pc{n}")
+        ok = f"%pk{n}"
     # bad inputs: a non-finite q or u, or a quaternion whose squared norm is off 1 by more than the tolerance
-    good = ir.Constant(mt, [1] * width)
-    colv = {}
-    for name in ("q", "u"):
-        for c in range(sizes[name]):
-            k = tr.inputs.get((name, c))
-            v = vals[k] if k is not None and vals[k] is not None else load(name, c)
-            colv[(name, c)] = v
-            good = bld.and_(good, bld.fcmp_ordered("==", bld.fsub(v, v), splat(0.0)))
+    good, col, n = f"<{', '.join(['i1 true'] * W)}>", {}, 0
+    for arr in ("q", "u"):
+        for c in range(sizes[arr]):
+            k = tr.inputs.get((arr, c))
+            if k is not None and need[k]:
+                col[(arr, c)] = f"%v{k}"
+            else:
+                load(f"x{arr}{c}", arr, c)
+                col[(arr, c)] = f"%x{arr}{c}"
+            v = col[(arr, c)]
+            add(f"  %fd{n} = fsub {vt} {v}, {v}")
+            add(f"  %fe{n} = fcmp oeq {vt} %fd{n}, {const(0.0)}")
+            add(f"  %fg{n} = and {mt} {good}, %fe{n}")
+            good, n = f"%fg{n}", n + 1
     for a in tr.quats:
-        n2 = None
+        terms = []
         for c in range(a, a + 4):
-            v = colv[("q", c)]
-            sq = bld.fmul(v, v)
-            n2 = sq if n2 is None else bld.fadd(n2, sq)
-        dev = bld.call(fabs, [bld.fsub(n2, splat(1.0))])
-        good = bld.and_(good, bld.fcmp_ordered("<=", dev, splat(QUATERNION_NORM_TOLERANCE)))
-    nan = splat(float("nan"))
-    outs = [bld.select(ok, val(r), nan) for r in tr.outputs]
-    for lane in range(width):
-        li = ir.Constant(ir.IntType(32), lane)
-        with bld.if_then(live[lane]):
-            base = bld.mul(rows[lane], ir.Constant(i64, tr.nv))
-            for c, v in enumerate(outs):
-                bld.store(bld.extract_element(v, li), bld.gep(op, [bld.add(base, ir.Constant(i64, c))]))
-    count_s, count_b = nsing, nbad
-    for lane in range(width):
-        li = ir.Constant(ir.IntType(32), lane)
-        s = bld.and_(bld.not_(bld.extract_element(ok, li)), live[lane])
-        t = bld.and_(bld.not_(bld.extract_element(good, li)), live[lane])
-        count_s = bld.add(count_s, bld.zext(s, i64))
-        count_b = bld.add(count_b, bld.zext(t, i64))
-    nxt = bld.add(i, ir.Constant(i64, width))
-    tail = bld.block
-    i.add_incoming(nxt, tail)
-    nsing.add_incoming(count_s, tail)
-    nbad.add_incoming(count_b, tail)
-    bld.cbranch(bld.icmp_signed("<", nxt, stop), loop, done)
-    bd = ir.IRBuilder(done)
-    rs = bd.phi(i64)
-    rb = bd.phi(i64)
-    rs.add_incoming(ir.Constant(i64, 0), entry)
-    rb.add_incoming(ir.Constant(i64, 0), entry)
-    rs.add_incoming(count_s, tail)
-    rb.add_incoming(count_b, tail)
-    bd.store(bd.add(bd.load(badp), rb), badp)
-    bd.ret(rs)
-    return str(mod)
+            add(f"  %qs{a}_{c} = fmul {vt} {col[('q', c)]}, {col[('q', c)]}")
+            terms.append(f"%qs{a}_{c}")
+        add(f"  %qn{a}a = fadd {vt} {terms[0]}, {terms[1]}")
+        add(f"  %qn{a}b = fadd {vt} %qn{a}a, {terms[2]}")
+        add(f"  %qn{a} = fadd {vt} %qn{a}b, {terms[3]}")
+        add(f"  %qd{a} = fsub {vt} %qn{a}, {const(1.0)}")
+        add(f"  %qa{a} = call {vt} @llvm.fabs.v{W}f64({vt} %qd{a})")
+        add(f"  %qo{a} = fcmp ole {vt} %qa{a}, {const(QUATERNION_NORM_TOLERANCE)}")
+        add(f"  %qg{a} = and {mt} {good}, %qo{a}")
+        good = f"%qg{a}"
+    for c, r in enumerate(tr.outputs):
+        add(f"  %o{c} = select {mt} {ok}, {vt} {val(r)}, {vt} {const(float('nan'))}")
+    for lane in range(W):  # a repeated last row's lanes write its own bits again
+        add(f"  %ob{lane} = mul i64 %r{lane}, {tr.nv}")
+        for c in range(tr.nv):
+            add(f"  %oe{lane}_{c} = extractelement {vt} %o{c}, i32 {lane}")
+            add(f"  %oa{lane}_{c} = add i64 %ob{lane}, {c}")
+            add(f"  %op{lane}_{c} = getelementptr double, double* %out, i64 %oa{lane}_{c}")
+            add(f"  store double %oe{lane}_{c}, double* %op{lane}_{c}")
+    cs, cb = "%ns", "%nb"
+    for lane in range(W):
+        for tag, mask, acc in (("s", ok, cs), ("b", good, cb)):
+            add(f"  %{tag}x{lane} = extractelement {mt} {mask}, i32 {lane}")
+            add(f"  %{tag}n{lane} = xor i1 %{tag}x{lane}, true")
+            add(f"  %{tag}l{lane} = and i1 %{tag}n{lane}, %live{lane}")
+            add(f"  %{tag}z{lane} = zext i1 %{tag}l{lane} to i64")
+            add(f"  %{tag}c{lane} = add i64 {acc}, %{tag}z{lane}")
+        cs, cb = f"%sc{lane}", f"%bc{lane}"
+    lines += [f"  %cs = add i64 {cs}, 0", f"  %cb = add i64 {cb}, 0", f"  %next = add i64 %i, {W}",
+              "  %more = icmp slt i64 %next, %stop", "  br i1 %more, label %loop, label %done", "done:",
+              "  %rs = phi i64 [0, %entry], [%cs, %loop]", "  %rb = phi i64 [0, %entry], [%cb, %loop]",
+              "  %b0 = load i64, i64* %bad", "  %b1 = add i64 %b0, %rb", "  store i64 %b1, i64* %bad",
+              "  ret i64 %rs", "}"]
+    decl = [f"declare {vt} @llvm.{f}.v{W}f64({vt})" for f in ("sqrt", "sin", "cos", "fabs")]
+    decl.append(f"declare {vt} @llvm.fma.v{W}f64({vt}, {vt}, {vt})")
+    return "\n".join(decl + lines) + "\n"
+
+
+def _fused(tr: Trace, need: list) -> dict:
+    """``{sum: product}``: each sum or difference whose first (else second) operand is a product used nowhere else,
+    to be emitted as one fused multiply-add (``llvm.fma``: rounded once). Written into the IR rather than left to
+    LLVM's ``contract`` flag, so the bits do not depend on the code generator's optimization level."""
+    uses = [0] * len(tr.ops)
+    for k, (opn, a, b) in enumerate(tr.ops):
+        if need[k] and opn != "in":
+            for r in (a, b):
+                if isinstance(r, int):
+                    uses[r] += 1
+    for r in tr.outputs:
+        if isinstance(r, int):
+            uses[r] += 1
+    for pair in tr.pivots:
+        for r in pair:
+            if isinstance(r, int):
+                uses[r] += 1
+    fused: dict = {}
+    for k, (opn, a, b) in enumerate(tr.ops):
+        if need[k] and opn in ("add", "sub"):
+            for r in (a, b):
+                if isinstance(r, int) and tr.ops[r][0] == "mul" and uses[r] == 1:
+                    fused[k] = r
+                    break
+    return fused
 
 
 def _needed(tr: Trace) -> list:
@@ -479,22 +514,40 @@ def estimate(tree, algorithm: str = "crba") -> int:
     return 350 * folded.nv + int(np.sum(dof_paths(folded)[1].astype(np.int64) ** 2))
 
 
-@dataclass(frozen=True, eq=False)
+UPGRADE_STATES = 100_000
+"""States a kernel compiled at ``-O0`` runs in a process before it is compiled again at ``-O2``. A kernel is first
+compiled at ``-O0`` (LLVM's fast instruction selection: gymnasium's humanoid in 0.16 s against 0.58 s at ``-O2``)
+and runs 25-55% slower than at ``-O2`` (ant 0.42 against 0.33 us a state, humanoid 0.88-0.99 against 0.64); the
+fused multiply-adds are written into the IR (:func:`_fused`) and no fast-math flag is set, so both give the same bits
+and the switch changes no number. The ``-O2`` object code is cached: a later process starts with it."""
+
+
 class Kernel:
     """One tree's compiled forward dynamics in one case over ``width`` states a step.
 
     Attributes:
-        fn: the compiled function (:func:`emit`'s signature). engine: the LLVM engine holding its code (the code
-            is freed with it, when the tree is). width: states a vector. ops: the traced operations (the arithmetic
-            a state costs). nq, nv: the state's sizes.
+        fn: the compiled function (:func:`emit`'s signature), at the optimization ``level`` (0 or 2) reached so far.
+        width: states a vector. ops: the traced operations (the arithmetic a state costs). nq, nv: the state's sizes.
+        states: the states run so far in this process (what :meth:`will_run` weighs).
     """
 
-    fn: Callable[..., int]
-    engine: object
-    width: int
-    ops: int
-    nq: int
-    nv: int
+    def __init__(self, fn, engine, level: int, width: int, ops: int, nq: int, nv: int, upgrade=None):
+        self.fn: Callable[..., int] = fn
+        self.level, self.width, self.ops, self.nq, self.nv, self.states = level, width, ops, nq, nv, 0
+        self._engines = [engine]  # every engine whose code may still run on another thread: kept with the kernel
+        self._upgrade = upgrade  # () -> (fn, engine): the -O2 code; None once at -O2
+        self._lock = threading.Lock()
+
+    def will_run(self, n: int) -> None:
+        """Count ``n`` states about to run; past :data:`UPGRADE_STATES` compile the ``-O2`` code (on the calling
+        thread, before the batch: the same bits, faster) and run that from now on."""
+        self.states += n
+        if self._upgrade is not None and self.states >= UPGRADE_STATES:
+            with self._lock:
+                if self._upgrade is not None:
+                    fn, engine = self._upgrade()
+                    self._engines.append(engine)
+                    self.fn, self.level, self._upgrade = fn, 2, None
 
     def block(self, q, u, tau, g, out, start: int, stop: int) -> tuple:
         """Rows ``start .. stop - 1`` of C-contiguous float64 ``q (n, nq)``, ``u (n, nv)``, ``tau (n, nv)`` with
@@ -536,8 +589,16 @@ def _build(tree, case, algorithm):
         return None
     width = lanes()
     name = "lanes_" + _key(tr, width)[:32]
-    fn, engine = compile_cached(lambda: emit(tr, width, name), name)
-    return Kernel(fn, engine, width, sum(_needed(tr)), tr.nq, tr.nv)
+
+    def make_ir():
+        return emit(tr, width, name)
+
+    ops = sum(_needed(tr))
+    best = compile_cached(make_ir, name, 2, cached_only=True)
+    if best is not None:
+        return Kernel(*best, 2, width, ops, tr.nq, tr.nv)
+    return Kernel(*compile_cached(make_ir, name, 0), 0, width, ops, tr.nq, tr.nv,
+                  upgrade=lambda: compile_cached(make_ir, name, 2))
 
 
 def _key(tr: Trace, width: int) -> str:
@@ -584,8 +645,8 @@ def _cache_dir():
 _INITIALIZED: list = []
 
 
-def _machine():
-    """A new LLVM target machine for this CPU, code generation at ``-O2``. One per kernel: the engine that runs a
+def _machine(level: int = 2):
+    """A new LLVM target machine for this CPU, code generation at ``-O<level>``. One per kernel: the engine that runs a
     kernel's code takes its machine with it when it is freed (llvmlite marks the machine owned by the engine; a
     machine shared between engines is used after it is freed)."""
     import llvmlite.binding as llvm
@@ -600,28 +661,31 @@ def _machine():
             llvm.initialize_native_asmprinter()
             _INITIALIZED.append(True)
     return llvm.Target.from_default_triple().create_target_machine(
-        cpu=llvm.get_host_cpu_name(), features=llvm.get_host_cpu_features().flatten(), opt=2)
+        cpu=llvm.get_host_cpu_name(), features=llvm.get_host_cpu_features().flatten(), opt=level)
 
 
 _PROTO = ctypes.CFUNCTYPE(ctypes.c_int64, *([ctypes.c_void_p] * 6), ctypes.c_int64, ctypes.c_int64)
 
 
-def compile_cached(make_ir, name: str):
+def compile_cached(make_ir, name: str, level: int = 2, cached_only: bool = False):
     """``(the compiled function name, a ctypes function; its engine, which holds the code: keep it while the function
-    is called)``, code generated at ``-O2`` for this CPU: the object code from the cache directory (``name``.o)
-    where an earlier process left it, else ``make_ir()`` compiled and its object code left there (written
-    atomically; a cache that cannot be written is skipped)."""
+    is called)``, code generated at ``-O<level>`` for this CPU: the object code from the cache directory
+    (``name_O<level>.o``) where an earlier process left it, else ``make_ir()`` compiled and its object code left
+    there (written atomically; a cache that cannot be written is skipped); None with ``cached_only`` and nothing
+    cached."""
     import os
 
     import llvmlite.binding as llvm
 
-    machine = _machine()
+    machine = _machine(level)
     where = _cache_dir()
-    path = os.path.join(where, name + ".o") if where else None
+    path = os.path.join(where, f"{name}_O{level}.o") if where else None
     data = None
     if path and os.path.exists(path):
         with open(path, "rb") as fh:
             data = fh.read()
+    if data is None and cached_only:
+        return None
     if data is None:
         data = machine.emit_object(_parsed(make_ir(), machine))
         if path:
@@ -643,7 +707,7 @@ def _parsed(ir_text: str, machine):
     """``ir_text`` parsed and verified for ``machine``. No optimization passes: the trace is already straight-line
     code with every repeated operation recorded once, and LLVM's ``-O3`` pipeline changed nothing measurable on it
     (gymnasium's ant: 0.333 us a state with it, 0.330 without) for 0.2 s of compilation; the code generator's own
-    ``-O2`` (instruction selection, scheduling, registers) is what the speed comes from (0.42 us at ``-O0``)."""
+    level (instruction selection, scheduling, registers) is what the speed comes from (:data:`UPGRADE_STATES`)."""
     import llvmlite.binding as llvm
 
     mod = llvm.parse_assembly(ir_text)

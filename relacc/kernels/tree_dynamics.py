@@ -94,6 +94,7 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     lane = _lanes(tree, case, algorithm)
     if lane is not None:
         args = (writable(q), writable(u), writable(tau), writable(np.asarray(gravity, dtype=float)), out)
+        lane.will_run(n)
         serial = not parallel_pays(n, LANES_US_PER_SPEED * tree.nv, BLOCK)
         bad_in, singular = lane.block(*args, 0, n) if serial else split(lane.block, args, n, BLOCK)
         return out, int(bad_in), int(singular)
@@ -171,8 +172,8 @@ def _single(tree, case, gravity):
         lane = _lanes(tree, case, None)
         if lane is not None:  # the compiled function on the buffers' addresses: a call is the kernel and ctypes
             g, bad = np.array(gravity, dtype=float), np.zeros(1, np.int64)
-            keep = (Q, U, tau, g, out, bad, lane)
-            fn = _ZeroingCall(lane.fn, bad, keep)
+            keep = (Q, U, tau, g, out, bad)
+            fn = _ZeroingCall(lane, bad, keep)
             cache[key] = (fn, tuple(a.ctypes.data for a in keep[:5]) + (bad, 0, 1), Q, U, out)
             return cache[key]
         fn, args = _block_call(tree, case, None, Q, U, tau, np.array(gravity, dtype=float), out)
@@ -182,17 +183,19 @@ def _single(tree, case, gravity):
 
 
 class _ZeroingCall:
-    """The lanes' compiled function for one state on fixed buffers: zeroes the bad-input count, passes its address
-    (the arguments' sixth is the count's array) and keeps the buffers alive as long as the call is cached."""
+    """The lanes kernel's compiled function for one state on fixed buffers: counts the state
+    (:meth:`relacc.kernels.lanes.Kernel.will_run`), zeroes the bad-input count, passes its address (the arguments'
+    sixth is the count's array) and keeps the buffers alive as long as the call is cached."""
 
-    __slots__ = ("fn", "bad", "at", "keep")
+    __slots__ = ("lane", "bad", "at", "keep")
 
-    def __init__(self, fn, bad, keep):
-        self.fn, self.bad, self.at, self.keep = fn, bad, bad.ctypes.data, keep
+    def __init__(self, lane, bad, keep):
+        self.lane, self.bad, self.at, self.keep = lane, bad, bad.ctypes.data, keep
 
     def __call__(self, q, u, tau, g, out, _bad, start, stop):
+        self.lane.will_run(1)
         self.bad[0] = 0
-        return self.fn(q, u, tau, g, out, self.at, start, stop)
+        return self.lane.fn(q, u, tau, g, out, self.at, start, stop)
 
 
 def _entry_point(fn, args):
