@@ -104,13 +104,14 @@ def one_model(path: Path, n: int, repeats: int) -> dict:
     from relacc.core.tree import random_states
     from relacc.engines import load
     from relacc.kernels.jit import threads
-    from relacc.kernels.tree_dynamics import algorithm_used
+    from relacc.kernels.tree_dynamics import algorithm_used, optimize
     from relacc.tradeoff.throughput import wall_times
 
     tree = relacc.Tree.from_file(path)
     engine = load("pinocchio", path, tree)
     s = random_states(tree, 2, n, 0)
     x = engine.to_engine(s.q, s.u)
+    optimize(tree, 2)  # the steady state: the lanes' -O2 code (the same bits as the first, -O0)
     with threads(1):
         mine = wall_times(lambda: relacc.tree_accelerations(tree, 2, s.q, s.u), repeats)  # (median, best) s
         a_mine = np.asarray(relacc.tree_accelerations(tree, 2, s.q, s.u))

@@ -35,6 +35,7 @@ def main(argv=None) -> int:
     import relacc
     from relacc.core.tree import random_states
     from relacc.kernels.jit import threads
+    from relacc.kernels.tree_dynamics import optimize
     from relacc.tradeoff.throughput import machine
     from relacc.tradeoff.trees import gymnasium_models
 
@@ -45,6 +46,7 @@ def main(argv=None) -> int:
     rows = []
     for model, path in gymnasium_models().items():
         tree = relacc.Tree.from_file(path)
+        optimize(tree, 2)  # the lanes' -O2 code from the start: one thread and two compare the same code
         for n in SIZES:
             st = random_states(tree, 2, n, 0)
             calls = {"tree_accelerations": lambda: relacc.tree_accelerations(tree, 2, st.q, st.u),

@@ -188,3 +188,6 @@ def test_the_optimized_code_takes_over_with_the_same_bits(tmp_path, monkeypatch)
     np.testing.assert_array_equal(first, second)
     assert sorted(p.name[-5:] for p in cache.iterdir()) == ["_O0.o", "_O2.o"]
     assert kernel._lanes(read_tree(path), 3, "lanes").level == 2
+    other = read_tree(_tree_file(tmp_path, 10, 5))
+    kernel.optimize(other, 2)  # at once, without running a state
+    assert kernel._lanes(other, 2, "lanes").level == 2

@@ -543,11 +543,15 @@ class Kernel:
         thread, before the batch: the same bits, faster) and run that from now on."""
         self.states += n
         if self._upgrade is not None and self.states >= UPGRADE_STATES:
-            with self._lock:
-                if self._upgrade is not None:
-                    fn, engine = self._upgrade()
-                    self._engines.append(engine)
-                    self.fn, self.level, self._upgrade = fn, 2, None
+            self.optimize()
+
+    def optimize(self) -> None:
+        """Compile the ``-O2`` code now (or load it from the cache) and run it from now on."""
+        with self._lock:
+            if self._upgrade is not None:
+                fn, engine = self._upgrade()
+                self._engines.append(engine)
+                self.fn, self.level, self._upgrade = fn, 2, None
 
     def block(self, q, u, tau, g, out, start: int, stop: int) -> tuple:
         """Rows ``start .. stop - 1`` of C-contiguous float64 ``q (n, nq)``, ``u (n, nv)``, ``tau (n, nv)`` with

@@ -30,6 +30,7 @@ import numpy as np
 import relacc
 from relacc.core.tree import random_states
 from relacc.kernels.jit import threads as numba_threads
+from relacc.kernels.tree_dynamics import optimize
 from relacc.tradeoff.throughput import machine, wall_times
 
 
@@ -98,6 +99,7 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
         q, u, _ = convert(tree, st.q, st.u, source=2, target=case)
         for t in thread_counts():
             with numba_threads(t):
+                optimize(tree, case)  # the steady state: the lanes' -O2 code (the same bits as the first, -O0)
                 secs = wall_times(lambda: relacc.tree_accelerations(tree, case, q, u, out=acc), repeats)
             rows.append(_row("dynamics", name, "relacc tree_accelerations", t, secs, n_states, case=case))
     if anchors:
@@ -172,6 +174,7 @@ def scaling_rows(sizes, n_states, repeats, seed) -> list:
                 secs = wall_times(lambda: relacc.tree_kinematics(tree, 2, st.q, st.u, st.udot, out=out), repeats)
                 rows.append(_row("scaling", f"{joint} chain", "relacc tree_kinematics out=", thread_counts()[-1],
                                  secs, n_states, bodies=nb, speeds=tree.nv))
+                optimize(tree, 2)
                 secs = wall_times(lambda: relacc.tree_accelerations(tree, 2, st.q, st.u, out=acc), repeats)
                 rows.append(_row("scaling", f"{joint} chain", "relacc tree_accelerations", thread_counts()[-1],
                                  secs, n_states, bodies=nb, speeds=tree.nv))
