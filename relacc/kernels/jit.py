@@ -119,6 +119,17 @@ def split(fn, args: tuple, n: int, block: int) -> Any:
     return sum(results)
 
 
+def first_touch(*arrays) -> None:
+    """Fault in the pages of freshly allocated outputs on the calling thread, before a batch is split over threads:
+    one write every 4 KiB (the values are overwritten by the kernel). On this project's 2-vCPU VM two threads faulting
+    in the same fresh pages ran slower than one (gymnasium's ant's kinematics with partials, 1024 states, 17 MB of new
+    outputs: 7.8 ms on one thread, 9.9 ms on two; with preallocated outputs 5.2 and 3.2 ms); faulting them first
+    costs what the one-thread path pays anyway. Never for a caller's own arrays (``out=``: already in memory)."""
+    for a in arrays:
+        if a is not None and a.size > 512:
+            a.reshape(-1)[::512] = 0.0
+
+
 _POOL: list = []
 _POOL_LOCK = threading.Lock()
 

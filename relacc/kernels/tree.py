@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba, parallel_pays, split
+from relacc.kernels.jit import HAVE_NUMBA, first_touch, jitable, leaf, numba, parallel_pays, split
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mm_inline as mm
 from relacc.kernels.so3 import mv_inline as mv
@@ -441,6 +441,7 @@ def kinematics(tree, case: int, q, u, udot, points: bool, out=None):
     args = (int(case), q, u, ud, with_acc, T, T.qadr3 if case == 3 else T.qadr, *res.values(), npt > 0,
             *pts.values())
     if parallel_pays(n, US_PER_BODY_SPEED * nb * nv, BLOCK):
+        first_touch(*[a for k, a in res.items() if out.get(k) is None], *pts.values())
         bad = split(_kinematics_block, args, n, BLOCK)
     else:
         bad = _kinematics_block(*args, 0, n)

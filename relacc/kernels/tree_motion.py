@@ -17,7 +17,7 @@ import weakref
 
 import numpy as np
 
-from relacc.kernels.jit import HAVE_NUMBA, leaf, numba, parallel_pays, split
+from relacc.kernels.jit import HAVE_NUMBA, first_touch, leaf, numba, parallel_pays, split
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mv_inline as mv
 from relacc.kernels.tree import BALL, BLOCK, FREE, arrays_of, row9, writable
@@ -130,6 +130,7 @@ def motion(tree, case: int, q, u, udot, points: bool, out=None):
     if not parallel_pays(n, US_PER_BODY * nb, BLOCK):
         motion_block(*args, 0, n)
     else:
+        first_touch(*[a for k, a in res.items() if out.get(k) is None], *pts.values())
         split(motion_block, args, n, BLOCK)
     bad = sum(int(np.count_nonzero(~np.isfinite(res[k]))) for k in shapes
               if with_acc or k not in ("acceleration", "alpha"))
