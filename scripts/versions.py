@@ -21,7 +21,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SHOWN = ("numpy", "pin", "mujoco", "drake", "numba", "scipy", "matplotlib", "jinja2", "hypothesis", "pydantic",
+SHOWN = ("numpy", "pin", "mujoco", "drake", "numba", "llvmlite", "scipy", "matplotlib", "jinja2", "hypothesis", "pydantic",
          "dask", "pytest", "gymnasium")
 
 

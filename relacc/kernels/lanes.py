@@ -4,15 +4,18 @@ per tree and case into straight-line arithmetic and compiled by LLVM with ``<W x
 numba's loops run one state at a time: the recursions over bodies are short loops it does not vectorize, so most of
 the arithmetic stays scalar (docs/benchmarks.md, "Lanes"). Here the composite-rigid-body kernel
 (:mod:`relacc.kernels.tree_spatial`'s ``forward``, :mod:`relacc.kernels.tree_crba`'s ``mass_matrix`` and
-``factor_solve``, case 3's maps to and from case-2 speeds) is run once as Python on symbolic scalars (:class:`X`): the
+``factor_solve``, case 3's maps to and from case-2 speeds), or the articulated-body one
+(:mod:`relacc.kernels.tree_aba`) for the trees the plan gives it, is run once as Python on symbolic scalars
+(:class:`X`): the
 tree's structure and constants (its parents, joint kinds, axes, anchors, masses, inertias, armature) decide every
 branch and fold into the arithmetic (a product with an axis' zero component disappears), and what is left is a list
 of operations on the state's coordinates, speeds, forces and gravity. Each operation is emitted as one LLVM vector
-instruction on ``W`` states (:data:`LANES`: 8 where the CPU has AVX-512, else 4), a block of states the innermost
+instruction on ``W`` states (:func:`lanes`: 8 where the CPU has AVX-512, else 4), a block of states the innermost
 dimension, and JIT-compiled for the host CPU through llvmlite (numba's own dependency: nothing to compile at install
-time). The same operations in the same order as the numba kernel, so the same rounding but for the multiply-adds:
-a product used only by one sum is fused with it (:func:`_fused`, ``llvm.fma``: one rounding), where numba's kernels
-let LLVM fuse what it chooses (``fastmath={'contract'}``).
+time), at ``-O0`` first and at ``-O2`` once the kernel has run :data:`UPGRADE_STATES` states, the object code cached
+beside numba's (:func:`compile_cached`). The same operations in the same order as the numba kernel, so the same
+rounding but for the multiply-adds: a product used only by one sum is fused with it (:func:`_fused`, ``llvm.fma``:
+one rounding), where numba's kernels let LLVM fuse what it chooses (``fastmath={'contract'}``).
 
 A pivot of the factorization not above :data:`relacc.core.tolerances.PIVOT_FLOOR` times its diagonal entry makes that
 state's row NaN and is counted, as the numba kernel does; non-finite inputs and non-unit quaternions are counted per
@@ -300,9 +303,6 @@ def trace(tree, case: int, algorithm: str = "crba") -> Trace:
     quats = tuple(int(qadr[k] + (3 if T.jtype[k] == FREE else 0)) for k in range(nj)
                   if case < 3 and T.jtype[k] in (BALL, FREE))
     return Trace(tuple(g.ops), nq, nv, inputs, tuple(_ref(r) for r in res), tuple(g.pivots), quats)
-
-
-LANES = 4
 
 
 def lanes() -> int:
