@@ -299,3 +299,17 @@ def test_case_rates_are_the_time_derivatives_of_the_case_speeds(tmp_path, case):
         # truncation h^2 |u'''| / 6 ~ 1e-10 |u'''|, rounding eps |u| / h ~ 1e-10
         np.testing.assert_allclose(udot[i], (ends[0] - ends[1]) / (2 * h), rtol=0, atol=1e-7,
                                    err_msg=f"state {i} (seed {seed})")
+
+
+def test_a_tree_without_speeds_converts_and_answers_in_every_case():
+    """robosuite's mounts and null bases, example-robot-data's quadrotor_base: bodies welded to the world, no speed.
+    Before: ``convert`` raised numpy's "cannot reshape array of size 0" (a batch's rows inferred from width 0)."""
+    tree = relacc.Tree("mount", [relacc.Body("base", mass=2.0, com=(0.0, 0.0, 0.1), inertia=np.eye(3) * 0.1)])
+    assert tree.nv == 0
+    q, u = np.zeros((3, 0)), np.zeros((3, 0))
+    for case in (1, 2, 3):
+        qt, ut, udt = convert(tree, q, u, u, source=2, target=case)
+        assert qt.shape == ut.shape == udt.shape == (3, 0)
+        assert relacc.tree_accelerations(tree, case, q, u).shape == (3, 0)
+        k = relacc.tree_kinematics(tree, case, q, u, u)
+        np.testing.assert_allclose(k.position[:, 0], np.tile([0.0, 0.0, 0.1], (3, 1)), rtol=0, atol=0)

@@ -195,7 +195,8 @@ def convert(tree: Tree, q: ArrayLike, u: ArrayLike | None = None, udot: ArrayLik
         return qt, None, None
     u = check_u(tree, f"u for case {s}", u)
     batch = np.broadcast_shapes(q.shape[:-1], u.shape[:-1])
-    flat = lambda a, w: np.broadcast_to(a, batch + (w,)).reshape(-1, w)  # noqa: E731
+    rows = int(np.prod(batch, dtype=np.int64))  # not -1: a tree without speeds has rows of width 0
+    flat = lambda a, w: np.broadcast_to(a, batch + (w,)).reshape(rows, w)  # noqa: E731
     qf, uf, qtf = flat(q, q.shape[-1]), flat(u, tree.nv), flat(qt, qt.shape[-1])
     ud = None if udot is None else flat(check_u(tree, f"udot for case {s}", udot), tree.nv)
     ut = uf.copy()
