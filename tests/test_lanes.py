@@ -191,3 +191,32 @@ def test_the_optimized_code_takes_over_with_the_same_bits(tmp_path, monkeypatch)
     other = read_tree(_tree_file(tmp_path, 10, 5))
     kernel.optimize(other, 2)  # at once, without running a state
     assert kernel._lanes(other, 2, "lanes").level == 2
+
+
+@pytest.mark.parametrize("which", ["armature", "random7", "ball chain"])
+def test_the_traced_articulated_body_algorithm_is_kanes_equations(tmp_path, which):
+    """The lanes of the articulated-body algorithm (what deep trees get), forced on three trees (free, ball, slide and
+    hinge joints with armature, whose cases 1 and 3 take the rotational armature's ``B^T D B``; a random tree; a
+    12-body ball chain), every case, against Kane's equations within the bound the numba kernels are held to
+    (``||M^-1|| (||M|| |udot| + |f|) 64 eps depth``, tests/test_tree_kernels.py)."""
+    from relacc.core.tree import convert
+    from relacc.core.tree.model import welded_folded
+    from relacc.tradeoff.trees import chain_mjcf
+    from tests.test_tree_kernels import ARMATURE, _dynamics_scale
+
+    path = tmp_path / "t.xml"
+    path.write_text({"armature": ARMATURE, "ball chain": chain_mjcf(12, "ball")}.get(which, "")
+                    or _tree_file(tmp_path, 7, 6).read_text())
+    tree = read_tree(path)
+    st = random_states(tree, 2, 21, 7)
+    tau = np.random.default_rng(7).standard_normal((21, tree.nv))
+    g = np.asarray(tree.gravity, dtype=float)
+    for case in (1, 2, 3):
+        q, u, _ = convert(tree, st.q, st.u, source=2, target=case)
+        k = lanes.kernel(welded_folded(tree), case, "aba")
+        out = np.empty((21, tree.nv))
+        assert k.block(np.ascontiguousarray(q), np.ascontiguousarray(u), tau, g, out, 0, 21) == (0, 0)
+        ref = relacc.tree_accelerations(tree, case, q, u, tau=tau, backend="reference")
+        bound = _dynamics_scale(tree, case, q, u, ref) * 64 * 2.2e-16 * max(tree.depth)
+        err = np.abs(out - ref).max(axis=1)
+        assert np.all(err <= bound), f"{which}, case {case}: worst {np.max(err / bound):.3g} of the bound (seed 7)"
