@@ -76,55 +76,30 @@ class X:
     def __init__(self, g, i):
         self.g, self.i = g, i
 
-    # arithmetic ---------------------------------------------------------------------------------------------------
+    # arithmetic: one rule for both operand orders (_arith) -------------------------------------------------------
     def __add__(self, o):
-        if not isinstance(o, X) and o == 0.0:
-            return self
-        return self.g.node("add", self.i, _ref(o))
+        return _arith("add", self, o)
 
     def __radd__(self, o):
-        if o == 0.0:
-            return self
-        return self.g.node("add", _ref(o), self.i)
+        return _arith("add", o, self)
 
     def __sub__(self, o):
-        if not isinstance(o, X) and o == 0.0:
-            return self
-        return self.g.node("sub", self.i, _ref(o))
+        return _arith("sub", self, o)
 
     def __rsub__(self, o):
-        if o == 0.0:
-            return -self
-        return self.g.node("sub", _ref(o), self.i)
+        return _arith("sub", o, self)
 
     def __mul__(self, o):
-        if not isinstance(o, X):
-            if o == 0.0:
-                return 0.0
-            if o == 1.0:
-                return self
-            if o == -1.0:
-                return -self
-        return self.g.node("mul", self.i, _ref(o))
+        return _arith("mul", self, o)
 
     def __rmul__(self, o):
-        if o == 0.0:
-            return 0.0
-        if o == 1.0:
-            return self
-        if o == -1.0:
-            return -self
-        return self.g.node("mul", _ref(o), self.i)
+        return _arith("mul", o, self)
 
     def __truediv__(self, o):
-        if not isinstance(o, X) and o == 1.0:
-            return self
-        return self.g.node("div", self.i, _ref(o))
+        return _arith("div", self, o)
 
     def __rtruediv__(self, o):
-        if o == 0.0:
-            return 0.0
-        return self.g.node("div", _ref(o), self.i)
+        return _arith("div", o, self)
 
     def __neg__(self):
         return self.g.node("neg", self.i)
@@ -153,6 +128,31 @@ class X:
 
     __lt__ = __le__ = __ge__ = __eq__ = __ne__ = __bool__ = __float__ = __int__ = __index__ = _refuse
     __hash__ = object.__hash__
+
+
+def _arith(op: str, a, b):
+    """``a op b`` with one of them an :class:`X` and the other an ``X`` or a number, the exact identities folded:
+    ``x + 0``, ``0 + x``, ``x - 0`` are ``x``, ``0 - x`` is ``-x``; ``x * 0`` and ``0 * x`` are 0, ``x * 1`` is ``x``,
+    ``x * -1`` is ``-x``; ``x / 1`` is ``x``, ``0 / x`` is 0 (exact for the finite values a state's inputs are checked
+    to be)."""
+    g = a.g if isinstance(a, X) else b.g
+    ca = None if isinstance(a, X) else float(a)
+    cb = None if isinstance(b, X) else float(b)
+    if op == "add" and (ca == 0.0 or cb == 0.0):
+        return b if ca == 0.0 else a
+    if op == "sub" and cb == 0.0:
+        return a
+    if op == "sub" and ca == 0.0:
+        return -b
+    if op == "mul" and (ca is not None or cb is not None):
+        c, x = (ca, b) if ca is not None else (cb, a)
+        if c == 0.0:
+            return 0.0
+        if c in (1.0, -1.0):
+            return x if c == 1.0 else -x
+    if op == "div" and (cb == 1.0 or ca == 0.0):
+        return a if cb == 1.0 else 0.0
+    return g.node(op, _ref(a), _ref(b))
 
 
 class _Math:
@@ -533,7 +533,8 @@ class Kernel:
 
     def __init__(self, fn, engine, level: int, width: int, ops: int, nq: int, nv: int, upgrade=None):
         self.fn: Callable[..., int] = fn
-        self.level, self.width, self.ops, self.nq, self.nv, self.states = level, width, ops, nq, nv, 0
+        self.level, self.width, self.ops, self.nq, self.nv = level, width, ops, nq, nv
+        self.states = 0  # counted without a lock: threads may lose a few, and the count only times the switch
         self._engines = [engine]  # every engine whose code may still run on another thread: kept with the kernel
         self._upgrade = upgrade  # () -> (fn, engine): the -O2 code; None once at -O2
         self._lock = threading.Lock()
@@ -554,8 +555,11 @@ class Kernel:
                 self.fn, self.level, self._upgrade = fn, 2, None
 
     def block(self, q, u, tau, g, out, start: int, stop: int) -> tuple:
-        """Rows ``start .. stop - 1`` of C-contiguous float64 ``q (n, nq)``, ``u (n, nv)``, ``tau (n, nv)`` with
-        gravity ``g (3,)`` into ``out (n, nv)``: ``(states with bad inputs, singular states)``. The compiled code
+        """Rows ``start .. stop - 1`` of C-contiguous float64 ``q (n, nq)`` and ``u (n, nv)`` (the case's
+        coordinates and speeds), ``tau (n, nv)`` (generalized forces on those speeds, N or N m) with gravity
+        ``g (3,)`` (m/s^2, world components) into ``out (n, nv)``, the speeds' time derivatives (m/s^2 for a
+        translation's speed, rad/s^2 for a rotation's; case 3 the 1-2-3 angles' second derivatives): ``(states with
+        bad inputs, singular states)``, a singular state's row NaN. The compiled code
         runs without the GIL (ctypes releases it), so shares of a batch run on Python threads at once."""
         bad = np.zeros(1, np.int64)
         singular = self.fn(q.ctypes.data, u.ctypes.data, tau.ctypes.data, g.ctypes.data, out.ctypes.data,

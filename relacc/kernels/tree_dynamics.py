@@ -161,8 +161,7 @@ def one_state(tree, case: int, q, u, gravity):
     the kernel and little else."""
     fn, args, Q, U, out = _single(tree, case, gravity)
     Q[0], U[0] = q, u
-    res = fn(*args)
-    bad_in, singular = (int(args[5][0]), res) if len(args) == 8 else res
+    bad_in, singular = fn(*args)
     return out[0].copy(), bad_in, singular
 
 
@@ -194,7 +193,8 @@ def _single(tree, case, gravity):
 class _ZeroingCall:
     """The lanes kernel's compiled function for one state on fixed buffers: counts the state
     (:meth:`relacc.kernels.lanes.Kernel.will_run`), zeroes the bad-input count, passes its address (the arguments'
-    sixth is the count's array) and keeps the buffers alive as long as the call is cached."""
+    sixth is the count's array), keeps the buffers alive as long as the call is cached, and returns ``(bad inputs,
+    singular)`` as the numba block function does."""
 
     __slots__ = ("lane", "bad", "at", "keep")
 
@@ -204,7 +204,8 @@ class _ZeroingCall:
     def __call__(self, q, u, tau, g, out, _bad, start, stop):
         self.lane.will_run(1)
         self.bad[0] = 0
-        return self.lane.fn(q, u, tau, g, out, self.at, start, stop)
+        singular = self.lane.fn(q, u, tau, g, out, self.at, start, stop)
+        return int(self.bad[0]), singular
 
 
 def _entry_point(fn, args):
