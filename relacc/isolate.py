@@ -7,7 +7,9 @@ in this process):
   only how it ended matters;
 * a user's own code run apart from relacc's (``relacc grade``): whatever it does to the objects it is given, to the
   process (``os._exit``, a signal) or to file descriptor 1 (``os.write(1, ...)``, which would corrupt ``--json``)
-  stays in the child; its result comes back pickled through a pipe, and its output goes to stderr.
+  stays in the child, and its output goes to stderr. Its result comes back as plain data only (:func:`run_plain`:
+  a JSON header and numeric arrays in numpy's ``.npy`` format, read with ``allow_pickle=False``): nothing the child
+  sends can run code in this process, whatever the user's code did to the child's own relacc.
 
 Where ``os.fork`` is missing, :func:`run` calls the step in this process (:data:`FORKS` says which).
 """
@@ -17,6 +19,8 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import faulthandler
+import io
+import json
 import os
 import pickle
 import select
@@ -25,6 +29,8 @@ import sys
 import tempfile
 import time
 from dataclasses import dataclass
+
+import numpy as np
 
 FORKS = hasattr(os, "fork")
 """Whether steps run in a child process here."""
@@ -38,8 +44,12 @@ class Ended:
     signal: str | None = None
     status: int | None = None
     timeout: float | None = None
+    garbled: str | None = None
+    """What was wrong with a result that is not plain data (:func:`run_plain`)."""
 
     def sentence(self) -> str:
+        if self.garbled is not None:
+            return f"sent back something that is not plain numbers ({self.garbled[:200]})"
         if self.timeout is not None:
             return f"did not finish in {self.timeout:g} s (stopped)"
         if self.signal is not None:
@@ -66,14 +76,110 @@ def run(step, *, output: str = "stderr", timeout: float | None = None):
     """``step()`` in a forked child; returns its return value, or a :class:`Raised` or an :class:`Ended`.
 
     ``output``: where the child's stdout and stderr go, ``"stderr"`` (both to this process' stderr) or ``"null"``.
-    The return value must pickle. An interrupt of this process (SIGINT, SIGTERM raised as KeyboardInterrupt) kills
-    the child and propagates.
+    The return value must pickle, and is unpickled here: for relacc's own steps only (an engine's probe). A user's
+    code runs through :func:`run_plain`. An interrupt of this process (SIGINT, SIGTERM raised as KeyboardInterrupt)
+    kills the child and propagates.
     """
     if not FORKS:
         try:
             return step()
         except Exception as exc:  # noqa: BLE001 - the caller reports the step's failure
             return _raised(exc)
+
+    def encode(payload) -> bytes:
+        try:
+            return pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception as exc:  # noqa: BLE001 - a result that cannot travel is the step's failure
+            return pickle.dumps(("raised", Raised(type(exc).__name__, f"its result cannot be pickled: {exc}")))
+
+    got = _forked(step, encode, output, timeout)
+    if isinstance(got, Ended):
+        return got
+    _, value = pickle.loads(got)  # ("value", the step's value) or ("raised", a Raised)
+    return value
+
+
+RAISED = "isolate.raised"
+"""The header key of :func:`run_plain`'s own report of an exception the step raised."""
+
+PLAIN_HEADER_BYTES = 1 << 16
+"""The largest JSON header :func:`run_plain` accepts from a child."""
+
+
+def run_plain(step, *, output: str = "stderr", timeout: float | None = None):
+    """``step()`` in a forked child whose code is not relacc's to trust (a user's module, imported there and only
+    there); ``step`` returns ``(header, arrays)``: a JSON-serializable ``header`` (dict) and a list of numpy arrays.
+
+    Returns ``(header, arrays)`` decoded here as plain data (the header by ``json.loads``, each array by numpy's
+    ``.npy`` reader with ``allow_pickle=False``: an object array is refused), or a :class:`Raised` (the step raised)
+    or an :class:`Ended` (the child ended, was stopped after ``timeout`` seconds, or sent something that is not
+    plain data: ``Ended.status`` then says so). Where ``os.fork`` is missing the step runs here.
+    """
+    if not FORKS:
+        try:
+            return step()
+        except Exception as exc:  # noqa: BLE001 - the caller reports the step's failure
+            return _raised(exc)
+
+    def encode(payload) -> bytes:
+        kind, value = payload
+        if kind == "raised":
+            return _plain({RAISED: [value.type, value.message]}, [])
+        try:
+            header, arrays = value
+            return _plain(dict(header), [np.asarray(a) for a in arrays])
+        except Exception as exc:  # noqa: BLE001 - a result that is not plain data is the step's failure
+            return _plain({RAISED: [type(exc).__name__, f"its result is not plain data: {exc}"]}, [])
+
+    got = _forked(step, encode, output, timeout)
+    if isinstance(got, Ended):
+        return got
+    try:
+        header, arrays = _unplain(got)
+    except (ValueError, TypeError, KeyError, OSError, EOFError) as exc:
+        return Ended(status=0, garbled=f"{type(exc).__name__}: {exc}")
+    if RAISED in header:
+        try:
+            kind, message = header[RAISED]
+        except (TypeError, ValueError):
+            return Ended(status=0, garbled="an exception without a type and a message")
+        return Raised(str(kind)[:200], str(message)[:1000])
+    return header, arrays
+
+
+def _plain(header: dict, arrays: list) -> bytes:
+    """``header`` as JSON (its length first, 8 bytes little-endian), then each array in ``.npy`` format."""
+    out = io.BytesIO()
+    head = json.dumps({**header, "arrays": len(arrays)}).encode()
+    out.write(len(head).to_bytes(8, "little"))
+    out.write(head)
+    for a in arrays:
+        if a.dtype.hasobject:
+            raise TypeError(f"an array of {a.dtype} objects is not plain data")
+        np.lib.format.write_array(out, a, allow_pickle=False)
+    return out.getvalue()
+
+
+def _unplain(data: bytes) -> tuple[dict, list]:
+    """The inverse of :func:`_plain`, trusting nothing: a header over :data:`PLAIN_HEADER_BYTES`, JSON that is not an
+    object, a count of arrays that does not match, an object array or trailing bytes raise ``ValueError``."""
+    stream = io.BytesIO(data)
+    size = int.from_bytes(stream.read(8), "little")
+    if not 0 < size <= PLAIN_HEADER_BYTES:
+        raise ValueError(f"a header of {size} bytes")
+    header = json.loads(stream.read(size).decode("utf-8"))
+    if not isinstance(header, dict) or not isinstance(header.get("arrays"), int):
+        raise ValueError("the header is not a JSON object with its count of arrays")
+    arrays = [np.lib.format.read_array(stream, allow_pickle=False) for _ in range(header.pop("arrays"))]
+    if stream.read(1):
+        raise ValueError("bytes after the last array")
+    return header, arrays
+
+
+def _forked(step, encode, output: str, timeout: float | None):
+    """The mechanism of :func:`run` and :func:`run_plain`: ``step()`` in a forked child, whose
+    ``("value", v)`` or ``("raised", Raised)`` is ``encode``-d to bytes and sent through a pipe; returns those bytes,
+    or an :class:`Ended`."""
     reader, writer = os.pipe()
     pid = os.fork()
     if pid == 0:  # the child: the step, then out without Python's exit handlers (they are the parent's)
@@ -90,11 +196,7 @@ def run(step, *, output: str = "stderr", timeout: float | None = None):
                 payload = ("value", step())
             except BaseException as exc:  # noqa: BLE001 - GeneratorExit, KeyboardInterrupt, SystemExit: the step's
                 payload = ("raised", _raised(exc))
-            try:
-                data = pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
-            except Exception as exc:  # noqa: BLE001 - a result that cannot travel is the step's failure
-                data = pickle.dumps(("raised", Raised(type(exc).__name__, f"its result cannot be pickled: {exc}")))
-            view = memoryview(data)
+            view = memoryview(encode(payload))
             while view:
                 view = view[os.write(writer, view):]
         except BaseException:  # noqa: BLE001
@@ -122,8 +224,7 @@ def run(step, *, output: str = "stderr", timeout: float | None = None):
     finally:
         os.close(reader)
     if chunks and os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0:
-        _, value = pickle.loads(b"".join(chunks))  # ("value", the step's value) or ("raised", a Raised)
-        return value
+        return b"".join(chunks)
     if os.WIFSIGNALED(status):
         return Ended(signal=signal_name(os.WTERMSIG(status)))
     return Ended(status=os.WEXITSTATUS(status))

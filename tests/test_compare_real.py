@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from relacc.cli import main
+from relacc.core.conventions import ModelQuantity
 from relacc.core.tolerances import EPS, robot_tolerance
 from relacc.errors import ModelError
 from relacc.validation.robots import compare
@@ -650,3 +651,66 @@ def test_pinocchio_adding_a_free_joints_armature_in_its_own_speeds_is_a_known_di
     assert differ and all(e == "pinocchio" for _, e in differ), differ
     assert all("armature in its own speeds" in rows[k]["cause"] for k in differ), [rows[k]["cause"] for k in differ]
     assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"
+
+
+INCLUDED_ROBOT = """<mujoco model="robot">
+  <worldbody>
+    <body name="base" pos="0 0 0.5">
+      <joint name="j1" type="hinge" axis="0 0 1" armature="0.1"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      <body name="link" pos="0.3 0 0">
+        <joint name="j2" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+SCENE_WITH_A_BALL = """<mujoco model="scene">
+  <include file="robot.xml"/>
+  <worldbody>
+    <body name="ball" pos="0.5 0 0.2"><freejoint/><geom type="sphere" size="0.03"/></body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_a_scene_including_a_robot_beside_its_own_free_body_is_refereed(tmp_path):
+    """Issue 49 item 3: Pinocchio reads only the scene's own free body (6 of relacc's 8 speeds); the referee's pair of
+    Pinocchio and an engine indexed Pinocchio's 6-speed Jacobian with relacc's speed numbers (IndexError, exit 1 and
+    nothing on stdout). Each evaluator's columns are its own: the referee names Drake (armature dropped) the odd one
+    out over the mass matrix, relacc, Pinocchio and MuJoCo agreeing on the ball's speeds and the robot's."""
+    (tmp_path / "robot.xml").write_text(INCLUDED_ROBOT)
+    (tmp_path / "scene.xml").write_text(SCENE_WITH_A_BALL)
+    result = compare(tmp_path / "scene.xml", n_states=3)
+    verdicts = {v.quantity: v for v in result.referee}
+    mass = verdicts[ModelQuantity.MASS_MATRIX]
+    assert mass.odd_ones_out == ("drake",) and set(mass.agreeing) == {"relacc", "pinocchio", "mujoco"}, mass
+    # Pinocchio against MuJoCo over the 6 speeds they share: within the tolerance
+    assert mass.pairs["pinocchio|mujoco"] <= 1.0, mass.pairs
+
+
+def test_an_internal_error_is_exit_3_one_line_and_a_directory_goes_on(tmp_path, capsys, monkeypatch):
+    """Issue 49 item 3: an internal error (here a planted IndexError on one file) never has a verdict's exit code:
+    one line naming it and asking for a report, exit 3; in a directory, that file's row says so and the others are
+    compared."""
+    from relacc.validation import robots as package
+
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "robots" / "a.xml").write_text(UNNAMED)
+    (tmp_path / "robots" / "b.xml").write_text(UNNAMED.replace('model="unnamed"', 'model="broken"'))
+    real = package.compare
+
+    def planted(model, **kw):
+        if str(model).endswith("b.xml"):
+            raise IndexError("index 6 is out of bounds for axis 3 with size 6")
+        return real(model, **kw)
+
+    monkeypatch.setattr(package, "compare", planted)
+    assert main(["compare", str(tmp_path / "robots" / "b.xml"), "--states", "2"]) == 3
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and "internal error: IndexError" in err[0] and "please report" in err[0], err
+    assert main(["compare", str(tmp_path / "robots"), "--states", "2", "--json"]) == 3
+    rows = json.loads(capsys.readouterr().out)
+    assert [r["exit"] for r in rows] == [0, 3] and "IndexError" in rows[1]["error"], rows

@@ -290,14 +290,20 @@ def test_an_interrupt_a_compiled_caller_turned_into_its_own_error_is_an_interrup
     assert files.PENDING[0] is None
 
 
-def test_an_error_without_an_interrupt_is_not_taken_for_one(monkeypatch):
-    """Only an interrupt is turned into exit 130: any other error of a command still surfaces (a bug, not news)."""
+def test_an_error_without_an_interrupt_is_not_taken_for_one(monkeypatch, capsys):
+    """Only an interrupt is turned into exit 130: any other error of a command is relacc's own failure, exit 3 (never
+    a verdict's 0 or 1, nor an input error's 2) and one line asking for a report (issue 49 item 3);
+    ``RELACC_DEBUG=1`` lets it surface with its traceback."""
     from relacc.cli import commands, main
 
     def broken(args):
         raise SystemError("a bug")
 
     monkeypatch.setattr(commands, "cmd_check", broken)
+    assert main(["check", "--quiet"]) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "internal error: SystemError: a bug" in err[0] and "report" in err[0], err
+    monkeypatch.setenv("RELACC_DEBUG", "1")
     with pytest.raises(SystemError):
         main(["check", "--quiet"])
 

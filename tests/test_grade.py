@@ -159,3 +159,99 @@ def test_a_complex_result_is_not_graded_right(tmp_path):
         warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
         with pytest.raises(CallError, match="complex"):
             check_formula(fn, quantity="velocity", case=1, n=3)
+
+
+WRONG_VELOCITY = """
+def fn(chain, q, u, udot):
+    return relacc.g2_kinematics(chain, 1, q, u).velocity * 1.5
+"""
+
+
+def test_the_graded_modules_top_level_cannot_reach_the_grader(tmp_path, capsys):
+    """Issue 50 item 1: module-level code that replaces the grader's error measure with zeros (in relacc's own
+    process, it turned a WRONG 0.351 into right) runs only in the child that imports the module: still WRONG,
+    exit 1, at the size of the wrong factor (0.5 of the velocity's terms)."""
+    spec = _module(tmp_path, textwrap.dedent("""
+        import relacc.testing.grade, relacc.testing.grading
+        relacc.testing.grading.worst_against.__globals__["normalized_error"] = (
+            lambda mine, values, scale: np.zeros(len(values)))
+    """) + WRONG_VELOCITY)
+    assert main(["grade", spec, "--quantity", "velocity", "--case", "1", "--states", "5"]) == 1
+    out = capsys.readouterr().out
+    assert "WRONG" in out, out
+    import relacc.testing.grading
+    assert relacc.testing.grading.worst_against.__globals__["normalized_error"].__module__ == "relacc.core.tolerances"
+
+
+def test_what_the_child_sends_back_cannot_run_code_here(tmp_path):
+    """Issue 50 item 1: a batch call returning an object array whose element unpickles by running code (here: writing
+    a file) is refused as plain data; the parent never runs it, and the function is graded one state at a time."""
+    marker = tmp_path / "ran-in-the-parent"
+    spec = _module(tmp_path, f"""
+        import os
+        class Trap:
+            def __reduce__(self):
+                return (os.mkdir, ({str(marker)!r},))
+        def fn(chain, q, u, udot):
+            v = relacc.g2_kinematics(chain, 1, q, u).velocity * 1.5
+            if np.ndim(q) == 2:
+                out = np.empty(len(q), dtype=object)
+                out[:] = [Trap() for _ in range(len(q))]
+                return out
+            return v
+    """)
+    grade = check_formula(load_function(spec), quantity="velocity", case=1, n=4)
+    assert not grade.ok and grade.called == "one state at a time", grade.text()
+    np.testing.assert_allclose(grade.worst_error, 0.5, rtol=0, atol=0.5)  # 1.5x: an error of the velocity's size
+    assert not marker.exists()
+
+
+def test_a_forged_stream_from_the_child_is_refused(tmp_path):
+    """The child's own relacc is the user's to change: a function that rewrites the child's encoder to send a pickle
+    gets one line, never an unpickling here."""
+    from relacc import isolate
+
+    marker = tmp_path / "unpickled-here"
+
+    def step():
+        import os
+        import pickle
+
+        class Trap:
+            def __reduce__(self):
+                return (os.mkdir, (str(marker),))
+        os.write(1, b"")  # nothing on stdout
+        return {"ok": True}, [pickle.dumps(Trap())]  # bytes, not an array: refused in the child
+
+    got = isolate.run_plain(step, timeout=30)
+    assert isinstance(got, isolate.Raised) or isinstance(got, tuple), got
+    assert not marker.exists()
+    # a stream that is not the plain format at all
+    header, arrays = isolate._unplain(isolate._plain({"a": 1}, [np.arange(3.0)]))
+    assert header == {"a": 1} and arrays[0].tolist() == [0.0, 1.0, 2.0]
+    with pytest.raises(ValueError):
+        isolate._unplain(isolate._plain({"a": 1}, [np.arange(3.0)])[:-3] + b"\x80\x04N.")
+
+
+@pytest.mark.slow
+def test_a_function_that_never_returns_is_stopped(tmp_path):
+    """Issue 50 item 1: ``while True: pass`` hung grade; the child has --timeout seconds: one line, exit 2."""
+    spec = formula_module(tmp_path, "def fn(chain, q, u, udot):\n    while True:\n        pass\n")
+    out = run_relacc("grade", spec, "--quantity", "velocity", "--case", "1", "--states", "2", "--timeout", "2",
+                     cwd=tmp_path, timeout=120)
+    line = one_line(out)
+    assert "did not finish in 2 s" in line and "fn" in line, line
+
+
+@pytest.mark.slow
+def test_a_graded_module_beside_a_file_named_like_an_engine_is_one_line(tmp_path):
+    """Issue 50 item 9: a graded module importing its sibling ``mujoco.py`` gave a 53-line ImportError traceback
+    (relacc, started by ``python -m`` in that directory, then imported the sibling as the engine). relacc's engines
+    are its own in any working directory, and the module is imported in the child only, where the engine relacc
+    already loaded is the ``mujoco`` it gets: the function's failure is one line, exit 2."""
+    (tmp_path / "mujoco.py").write_text("HELPER = 2.0\n")
+    spec = formula_module(tmp_path, "import relacc\nimport mujoco\ndef fn(chain, q, u, udot):\n"
+                                    "    return relacc.g2_kinematics(chain, 1, q, u).velocity * mujoco.HELPER / 2\n")
+    line = one_line(run_relacc("grade", spec, "--quantity", "velocity", "--case", "1", "--states", "3",
+                               cwd=tmp_path))
+    assert "fn raised AttributeError" in line and "HELPER" in line, line

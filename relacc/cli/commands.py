@@ -227,12 +227,12 @@ def _grade(args):
             raise InputError("--body NAME goes with --model FILE.xml|FILE.urdf (a model's body); without them "
                              "relacc grades the note's G2 on the chain")
         grade = check_formula(fn, quantity=args.quantity, case=args.case, n=args.states, seed=args.seed,
-                              model=args.model, body=args.body)
+                              model=args.model, body=args.body, timeout=args.timeout)
     else:
         if args.quantity not in ("position", "velocity", "acceleration", "V", "Vdot"):
             raise InputError(f"--quantity {args.quantity} is a model's body quantity: give --model FILE and --body")
         grade = check_formula(fn, quantity=args.quantity, case=args.case, n=args.states, seed=args.seed,
-                              chain=fixtures.load(args.model).chain)
+                              chain=fixtures.load(args.model).chain, timeout=args.timeout)
     return grade
 
 

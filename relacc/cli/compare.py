@@ -96,35 +96,56 @@ def _many(args) -> int:
                                                seed=args.seed)))
             except RelaccError as exc:
                 results.append((model, exc))
+            except Exception as exc:  # noqa: BLE001 - relacc's own failure on this file: said, and the run goes on
+                from relacc.cli.main import internal_error
+
+                results.append((model, Internal(internal_error(exc))))
     if args.out is not None and len(results) == 1:  # one model on a cluster: its own page
         from relacc.report.robot import write
 
         _, only = results[0]
-        if isinstance(only, RelaccError):
+        if isinstance(only, (RelaccError, Internal)):
             raise only
         write(only, args.out)
     elif args.out is not None:
         from relacc.report.robot import write_many
 
         write_many([(args.shown.get(m, m), r) for m, r in results], args.out)
-    codes = [2 if isinstance(r, RelaccError) else r.exit_code for _, r in results]
+    codes = [exit_code(r) for _, r in results]
     if args.json:
-        print(json.dumps([{"model": m, "shown": args.shown.get(m, m), "error": str(r), "exit": 2}
-                          if isinstance(r, RelaccError) else {**r.as_json(), "shown": args.shown.get(m, m),
-                                                               "exit": r.exit_code} for m, r in results], indent=2))
+        print(json.dumps([{"model": m, "shown": args.shown.get(m, m), "error": str(r), "exit": exit_code(r)}
+                          if isinstance(r, Exception) else {**r.as_json(), "shown": args.shown.get(m, m),
+                                                            "exit": r.exit_code} for m, r in results], indent=2))
         return max(codes)
     print(f"relacc compare: {len(results)} models: {codes.count(0)} agree, {codes.count(1)} disagree, "
-          f"{codes.count(2)} cannot be compared")
+          f"{codes.count(2)} cannot be compared" + (f", {codes.count(3)} internal errors (exit 3: please report them)"
+                                                    if 3 in codes else ""))
     print(summary_table([(args.shown.get(m, m), r) for m, r in results]))
     if args.verbose:
         for (model, r), code in zip(results, codes):
             print()
-            print(f"{model}: error: {r}" if isinstance(r, RelaccError) else text(r))
+            print(f"{model}: error: {r}" if isinstance(r, Exception) else text(r))
     else:
         print("(each model's detail: --verbose, --json or --out PAGE.html)")
     if args.out is not None:
         print(f"wrote {args.out}")
     return max(codes)
+
+
+class Internal(Exception):
+    """relacc's own failure on one file of several (one line, :func:`relacc.cli.main.internal_error`): recorded for
+    that file, exit 3, and the run goes on with the next."""
+
+
+def exit_code(result) -> int:
+    """A model's exit code: 2 for an input error, 3 for an internal one, else its comparison's."""
+    from relacc.errors import RelaccError
+
+    if isinstance(result, RelaccError):
+        return 2
+    if isinstance(result, Exception):
+        return 3
+    return result.exit_code
 
 
 def summary_table(results) -> str:
@@ -136,8 +157,9 @@ def summary_table(results) -> str:
     lines = [f"  {'exit':4s}  {'model':{width}s}  {'audit':>5s}  {'dynamics':>8s}  {'unexplained':>11s}  "
              f"{'findings':>8s}  compared"]
     for model, r in results:
-        if isinstance(r, RelaccError):
-            lines.append(f"  {2:<4d}  {model:{width}s}  cannot be compared: {r}")
+        if isinstance(r, Exception):
+            what = "cannot be compared" if isinstance(r, RelaccError) else "internal error"
+            lines.append(f"  {exit_code(r):<4d}  {model:{width}s}  {what}: {r}")
             continue
         data = r.as_json()
         bad = [x for q in data["dynamics"].values() for x in q["engines"].values() if not x["ok"]]

@@ -11,6 +11,8 @@
   conditioning) are what reports them; one that escapes those checks is
   reported as one line, exit 2, like an input error.
 * Output cut short by the reader (``relacc check | head``) ends quietly, exit 141.
+* Anything else is relacc's own failure, never a verdict: one line naming the exception, with a request to report
+  it, exit :data:`INTERNAL` (3). ``RELACC_DEBUG=1`` in the environment lets the traceback through instead.
 """
 
 from __future__ import annotations
@@ -18,6 +20,10 @@ from __future__ import annotations
 import os
 import sys
 import warnings
+from pathlib import Path
+
+INTERNAL = 3
+"""The exit code of an internal error: never 0 or 1, which are verdicts, nor 2, which is the user's input."""
 
 
 def main(argv=None) -> int:
@@ -62,18 +68,33 @@ def main(argv=None) -> int:
         return 141
     except Exception as exc:  # an interrupt a compiled caller turned into its own error (numba: SystemError)
         if files.PENDING[0] is None and not _interrupt_in(exc):
-            raise
+            if os.environ.get("RELACC_DEBUG"):
+                raise
+            end_line()
+            print(f"{name}: internal error: {internal_error(exc)}", file=sys.stderr)
+            return INTERNAL
         files.clear_interrupt()
         end_line()
         print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
         return 130
 
 
+def internal_error(exc: BaseException) -> str:
+    """One line for an exception that is relacc's own failure: its type, its message's first line, where it was
+    raised in relacc, and what to do."""
+    import traceback
+
+    frames = [f for f in traceback.extract_tb(exc.__traceback__) if "relacc" in f.filename]
+    where = f" at {Path(frames[-1].filename).name}:{frames[-1].lineno}" if frames else ""
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    return (f"{type(exc).__name__}: {text}{where} (a bug in relacc, not a verdict on the model; please report it "
+            "with the command and its files; RELACC_DEBUG=1 shows the traceback)")
+
+
 def input_paths(args) -> list[str]:
     """Every file a command's arguments name as an input (model files, a chain's engine files beside its TOML, a
     URDF, a scene, a state, the module of a graded function): no output may be one of them
     (:func:`relacc.files.inputs`). A directory given to ``compare`` is expanded there."""
-    from pathlib import Path
 
     out = []
     model = getattr(args, "model", None)
@@ -127,7 +148,8 @@ def entry() -> None:
 
     name = "relacc"
     for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, handler)
+        if signal.getsignal(sig) is not signal.SIG_IGN:  # a signal the parent ignores (a background job) stays so
+            signal.signal(sig, handler)
     try:
         name = f"relacc {sys.argv[1]}" if len(sys.argv) > 1 and not sys.argv[1].startswith("-") else name
         code = main()

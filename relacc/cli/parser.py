@@ -14,7 +14,8 @@ import sys
 EXIT_CODES = """exit codes:
   0  success: everything compared agrees
   1  a disagreement: a comparison is outside its tolerance
-  2  a usage or input error (one line on stderr); for grade, a function that cannot be called"""
+  2  a usage or input error (one line on stderr); for grade, a function that cannot be called
+  3  an internal error of relacc's (one line on stderr; please report it with the command and its files)"""
 
 ENGINE_NAMES = ("pinocchio", "mujoco", "drake")
 SIM_ENGINE_NAMES = ("relacc",) + ENGINE_NAMES
@@ -233,6 +234,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--case", required=True, type=_case, metavar="{1,2,3}", help="the case of its q and u")
     _states(p, 200, "ordinary states, and as many hard ones")
     _seed(p)
+    p.add_argument("--timeout", type=_positive_float(), default=120.0, metavar="SECONDS",
+                   help="seconds the function may take over one batch of states before it is stopped (default 120); "
+                        "it runs in a child process, imported there only")
     _json(p, "ok, worst_error, columns, matches, seed")
     _model(p, "a chain TOML, or an MJCF .xml or URDF .urdf model")
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import datetime as dt
 
 from relacc import files
+from relacc.errors import RelaccError
 from relacc.core.tolerances import EPS
 from relacc.report.build import environment
 
@@ -95,12 +96,13 @@ def render_many(results) -> str:
     it)]``; a summary table with a row per model, linked to each compared model's sections."""
     rows = []
     for model, r in results:
-        if isinstance(r, Exception):
-            rows.append({"model": str(model), "exit": 2, "error": str(r), "d": None})
+        if isinstance(r, Exception):  # an input error (2), or relacc's own failure on that file (3)
+            rows.append({"model": str(model), "exit": 2 if isinstance(r, RelaccError) else 3, "error": str(r),
+                         "d": None})
         else:
             rows.append({"model": str(model), "exit": r.exit_code, "error": None, "d": page_data(r)})
     codes = [r["exit"] for r in rows]
-    counts = {"agree": codes.count(0), "disagree": codes.count(1), "cannot": codes.count(2)}
+    counts = {"agree": codes.count(0), "disagree": codes.count(1), "cannot": codes.count(2) + codes.count(3)}
     summary = f"{counts['agree']} agree, {counts['disagree']} disagree, {counts['cannot']} cannot be compared"
     return environment().get_template("robots.html.j2").render(
         rows=rows, summary=summary, counts=counts,

@@ -50,7 +50,7 @@ from relacc.testing.grading import Grade, worst_against
 from relacc.testing.trees import PHYSICAL, TREE_QUANTITIES, as_tree, model_states, model_truth
 from relacc.testing.truth import states as draw_states
 from relacc.testing.truth import truth
-from relacc.testing.user import CallError, evaluate_user
+from relacc.testing.user import CALL_TIMEOUT, CallError, UserFunction, evaluate_user
 
 if TYPE_CHECKING:
     from relacc.core.chain import TwoBodyChain
@@ -59,9 +59,10 @@ if TYPE_CHECKING:
 CHAIN_CALL, TREE_CALL = "f(chain, q, u, udot)", "f(tree, q, u, udot)"
 
 
-def check_formula(fn: Callable, *, quantity: str, case: int, n: int = 200, seed: int = 0,
+def check_formula(fn: Callable | UserFunction, *, quantity: str, case: int, n: int = 200, seed: int = 0,
                   chain: TwoBodyChain | None = None, engines: Sequence[str] | None = None,
-                  model: str | os.PathLike | Tree | None = None, body: str | None = None) -> Grade:
+                  model: str | os.PathLike | Tree | None = None, body: str | None = None,
+                  timeout: float = CALL_TIMEOUT) -> Grade:
     """Grade ``fn(chain, q, u, udot)`` for one quantity of G2 and a case (module docstring).
 
     With ``model`` (an MJCF, URDF or chain TOML path, or a relacc.Tree) and ``body`` (a body's name), grade
@@ -72,6 +73,7 @@ def check_formula(fn: Callable, *, quantity: str, case: int, n: int = 200, seed:
         n: ordinary states, and as many hard ones (the hard-case catalogue's).
         chain: a :class:`relacc.TwoBodyChain` (default the shipped chain).
         engines: engine names to judge against (default: every installed one), besides relacc.
+        timeout: seconds each child running ``fn`` on a batch of states may take.
 
     Raises:
         CallError: ``fn`` cannot be called as a formula (it raised, or returned the wrong shape).
@@ -82,7 +84,8 @@ def check_formula(fn: Callable, *, quantity: str, case: int, n: int = 200, seed:
             raise InputError("grading a model's body needs both model= and body=")
         if chain is not None:
             raise InputError("give chain= (the note's G2) or model= and body= (a model's body), not both")
-        return grade_body(fn, model=model, body=body, quantity=quantity, case=case, n=n, seed=seed, engines=engines)
+        return grade_body(fn, model=model, body=body, quantity=quantity, case=case, n=n, seed=seed, engines=engines,
+                          timeout=timeout)
     if quantity not in QUANTITIES:
         raise InputError(f"unknown quantity {quantity!r}: accepted are {', '.join(QUANTITIES)}")
     c = int(as_case(case))
@@ -91,7 +94,7 @@ def check_formula(fn: Callable, *, quantity: str, case: int, n: int = 200, seed:
         from relacc.fixtures import load
 
         chain = load().chain
-    if not callable(fn):
+    if not (callable(fn) or isinstance(fn, UserFunction)):
         raise CallError(f"{fn!r} is not callable; give a function fn(chain, q, u, udot)")
     from relacc.engines import available
 
@@ -101,12 +104,13 @@ def check_formula(fn: Callable, *, quantity: str, case: int, n: int = 200, seed:
               for name in ("relacc",) + tuple(available() if engines is None else engines)]
     blocks = [(name, list(range(sl.start, sl.stop))) for name, sl in zip(SPEED_NAMES[c], U_BLOCKS.values())]
     refs = [(t.source, t.values, t.scale, t.bound) for t in truths]
-    return _grade(fn, chain, chain_tree(chain), 1, quantity, s, seed, refs, blocks, CHAIN_CALL,
+    return _grade(fn, chain, chain_tree(chain), 1, quantity, s, seed, refs, blocks, CHAIN_CALL, timeout,
                   matches=lambda mine, tol: _matches(mine, chain, c, quantity, s, tol))
 
 
-def grade_body(fn: Callable, *, model: str | os.PathLike | Tree, body: str, quantity: str, case: int, n: int = 200,
-               seed: int = 0, engines: Sequence[str] | None = None) -> Grade:
+def grade_body(fn: Callable | UserFunction, *, model: str | os.PathLike | Tree, body: str, quantity: str, case: int,
+               n: int = 200, seed: int = 0, engines: Sequence[str] | None = None,
+               timeout: float = CALL_TIMEOUT) -> Grade:
     """Grade ``fn(tree, q, u, udot)`` for one body's quantity in one case (module docstring).
 
     Returns:
@@ -128,7 +132,7 @@ def grade_body(fn: Callable, *, model: str | os.PathLike | Tree, body: str, quan
     b = tree.body(body)
     c = int(as_case(case))
     n, seed = check_int("n", n, minimum=1), check_int("seed", seed, minimum=0)
-    if not callable(fn):
+    if not (callable(fn) or isinstance(fn, UserFunction)):
         raise CallError(f"{fn!r} is not callable; give a function fn(tree, q, u, udot)")
     require_memory(2.0 * n * (8.0 * GRADE_DOUBLES * tree.nb * tree.nv) + 2 * tree_states_bytes(tree, n, c),
                    f"grading {tree.name!r} ({tree.nb} bodies, {tree.nv} speeds) on {n} ordinary and {n} hard states",
@@ -142,27 +146,27 @@ def grade_body(fn: Callable, *, model: str | os.PathLike | Tree, body: str, quan
             e = t[quantity]
             truths.append((engine, e.values[:, b], e.scale[:, b], e.bound[:, b]))
     blocks = [(j.name, list(range(d, d + j.nv))) for (_, j), d in zip(tree.joints, tree.dofadr)]
-    return _grade(fn, tree, tree, b, quantity, s, seed, truths, blocks, TREE_CALL, body=tree.body_names[b],
+    return _grade(fn, tree, tree, b, quantity, s, seed, truths, blocks, TREE_CALL, timeout, body=tree.body_names[b],
                   not_evaluated=notes)
 
 
 def _grade(fn, subject, tree, b: int, quantity: str, s: States, seed: int, truths: list, blocks: list, called: str,
-           matches: Callable | None = None, **extra: Any) -> Grade:
+           timeout: float, matches: Callable | None = None, **extra: Any) -> Grade:
     """The user's worst value against every reference ``(source, values, scale, bound)`` and, when wrong, where:
     ``blocks`` ``[(name, speed indices)]`` probed against relacc's tree at body ``b``'s mass centre, and ``matches``
     ``(mine, tol) -> equation ids`` (G2's printed slips)."""
     c = int(s.case)
     shape = (3,) if quantity in PHYSICAL else (3, tree.nv)
-    forms = evaluate_user(fn, subject, c, s.q, s.u, s.udot, shape, called=called)
+    forms = evaluate_user(fn, subject, c, s.q, s.u, s.udot, shape, called=called, timeout=timeout)
     tol = rounding_tolerance()
     worst = worst_against(truths, forms, tol)
-    columns = () if worst.ok else _columns(fn, subject, tree, b, quantity, s, tol, shape, blocks, called)
+    columns = () if worst.ok else _columns(fn, subject, tree, b, quantity, s, tol, shape, blocks, called, timeout)
     slips = () if worst.ok or matches is None else matches(forms.one, tol)
     return Grade(worst.ok, quantity, c, worst.error, worst.source, worst.state, columns, slips, seed, len(s),
                  tuple(t[0] for t in truths), called=worst.called, **extra)
 
 
-def _columns(fn, subject, tree, b, quantity, s, tol, shape, blocks, called) -> tuple:
+def _columns(fn, subject, tree, b, quantity, s, tol, shape, blocks, called, timeout) -> tuple:
     """The named blocks of speeds whose columns (or probes) show the disagreement with relacc's tree at body ``b``'s
     mass centre (module docstring)."""
     c = int(s.case)
@@ -172,7 +176,8 @@ def _columns(fn, subject, tree, b, quantity, s, tol, shape, blocks, called) -> t
         scale = tree_scales(tree, c, s.q, u, ud).of(quantity)[:, b]
         part = Ellipsis if cols is None else (Ellipsis, cols)
         return any(bool(np.any(normalized_error(mine[part], ref[part], scale) > tol))
-                   for _, mine in evaluate_user(fn, subject, c, s.q, u, ud, shape, called=called).each())
+                   for _, mine in evaluate_user(fn, subject, c, s.q, u, ud, shape, called=called,
+                                                timeout=timeout).each())
 
     def only(x, *groups):
         out = np.zeros_like(x)

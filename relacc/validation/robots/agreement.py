@@ -64,13 +64,23 @@ def random_states(reference, n: int, seed: int) -> States:
     return rest.and_then(s, seed)
 
 
-def _gravity_terms(reference, q, v, a, dofs, gravity) -> np.ndarray:
+def own_columns(evaluator, dofs) -> np.ndarray:
+    """Where the shared speeds ``dofs`` (indices into relacc's reading's speeds) sit among ``evaluator``'s own
+    (``evaluator.dofs``, sorted): the columns of its ``M`` and ``J``, which cover only the speeds it has."""
+    own = np.asarray(evaluator.dofs)
+    at = np.searchsorted(own, dofs)
+    if len(dofs) and (at.max() >= len(own) or np.any(own[at] != dofs)):
+        raise InputError(f"{evaluator.engine} lacks some of the shared speeds {list(map(int, dofs))}")
+    return at
+
+
+def _gravity_terms(reference, q, v, a, cols, gravity) -> np.ndarray:
     """``sum_l m_l |g| max |J_l|`` at states ``(n, ...)``: the magnitude of the terms of the gravity forces ``(n,)``
-    (N or N m)."""
+    (N or N m); ``cols``: the shared speeds' columns of the reference's Jacobians (:func:`own_columns`)."""
     massive = [link for link in reference.structure.links if link.mass > 0]
     if not massive or gravity == 0:
         return np.zeros(len(q))
-    J = reference.kinematics(q, v, a, [link.name for link in massive]).J[..., dofs]  # (n, L, 3, k)
+    J = reference.kinematics(q, v, a, [link.name for link in massive]).J[..., cols]  # (n, L, 3, k)
     mass = np.array([link.mass for link in massive])
     return (mass * gravity * np.abs(J).max(axis=(2, 3), initial=0)).sum(axis=1)
 
@@ -82,11 +92,12 @@ def shared_links(ref, other, tolerance: float) -> list[str]:
     return [link.name for link in ref.links if link.name in theirs and min(link.mass, theirs[link.name]) > floor]
 
 
-def _restrict(dyn, i, dofs, solve: bool):
-    """State ``i`` of a batch's :class:`relacc.engines.base.Dynamics`, over the shared speeds ``dofs``."""
+def _restrict(dyn, i, cols, solve: bool):
+    """State ``i`` of a batch's :class:`relacc.engines.base.Dynamics` (over the evaluator's own speeds), over the
+    shared speeds at its columns ``cols`` (:func:`own_columns`)."""
     M, bias, gravity = dyn.M[i], dyn.bias[i], dyn.gravity[i]
-    if M.shape[0] != len(dofs):
-        M, bias, gravity = M[np.ix_(dofs, dofs)], bias[dofs], gravity[dofs]
+    if M.shape[0] != len(cols):
+        M, bias, gravity = M[np.ix_(cols, cols)], bias[cols], gravity[cols]
     forward = _solve(M, -bias) if solve or dyn.forward is None else dyn.forward[i]
     return M, bias, gravity, forward
 
@@ -119,6 +130,7 @@ def compare_dynamics(reference, robot, states: States) -> dict:
     are left out.
     """
     dofs = np.intersect1d(reference.dofs, robot.dofs)  # the speeds both have
+    cols0, cols1 = own_columns(reference, dofs), own_columns(robot, dofs)
     solve = len(dofs) != reference.tree.nv or robot.extra_dofs > 0 or reference.extra_dofs > 0
     n_links = len(reference.structure.links)
     gravity = max(np.linalg.norm(reference.structure.gravity), np.linalg.norm(robot.structure.gravity))
@@ -164,12 +176,12 @@ def compare_dynamics(reference, robot, states: States) -> dict:
         at = slice(start, start + CHUNK)
         q, v, a = Q[at], V[at], A[at]
         D0, D1 = reference.dynamics(q, v), robot.dynamics(q, v)
-        G = _gravity_terms(reference, q, v, a, dofs, gravity)
+        G = _gravity_terms(reference, q, v, a, cols0, gravity)
         if links:
             k0, k1 = reference.kinematics(q, v, a, links), robot.kinematics(q, v, a, links)
         for i in range(len(q)):
-            M0, b0, g0, f0 = _restrict(D0, i, dofs, solve)
-            M1, b1, g1, f1 = _restrict(D1, i, dofs, solve)
+            M0, b0, g0, f0 = _restrict(D0, i, cols0, solve)
+            M1, b1, g1, f1 = _restrict(D1, i, cols1, solve)
             vs = np.abs(v[i, dofs]).max(initial=0)
             # the terms' magnitude: gravity's sum_l m_l |g| |J_l| and the velocity terms' max_i M_ii |v|^2, which
             # stay when the results cancel (a planar model's gravity forces, a symmetric one's Coriolis forces); at
@@ -195,12 +207,12 @@ def compare_dynamics(reference, robot, states: States) -> dict:
             else:
                 add(QTY.FORWARD_DYNAMICS, f1, f0, inv * f_terms if np.isfinite(inv) else np.inf)
             if links:
-                J0 = k0.J[i][:, :, dofs]
+                J0, J1 = k0.J[i][:, :, cols0], k1.J[i][:, :, cols1]
                 jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length, paths)
                 # positions and Jacobians: at least the model's size (a lever arm is a difference of positions)
                 add(QTY.COM_POSITION, k1.position[i], k0.position[i], max(np.abs(k0.position[i]).max(initial=0),
                                                                         sc.length))
-                add(QTY.COM_JACOBIAN, k1.J[i], J0, max(np.abs(J0).max(initial=0), sc.length))
+                add(QTY.COM_JACOBIAN, J1, J0, max(np.abs(J0).max(initial=0), sc.length))
                 add(QTY.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)
                 add(QTY.CLASSICAL_ACCELERATION, k1.acceleration[i], k0.acceleration[i], acc)
     out = {}
