@@ -275,6 +275,8 @@ def check_new_directory(path, what: str = "--out", names=()) -> Path:
 
 _INPUTS: list = []
 """The inputs of the running command: ``(given path, resolved path, (st_dev, st_ino) or None)``."""
+_BLOCKS: list = []
+"""The entries each open :func:`inputs` block added (innermost last): what :func:`note_input` adds goes with it."""
 
 
 def _identity(path: Path):
@@ -291,21 +293,36 @@ def _identity(path: Path):
 def inputs(paths):
     """Inside the block, the files ``paths`` (None entries skipped) are inputs: no write may replace one (see the
     module docstring). Blocks nest; each removes only its own entries."""
-    added = []
-    for given in paths:
-        if given is None or not str(given).strip() or str(given) == "-":
-            continue
-        try:
-            resolved, inode = _identity(Path(given))
-        except (OSError, RuntimeError, ValueError):  # a path that cannot be resolved cannot be written over either
-            continue
-        added.append((str(given), resolved, inode))
-    _INPUTS.extend(added)
+    added: list = []
+    _BLOCKS.append(added)
     try:
+        for given in paths:
+            _add_input(given, added)
         yield
     finally:
+        _BLOCKS.pop()
         for entry in added:
             _INPUTS.remove(entry)
+
+
+def _add_input(given, added: list) -> None:
+    if given is None or not str(given).strip() or str(given) == "-":
+        return
+    try:
+        resolved, inode = _identity(Path(given))
+    except (OSError, RuntimeError, ValueError):  # a path that cannot be resolved cannot be written over either
+        return
+    entry = (str(given), resolved, inode)
+    added.append(entry)
+    _INPUTS.append(entry)
+
+
+def note_input(path) -> None:
+    """``path`` is read by the running command (a model's ``<include>``, a mesh, a URDF's ``package://`` target):
+    an input until the innermost :func:`inputs` block ends, so that no writer replaces it. Outside any block (the
+    API), nothing to do."""
+    if _BLOCKS:
+        _add_input(path, _BLOCKS[-1])
 
 
 def check_not_input(path, what: str = "output") -> None:

@@ -107,3 +107,56 @@ def test_compare_out_creates_its_parents(tmp_path):
 def test_fixtures_refuses_an_empty_name(tmp_path):
     assert "--name" in one_line(run_relacc("fixtures", "--out", str(tmp_path / "x"), "--name", "", cwd=tmp_path))
     assert not (tmp_path / "x").exists()
+
+
+HOST = """<mujoco model="host"><include file="frag.xml"/></mujoco>
+"""
+FRAG = """<mujoco><worldbody><body name="bob" pos="0 0 1"><joint name="j" type="ball"/>
+<geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05"/></body></worldbody></mujoco>
+"""
+TET = "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+MESHED = """<mujoco model="meshed"><compiler meshdir="assets"/>
+<asset><mesh name="tet" file="tet.obj"/></asset>
+<worldbody><body name="bob" pos="0 0 1"><joint name="j" type="ball"/><geom type="mesh" mesh="tet"/>
+</body></worldbody></mujoco>
+"""
+URDF_WITH_MESH = """<robot name="r">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>
+  </inertial><visual><geometry><mesh filename="package://robot_description/meshes/arm.stl"/></geometry></visual></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("command", [["compare"], ["report", "--quick", "--model"]])
+def test_an_included_file_is_an_input(tmp_path, capsys, command):
+    """Issue 50 item 2: ``compare host.xml --out frag.xml`` replaced frag.xml, which host.xml includes, with HTML
+    (``report --model`` too). Every file the reading opens is an input: refused, one line, frag.xml byte for byte."""
+    (tmp_path / "host.xml").write_text(HOST)
+    (tmp_path / "frag.xml").write_text(FRAG)
+    before = (tmp_path / "frag.xml").read_bytes()
+    argv = command + [str(tmp_path / "host.xml"), "--out", str(tmp_path / "frag.xml")]
+    _refused(capsys, argv + (["--states", "1"] if command == ["compare"] else []), tmp_path / "frag.xml", before)
+
+
+def test_a_mesh_the_model_uses_is_an_input(tmp_path, capsys):
+    """Issue 50 item 2: ``--out assets/tet.obj`` for a mesh the model reads through ``<compiler meshdir>``."""
+    (tmp_path / "assets").mkdir()
+    (tmp_path / "assets" / "tet.obj").write_text(TET)
+    (tmp_path / "meshed.xml").write_text(MESHED)
+    mesh = tmp_path / "assets" / "tet.obj"
+    _refused(capsys, ["compare", str(tmp_path / "meshed.xml"), "--out", str(mesh), "--states", "1"], mesh, TET.encode())
+
+
+def test_a_urdfs_package_target_is_an_input(tmp_path, capsys):
+    """Issue 50 item 2: a URDF's ``package://`` mesh, found in the package directory above the URDF (ROS's layout)."""
+    pkg = tmp_path / "robot_description"
+    (pkg / "urdf").mkdir(parents=True)
+    (pkg / "meshes").mkdir()
+    (pkg / "meshes" / "arm.stl").write_bytes(b"solid arm\nendsolid arm\n")
+    (pkg / "urdf" / "r.urdf").write_text(URDF_WITH_MESH)
+    mesh = pkg / "meshes" / "arm.stl"
+    _refused(capsys, ["compare", str(pkg / "urdf" / "r.urdf"), "--out", str(mesh), "--states", "1"], mesh,
+             mesh.read_bytes())

@@ -378,3 +378,143 @@ def test_a_joints_springdamper_replaces_the_written_stiffness_and_damping(tmp_pa
     model = mujoco.MjModel.from_xml_path(str(path))
     np.testing.assert_allclose(reading.damping["tail"], model.dof_damping, rtol=8 * EPS, atol=0)
     np.testing.assert_allclose(reading.stiffness["tail"][0], model.jnt_stiffness[0], rtol=8 * EPS, atol=0)
+
+
+def test_includes_follow_mujocos_rule_and_say_where(tmp_path):
+    """Issue 50 items 8 and 9: a file including the next six times, 8 levels deep, ran relacc's reader for over 120 s
+    at 525 MB; MuJoCo refuses a file included twice ("already included") in milliseconds, and so does relacc now,
+    naming the second <include>. An <include> naming a directory names the including file and its line."""
+    import time
+
+    from relacc.errors import ModelError
+    from relacc.reading import read
+
+    for level in range(8):
+        body = "".join(f'<include file="f{level + 1}.xml"/>' for _ in range(6)) if level < 7 else "<worldbody/>"
+        (tmp_path / f"f{level}.xml").write_text(f"<mujoco>{body}</mujoco>")
+    start = time.perf_counter()
+    with pytest.raises(ModelError, match=r"f6\.xml:1: <include file='f7\.xml'>: that file is already included"):
+        read(tmp_path / "f0.xml")
+    assert time.perf_counter() - start < 1.0
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "d.xml").write_text('<mujoco>\n  <include file="sub"/>\n</mujoco>')
+    with pytest.raises(ModelError, match=r"d\.xml:2: <include file='sub'>: .*is a directory"):
+        read(tmp_path / "d.xml")
+
+
+def _mjcf(tmp_path, body: str, head: str = "", name: str = "m.xml"):
+    path = tmp_path / name
+    path.write_text(f'{head}<mujoco model="m"><worldbody><body name="b" pos="0 0 1"><joint name="j" type="ball"/>'
+                    f'{body}</body></worldbody></mujoco>')
+    return path
+
+
+@pytest.mark.parametrize("head,body", [
+    ('<!DOCTYPE mujoco [<!ENTITY L "0.5">]>', '<geom type="sphere" size="&L;"/>'),
+    ('<!DOCTYPE mujoco [<!ATTLIST joint axis CDATA "1 0 0">]>', '<geom type="sphere" size="0.1"/>'),
+])
+def test_dtd_declarations_are_refused_as_the_engines_apply_none(tmp_path, head, body):
+    """Issue 50 item 4: expat applied internal entities and attribute defaults that MuJoCo's and urdfdom's TinyXML2
+    ignores: relacc read a model no engine reads (and grade then blamed a student whose answer was relacc's). One
+    line naming the file and line, as MuJoCo refuses the entity."""
+    with pytest.raises(ModelError, match=r"m\.xml:1: a DTD <!(ENTITY|ATTLIST)> declaration"):
+        read(_mjcf(tmp_path, body, head))
+
+
+@pytest.mark.parametrize("size", ["1_0", "\uff11", "\u0663", "1e", "0x"])
+def test_numbers_python_reads_and_mujoco_refuses_are_refused(tmp_path, size):
+    """Issue 50 item 4: Python's float() reads ``1_0`` as 10 and full-width and Arabic-Indic digits; MuJoCo says "bad
+    format in attribute", and so does relacc."""
+    path = _mjcf(tmp_path, f'<geom type="sphere" size="{size}"/>')
+    with pytest.raises(ValueError):
+        mujoco.MjModel.from_xml_path(str(path))
+    with pytest.raises(ModelError, match="is not a list of numbers"):
+        read(path)
+
+
+def test_hexadecimal_and_bare_decimal_forms_are_read_as_strtod_reads_them(tmp_path):
+    """What C's strtod reads, MuJoCo reads (a hexadecimal ``0x1p-3``, ``.5e0``, ``+.5``, ``5.``): relacc too."""
+    for size, value in (("0x1p-3", 0.125), (".5e0", 0.5), ("+.5", 0.5), ("5.", 5.0)):
+        path = _mjcf(tmp_path, f'<geom type="sphere" size="{size}"/>')
+        m = mujoco.MjModel.from_xml_path(str(path))
+        np.testing.assert_allclose(read(path).tree.bodies[0].mass, m.body_mass[1], rtol=TOL, atol=0)
+        np.testing.assert_allclose(m.geom_size[0, 0], value, rtol=0, atol=0)
+
+
+@pytest.mark.parametrize("geom,said", [
+    ('<geom type="box" size="0.1"/>', "size 1 is missing"),
+    ('<geom type="capsule" size="0.1 0"/>', "size 1 is 0"),
+    ('<geom type="ellipsoid" size="0.1 0.2"/>', "size 2 is missing"),
+    ('<geom type="sphere" size="0.1" density="-5"/>', "density=-5 is negative"),
+    ('<geom type="sphere" size="0.1" mass="-1"/>', "mass=-1 is negative"),
+])
+def test_geoms_mujoco_refuses_are_refused(tmp_path, geom, said):
+    """Issue 50 item 4: a box with one size was read as a massless body, a negative density silently; MuJoCo refuses
+    both ("size 1 must be positive in geom", "mass, inertia or density are negative")."""
+    path = _mjcf(tmp_path, geom)
+    with pytest.raises(ValueError):
+        mujoco.MjModel.from_xml_path(str(path))
+    with pytest.raises(ModelError, match=said):
+        read(path)
+
+
+PLATE = """<robot name="plate"><link name="base"/>
+  <link name="plate"><inertial><mass value="0.001"/>
+    <inertia ixx="{xx}" ixy="0" ixz="0" iyy="{yy}" iyz="0" izz="{zz}"/></inertial></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="plate"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_tensor_written_to_its_files_digits_is_not_a_finding(tmp_path):
+    """Issue 49 item 8: a thin plate's moments written exactly to 12 digits (ixx = izz = 8.53333333333e-07,
+    iyy = 1.70666666667e-06) miss A + B >= C by 2.3e-12 of C, which is those digits' rounding (half a unit in the 12th
+    digit: 5e-19 and 5e-18 kg m^2), not the 64 eps of an eigen-decomposition: no finding. The same plate written
+    0.1, 0.1, 0.3 (short by a third) is still one, and says by how much relative to C."""
+    path = tmp_path / "plate.urdf"
+    path.write_text(PLATE.format(xx="8.53333333333e-07", yy="1.70666666667e-06", zz="8.53333333333e-07"))
+    assert read(path).findings == ()
+    path.write_text(PLATE.format(xx="0.1", yy="0.1", zz="0.3"))
+    (finding,) = read(path).findings
+    assert "short by 0.33 of C" in finding.numbers, finding
+
+
+@pytest.mark.parametrize("mass,condition", [("4e-310", "no mass but an inertia"),
+                                            ("1e-300", "an inertia too large for its mass")])
+def test_a_mass_too_small_for_its_inertia_is_a_finding(tmp_path, mass, condition):
+    """Issue 50 item 10: a subnormal mass with an inertia is no mass to any engine's arithmetic; a mass of 1e-300 kg
+    with 0.01 kg m^2 needs a radius of gyration of 1e149 m."""
+    path = tmp_path / "tiny.urdf"
+    path.write_text(PLATE.format(xx="0.01", yy="0.01", zz="0.01").replace('value="0.001"', f'value="{mass}"'))
+    (finding,) = read(path).findings
+    assert finding.condition == condition, finding
+
+
+def test_numbers_beyond_float64s_arithmetic_are_refused_naming_the_element(tmp_path):
+    """Issue 50 item 9: a URDF inertia of 1e308 gave a bare LinAlgError from Tree.from_file (and a mass of 1e300 an
+    overflow blamed on the engines): one ModelError naming the file, the line and the attribute."""
+    path = tmp_path / "big.urdf"
+    path.write_text(PLATE.format(xx="1e308", yy="1e308", zz="1e308"))
+    with pytest.raises(ModelError, match=r"big\.urdf:3: <inertia> ixx='1e308' holds 1e\+308, beyond 1e\+100"):
+        relacc.Tree.from_file(path)
+
+
+def test_effects_mujocos_step_applies_and_relacc_does_not_evaluate_are_named(tmp_path):
+    """Issue 50 item 5: gravcomp, fluid forces (<option density viscosity wind>, a geom's fluidshape) and frictionloss
+    (a <default>'s too) were neither evaluated nor named, so compare said every engine agreed while MuJoCo's own step
+    applied 3.9 N m of gravity compensation. Each is one "not evaluated" line, naming where."""
+    path = tmp_path / "gc.xml"
+    path.write_text("""<mujoco model="gc"><option density="1.2" viscosity="0.00002" wind="0 1 0"/>
+<default><joint frictionloss="0.1"/></default>
+<worldbody><body name="arm" pos="0 0 1" gravcomp="1"><joint name="shoulder" type="hinge" axis="0 1 0"/>
+<geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" fluidshape="ellipsoid"/></body></worldbody></mujoco>""")
+    lines = read(path).unevaluated
+    assert any("gravcomp" in x and "(arm)" in x for x in lines), lines
+    assert any("fluid forces (density 1.2, viscosity 0.00002, wind 0 1 0, fluidshape" in x for x in lines), lines
+    assert any("frictionloss" in x and "(shoulder)" in x for x in lines), lines
+    # and MuJoCo's step does apply the compensation: its passive force on the hinge is not zero
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    assert abs(d.qfrc_gravcomp[0]) > 1e-3

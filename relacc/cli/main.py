@@ -43,6 +43,7 @@ def main(argv=None) -> int:
     try:
         with files.terminate_as_interrupt(), warnings.catch_warnings(), files.inputs(input_paths(args)):
             warnings.simplefilter("error", RuntimeWarning)
+            note_model_files(args)
             code = getattr(commands, f"cmd_{args.command}")(args)
             files.check_interrupt()  # an interrupt a C library's callback swallowed on the way
             return code
@@ -114,6 +115,20 @@ def input_paths(args) -> list[str]:
     if isinstance(function, str) and ":" in function:
         out.append(function.rpartition(":")[0])
     return out
+
+
+def note_model_files(args) -> None:
+    """Every file the model files named read (includes, meshes, ``package://`` targets) noted as inputs before the
+    command's work, so that an output naming one is refused up front (:func:`relacc.reading.read.note_files`)."""
+    model = getattr(args, "model", None)
+    paths = [p for p in (model if isinstance(model, list) else [model]) if isinstance(p, str)]
+    paths += [p for p in (getattr(args, "urdf", None),) if isinstance(p, str)]
+    models = [p for p in paths if Path(p).suffix.lower() in (".xml", ".urdf") and Path(p).is_file()]
+    if models:
+        from relacc.reading.read import note_files
+
+        for path in models:
+            note_files(path)
 
 
 def _interrupt_in(exc) -> bool:

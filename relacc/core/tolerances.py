@@ -64,16 +64,31 @@ sixteen remain. Between this and :data:`MAX_CONDITION` relacc answers and warns;
 """
 
 PIVOT_FLOOR = ROUNDING_FACTOR * EPS
-"""Smallest accepted ratio ``d_k / M_kk`` of a pivot of the mass matrix's factorization (any elimination order: the
-compiled kernels' ``L^T D L`` and articulated-body pivots, numpy's Cholesky) to its diagonal entry before elimination.
+"""Smallest accepted ratio of a pivot of the mass matrix's factorization (any elimination order: the compiled kernels'
+``L^T D L`` and articulated-body pivots, numpy's Cholesky) to the matrix's scale at that speed: its diagonal entry
+before elimination plus the mean of the diagonal entries (the articulated-body kernels: of those met so far, over
+the number of speeds).
 
-``lambda_min(M) <= d_k`` and ``M_kk <= lambda_max(M)``, so a ratio below the floor proves
-``kappa(M) > 1 / (c eps)``: the accelerations' bound ``c eps kappa(M)`` (:mod:`relacc.validation.robots.agreement`)
-then exceeds 1, and no digit of them is certain. Such a matrix is singular to working precision (two ball joints on
-one body, a speed that moves no inertia): relacc raises :class:`relacc.SingularityError` naming the speeds instead
-of answering. Exactly singular matrices leave pivots of a few eps times the diagonal in cases 1 and 3 (their speed
-maps round), so a test for pivots ``<= 0`` alone misses them.
+``lambda_min(M) <= d_k`` and both the diagonal entry and the mean are at most ``lambda_max(M)``, so a ratio below
+the floor proves ``kappa(M) > 1 / (2 c eps)``: the accelerations' bound ``c eps kappa(M)``
+(:mod:`relacc.validation.robots.agreement`) then exceeds 1/2, and no digit of them is certain. Such a matrix is
+singular to working precision (two ball joints on one body, a speed that moves no inertia): relacc raises
+:class:`relacc.SingularityError` naming the speeds instead of answering. The mean is what catches a speed whose own
+diagonal entry is nothing but rounding residue: a point mass on a ball joint, turning about its lever, has a diagonal
+entry of a few eps times the mass times the lever squared in case 2 (the state's rotation rounds), and its pivot
+passed a test against that entry alone (issue 49: three kernels answered 46.88, 46.84 and -58.36). Exactly singular
+matrices leave pivots of a few eps times the diagonal in cases 1 and 3 too (their speed maps round), so a test for
+pivots ``<= 0`` alone misses them.
 """
+
+MASS_CONDITION_WARNING = 1e10
+"""A lower bound on the mass matrix's condition number (a pivot's ratio to the scale, as :data:`PIVOT_FLOOR`'s test
+reads it) above which forward dynamics answer with a :class:`relacc.AccuracyWarning`: the accelerations then carry
+relative errors up to ``eps kappa(M)``, above 2e-6, fewer than six certain digits (two hinges on one body, the
+second tilted 3e-7 rad from the first: kappa 8.9e13, and one state 0.90 off relative between two correct methods)."""
+
+ILL_FLOOR = 1.0 / MASS_CONDITION_WARNING
+"""The pivot ratio below which :data:`MASS_CONDITION_WARNING` applies (compared as :data:`PIVOT_FLOOR` is)."""
 
 TRIG_ULPS = 2
 """Largest difference, in ulps of the result, between :func:`relacc.kernels.trig.sincos` and libm's ``sin``/``cos``.
@@ -100,14 +115,26 @@ subtractive cancellation, so the derivative is exact to rounding.
 """
 
 
-def triangle_violation(moments) -> str:
-    """The first triangle inequality a rigid body's principal moments ``(3,)`` (kg m^2) break, as text
-    (``"A + B = ... < C = ..."``), or ``""``: ``A + B >= C`` for every ordering, to ``ROUNDING_FACTOR * eps`` of the
-    largest moment (the moments come from an eigen-decomposition, which rounds at that level)."""
+def moment_tolerance(moments, written: float = 0.0) -> float:
+    """kg m^2: how far principal moments ``(3,)`` may be from a rigid body's conditions for rounding alone: the
+    eigen-decomposition's ``ROUNDING_FACTOR * eps`` of the largest moment, plus what the file's own digits allow.
+    ``written``: the Frobenius norm of the rounding of the tensor's entries as written (half a unit in each entry's
+    last digit, :func:`relacc.reading.xml.rounding`); a symmetric perturbation of that norm moves each eigenvalue by
+    at most that much (Weyl), and a sum of three of them by three times it."""
+    big = float(np.abs(np.asarray(moments, dtype=float)).max(initial=0.0))
+    return ROUNDING_FACTOR * EPS * big + 3.0 * float(written)
+
+
+def triangle_violation(moments, written: float = 0.0) -> str:
+    """The first triangle inequality a rigid body's principal moments ``(3,)`` (kg m^2) break, as text (the sums,
+    and by how much relative to ``C`` against what rounding allows), or ``""``: ``A + B >= C`` for every ordering, to
+    :func:`moment_tolerance` (the eigen-decomposition's rounding and the file's written digits, ``written``)."""
     m = np.sort(np.asarray(moments, dtype=float))
-    tol = ROUNDING_FACTOR * EPS * float(np.abs(m).max(initial=0.0))
-    if m[0] + m[1] < m[2] - tol:
-        return f"A + B = {m[0] + m[1]:.6g} < C = {m[2]:.6g}"
+    tol = moment_tolerance(m, written)
+    short = m[2] - (m[0] + m[1])
+    if short > tol:
+        return (f"A + B = {m[0] + m[1]:.12g} < C = {m[2]:.12g}, short by {short / m[2]:.2g} of C (rounding and the "
+                f"file's digits allow {tol / m[2]:.2g})")
     return ""
 
 

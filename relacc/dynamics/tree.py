@@ -240,6 +240,8 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
             forces of ``effects``' joints and body loads evaluated apart and applied; the reference path where a
             ball's or free joint's spring or damper acts in case 1 or 3), ``"fast"`` (the kernel, gravity only) or
             ``"reference"`` (Kane's equations of :func:`tree_dynamics`, solved by Cholesky); they agree to rounding.
+            Complex ``q``, ``u`` or ``tau`` (complex-step derivatives) take the reference path whatever ``backend``
+            says but ``"fast"``, which refuses them: every path that answers carries the imaginary parts.
         out: a writable C-contiguous float64 ``(..., nv)`` array to write into (fast backend), returned.
         (the others as in :func:`tree_dynamics`)
 
@@ -264,6 +266,11 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
             return one
     if backend not in ("auto", "fast", "reference"):
         raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
+    if any(np.iscomplexobj(x) for x in (q, u, tau)):  # complex steps: Kane's equations carry them, the kernels cannot
+        if backend == "fast":
+            raise InputError("complex q, u or tau: the compiled kernel takes real numbers; backend 'auto' or "
+                             "'reference' carries complex ones (complex-step derivatives) through Kane's equations")
+        backend = "reference"
     simple = effects is None or (isinstance(effects, TreeEffects) and not effects.joints and not effects.bodies)
     if backend == "fast" and not simple:
         raise InputError("backend 'fast' applies gravity only: joint and body effects take backend 'reference'")
@@ -406,11 +413,13 @@ def _fast(tree, case, q, u, tau, effects, out):
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
     n = math.prod(batch)
     flat_out = None if out is None else out.reshape(n, tree.nv)
-    res, bad_in, singular = kernel.accelerations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv),
-                                                 flat(tau, batch, tree.nv), np.asarray(gravity, dtype=float),
-                                                 flat_out)
+    res, bad_in, singular, ill = kernel.accelerations(tree, c, flat(q, batch, q.shape[-1]),
+                                                      flat(u, batch, tree.nv), flat(tau, batch, tree.nv),
+                                                      np.asarray(gravity, dtype=float), flat_out)
     if bad_in:
         inputs(tree, c, q, u)  # raises, naming the bad entry
+    if ill:
+        warn_ill_conditioned(ill, n, stacklevel=3)
     bad = () if np.isfinite(res).all() else np.flatnonzero(~np.all(np.isfinite(res), axis=1))
     if len(bad):  # a non-positive pivot (NaN rows) or an overflow: the reference path says which, or answers
         qs, us, ts = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), flat(tau, batch, tree.nv)
@@ -432,8 +441,8 @@ def _one_state(tree, case, q, u, effects):
             and _plain_row(u, tree.nv)):
         return None
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
-    res, bad_in, singular = _kernel().one_state(tree, case, q, u, gravity)
-    if bad_in or singular or not math.isfinite(res.sum()):  # an overflow in the sum only sends it the long way
+    res, bad_in, singular, ill = _kernel().one_state(tree, case, q, u, gravity)
+    if bad_in or singular or ill or not math.isfinite(res.sum()):  # the long way says what is wrong, and warns
         return None
     res.setflags(write=False)
     return res
@@ -456,11 +465,29 @@ def _plain_row(a, n) -> bool:
     return type(a) is np.ndarray and a.dtype == np.float64 and a.shape == (n,)
 
 
+def warn_ill_conditioned(n_ill: int, n: int, stacklevel: int = 2) -> None:
+    """An :class:`relacc.AccuracyWarning` that ``n_ill`` of ``n`` states were answered with a mass matrix whose
+    factorization had a pivot at most :data:`relacc.core.tolerances.ILL_FLOOR` of its scale (kappa(M) above
+    :data:`relacc.core.tolerances.MASS_CONDITION_WARNING`), and the error to expect."""
+    import warnings
+
+    from relacc.core.tolerances import EPS, MASS_CONDITION_WARNING
+    from relacc.errors import AccuracyWarning
+
+    warnings.warn(f"{n_ill} of {n} states: the mass matrix is ill-conditioned, kappa(M) > {MASS_CONDITION_WARNING:.0e} "
+                  f"(a pivot of its factorization at most {1 / MASS_CONDITION_WARNING:.0e} of its scale), so their "
+                  f"accelerations carry relative errors up to eps kappa(M), more than {EPS * MASS_CONDITION_WARNING:.1g}"
+                  ": two joints that nearly move the same inertia (nearly parallel axes on one body), or a speed "
+                  "that moves almost none", AccuracyWarning, stacklevel=stacklevel + 1)
+
+
 def solve(tree, M, rhs):
     """``M^-1 rhs`` by Cholesky, batched; SingularityError naming the speeds where ``M`` is singular to working
-    precision: not positive definite, or a pivot at most :data:`relacc.core.tolerances.PIVOT_FLOOR` times its
-    diagonal entry (then ``kappa(M) > 1 / (c eps)`` and no digit of the answer is certain)."""
-    from relacc.core.tolerances import PIVOT_FLOOR
+    precision: not positive definite, a pivot at most :data:`relacc.core.tolerances.PIVOT_FLOOR` times its scale
+    (its diagonal entry plus the mean diagonal entry), or its smallest eigenvalue at most that times the mean diagonal
+    entry (then ``kappa(M) > 1 / (2 c eps)`` and no digit of the answer is certain). Warns (:func:`warn_ill_conditioned`) where a pivot is at most
+    :data:`relacc.core.tolerances.ILL_FLOOR` times it."""
+    from relacc.core.tolerances import ILL_FLOOR, PIVOT_FLOOR
 
     flatM = M.reshape(-1, tree.nv, tree.nv)
     if np.iscomplexobj(M) or np.iscomplexobj(rhs):  # complex steps: M is complex symmetric, not Hermitian (no Cholesky)
@@ -471,9 +498,17 @@ def solve(tree, M, rhs):
     try:
         L = np.linalg.cholesky(M)
         pivots = np.diagonal(L, axis1=-2, axis2=-1).reshape(-1, tree.nv) ** 2
-        low = pivots <= PIVOT_FLOOR * np.diagonal(flatM, axis1=-2, axis2=-1)
+        diagonal = np.diagonal(flatM, axis1=-2, axis2=-1)
+        scale = diagonal + diagonal.mean(axis=-1, keepdims=True)
+        # the smallest eigenvalue against the mean diagonal entry, whatever the speeds' order (the pivots' test alone
+        # depends on it: a point mass on a ball joint leaves its last pivot large); both prove kappa(M) large
+        least = np.linalg.eigvalsh(flatM)[:, :1] if tree.nv else np.ones((len(flatM), 1))
+        mean = diagonal.mean(axis=-1, keepdims=True) if tree.nv else np.ones((len(flatM), 1))
+        low = (pivots <= PIVOT_FLOOR * scale) | (least <= PIVOT_FLOOR * mean)
+        ill = int(np.sum((np.any(pivots <= ILL_FLOOR * scale, axis=-1) | (least[:, 0] <= ILL_FLOOR * mean[:, 0]))
+                         & ~np.any(low, axis=-1)))
     except np.linalg.LinAlgError:
-        L, low = None, np.ones((len(flatM), 1), dtype=bool)
+        L, low, ill = None, np.ones((len(flatM), 1), dtype=bool), 0
     if low.any():
         for state, Mi in enumerate(flatM):
             dependent = _dependent_speeds(Mi, PIVOT_FLOOR) if L is None or low[state].any() else []
@@ -487,9 +522,11 @@ def solve(tree, M, rhs):
             f"the mass matrix is singular to working precision (state {state}): "
             + (f"no inertia moves with {', '.join(dead)}" if dead else
                f"the speeds {speeds} move no inertia that the speeds before them do not already move")
-            + f" (a pivot of its factorization at most {PIVOT_FLOOR:.1e} of its diagonal entry, so kappa(M) > "
-            "1/(c eps) and no digit of the accelerations is certain); lock or remove those joints, or give their "
-            "bodies mass or inertia") from None
+            + f" (a pivot of its factorization at most {PIVOT_FLOOR:.1e} of its scale, its diagonal entry plus the "
+            "mean diagonal entry, so kappa(M) > 1/(2 c eps) and no digit of the accelerations is certain); lock or "
+            "remove those joints, or give their bodies mass or inertia") from None
+    if ill:
+        warn_ill_conditioned(ill, len(flatM), stacklevel=3)
     y = np.linalg.solve(L, rhs[..., None])
     out = np.linalg.solve(np.swapaxes(L, -1, -2), y)[..., 0]
     out.setflags(write=False)
@@ -498,12 +535,13 @@ def solve(tree, M, rhs):
 
 def _dependent_speeds(M, floor) -> list[int]:
     """The speeds of one ``(nv, nv)`` mass matrix whose pivot, eliminating the speeds before them in order (a
-    dependent one skipped), is at most ``floor`` times its diagonal entry: those that move no inertia the earlier ones
-    do not already move."""
+    dependent one skipped), is at most ``floor`` times its scale (its diagonal entry plus the mean diagonal entry):
+    those that move no inertia the earlier ones do not already move."""
     A = np.array(M, dtype=float)
+    mean = float(np.mean(np.diagonal(A))) if len(A) else 0.0
     out = []
     for k in range(len(A)):
-        if not A[k, k] > floor * M[k, k] or M[k, k] <= 0:
+        if not A[k, k] > floor * (M[k, k] + mean) or M[k, k] <= 0:
             out.append(k)
             continue
         A[k + 1:, k + 1:] -= np.outer(A[k + 1:, k], A[k, k + 1:]) / A[k, k]

@@ -114,9 +114,11 @@ MAX_DEPTH = 20
 """Includes nested deeper than this are refused (a file that includes itself)."""
 
 
-def _inline(root, directory: Path, path: Path, depth: int = 0) -> int:
+def _inline(root, directory: Path, path: Path, depth: int = 0, seen: set | None = None) -> int:
     """Replace every ``<include file="...">`` under ``root`` by the children of the included file's root element,
-    recursively, as MuJoCo does (a relative name is taken from the main file's directory); returns how many files."""
+    recursively, as MuJoCo does (a relative name is taken from the main file's directory; a file is included once per
+    model, a second ``<include>`` of it refused); returns how many files."""
+    seen = set() if seen is None else seen
     count = 0
     for parent in list(root.iter()):
         for k, child in reversed(list(enumerate(parent))):
@@ -127,8 +129,12 @@ def _inline(root, directory: Path, path: Path, depth: int = 0) -> int:
             name = child.get("file")
             if not name:
                 raise ModelError(f"{path}: an <include> without a file")
+            if (directory / name).resolve() in seen:
+                raise ModelError(f"{path}: <include file={name!r}>: that file is already included; MuJoCo includes a "
+                                 "file once per model")
+            seen.add((directory / name).resolve())
             included = _read(directory / name)
-            count += 1 + _inline(included, directory, directory / name, depth + 1)
+            count += 1 + _inline(included, directory, directory / name, depth + 1, seen)
             parent.remove(child)
             for i, grandchild in enumerate(list(included)):
                 parent.insert(k + i, grandchild)

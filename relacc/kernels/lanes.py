@@ -50,6 +50,7 @@ class _Graph:
         self.ops: list = []
         self.seen: dict = {}
         self.pivots: list = []  # (a, b): a pivot check ``a > b``
+        self.warns: list = []  # (a, b): an ill-conditioning check, ``a > b`` or the state is flagged
         self.pivots_allowed = False
 
     def node(self, op, a, b=None):
@@ -155,6 +156,15 @@ def _arith(op: str, a, b):
     return g.node(op, _ref(a), _ref(b))
 
 
+def _ill(pivot, bound):
+    """:func:`relacc.kernels.tree_spatial.ill` while a trace runs: a pivot's ill-conditioning test recorded as the
+    state's warning flag (never a branch of the trace: the traced code goes on as if it passed)."""
+    if isinstance(pivot, X) or isinstance(bound, X):
+        (pivot if isinstance(pivot, X) else bound).g.warns.append((_ref(pivot), _ref(bound)))
+        return False
+    return not pivot > bound
+
+
 class _Math:
     """``math`` for the traced functions' module globals: symbolic on :class:`X`, the real one on floats."""
 
@@ -186,20 +196,28 @@ def _symbolic_math():
     import relacc.kernels.tree_crba as crba
     import relacc.kernels.tree_spatial as spatial
 
+    import relacc.kernels.tree_aba as aba
+
     mods = [m for m in (tree_mod, so3, spatial, crba) if "math" in vars(m)]
+    warned = [m for m in (spatial, crba, aba) if "ill" in vars(m)]
     try:
         from numba.core.compiler_lock import global_compiler_lock as lock
     except ImportError:  # pragma: no cover - without numba nothing compiles
         lock = _TRACE_LOCK
     with lock:
         saved = [m.math for m in mods]
+        saved_ill = [m.ill for m in warned]
         for m in mods:
             m.math = _Math()
+        for m in warned:
+            m.ill = _ill
         try:
             yield
         finally:
             for m, s in zip(mods, saved):
                 m.math = s
+            for m, f in zip(warned, saved_ill):
+                m.ill = f
 
 
 def _py(fn):
@@ -222,6 +240,8 @@ class Trace:
         ops: the operations (:class:`_Graph`'s ``ops``). nq, nv: the state's sizes.
         inputs: ``{("q"|"u"|"tau"|"g", column): op index}``. outputs: ``(nv,)`` each acceleration's op index or
             constant. pivots: the factorization's checks ``(a, b)``: ``a > b`` or the state is singular.
+            warns: its ill-conditioning checks ``(a, b)``: ``a > b`` or the state is ill-conditioned
+            (:data:`relacc.core.tolerances.MASS_CONDITION_WARNING`).
         quats: ``q``'s first column of each unit quaternion (cases 1, 2).
     """
 
@@ -232,6 +252,7 @@ class Trace:
     outputs: tuple
     pivots: tuple
     quats: tuple
+    warns: tuple = ()
 
 
 def trace(tree, case: int, algorithm: str = "crba") -> Trace:
@@ -275,7 +296,7 @@ def trace(tree, case: int, algorithm: str = "crba") -> Trace:
         _py(forward)(mode, qq, uu, 0, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
         if algorithm == "aba":
             Ua, ua, Dinv, tmp60 = _obj((nv, 6)), _obj(nv), _obj((max(nj, 1), 36)), _obj(60)
-            Ic, cd, x2 = IA.copy(), _obj(6), _obj((1, nv))
+            Ic, cd, x2 = IA.copy(), _obj(8), _obj((1, nv))
             g.pivots_allowed = True
             failed = _py(backward)(mode, qq, uu, tt, 0, T, qadr, arm, free, S, C, R, V, IA, pA, Ua, ua, Dinv, tmp60,
                                    Ic, cd, PIVOT_FLOOR)
@@ -302,7 +323,8 @@ def trace(tree, case: int, algorithm: str = "crba") -> Trace:
             res = list(x)
     quats = tuple(int(qadr[k] + (3 if T.jtype[k] == FREE else 0)) for k in range(nj)
                   if case < 3 and T.jtype[k] in (BALL, FREE))
-    return Trace(tuple(g.ops), nq, nv, inputs, tuple(_ref(r) for r in res), tuple(g.pivots), quats)
+    return Trace(tuple(g.ops), nq, nv, inputs, tuple(_ref(r) for r in res), tuple(g.pivots), quats,
+                 tuple(g.warns))
 
 
 def lanes() -> int:
@@ -317,7 +339,7 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
     """LLVM IR (text) of ``i64 name(double* q, double* u, double* tau, double* g, double* out, i64* bad, i64 start,
     i64 stop)``: rows ``start .. stop - 1`` of C-contiguous ``q (n, nq)``, ``u``, ``tau (n, nv)`` to ``out (n, nv)``,
     ``width`` states a step; returns the number of singular states and adds the number of states with bad inputs to
-    ``*bad``. A last step with fewer than ``width`` rows left repeats the last row in its other lanes (the same state,
+    ``bad[0]`` and of ill-conditioned ones (:attr:`Trace.warns`) to ``bad[1]``. A last step with fewer than ``width`` rows left repeats the last row in its other lanes (the same state,
     so the same bits written twice) and counts only its own rows. Written as text: llvmlite's IR builder took half of
     a small tree's compilation."""
     W = width
@@ -326,7 +348,8 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
              "i64 %start, i64 %stop) {", "entry:", "  %empty = icmp sge i64 %start, %stop",
              "  br i1 %empty, label %done, label %loop", "loop:",
              "  %i = phi i64 [%start, %entry], [%next, %loop]", "  %ns = phi i64 [0, %entry], [%cs, %loop]",
-             "  %nb = phi i64 [0, %entry], [%cb, %loop]", "  %last = sub i64 %stop, 1"]
+             "  %nb = phi i64 [0, %entry], [%cb, %loop]", "  %nw = phi i64 [0, %entry], [%cw, %loop]",
+             "  %last = sub i64 %stop, 1"]
     add = lines.append
     for lane in range(W):
         add(f"  %r{lane}a = add i64 %i, {lane}")
@@ -394,6 +417,15 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
         add(f"  %pc{n} = fcmp ogt {vt} {val(a)}, {val(b)}")
         add(f"  %pk{n} = and {mt} {ok}, %pc{n}")
         ok = f"%pk{n}"
+    clear = f"<{', '.join(['i1 true'] * W)}>"
+    for n, (a, b) in enumerate(tr.warns):
+        add(f"  %wc{n} = fcmp ogt {vt} {val(a)}, {val(b)}")
+        add(f"  %wk{n} = and {mt} {clear}, %wc{n}")
+        clear = f"%wk{n}"
+    add(f"  %wm = and {mt} {clear}, {ok}")  # a singular state is counted singular, not ill-conditioned too
+    add(f"  %wn = xor {mt} {ok}, <{', '.join(['i1 true'] * W)}>")
+    add(f"  %wok = or {mt} %wm, %wn")
+    clear = "%wok"
     # bad inputs: a non-finite q or u, or a quaternion whose squared norm is off 1 by more than the tolerance
     good, col, n = f"<{', '.join(['i1 true'] * W)}>", {}, 0
     for arr in ("q", "u"):
@@ -431,19 +463,23 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
             add(f"  %oa{lane}_{c} = add i64 %ob{lane}, {c}")
             add(f"  %op{lane}_{c} = getelementptr double, double* %out, i64 %oa{lane}_{c}")
             add(f"  store double %oe{lane}_{c}, double* %op{lane}_{c}")
-    cs, cb = "%ns", "%nb"
+    cs, cb, cw = "%ns", "%nb", "%nw"
     for lane in range(W):
-        for tag, mask, acc in (("s", ok, cs), ("b", good, cb)):
+        for tag, mask, acc in (("s", ok, cs), ("b", good, cb), ("i", clear, cw)):
             add(f"  %{tag}x{lane} = extractelement {mt} {mask}, i32 {lane}")
             add(f"  %{tag}n{lane} = xor i1 %{tag}x{lane}, true")
             add(f"  %{tag}l{lane} = and i1 %{tag}n{lane}, %live{lane}")
             add(f"  %{tag}z{lane} = zext i1 %{tag}l{lane} to i64")
             add(f"  %{tag}c{lane} = add i64 {acc}, %{tag}z{lane}")
-        cs, cb = f"%sc{lane}", f"%bc{lane}"
-    lines += [f"  %cs = add i64 {cs}, 0", f"  %cb = add i64 {cb}, 0", f"  %next = add i64 %i, {W}",
+        cs, cb, cw = f"%sc{lane}", f"%bc{lane}", f"%ic{lane}"
+    lines += [f"  %cs = add i64 {cs}, 0", f"  %cb = add i64 {cb}, 0", f"  %cw = add i64 {cw}, 0",
+              f"  %next = add i64 %i, {W}",
               "  %more = icmp slt i64 %next, %stop", "  br i1 %more, label %loop, label %done", "done:",
               "  %rs = phi i64 [0, %entry], [%cs, %loop]", "  %rb = phi i64 [0, %entry], [%cb, %loop]",
+              "  %rw = phi i64 [0, %entry], [%cw, %loop]",
               "  %b0 = load i64, i64* %bad", "  %b1 = add i64 %b0, %rb", "  store i64 %b1, i64* %bad",
+              "  %bw = getelementptr i64, i64* %bad, i64 1", "  %w0 = load i64, i64* %bw",
+              "  %w1 = add i64 %w0, %rw", "  store i64 %w1, i64* %bw",
               "  ret i64 %rs", "}"]
     decl = [f"declare {vt} @llvm.{f}.v{W}f64({vt})" for f in ("sqrt", "sin", "cos", "fabs")]
     decl.append(f"declare {vt} @llvm.fma.v{W}f64({vt}, {vt}, {vt})")
@@ -478,10 +514,10 @@ def _fused(tr: Trace, need: list) -> dict:
 
 
 def _needed(tr: Trace) -> list:
-    """Which operations an output or a pivot check depends on."""
+    """Which operations an output, a pivot check or an ill-conditioning check depends on."""
     need = [False] * len(tr.ops)
     stack = [r for r in tr.outputs if not isinstance(r, tuple)]
-    for a, b in tr.pivots:
+    for a, b in tr.pivots + tr.warns:
         stack += [r for r in (a, b) if not isinstance(r, tuple)]
     while stack:
         k = stack.pop()
@@ -559,12 +595,12 @@ class Kernel:
         coordinates and speeds), ``tau (n, nv)`` (generalized forces on those speeds, N or N m) with gravity
         ``g (3,)`` (m/s^2, world components) into ``out (n, nv)``, the speeds' time derivatives (m/s^2 for a
         translation's speed, rad/s^2 for a rotation's; case 3 the 1-2-3 angles' second derivatives): ``(states with
-        bad inputs, singular states)``, a singular state's row NaN. The compiled code
+        bad inputs, singular states, ill-conditioned states)``, a singular state's row NaN. The compiled code
         runs without the GIL (ctypes releases it), so shares of a batch run on Python threads at once."""
-        bad = np.zeros(1, np.int64)
+        bad = np.zeros(2, np.int64)
         singular = self.fn(q.ctypes.data, u.ctypes.data, tau.ctypes.data, g.ctypes.data, out.ctypes.data,
                            bad.ctypes.data, start, stop)
-        return int(bad[0]), int(singular)
+        return int(bad[0]), int(singular), int(bad[1])
 
 
 _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -618,7 +654,8 @@ def _key(tr: Trace, width: int) -> str:
     import llvmlite.binding as llvm
 
     h = hashlib.sha256()
-    for part in (repr((tr.ops, tr.nq, tr.nv, sorted(tr.inputs.items()), tr.outputs, tr.pivots, tr.quats, width)),
+    for part in (repr((tr.ops, tr.nq, tr.nv, sorted(tr.inputs.items()), tr.outputs, tr.pivots, tr.quats, tr.warns,
+                       width)),
                  _source(), llvmlite.__version__,
                  llvm.get_host_cpu_name(), llvm.get_host_cpu_features().flatten()):
         h.update(part.encode())
@@ -675,40 +712,110 @@ def _machine(level: int = 2):
 _PROTO = ctypes.CFUNCTYPE(ctypes.c_int64, *([ctypes.c_void_p] * 6), ctypes.c_int64, ctypes.c_int64)
 
 
+CACHE_MAGIC = b"relacc-lanes-object 1\n"
+"""The first line of a cached object file; then the kernel's name, the SHA-256 of the object code, and the code."""
+
+
 def compile_cached(make_ir, name: str, level: int = 2, cached_only: bool = False):
     """``(the compiled function name, a ctypes function; its engine, which holds the code: keep it while the function
     is called)``, code generated at ``-O<level>`` for this CPU: the object code from the cache directory
-    (``name_O<level>.o``) where an earlier process left it, else ``make_ir()`` compiled and its object code left
-    there (written atomically; a cache that cannot be written is skipped); None with ``cached_only`` and nothing
-    cached."""
+    (``name_O<level>.lobj``) where an earlier process left it whole, else ``make_ir()`` compiled and its object code
+    left there (:func:`_write_object`; a cache that cannot be written is skipped); None with ``cached_only`` and
+    nothing cached.
+
+    What is loaded is verified before it runs (:func:`_read_object`): a cached file that is truncated, empty, edited
+    or another kernel's, or whose code lacks the function, is compiled again and written anew, and said once on
+    stderr; it never reaches the processor.
+    """
     import os
 
     import llvmlite.binding as llvm
 
     machine = _machine(level)
     where = _cache_dir()
-    path = os.path.join(where, f"{name}_O{level}.o") if where else None
-    data = None
-    if path and os.path.exists(path):
-        with open(path, "rb") as fh:
-            data = fh.read()
+    path = os.path.join(where, f"{name}_O{level}.lobj") if where else None
+    data = _read_object(path, name) if path else None
     if data is None and cached_only:
         return None
-    if data is None:
-        data = machine.emit_object(_parsed(make_ir(), machine))
-        if path:
-            try:
-                os.makedirs(where, exist_ok=True)
-                tmp = f"{path}.{os.getpid()}.{threading.get_ident()}.tmp"
-                with open(tmp, "wb") as fh:
-                    fh.write(data)
-                os.replace(tmp, path)
-            except OSError:
-                pass
-    engine = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
-    engine.add_object_file(llvm.ObjectFileRef.from_data(data))
-    engine.finalize_object()
-    return _PROTO(engine.get_function_address(name)), engine
+    for attempt in range(2):
+        if data is None:
+            data = machine.emit_object(_parsed(make_ir(), machine))
+            if path:
+                _write_object(path, name, data)
+        engine = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
+        engine.add_object_file(llvm.ObjectFileRef.from_data(data))
+        engine.finalize_object()
+        address = engine.get_function_address(name)
+        if address:
+            return _PROTO(address), engine
+        if attempt:  # pragma: no cover - freshly compiled code always has its function
+            raise RuntimeError(f"the compiled lanes kernel {name} lacks its function")
+        _damaged(path, "its code lacks the kernel's function")
+        data, machine = None, _machine(level)  # the engine took the machine with it
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _read_object(path, name: str) -> bytes | None:
+    """The object code cached at ``path`` for the kernel ``name``, or None: no file, or a damaged one (said once,
+    :func:`_damaged`). Whole means: the magic line, the kernel's own name, and the SHA-256 of the code that
+    follows."""
+    import hashlib
+    import os
+
+    if not os.path.exists(path):
+        return None
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read()
+    except OSError:
+        return None
+    head, sep, rest = raw.partition(b"\n")
+    fields = rest.split(b"\n", 2) if sep else []
+    if head + b"\n" != CACHE_MAGIC or len(fields) != 3:
+        _damaged(path, "not a relacc object file (truncated, empty or overwritten)")
+        return None
+    owner, digest, code = fields
+    if owner.decode("utf-8", "replace") != name:
+        _damaged(path, f"it holds another kernel's code ({owner[:40].decode('utf-8', 'replace')})")
+        return None
+    if hashlib.sha256(code).hexdigest().encode() != digest:
+        _damaged(path, "its code does not match its checksum (edited or partly written)")
+        return None
+    return code
+
+
+def _write_object(path, name: str, data: bytes) -> None:
+    """``data`` cached at ``path`` with its name and checksum (:data:`CACHE_MAGIC`): a temporary file beside it,
+    flushed and synced, then renamed over it, so that a crash leaves the previous file or the new one whole; the
+    temporary file is removed when the write fails (a full disk) and the cache skipped."""
+    import hashlib
+    import os
+
+    tmp = f"{path}.{os.getpid()}.{threading.get_ident()}.tmp"
+    try:
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(tmp, "wb") as fh:
+            fh.write(CACHE_MAGIC + name.encode() + b"\n" + hashlib.sha256(data).hexdigest().encode() + b"\n" + data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except OSError:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+
+
+_SAID: set = set()
+
+
+def _damaged(path, why: str) -> None:
+    """One line on stderr, once per file in a process: a cached kernel was damaged and is compiled again."""
+    import sys
+
+    if path not in _SAID:
+        _SAID.add(path)
+        print(f"relacc: the cached kernel {path} is damaged ({why}); compiling it again", file=sys.stderr)
 
 
 def _parsed(ir_text: str, machine):

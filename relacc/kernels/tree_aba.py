@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.tolerances import PIVOT_FLOOR
+from relacc.core.tolerances import ILL_FLOOR, PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import ANGLES_CASE2, FREE, HINGE, SLIDE
 from relacc.kernels.tree_spatial import (
@@ -21,6 +21,7 @@ from relacc.kernels.tree_spatial import (
     joint_B,
     rank_one,
     row_to_rates,
+    ill,
     row_to_speeds,
     spd_inverse,
     sym_mv,
@@ -39,14 +40,21 @@ def _composite_diagonal(Ic, b, S, d):
 
 
 @jitable(inline=True)
-def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent, Ic, floor):
+def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent, Ic, cd, floor):
     """A hinge or slide (one speed ``d``) across the articulated inertia of body ``b``, in scalars. Returns 1 when
-    its pivot ``D`` is not above ``floor`` times the speed's diagonal entry of the mass matrix."""
+    its pivot ``D`` is not above ``floor`` times its scale, the speed's diagonal entry of the mass matrix plus the
+    mean of those met so far (``cd[6]``, updated here); sets ``cd[7]`` when it is at most
+    :data:`relacc.core.tolerances.ILL_FLOOR` times it."""
     U0, U1, U2, U3, U4, U5 = sym_mv(IA, b, S, d)
     U[d, 0], U[d, 1], U[d, 2], U[d, 3], U[d, 4], U[d, 5] = U0, U1, U2, U3, U4, U5
     D = S[d, 0] * U0 + S[d, 1] * U1 + S[d, 2] * U2 + S[d, 3] * U3 + S[d, 4] * U4 + S[d, 5] * U5 + arm[d]
-    if not D > floor * _composite_diagonal(Ic, b, S, d):
+    own = _composite_diagonal(Ic, b, S, d)
+    cd[6] += own / uu.shape[0]
+    scale = own + cd[6]
+    if not D > floor * scale:
         return 1
+    if ill(D, ILL_FLOOR * scale):
+        cd[7] = 1.0
     ud = tau[i, d] - (S[d, 0] * pA[b, 0] + S[d, 1] * pA[b, 1] + S[d, 2] * pA[b, 2] + S[d, 3] * pA[b, 3]
                       + S[d, 4] * pA[b, 4] + S[d, 5] * pA[b, 5])
     uu[d] = ud
@@ -70,14 +78,17 @@ def _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free_parent, Ic,
 def backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd, floor):
     """The articulated inertias, leaves to root (module docstring), and the composite rigid inertias ``Ic`` (from
     the bodies' own, in ``Ic`` on entry) for the pivots' test. Returns 1 when a joint's ``D`` is not positive
-    definite to working precision (a pivot not above ``floor`` times its speed's diagonal entry of the mass matrix:
-    :data:`relacc.core.tolerances.PIVOT_FLOOR`), else 0. ``cd``: scratch ``(6,)``."""
+    definite to working precision (a pivot not above ``floor`` times its scale, its speed's diagonal entry of the
+    mass matrix plus the mean of those met so far: :data:`relacc.core.tolerances.PIVOT_FLOOR`), else 2 when a pivot
+    is at most :data:`relacc.core.tolerances.ILL_FLOOR` times it, else 0. ``cd``: scratch ``(8,)`` (a joint's
+    diagonal entries, the running mean at 6, the flag at 7)."""
+    cd[6], cd[7] = 0.0, 0.0
     for b in range(T.parent.shape[0] - 1, -1, -1):
         js, jn = T.jstart[b], T.jnum[b]
         for k in range(js + jn - 1, js - 1, -1):
             kind, d = T.jtype[k], T.dofadr[k]
             if kind == HINGE or kind == SLIDE:
-                if _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free[b] and k == js, Ic, floor):
+                if _one_speed(b, k, d, tau, i, arm, S, C, IA, pA, U, uu, Dinv, free[b] and k == js, Ic, cd, floor):
                     return 1
                 continue
             nd = 6 if kind == FREE else 3
@@ -115,6 +126,8 @@ def backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, 
                         uu[d + at + r] -= s
             for r in range(nd):
                 cd[r] = _composite_diagonal(Ic, b, S, d + r)
+            for r in range(nd):
+                cd[6] += cd[r] / uu.shape[0]
             if spd_inverse(tmp, nd, Dinv, k, cd, floor):
                 return 1
             if free[b] and k == js:
@@ -147,7 +160,7 @@ def backward(case, q, u, tau, i, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, 
                 Ic[p, x] += Ic[b, x]
             for x in range(6):
                 pA[p, x] += pA[b, x]
-    return 0
+    return 2 if cd[7] != 0.0 else 0
 
 
 @leaf
@@ -192,16 +205,16 @@ if HAVE_NUMBA:
     @numba.njit(cache=True, nogil=True)
     def aba_block(case, q, u, tau, T, qadr, mass, com, inertia, arm, free, g, out, start,
                   stop):  # pragma: no cover - compiled
-        """States ``start .. stop - 1``; ``(bad inputs, singular states)``; case 3 and threads as
-        :func:`relacc.kernels.tree_crba.crba_block`."""
+        """States ``start .. stop - 1``; ``(bad inputs, singular states, ill-conditioned states)``; case 3 and threads
+        as :func:`relacc.kernels.tree_crba.crba_block`."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA, acc = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6))
         U, uu, Dinv, tmp = np.empty((nv, 6)), np.empty(nv), np.empty((max(nj, 1), 36)), np.empty(60)
-        Ic, cd = np.empty((nb, 21)), np.empty(6)
+        Ic, cd = np.empty((nb, 21)), np.empty(8)
         Q1, U1, F1, X1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv)), np.empty((1, nv))
         trig = np.empty((max(nj, 1), 6))
-        bad_in, singular = 0, 0
+        bad_in, singular, warned = 0, 0, 0
         mode = ANGLES_CASE2 if case == 3 else case
         for i in range(start, stop):
             bad_in += bad_inputs(case, q, u, i, T, qadr)
@@ -216,8 +229,10 @@ if HAVE_NUMBA:
             for b in range(nb):  # the bodies' own spatial inertias: the composite ones grow from them
                 for x in range(21):
                     Ic[b, x] = IA[b, x]
-            failed = backward(mode, qq, uu_, tt, r, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd,
-                              PIVOT_FLOOR)
+            code = backward(mode, qq, uu_, tt, r, T, qadr, arm, free, S, C, R, V, IA, pA, U, uu, Dinv, tmp, Ic, cd,
+                            PIVOT_FLOOR)
+            failed = 1 if code == 1 else 0
+            warned += 1 if code == 2 else 0
             if failed:
                 for c in range(nv):
                     out[i, c] = np.nan
@@ -227,4 +242,4 @@ if HAVE_NUMBA:
             else:
                 accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)
             singular += failed
-        return bad_in, singular
+        return bad_in, singular, warned

@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.tolerances import PIVOT_FLOOR
+from relacc.core.tolerances import ILL_FLOOR, PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import ANGLES_CASE2, BALL, FREE, HINGE, SLIDE
-from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, joint_B, rigid_mv, row_to_rates, row_to_speeds
+from relacc.kernels.tree_spatial import (SYM, bad_inputs, forward, ill, joint_B, rigid_mv, row_to_rates,
+                                         row_to_speeds)
 
 BLOCK = 64
 """States per parallel task."""
@@ -188,19 +189,55 @@ def _past_six(M, x, anc, k, dk, piv, xk):
     M[k, 0], M[k, 1], M[k, 2], M[k, 3], M[k, 4], M[k, 5] = s0, s1, s2, s3, s4, s5
 
 
+@jitable(inline=True)
+def _block_measure(M, anc, depth, k, dk):
+    """``(det, e)`` of the current (Schur complement) block of speed ``k`` and its one or two nearest ancestors on
+    the path (``dk >= 1``), ``e`` the sum of its principal minors one size down: ``det / e`` lies between
+    ``lambda_min / n`` and ``lambda_min`` for an ``n x n`` positive definite block, whatever the order of its speeds.
+    The rows of the speeds not yet eliminated hold the Schur complement of those that are, whose ``lambda_min`` is at
+    least ``M``'s, so a small ``det / e`` proves ``M`` singular to working precision however the speeds are ordered;
+    a single pivot does not (a point mass on a ball: the pivot of the speed eliminated last is ``lambda_min / v_k^2``,
+    large where the null direction ``v`` is nearly orthogonal to that speed's axis)."""
+    p = anc[k, dk - 1]
+    a, b, d = M[k, dk], M[p, depth[p]], M[k, dk - 1]
+    if dk == 1:
+        return a * b - d * d, a + b
+    g = anc[k, dk - 2]
+    c, e, f = M[g, depth[g]], M[k, dk - 2], M[p, depth[p] - 1]
+    minors = (b * c - f * f) + (a * c - e * e) + (a * b - d * d)
+    det = a * (b * c - f * f) - d * (d * c - f * e) + e * (d * f - b * e)
+    return det, minors
+
+
 @leaf
 def factor_solve(M, x, anc, depth, diag, floor):
     """``x = M^-1 x`` through ``M = L^T D L`` on the speeds' paths, in place; each update a contiguous loop (an
-    earlier speed's path is a prefix of a later one's). Returns 1 when a pivot is not above ``floor`` times its
-    diagonal entry before elimination (``diag``, scratch ``(nv,)``): :data:`relacc.core.tolerances.PIVOT_FLOOR`."""
+    earlier speed's path is a prefix of a later one's). Returns 1 when a pivot, or the smallest eigenvalue of its
+    block with its two nearest ancestors (:func:`_block_measure`), is not above ``floor`` times its scale, its
+    diagonal entry before elimination plus the mean diagonal entry (``diag``, scratch ``(nv,)``:
+    :data:`relacc.core.tolerances.PIVOT_FLOOR`); else 2 when one is at most :data:`relacc.core.tolerances.ILL_FLOOR`
+    times it (solved, fewer than six digits certain), else 0."""
     nv = x.shape[0]
+    total = 0.0
     for k in range(nv):
         diag[k] = M[k, depth[k]]
+        total += diag[k]
+    mean = total / max(nv, 1)
+    warned = 0
     for k in range(nv - 1, -1, -1):  # with the solve of L^T D y = x: x[k] is final once its descendants are done
         dk = depth[k]
         piv = M[k, dk]
-        if not piv > floor * diag[k]:
+        scale = diag[k] + mean
+        if not piv > floor * scale:
             return 1
+        if ill(piv, ILL_FLOOR * scale):
+            warned = 2
+        if dk >= 1:
+            det, minors = _block_measure(M, anc, depth, k, dk)
+            if not det > floor * scale * minors:
+                return 1
+            if ill(det, ILL_FLOOR * scale * minors):
+                warned = 2
         xk = x[k]
         if dk >= 6:  # the path's first six speeds (a free root's, on a floating tree) written out
             _past_six(M, x, anc, k, dk, piv, xk)
@@ -218,7 +255,7 @@ def factor_solve(M, x, anc, depth, diag, floor):
         for t in range(depth[k]):
             s -= M[k, t] * x[anc[k, t]]
         x[k] = s
-    return 0
+    return warned
 
 
 if HAVE_NUMBA:
@@ -226,8 +263,8 @@ if HAVE_NUMBA:
     @numba.njit(cache=True, nogil=True)
     def crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, start,
                    stop):  # pragma: no cover - compiled
-        """States ``start .. stop - 1``; ``(bad inputs, singular states)``. Case 3 is solved in case-2 speeds on its
-        angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`). Without the GIL: a batch's
+        """States ``start .. stop - 1``; ``(bad inputs, singular states, ill-conditioned states)``. Case 3 is solved in
+        case-2 speeds on its angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`). Without the GIL: a batch's
         shares run on Python threads at once (:func:`relacc.kernels.jit.split`)."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
@@ -236,7 +273,7 @@ if HAVE_NUMBA:
         M, x, tmp, diag = np.zeros((nv, anc.shape[1] + 1)), np.empty(nv), np.empty(18), np.empty(nv)
         Q1, U1, F1 = np.empty((1, q.shape[1])), np.empty((1, nv)), np.empty((1, nv))  # case 3's state in case 2
         trig = np.empty((max(nj, 1), 6))
-        bad_in, singular = 0, 0
+        bad_in, singular, warned = 0, 0, 0
         mode = ANGLES_CASE2 if case == 3 else case
         for i in range(start, stop):
             bad_in += bad_inputs(case, q, u, i, T, qadr)
@@ -249,7 +286,9 @@ if HAVE_NUMBA:
                 qq, uu, tt, r = q, u, tau, i
             forward(mode, qq, uu, r, T, qadr, mass, com, inertia, S, C, o, R, V, IA, pA)
             mass_matrix(mode, qq, uu, tt, r, T, qadr, anc, depth, arm, free, g, S, C, R, V, IA, pA, A, f, M, x, tmp)
-            failed = factor_solve(M, x, anc, depth, diag, PIVOT_FLOOR)
+            code = factor_solve(M, x, anc, depth, diag, PIVOT_FLOOR)
+            failed = 1 if code == 1 else 0
+            warned += 1 if code == 2 else 0
             if failed:
                 for c in range(nv):
                     out[i, c] = np.nan
@@ -261,7 +300,7 @@ if HAVE_NUMBA:
                 for c in range(nv):
                     out[i, c] = x[c]
             singular += failed
-        return bad_in, singular
+        return bad_in, singular, warned
 
 
 __all__ = ["HINGE", "SLIDE", "dof_paths", "factor_solve", "mass_matrix"]

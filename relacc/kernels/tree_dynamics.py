@@ -86,8 +86,9 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
     on the tree with its welded bodies folded into their parents (:func:`relacc.core.tree.model.welded_folded`).
 
     Returns:
-        ``(udot (n, nv), n_bad_inputs, n_singular)``: the counts of states with non-finite inputs or non-unit
-        quaternions, and of states whose equations are singular (their rows are NaN); callers check and name them.
+        ``(udot (n, nv), n_bad_inputs, n_singular, n_ill)``: the counts of states with non-finite inputs or non-unit
+        quaternions, of states whose equations are singular (their rows are NaN), and of states answered with a mass
+        matrix conditioned beyond :data:`relacc.core.tolerances.MASS_CONDITION_WARNING`; callers check and name them.
     """
     n = q.shape[0]
     out = np.empty((n, tree.nv)) if out is None else out
@@ -96,12 +97,12 @@ def accelerations(tree, case: int, q, u, tau, gravity, out=None, algorithm: str 
         args = (writable(q), writable(u), writable(tau), writable(np.asarray(gravity, dtype=float)), out)
         lane.will_run(n)
         serial = not parallel_pays(n, LANES_US_PER_SPEED * tree.nv, BLOCK)
-        bad_in, singular = lane.block(*args, 0, n) if serial else split(lane.block, args, n, BLOCK)
-        return out, int(bad_in), int(singular)
+        bad_in, singular, ill = lane.block(*args, 0, n) if serial else split(lane.block, args, n, BLOCK)
+        return out, int(bad_in), int(singular), int(ill)
     fn, args = _block_call(tree, case, algorithm, writable(q), writable(u), writable(tau), writable(gravity), out)
     serial = not parallel_pays(n, US_PER_SPEED * tree.nv, BLOCK)
-    bad_in, singular = fn(*args, 0, n) if serial else split(fn, args, n, BLOCK)
-    return out, int(bad_in), int(singular)
+    bad_in, singular, ill = fn(*args, 0, n) if serial else split(fn, args, n, BLOCK)
+    return out, int(bad_in), int(singular), int(ill)
 
 
 LANES_US_PER_SPEED = 0.025
@@ -155,14 +156,14 @@ def _block_call(tree, case, algorithm, q, u, tau, gravity, out):
 
 
 def one_state(tree, case: int, q, u, gravity):
-    """``(udot (nv,), bad input, singular)`` of one state ``q (nq,)``, ``u (nv,)`` (float64, shapes checked by the
-    caller), no applied forces: the single-state lane of :func:`relacc.tree_accelerations`, on the calling thread with
+    """``(udot (nv,), bad input, singular, ill-conditioned)`` of one state ``q (nq,)``, ``u (nv,)`` (float64, shapes
+    checked by the caller), no applied forces: the single-state lane of :func:`relacc.tree_accelerations`, on the calling thread with
     the kernel's arguments gathered once per tree, case, gravity and thread (:func:`_single`), so that a call costs
     the kernel and little else."""
     fn, args, Q, U, out = _single(tree, case, gravity)
     Q[0], U[0] = q, u
-    bad_in, singular = fn(*args)
-    return out[0].copy(), bad_in, singular
+    bad_in, singular, ill = fn(*args)
+    return out[0].copy(), bad_in, singular, ill
 
 
 def _single(tree, case, gravity):
@@ -179,7 +180,7 @@ def _single(tree, case, gravity):
             np.zeros((1, tree.nv))
         lane = _lanes(tree, case, None)
         if lane is not None:  # the compiled function on the buffers' addresses: a call is the kernel and ctypes
-            g, bad = np.array(gravity, dtype=float), np.zeros(1, np.int64)
+            g, bad = np.array(gravity, dtype=float), np.zeros(2, np.int64)
             keep = (Q, U, tau, g, out, bad)
             fn = _ZeroingCall(lane, bad, keep)
             cache[key] = (fn, tuple(a.ctypes.data for a in keep[:5]) + (bad, 0, 1), Q, U, out)
@@ -192,9 +193,9 @@ def _single(tree, case, gravity):
 
 class _ZeroingCall:
     """The lanes kernel's compiled function for one state on fixed buffers: counts the state
-    (:meth:`relacc.kernels.lanes.Kernel.will_run`), zeroes the bad-input count, passes its address (the arguments'
-    sixth is the count's array), keeps the buffers alive as long as the call is cached, and returns ``(bad inputs,
-    singular)`` as the numba block function does."""
+    (:meth:`relacc.kernels.lanes.Kernel.will_run`), zeroes the bad-input and ill-conditioned counts, passes their
+    address (the arguments' sixth is the counts' array), keeps the buffers alive as long as the call is cached, and
+    returns ``(bad inputs, singular, ill-conditioned)`` as the numba block function does."""
 
     __slots__ = ("lane", "bad", "at", "keep")
 
@@ -203,9 +204,9 @@ class _ZeroingCall:
 
     def __call__(self, q, u, tau, g, out, _bad, start, stop):
         self.lane.will_run(1)
-        self.bad[0] = 0
+        self.bad[0] = self.bad[1] = 0
         singular = self.lane.fn(q, u, tau, g, out, self.at, start, stop)
-        return int(self.bad[0]), singular
+        return int(self.bad[0]), singular, int(self.bad[1])
 
 
 def _entry_point(fn, args):

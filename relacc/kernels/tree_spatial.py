@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
+from relacc.core.tolerances import ILL_FLOOR, QUATERNION_NORM_TOLERANCE
 from relacc.kernels.jit import jitable, leaf
 from relacc.kernels.so3 import cross_inline as cross
 from relacc.kernels.so3 import mm_inline as mm
@@ -226,17 +226,34 @@ def rigid_mv(P, b, x, j):
             P[b, 5] * x0 + P[b, 10] * x1 + m * x5)
 
 
+@jitable(inline=True)
+def ill(pivot, bound):
+    """Whether a pivot that passed the singularity test is at most ``bound`` (:data:`relacc.core.tolerances.
+    ILL_FLOOR` times its scale): the state's accelerations then carry fewer than six certain digits. A call of its
+    own, not a comparison in the kernels' code, so that the lanes' trace (:mod:`relacc.kernels.lanes`) records it as
+    the state's warning flag rather than as a pivot test."""
+    return not pivot > bound
+
+
 @jitable
 def spd_inverse(D, n, out, slot, diag, floor):
     """``out[slot]`` (n x n, row-major) = ``D^-1`` for a symmetric positive definite ``D`` (row-major, n <= 6), by
-    Cholesky; ``D`` is overwritten. Returns 1 when a pivot is not above ``floor`` times ``diag[j]`` (the mass matrix's
-    diagonal entry of that speed, :data:`relacc.core.tolerances.PIVOT_FLOOR`), else 0."""
+    Cholesky; ``D`` is overwritten. ``diag`` ``(8,)``: the mass matrix's diagonal entries of the ``n`` speeds, then at
+    6 the mean of its diagonal entries met so far and at 7 a flag. Returns 1 when a pivot is not above ``floor``
+    times its scale, ``diag[j] + diag[6]`` (:data:`relacc.core.tolerances.PIVOT_FLOOR`), or when ``D``'s smallest
+    eigenvalue, judged whatever the order of its speeds by ``1 / trace(D^-1)`` (between ``lambda_min / n`` and
+    ``lambda_min``), is not above ``floor`` times the block's scale (its mean diagonal entry plus ``diag[6]``); else
+    0, having set ``diag[7]`` to 1 when either is at most :data:`relacc.core.tolerances.ILL_FLOOR` times its
+    scale."""
     for j in range(n):
         s = D[j * n + j]
         for k in range(j):
             s -= D[j * n + k] * D[j * n + k]
-        if not s > floor * diag[j]:
+        scale = diag[j] + diag[6]
+        if not s > floor * scale:
             return 1
+        if ill(s, ILL_FLOOR * scale):
+            diag[7] = 1.0
         s = np.sqrt(s)
         D[j * n + j] = s
         for r in range(j + 1, n):
@@ -255,6 +272,16 @@ def spd_inverse(D, n, out, slot, diag, floor):
             for x in range(r + 1, n):
                 t -= D[x * n + r] * out[slot, x * n + c]
             out[slot, r * n + c] = t / D[r * n + r]
+    trace, own = 0.0, 0.0  # 1 / trace(D^-1) lies between lambda_min / n and lambda_min, whatever the speeds' order
+    for r in range(n):
+        trace += out[slot, r * n + r]
+        own += diag[r]
+    least = 1.0 / trace
+    scale = own / n + diag[6]
+    if not least > floor * scale:
+        return 1
+    if ill(least, ILL_FLOOR * scale):
+        diag[7] = 1.0
     return 0
 
 

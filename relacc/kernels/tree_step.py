@@ -238,7 +238,7 @@ if HAVE_NUMBA:
         return Scratch(np.empty((1, nq)), np.empty((1, nv)), np.empty((1, nv)), np.empty((1, nv)), np.empty((nv, 6)),
                        np.empty((nj1, 6)), np.empty((nb, 3)), np.empty((nb, 9)), np.empty((nb, 6)),
                        np.empty((nb, 21)), np.empty((nb, 6)), np.empty((nb, 6)), np.empty((nv, 6)), np.empty(nv),
-                       np.empty((nj1, 36)), np.empty(60), np.empty((nb, 21)), np.empty(6), np.empty((nb, 6)),
+                       np.empty((nj1, 36)), np.empty(60), np.empty((nb, 21)), np.empty(8), np.empty((nb, 6)),
                        np.empty((nb, 6)), np.zeros((nv, width + 1)), np.empty(nv), np.empty(nv),
                        np.empty((14, max(nq, nv, 1))), np.empty((1, nv)), np.zeros((1, nv)), np.empty((1, nv)),
                        np.empty((1, nv)), np.zeros(1 + nq), np.zeros((nj1, 9)))
@@ -313,7 +313,7 @@ if HAVE_NUMBA:
                 for c in range(21):
                     W.Ic[b, c] = W.IA[b, c]
             if backward(mode, W.Q, W.U, W.tau, 0, T, qadr, arm, free, W.S, W.C, W.R, W.V, W.IA, W.pA, W.Ub, W.uu,
-                        W.Dinv, W.tmp, W.Ic, W.cd, PIVOT_FLOOR):
+                        W.Dinv, W.tmp, W.Ic, W.cd, PIVOT_FLOOR) == 1:
                 return SINGULAR
             accelerate(T, g, free, W.S, W.C, W.Ub, W.uu, W.Dinv, W.acc, 0, W.out)
             for c in range(nv):
@@ -321,7 +321,7 @@ if HAVE_NUMBA:
         else:
             mass_matrix(mode, W.Q, W.U, W.tau, 0, T, qadr, anc, depth, arm, free, g, W.S, W.C, W.R, W.V, W.IA, W.pA,
                         W.A, W.f, W.M, W.x, W.tmp)
-            if factor_solve(W.M, W.x, anc, depth, W.diag, PIVOT_FLOOR):
+            if factor_solve(W.M, W.x, anc, depth, W.diag, PIVOT_FLOOR) == 1:
                 return SINGULAR
             for c in range(nv):
                 W.a2[0, c] = W.x[c]

@@ -40,9 +40,10 @@ import numpy as np
 
 from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.errors import ModelError
+from relacc.files import note_input
 from relacc.reading import frames, inertia, physical
 from relacc.reading.model import Reading
-from relacc.reading.xml import Node, number, numbers, parse_file, required_numbers
+from relacc.reading.xml import Node, number, numbers, parse_file, real, required_numbers, rounding
 
 MAX_INCLUDE_DEPTH = 20
 """Includes nested deeper than this are refused (a file that includes itself)."""
@@ -151,13 +152,32 @@ def read(path, meshes=None, variant=frozenset()) -> Reading:
     return reader.reading()
 
 
-def _inline(node: Node, directory: Path, depth: int) -> None:
-    """Every ``<include file>`` below ``node`` replaced by the included file's top-level children, recursively."""
+def note_files(path: Path) -> None:
+    """The files the MJCF at ``path`` reads, noted as inputs (:func:`relacc.reading.read.note_files`): the file and
+    its includes (each noted as it is parsed), and each mesh asset's file under ``meshdir`` (or ``assetdir``)."""
+    root = parse_file(path)
+    _inline(root, path.parent, 0)
+    compiler: dict = {}
+    for node in root.findall("compiler"):
+        compiler.update(node.attrib)
+    meshdir = compiler.get("meshdir", compiler.get("assetdir", ""))
+    for asset in root.findall("asset"):
+        for mesh in asset.findall("mesh"):
+            if mesh.get("file"):
+                note_input(path.parent / meshdir / mesh.get("file"))
+
+
+def _inline(node: Node, directory: Path, depth: int, seen: set | None = None) -> None:
+    """Every ``<include file>`` below ``node`` replaced by the included file's top-level children, recursively, by
+    MuJoCo's rule: a relative name from the main file's directory, and each file included once in the whole model
+    (MuJoCo refuses a second ``<include>`` of a file, "already included": a file including the next several times,
+    level after level, would otherwise be read exponentially many times)."""
+    seen = set() if seen is None else seen
     k = 0
     while k < len(node.children):
         child = node.children[k]
         if child.tag != "include":
-            _inline(child, directory, depth)
+            _inline(child, directory, depth, seen)
             k += 1
             continue
         if depth >= MAX_INCLUDE_DEPTH:
@@ -166,10 +186,46 @@ def _inline(node: Node, directory: Path, depth: int) -> None:
         name = child.get("file")
         if not name:
             raise ModelError(f"{child.place}: an <include> without a file")
-        included = parse_file(directory / name)
-        _inline(included, directory, depth + 1)
+        target = (directory / name).resolve()
+        if target in seen:
+            raise ModelError(f"{child.place}: <include file={name!r}>: that file is already included; MuJoCo "
+                             "includes a file once per model and refuses it again")
+        seen.add(target)
+        try:
+            included = parse_file(directory / name)
+        except ModelError as exc:
+            raise ModelError(f"{child.place}: <include file={name!r}>: {exc}") from None
+        _inline(included, directory, depth + 1, seen)
         node.children[k:k + 1] = included.children
         k += len(included.children)
+
+
+SIZES = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}
+"""The sizes a primitive geom needs, each positive (MuJoCo's compiler: "size N must be positive in geom"); with
+``fromto`` the first (the length comes from the two ends)."""
+
+
+def _check_geom(g: Node, kind: str) -> None:
+    """What MuJoCo's compiler refuses of a geom, refused here too: a primitive's sizes missing or not positive, a
+    negative mass or density.
+
+    Raises:
+        ModelError: naming the geom, its place and what MuJoCo says.
+    """
+    for key in ("mass", "density"):
+        value = number(g, key)
+        if value is not None and value < 0:
+            raise ModelError(f"{g.place}: geom {key}={value:g} is negative; MuJoCo refuses it (\"mass, inertia or "
+                             "density are negative in geom\")")
+    if kind not in SIZES or g.get("mesh"):
+        return
+    need = 1 if g.get("fromto") is not None else SIZES[kind]
+    size = numbers(g, "size", None, [])
+    for i in range(need):
+        if i >= len(size) or not size[i] > 0:
+            raise ModelError(f"{g.place}: a {kind} geom needs {need} positive size{'s' if need > 1 else ''}, and "
+                             f"size {i} is {'missing' if i >= len(size) else f'{size[i]:g}'} (size={g.get('size')!r}); "
+                             f"MuJoCo refuses it (\"size {i} must be positive in geom\")")
 
 
 def _written_in(node: Node, file: str) -> Node:
@@ -200,7 +256,8 @@ class _Reader:
         self.groups = (int(groups[0]), int(groups[1]))
         self.discardvisual = self.compiler.get("discardvisual", "false") == "true"
         self.autolimits = self.compiler.get("autolimits", "true") == "true"
-        self.meshdir = self.compiler.get("meshdir", "")
+        # assetdir is meshdir and texturedir both, where those are not given (MuJoCo's reading)
+        self.meshdir = self.compiler.get("meshdir", self.compiler.get("assetdir", ""))
         self.classes = self._classes()
         self.broken_classes = self._classes(broken=True)
         self.broken_defaults = 0  # elements whose defaults default_chain_broken reads otherwise
@@ -212,11 +269,13 @@ class _Reader:
         self.bodies: list[Body] = []
         self.points: list[Point] = []
         self.places, self.ranges, self.damping, self.stiffness, self.taken = {}, {}, {}, {}, {}
+        self.written: dict[str, float] = {}  # body: the Frobenius norm of its written inertia's rounding (kg m^2)
         self.findings = []
         self.njoints = 0
         self.default_masses = 0
         self.first_body = None
         self.visual_geoms = self.stacked = self.unactuated = self.damped_free = self.damped_balls = 0
+        self.friction: list[str] = []  # joints with a frictionloss (dry friction, a constraint in MuJoCo)
         self.driven = {a.get("joint") for s in root.findall("actuator") for a in s.children
                        if a.tag in ("motor", "position") and a.get("joint")}
 
@@ -225,7 +284,7 @@ class _Reader:
         if text is None:
             return default
         try:
-            return [float(x) for x in text.split()]
+            return [real(x) for x in text.split()]
         except ValueError:
             raise ModelError(f"{self.path}: <compiler {key}={text!r}> is not numbers") from None
 
@@ -434,10 +493,11 @@ class _Reader:
         if node.get("mocap") == "true" and joints:
             raise ModelError(f"{node.place}: mocap body {name!r} has joints; MuJoCo's mocap bodies have none")
         mass, com, I = self._mass(node, cls, name)
-        found = physical.check(name, mass, I, self.places.get(("inertial", name), node.place))
+        found = physical.check(name, mass, I, self.places.get(("inertial", name), node.place),
+                               written=self.written.get(name, 0.0))
         self.findings += found
         self.bodies.append(Body(name, parent, pos=pos, quat=frames.quaternion_of(Rb), joints=tuple(joints), mass=mass,
-                                com=com, inertia=I,
+                                com=com, inertia=I, written=self.written.get(name, 0.0),
                                 physical=not any(f.condition != "no mass but an inertia" for f in found)))
         self._sites(node, index, np.zeros(3), np.eye(3), cls)
         self._children(node, index, np.zeros(3), np.eye(3), cls)
@@ -493,6 +553,8 @@ class _Reader:
             self.njoints += 1
             self.places[("joint", name)] = j.place
             nv = {"free": 6, "ball": 3}.get(kind, 1)
+            if number(j, "frictionloss", 0.0):
+                self.friction.append(name)
             armature = number(j, "armature", 0.0)
             if armature and name not in self.driven:
                 self.unactuated += 1
@@ -553,6 +615,9 @@ class _Reader:
             if full is not None and turned:
                 raise ModelError(f"{inertial.place}: <inertial> gives fullinertia and {turned[0]}: the full tensor is "
                                  "in the body's frame, and MJCF allows no orientation with it")
+            key = "fullinertia" if full is not None else "diaginertia"
+            digits = rounding(inertial, key)  # the file's own rounding of each entry (off-diagonals twice)
+            self.written[body] = float(np.sqrt(sum(d * d * (1 if k < 3 else 2) for k, d in enumerate(digits))))
             if full is not None:
                 xx, yy, zz, xy, xz, yz = full
                 I = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
@@ -579,6 +644,11 @@ class _Reader:
 
     def _geom(self, g: Node, at, R, body: str):
         """``(mass, centre, inertia (3, 3), mesh or "")`` of one geom in the body frame, or None when it adds none."""
+        kind = g.get("type", "mesh" if g.get("mesh") else "sphere")
+        if kind not in GEOM_TYPES:
+            raise ModelError(f"{g.place}: geom type {kind!r}; MJCF's are {', '.join(GEOM_TYPES)}")
+        if not self.variant:  # MuJoCo's refusals; a variant reproduces another engine, which may read it (Drake's
+            _check_geom(g, kind)  # broken default chain leaves a geom without its class's size)
         group = int(number(g, "group", 0))
         if not self.groups[0] <= group <= self.groups[1]:
             return None
@@ -589,9 +659,6 @@ class _Reader:
             self.visual_geoms += 1
             if "visual_geoms_ignored" in self.variant:
                 return None
-        kind = g.get("type", "mesh" if g.get("mesh") else "sphere")
-        if kind not in GEOM_TYPES:
-            raise ModelError(f"{g.place}: geom type {kind!r}; MJCF's are {', '.join(GEOM_TYPES)}")
         if kind in ("plane", "hfield"):
             return None  # no volume: MuJoCo allows them in static bodies only, with no mass
         shell = g.get("shellinertia") == "true"
@@ -605,6 +672,8 @@ class _Reader:
             name = g.get("mesh")
             asset = self.assets.get(name)
             asset = None if asset is None else self.attrs(asset, asset.get("class") or "main")
+            if asset is not None and asset.get("file"):  # what the mesh is read from: an input of the command
+                note_input(self.path.parent / self.meshdir / asset.get("file"))
             mass, com, I = self.meshes(MeshGeom(str(self.path), g, asset, self.meshdir, self.degree, dict(g.attrib)))
             return mass, at + R @ np.asarray(com), R @ np.asarray(I) @ R.T, f"mesh {name!r}"
         size = numbers(g, "size", None, [0.0, 0.0, 0.0])
@@ -677,4 +746,20 @@ class _Reader:
         if dynamic:
             out.append(f"{len(dynamic)} actuator{'s' if len(dynamic) > 1 else ''} with activation dynamics: their "
                        "states are not evaluated")
+        compensated = [b.get("name") or "(unnamed)" for b in self.root.iter("body") if number(b, "gravcomp", 0.0)]
+        if compensated:
+            out.append(f"gravity compensation (gravcomp) on {len(compensated)} bod{'ies' if len(compensated) > 1 else 'y'}"
+                       f" ({', '.join(compensated[:5])}{', ...' if len(compensated) > 5 else ''}): a force MuJoCo's "
+                       "step applies against gravity, not evaluated (the dynamics compared are the bodies' own)")
+        fluid = [f"{k} {o.get(k)}" for o in self.root.findall("option") for k in ("density", "viscosity", "wind")
+                 if any(x != 0 for x in (numbers(o, k) or []))]
+        fluid += [f"fluidshape on {g.get('name') or 'a geom'}" for g in self.root.iter("geom")
+                  if g.get("fluidshape", "none") != "none"]
+        if fluid:
+            out.append(f"fluid forces ({', '.join(fluid)}): MuJoCo's step applies them, not evaluated")
+        if self.friction:
+            n = len(self.friction)
+            out.append(f"dry friction (frictionloss) on {n} joint{'s' if n > 1 else ''} "
+                       f"({', '.join(self.friction[:5])}{', ...' if n > 5 else ''}): a constraint in MuJoCo's step, "
+                       "not evaluated")
         return out

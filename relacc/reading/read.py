@@ -46,6 +46,26 @@ def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", vari
     return mjcf.read(path, _mesh_reader if meshes == "engine" else meshes, variant)
 
 
+def note_files(path: str | os.PathLike) -> None:
+    """Every file the description at ``path`` reads (its ``<include>``s, its meshes, a URDF's ``package://`` targets)
+    noted as an input of the running command (:func:`relacc.files.note_input`), before any work: an output that is
+    one of them is refused up front. Only the XML is read here (no tree is built); a file that cannot be read is left
+    to the command, which says why."""
+    path = Path(path)
+    kind = SUFFIXES.get(path.suffix.lower())
+    try:
+        if kind == "urdf":
+            from relacc.reading import urdf
+
+            urdf.note_files(path)
+        elif kind == "mjcf":
+            from relacc.reading import mjcf
+
+            mjcf.note_files(path)
+    except (ModelError, OSError, RecursionError):
+        pass
+
+
 def _mesh_reader(mesh):
     """MuJoCo's mass properties of one mesh geom: the one thing relacc's reading asks an engine for (declared per
     body in ``taken``)."""

@@ -28,14 +28,50 @@ import numpy as np
 
 from relacc.core.tree.model import Body, Joint, Tree
 from relacc.errors import ModelError
+from relacc.files import note_input
 from relacc.reading import frames, physical
 from relacc.reading.model import Reading
-from relacc.reading.xml import Node, number, numbers, parse_file
+from relacc.reading.xml import Node, number, numbers, parse_file, rounding
 
 JOINTS = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide", "floating": "free", "fixed": None,
           "spherical": "ball"}
 """URDF joint types and relacc's joint of each (``fixed``: none, the child is welded; ``spherical``: not the
 specification's, MuJoCo's and pybullet's extension, a ball about the joint frame's origin as MuJoCo reads it)."""
+
+
+def resolve_uri(uri: str, path: Path) -> Path | None:
+    """The file a URDF at ``path`` names by ``uri`` (a ``<mesh filename>``), where it can be found: a relative name
+    from the URDF's directory, ``file://`` as it says, ``package://PKG/REST`` in the nearest directory above the URDF
+    that is ``PKG`` or holds ``PKG`` (ROS's layout, without ROS); None when it is not found."""
+    if uri.startswith("file://"):
+        target = Path(uri[len("file://"):])
+        return target if target.is_file() else None
+    if uri.startswith("package://"):
+        package, _, rest = uri[len("package://"):].partition("/")
+        for folder in path.resolve().parents:
+            for candidate in ((folder / rest) if folder.name == package else None, folder / package / rest):
+                if candidate is not None and candidate.is_file():
+                    return candidate
+        return None
+    if "://" in uri:
+        return None
+    target = path.parent / uri
+    return target if target.is_file() else None
+
+
+def note_files(path: Path) -> None:
+    """The files the URDF at ``path`` names, noted as inputs (:func:`relacc.reading.read.note_files`)."""
+    _note_geometry(parse_file(path), path)
+
+
+def _note_geometry(root: Node, path: Path) -> None:
+    """The files the geometry names (``<mesh filename>``, ``<texture filename>``) that can be found: inputs of the
+    running command, which no output may replace."""
+    for node in root.iter():
+        if node.tag in ("mesh", "texture") and node.get("filename"):
+            target = resolve_uri(node.get("filename"), path)
+            if target is not None:
+                note_input(target)
 
 
 def read(path) -> Reading:
@@ -50,6 +86,7 @@ def read(path) -> Reading:
     root = parse_file(path, notes)
     if root.tag != "robot":
         raise ModelError(f"{root.place}: the root element is <{root.tag}>; a URDF's is <robot>")
+    _note_geometry(root, path)
     normalized = frames.Normalized()
     links = {}
     for link in root.findall("link"):
@@ -133,17 +170,17 @@ def read(path) -> Reading:
                 d = number(dyn, "damping", 0.0) if dyn is not None else 0.0
                 if d:
                     damping[jname] = np.full(joint_list[0].nv, d)
-        mass, com, inertia, where, written = _inertial(link, normalized)
+        mass, com, inertia, where, written, digits = _inertial(link, normalized)
         if written is not None:
             turned[name] = written
         if where:
             places[("inertial", name)] = where
-        found = physical.check(name, mass, inertia, where or link.place)
+        found = physical.check(name, mass, inertia, where or link.place, written=digits)
         findings += found
         index[name] = len(bodies)
         is_physical = not any(f.condition != "no mass but an inertia" for f in found)
         bodies.append(Body(name, parent_index, pos=pos, quat=frames.quaternion_of(R), joints=joint_list, mass=mass,
-                           com=com, inertia=inertia, physical=is_physical))
+                           com=com, inertia=inertia, physical=is_physical, written=digits))
     if not bodies:
         raise ModelError(f"{path}: the URDF has no link besides the world")
     tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array([0.0, 0.0, -9.81]), source=str(path))
@@ -189,19 +226,21 @@ def _joint(name: str, kind: str, node: Node, normalized) -> Joint:
 
 def _inertial(link: Node, normalized) -> tuple:
     """``(mass, mass centre (3,), inertia about it in the link's components (3, 3), place, the inertia as written
-    when its origin turns it, else None)``."""
+    when its origin turns it, else None, the Frobenius norm of the rounding its written digits allow (kg m^2))``."""
     inertial = link.find("inertial")
     if inertial is None:
-        return 0.0, np.zeros(3), np.zeros((3, 3)), "", None
+        return 0.0, np.zeros(3), np.zeros((3, 3)), "", None, 0.0
     pos, R = _origin(inertial, normalized)
     mass_node, tensor = inertial.find("mass"), inertial.find("inertia")
     mass = number(mass_node, "value", 0.0) if mass_node is not None else 0.0
-    I = np.zeros((3, 3))
+    I, digits = np.zeros((3, 3)), 0.0
     if tensor is not None:
         v = {k: number(tensor, k, 0.0) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+        digits = float(np.sqrt(sum(d * d * (2 if k in ("ixy", "ixz", "iyz") else 1)
+                                   for k in v for d in rounding(tensor, k))))
         I = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
     written = None if np.array_equal(R, np.eye(3)) else I
     I = R @ I @ R.T
-    return mass, pos, 0.5 * (I + I.T), inertial.place, written
+    return mass, pos, 0.5 * (I + I.T), inertial.place, written, digits
 
 

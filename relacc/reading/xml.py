@@ -14,8 +14,10 @@ from dataclasses import dataclass, field
 from typing import overload
 from xml.parsers import expat
 
+import numpy as np
+
 from relacc.errors import ModelError
-from relacc.files import regular_file
+from relacc.files import note_input, regular_file
 
 
 @dataclass(eq=False)
@@ -82,8 +84,18 @@ def parse_text(text: str, file: str, notes: list | None = None) -> Node:
     def end(tag):
         stack.pop()
 
+    def declared(kind):
+        def refuse(*args):
+            raise ModelError(f"{file}:{parser.CurrentLineNumber + lead}: a DTD {kind} declaration; MuJoCo's and "
+                             "urdfdom's XML parser (TinyXML2) apply no DTD, so the engines do not read what it "
+                             "declares: write the values out in the elements")
+        return refuse
+
     parser.StartElementHandler = start
     parser.EndElementHandler = end
+    parser.EntityDeclHandler = declared("<!ENTITY>")
+    parser.AttlistDeclHandler = declared("<!ATTLIST>")
+    parser.ElementDeclHandler = declared("<!ELEMENT>")
     try:
         parser.Parse(body, True)
     except expat.ExpatError as exc:
@@ -101,6 +113,7 @@ def parse_file(path, notes: list | None = None) -> Node:
         ModelError: a missing, unreadable or non-UTF-8 file, or text that is not XML.
     """
     path = regular_file(path, ModelError, "model file")
+    note_input(path)  # a command's output may not replace it (an <include>d file, say)
     try:
         raw = path.read_bytes()
     except OSError as exc:
@@ -139,15 +152,76 @@ def numbers(node: Node, key: str, count: int | None = None, default: list[float]
         raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} separates its numbers with commas; URDF and MJCF "
                          "separate them with spaces (urdfdom, MuJoCo and Drake refuse commas too)")
     try:
-        values = [float(x) for x in text.split()]
+        values = [real(x) for x in text.split()]
     except ValueError:
-        raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} is not a list of numbers") from None
+        raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} is not a list of numbers (written as C's strtod "
+                         "reads them, which MuJoCo and urdfdom use: ASCII digits, an optional sign, point and "
+                         "exponent, or a hexadecimal 0x...p... number)") from None
     if count is not None and len(values) != count:
         raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} has {len(values)} numbers; expected {count}")
     bad = [v for v in values if v != v or v in (float("inf"), float("-inf"))]
     if bad:
         raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} holds {bad[0]}; expected finite numbers")
+    huge = [v for v in values if abs(v) > MAX_MAGNITUDE]
+    if huge:
+        raise ModelError(f"{node.place}: <{node.tag}> {key}={text!r} holds {huge[0]:g}, beyond {MAX_MAGNITUDE:g}: the "
+                         "dynamics multiply a model's numbers by each other and by squared speeds, which overflows "
+                         "float64 there; relacc reads magnitudes up to that")
     return values
+
+
+MAX_MAGNITUDE = 1e100
+"""The largest magnitude of a number relacc reads from a model file. A mass matrix entry is a mass times a squared
+length (or an inertia), and the bias forces that times a squared speed: with every number within 1e100 (no robot is
+within eighty orders of magnitude of it) and speeds within 1e50, none of them overflows float64 (1.8e308)."""
+
+DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII)
+HEXADECIMAL = re.compile(r"[+-]?0[xX](?:[0-9a-fA-F]+\.?[0-9a-fA-F]*|\.[0-9a-fA-F]+)(?:[pP][+-]?[0-9]+)?", re.ASCII)
+SPECIAL = re.compile(r"[+-]?(?:inf|infinity|nan)", re.ASCII | re.IGNORECASE)
+
+
+def real(token: str) -> float:
+    """One number as C's ``strtod`` reads a whole token, which MuJoCo's and urdfdom's parsers use: ASCII decimal digits
+    with an optional sign, point and exponent, a hexadecimal ``0x1.8p3``, or an infinity or NaN (which
+    :func:`numbers` then refuses). Python's own ``float`` reads more (``1_0`` as 10, full-width and Arabic-Indic
+    digits): those a file's engines refuse, and so does relacc.
+
+    Raises:
+        ValueError: not such a number.
+    """
+    if DECIMAL.fullmatch(token) or SPECIAL.fullmatch(token):
+        return float(token)
+    if HEXADECIMAL.fullmatch(token):
+        sign = -1.0 if token.startswith("-") else 1.0
+        body = token.lstrip("+-")
+        return sign * float.fromhex(body if "p" in body.lower() else body + "p0")
+    raise ValueError(f"not a number: {token!r}")
+
+
+WRITTEN_DIGITS = 6
+"""The significant digits a number written with fewer is taken to hold: a hand-written ``0.1`` is 0.1 to at least
+this many (MuJoCo's saved XML prints 6), so that the rounding a file's digits allow never excuses a plain violation."""
+
+
+def rounding(node: Node, key: str) -> list[float]:
+    """Each number of the attribute ``key``: half a unit in the last digit written (``8.53333333333e-07``: 5e-19),
+    at most half a unit in the :data:`WRITTEN_DIGITS`-th significant digit; 0 for an exact zero and for an absent
+    attribute. What a value written to that many digits may differ from the one meant by (the file's own rounding)."""
+    text = node.get(key)
+    if text is None:
+        return []
+    out = []
+    for token in text.split():
+        value = abs(real(token))
+        mantissa, _, exponent = token.lower().lstrip("+-").partition("e")
+        if "x" in mantissa or value == 0 or value != value or value == float("inf"):
+            out.append(0.0)
+            continue
+        decimals = len(mantissa.partition(".")[2])
+        half = 0.5 * 10.0 ** (int(exponent or 0) - decimals)
+        cap = 0.5 * 10.0 ** (int(np.floor(np.log10(value))) - WRITTEN_DIGITS + 1)
+        out.append(min(half, cap))
+    return out
 
 
 def required_numbers(node: Node, key: str, count: int | None = None) -> list[float]:

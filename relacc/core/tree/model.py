@@ -135,9 +135,12 @@ class Body:
         joints: the joints moving it relative to its parent, applied in order.
         mass: kg (0 for a massless body). com: ``(3,)`` mass centre, body frame, m.
         inertia: ``(3, 3)`` about the mass centre, body components, kg m^2: symmetric, positive semidefinite, its
-            principal moments meeting the triangle inequality ``A + B >= C`` (to ``c eps`` of the largest).
+            principal moments meeting the triangle inequality ``A + B >= C`` (to ``c eps`` of the largest, plus
+            what ``written`` allows).
         physical: False only for a body read from a file that breaks those conditions (or has a negative mass): the
             reader names it (:mod:`relacc.reading.physical`), and its dynamics are evaluated as written.
+        written: kg m^2, the rounding the digits a file writes its inertia with allow (the Frobenius norm of half a
+            unit in each entry's last digit, :func:`relacc.reading.xml.rounding`); 0 for an inertia given in Python.
     """
 
     name: str
@@ -149,6 +152,7 @@ class Body:
     com: np.ndarray = field(default_factory=lambda: np.zeros(3), repr=False)
     inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)), repr=False)
     physical: bool = field(default=True, repr=False)
+    written: float = field(default=0.0, repr=False)
 
     def __post_init__(self):
         who = f"body {self.name!r}"
@@ -179,14 +183,15 @@ class Body:
         scale = float(np.abs(inertia).max())
         if np.abs(inertia - inertia.T).max() > 1e-12 * scale:
             raise InputError(f"{who}: inertia must be symmetric, got {inertia.tolist()}")
+        object.__setattr__(self, "written", _number(who, "written", self.written, minimum=0.0))
         if self.physical:
             from relacc.core.tolerances import triangle_violation
 
             moments = np.linalg.eigvalsh(0.5 * (inertia + inertia.T))
-            if moments[0] < -1e-12 * scale:
+            if moments[0] < -1e-12 * scale - 3 * self.written:
                 raise InputError(f"{who}: inertia must be positive semidefinite; its principal moments are "
                                  f"{moments.tolist()} kg m^2")
-            broken = triangle_violation(moments)
+            broken = triangle_violation(moments, self.written)
             if broken:
                 raise InputError(f"{who}: inertia's principal moments {moments.tolist()} break the triangle inequality "
                                  f"({broken}): no rigid body has them")
@@ -467,7 +472,8 @@ def welded_folded(tree: Tree) -> Tree:
             host.append(len(kept))
             frame.append((np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])))
             kept.append(dict(name=b.name, parent=host[p] if p >= 0 else -1, pos=pos, quat=quat, joints=b.joints,
-                             mass=b.mass, com=b.com, inertia=np.array(b.inertia), physical=b.physical))
+                             mass=b.mass, com=b.com, inertia=np.array(b.inertia), physical=b.physical,
+                             written=b.written))
             continue
         host.append(host[p])
         frame.append((pos, quat))
