@@ -474,19 +474,19 @@ def warn_ill_conditioned(n_ill: int, n: int, stacklevel: int = 2) -> None:
     from relacc.core.tolerances import EPS, MASS_CONDITION_WARNING
     from relacc.errors import AccuracyWarning
 
-    warnings.warn(f"{n_ill} of {n} states: the mass matrix is ill-conditioned, kappa(M) > {MASS_CONDITION_WARNING:.0e} "
-                  f"(a pivot of its factorization at most {1 / MASS_CONDITION_WARNING:.0e} of its scale), so their "
-                  f"accelerations carry relative errors up to eps kappa(M), more than {EPS * MASS_CONDITION_WARNING:.1g}"
-                  ": two joints that nearly move the same inertia (nearly parallel axes on one body), or a speed "
-                  "that moves almost none", AccuracyWarning, stacklevel=stacklevel + 1)
+    bound, err = MASS_CONDITION_WARNING, EPS * MASS_CONDITION_WARNING
+    warnings.warn(f"{n_ill} of {n} states: the mass matrix is ill-conditioned, kappa(M) > {bound:.0e} (a pivot of its "
+                  f"factorization at most {1 / bound:.0e} of its scale), so their accelerations carry relative errors "
+                  f"up to eps kappa(M), more than {err:.1g}: two joints that nearly move the same inertia (nearly "
+                  "parallel axes on one body), or a speed that moves almost none", AccuracyWarning, stacklevel=stacklevel + 1)
 
 
 def solve(tree, M, rhs):
     """``M^-1 rhs`` by Cholesky, batched; SingularityError naming the speeds where ``M`` is singular to working
     precision: not positive definite, a pivot at most :data:`relacc.core.tolerances.PIVOT_FLOOR` times its scale
     (its diagonal entry plus the mean diagonal entry), or its smallest eigenvalue at most that times the mean diagonal
-    entry (then ``kappa(M) > 1 / (2 c eps)`` and no digit of the answer is certain). Warns (:func:`warn_ill_conditioned`) where a pivot is at most
-    :data:`relacc.core.tolerances.ILL_FLOOR` times it."""
+    entry (then ``kappa(M) > 1 / (2 c eps)`` and no digit of the answer is certain). Warns
+    (:func:`warn_ill_conditioned`) where either is at most :data:`relacc.core.tolerances.ILL_FLOOR` times it."""
     from relacc.core.tolerances import ILL_FLOOR, PIVOT_FLOOR
 
     flatM = M.reshape(-1, tree.nv, tree.nv)

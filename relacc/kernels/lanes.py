@@ -193,10 +193,9 @@ def _symbolic_math():
     compilation reads the swapped global meanwhile)."""
     import relacc.kernels.so3 as so3
     import relacc.kernels.tree as tree_mod
+    import relacc.kernels.tree_aba as aba
     import relacc.kernels.tree_crba as crba
     import relacc.kernels.tree_spatial as spatial
-
-    import relacc.kernels.tree_aba as aba
 
     mods = [m for m in (tree_mod, so3, spatial, crba) if "math" in vars(m)]
     warned = [m for m in (spatial, crba, aba) if "ill" in vars(m)]
@@ -339,8 +338,9 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
     """LLVM IR (text) of ``i64 name(double* q, double* u, double* tau, double* g, double* out, i64* bad, i64 start,
     i64 stop)``: rows ``start .. stop - 1`` of C-contiguous ``q (n, nq)``, ``u``, ``tau (n, nv)`` to ``out (n, nv)``,
     ``width`` states a step; returns the number of singular states and adds the number of states with bad inputs to
-    ``bad[0]`` and of ill-conditioned ones (:attr:`Trace.warns`) to ``bad[1]``. A last step with fewer than ``width`` rows left repeats the last row in its other lanes (the same state,
-    so the same bits written twice) and counts only its own rows. Written as text: llvmlite's IR builder took half of
+    ``bad[0]`` and of ill-conditioned ones (:attr:`Trace.warns`) to ``bad[1]``. A last step with fewer than ``width``
+    rows left repeats the last row in its other lanes (the same state, so the same bits written twice) and counts
+    only its own rows. Written as text: llvmlite's IR builder took half of
     a small tree's compilation."""
     W = width
     vt, mt = f"<{W} x double>", f"<{W} x i1>"

@@ -15,8 +15,7 @@ import numpy as np
 from relacc.core.tolerances import ILL_FLOOR, PIVOT_FLOOR
 from relacc.kernels.jit import HAVE_NUMBA, jitable, leaf, numba
 from relacc.kernels.tree import ANGLES_CASE2, BALL, FREE, HINGE, SLIDE
-from relacc.kernels.tree_spatial import (SYM, bad_inputs, forward, ill, joint_B, rigid_mv, row_to_rates,
-                                         row_to_speeds)
+from relacc.kernels.tree_spatial import SYM, bad_inputs, forward, ill, joint_B, rigid_mv, row_to_rates, row_to_speeds
 
 BLOCK = 64
 """States per parallel task."""

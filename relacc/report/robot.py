@@ -10,8 +10,8 @@ from __future__ import annotations
 import datetime as dt
 
 from relacc import files
-from relacc.errors import RelaccError
 from relacc.core.tolerances import EPS
+from relacc.errors import RelaccError
 from relacc.report.build import environment
 
 
