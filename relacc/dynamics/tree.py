@@ -478,7 +478,8 @@ def warn_ill_conditioned(n_ill: int, n: int, stacklevel: int = 2) -> None:
     warnings.warn(f"{n_ill} of {n} states: the mass matrix is ill-conditioned, kappa(M) > {bound:.0e} (a pivot of its "
                   f"factorization at most {1 / bound:.0e} of its scale), so their accelerations carry relative errors "
                   f"up to eps kappa(M), more than {err:.1g}: two joints that nearly move the same inertia (nearly "
-                  "parallel axes on one body), or a speed that moves almost none", AccuracyWarning, stacklevel=stacklevel + 1)
+                  "parallel axes on one body), or a speed that moves almost none", AccuracyWarning,
+                  stacklevel=stacklevel + 1)
 
 
 def solve(tree, M, rhs):

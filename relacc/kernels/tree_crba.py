@@ -262,9 +262,9 @@ if HAVE_NUMBA:
     @numba.njit(cache=True, nogil=True)
     def crba_block(case, q, u, tau, T, qadr, anc, depth, mass, com, inertia, arm, free, g, out, start,
                    stop):  # pragma: no cover - compiled
-        """States ``start .. stop - 1``; ``(bad inputs, singular states, ill-conditioned states)``. Case 3 is solved in
-        case-2 speeds on its angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`). Without the GIL: a batch's
-        shares run on Python threads at once (:func:`relacc.kernels.jit.split`)."""
+        """States ``start .. stop - 1``; ``(bad inputs, singular states, ill-conditioned states)``. Case 3 is solved
+        in case-2 speeds on its angles, state by state (:func:`relacc.kernels.tree_spatial.row_to_speeds`). Without
+        the GIL: a batch's shares run on Python threads at once (:func:`relacc.kernels.jit.split`)."""
         nv, nb, nj = u.shape[1], T.parent.shape[0], T.jtype.shape[0]
         S, C, o, R = np.empty((nv, 6)), np.empty((max(nj, 1), 6)), np.empty((nb, 3)), np.empty((nb, 9))
         V, IA, pA = np.empty((nb, 6)), np.empty((nb, 21)), np.empty((nb, 6))
