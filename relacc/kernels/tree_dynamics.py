@@ -157,9 +157,9 @@ def _block_call(tree, case, algorithm, q, u, tau, gravity, out):
 
 def one_state(tree, case: int, q, u, gravity):
     """``(udot (nv,), bad input, singular, ill-conditioned)`` of one state ``q (nq,)``, ``u (nv,)`` (float64, shapes
-    checked by the caller), no applied forces: the single-state lane of :func:`relacc.tree_accelerations`, on the calling thread with
-    the kernel's arguments gathered once per tree, case, gravity and thread (:func:`_single`), so that a call costs
-    the kernel and little else."""
+    checked by the caller), no applied forces: the single-state lane of :func:`relacc.tree_accelerations`, on the
+    calling thread with the kernel's arguments gathered once per tree, case, gravity and thread (:func:`_single`), so
+    that a call costs the kernel and little else."""
     fn, args, Q, U, out = _single(tree, case, gravity)
     Q[0], U[0] = q, u
     bad_in, singular, ill = fn(*args)
