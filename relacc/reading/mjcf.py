@@ -748,8 +748,9 @@ class _Reader:
                        "states are not evaluated")
         compensated = [b.get("name") or "(unnamed)" for b in self.root.iter("body") if number(b, "gravcomp", 0.0)]
         if compensated:
-            out.append(f"gravity compensation (gravcomp) on {len(compensated)} bod{'ies' if len(compensated) > 1 else 'y'}"
-                       f" ({', '.join(compensated[:5])}{', ...' if len(compensated) > 5 else ''}): a force MuJoCo's "
+            n = len(compensated)
+            out.append(f"gravity compensation (gravcomp) on {n} bod{'ies' if n > 1 else 'y'} "
+                       f"({', '.join(compensated[:5])}{', ...' if n > 5 else ''}): a force MuJoCo's "
                        "step applies against gravity, not evaluated (the dynamics compared are the bodies' own)")
         fluid = [f"{k} {o.get(k)}" for o in self.root.findall("option") for k in ("density", "viscosity", "wind")
                  if any(x != 0 for x in (numbers(o, k) or []))]
