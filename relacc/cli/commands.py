@@ -417,7 +417,9 @@ def cmd_report(args) -> int:
 
     path, ctx = build_report(out=args.out, n_states=args.states, seed=args.seed, quick=args.quick,
                              model=args.model, progress=_progress(args))
-    agree = ctx.check.passed and all(e.agrees for e in ctx.errata)
-    verdict = "everything agrees" if agree else "DISAGREEMENTS found (see the verdict)"
+    failures = ctx.failures()
+    verdict = "everything agrees" if not failures else "DISAGREEMENTS found (see the verdict)"
     print(f"wrote {path}: {verdict}")
-    return 0 if agree else 1
+    for line in failures:
+        print(f"  {line}")
+    return 0 if not failures else 1

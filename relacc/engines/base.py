@@ -295,10 +295,13 @@ class Adapter(abc.ABC):
         warnings: its parser's messages. nq_e, nv_e: its own counts.
         global_coordinates: quantities it forms from differences of world positions (their accuracy follows
             :func:`relacc.core.scales.global_condition`).
+        absolute_velocities: quantities it forms from world-frame spatial velocities, which carry B1's absolute
+            translational speed in terms that cancel (:func:`relacc.core.scales.velocity_condition`).
     """
 
     engine: str = ""
     global_coordinates: frozenset = frozenset()
+    absolute_velocities: frozenset = frozenset()
     structure: Structure
     """What the engine built, set by each adapter when it has loaded the model."""
 

@@ -30,7 +30,7 @@ from relacc.core.cases import Case, as_case, check_q, check_u
 from relacc.core.kinematics import G2Kinematics, check_finite_result
 from relacc.core.note.common import mv
 from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion
-from relacc.core.scales import global_condition, offset_error
+from relacc.core.scales import global_condition, offset_error, velocity_condition
 from relacc.core.speeds import body_speed_map, check_invertible, quaternion_coordinates
 from relacc.core.tolerances import rounding_tolerance
 from relacc.engines.base import Adapter, point
@@ -75,6 +75,7 @@ class ChainEngine:
     def __init__(self, name: str, routes: dict):
         self.name, self.routes = name, routes
         self.global_coordinates = routes["quaternion"].global_coordinates
+        self.absolute_velocities = routes["quaternion"].absolute_velocities
 
     @property
     def version(self) -> str:
@@ -88,8 +89,11 @@ class ChainEngine:
               udot: np.ndarray | None = None) -> np.ndarray:
         """Per-state bound on the normalized error of ``quantity`` against the core: ``c eps condition + offset``,
         the condition :func:`relacc.core.scales.global_condition` for the quantities the engine forms from world
-        positions (else 1), the offset :func:`relacc.core.scales.offset_error` of :meth:`lost_offset`."""
+        positions (else 1) plus :func:`relacc.core.scales.velocity_condition` for those it forms from world-frame
+        spatial velocities, the offset :func:`relacc.core.scales.offset_error` of :meth:`lost_offset`."""
         cond = global_condition(quantity, chain, case, q, u, udot) if quantity in self.global_coordinates else 1.0
+        if quantity in self.absolute_velocities:
+            cond = cond + velocity_condition(quantity, chain, case, q, u, udot)
         return rounding_tolerance() * cond + offset_error(self.lost_offset(route), quantity, chain, case, q, u, udot)
 
     def engine_input(self, route: str, case: int, q: np.ndarray, u: np.ndarray, udot: np.ndarray | None

@@ -46,6 +46,29 @@ class ReportContext:
     created: dt.datetime
     machine: str
 
+    def failures(self) -> list[str]:
+        """One line per failed check the page shows: a cross-validation comparison, an erratum's corrected form, a
+        hard case outside its accuracy model or not finite, and the Hypothesis search's worst state when its error
+        exceeds its bound (ratio above 1). The page's verdict and the command's exit code are this list's."""
+        from relacc.core.tolerances import EPS
+
+        out = [f"case {c.case} {c.engine}/{c.route} {c.quantity}: {c.max_error / EPS:.1f} eps"
+               for c in self.check.failures]
+        out += [f"{e.id}: corrected form off by {e.corrected_error:.2e}" for e in self.errata if not e.agrees]
+        out += [f"hard case {r.name}, case {r.case}, {r.evaluator} {r.quantity}: "
+                + (f"error / bound {r.max_ratio:.3g}" if r.finite else "not finite")
+                for r in self.hard if not (r.passed and r.finite)]
+        w = self.worst
+        if not w.ratio <= 1.0:
+            out.append(f"Hypothesis search: case {w.case}, {w.evaluator} {w.quantity}, error / bound {w.ratio:.3g} "
+                       f"({w.error / EPS:.3g} eps against {w.bound / EPS:.3g} eps)")
+        return out
+
+    @property
+    def agrees(self) -> bool:
+        """Every check the page shows passed (:meth:`failures` is empty)."""
+        return not self.failures()
+
 
 def _machine() -> str:
     from relacc.tradeoff.throughput import cpu_model

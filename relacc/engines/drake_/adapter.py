@@ -34,6 +34,7 @@ class DrakeAdapter(Adapter):
 
     engine = "drake"
     global_coordinates = frozenset({"velocity", "V", "Vdot"})
+    absolute_velocities = frozenset({"Vdot"})  # measured: tests/test_hardcases.py
 
     def __init__(self, path, reference, build: bool = False):
         self.built = build

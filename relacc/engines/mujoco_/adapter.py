@@ -60,6 +60,7 @@ class MujocoAdapter(Adapter):
 
     engine = "mujoco"
     global_coordinates = frozenset({"velocity", "acceleration", "V", "Vdot"})
+    absolute_velocities = frozenset({"acceleration", "Vdot"})  # measured: tests/test_hardcases.py
 
     def __init__(self, path, spec=None, reference=None):
         path = Path(path)

@@ -57,6 +57,7 @@ class PinocchioAdapter(Adapter):
 
     engine = "pinocchio"
     global_coordinates = frozenset({"velocity", "V", "Vdot"})
+    absolute_velocities = frozenset({"acceleration", "Vdot"})  # measured: tests/test_hardcases.py
 
     def __init__(self, path, reference, urdf=None, split=False, armature_as_case2=False):
         if urdf is None and Path(path).suffix.lower() == ".urdf":  # a URDF goes to Pinocchio's URDF parser

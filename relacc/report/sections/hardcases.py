@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from collections import defaultdict
 
 import numpy as np
@@ -84,6 +85,7 @@ def build(ctx) -> dict:
                       "worst": f"{worst.name}, case {worst.case}, {worst.evaluator}, {worst.quantity}",
                       "worst_error_eps": worst.max_error / EPS, "worst_ratio": worst.max_ratio})
     w = ctx.worst
+    state = {"case": w.case, "q": w.q, "u": w.u, "udot": w.udot}  # json writes each float's shortest exact repr
     return {
         "families": families,
         "table": table,
@@ -91,6 +93,5 @@ def build(ctx) -> dict:
         "n_comparisons": len(results),
         "worst": {"ratio": w.ratio, "evaluator": w.evaluator, "quantity": w.quantity, "case": w.case,
                   "error_eps": w.error / EPS, "bound_eps": w.bound / EPS, "description": w.description,
-                  "examples": w.examples, "q": [float(f"{x:.6g}") for x in w.q],
-                  "u": [float(f"{x:.6g}") for x in w.u]},
+                  "examples": w.examples, "state": json.dumps(state), "passed": w.ratio <= 1.0},
     }

@@ -15,14 +15,10 @@ def build(ctx) -> dict:
     check, items = ctx.check, ctx.errata
     worst = max(check.comparisons, key=lambda c: c.max_error)
     statuses = Counter(e.status for e in items)
-    corrected_ok = all(e.agrees for e in items)
-    agree = check.passed and corrected_ok
+    failures = ctx.failures()
+    agree = not failures
     names = [ENGINE_LABELS[n] for n in ctx.harness.engines]
     engines = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]
-    failures = [
-        f"case {c.case} {c.engine}/{c.route} {c.quantity}: {c.max_error / EPS:.1f} eps"
-        for c in check.failures
-    ] + [f"{e.id}: corrected form off by {e.corrected_error:.2e}" for e in items if not e.agrees]
     return {
         "engines": engines,
         "referee": [v.sentence() for v in check.referee],
