@@ -715,3 +715,178 @@ def test_an_internal_error_is_exit_3_one_line_and_a_directory_goes_on(tmp_path, 
     assert main(["compare", str(tmp_path / "robots"), "--states", "2", "--json"]) == 3
     rows = json.loads(capsys.readouterr().out)
     assert [r["exit"] for r in rows] == [0, 3] and "IndexError" in rows[1]["error"], rows
+
+
+ROTOR = """<robot name="rotor" xmlns:drake="http://drake.mit.edu">
+  <link name="base">{root}</link>
+  <link name="upper"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <link name="lower"><inertial><origin xyz="0.1 0 0"/><mass value="0.5"/>
+    <inertia ixx="0.005" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="lower"/><origin xyz="0.2 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+  <transmission name="t1"><type>transmission_interface/SimpleTransmission</type>
+    <joint name="shoulder"><hardwareInterface>EffortJointInterface</hardwareInterface></joint>
+    <actuator name="m1"><drake:rotor_inertia value="0.001"/><drake:gear_ratio value="10"/></actuator></transmission>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("root", ["", '<inertial><mass value="0"/>'
+                                      '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'])
+def test_a_finding_is_a_dynamics_cause_only_where_it_reproduces_the_difference(tmp_path, root):
+    """Issue 49 item 4: Drake reads a <drake:rotor_inertia> (times its gear ratio squared: 0.1 kg m^2 on the
+    shoulder) that relacc's reading, by the URDF specification, does not; the mass-matrix row read "finding" when the
+    massless root link, welded to the world, carried an inertia (a finding elsewhere, which moves nothing), and "not
+    explained" without it. A finding is named only when reading its bodies as the engine does makes the difference
+    vanish (comparison.findings_as_read): here neither is, with or without the root's finding."""
+    path = tmp_path / "rotor.urdf"
+    path.write_text(ROTOR.format(root=root))
+    result = compare(path, engines=["drake"], n_states=3, seed=4)
+    assert [f.body for f in result.findings] == (["base"] if root else [])
+    rows = result.dynamics[ModelQuantity.MASS_MATRIX]
+    assert not rows["drake"].passed and rows["drake"].cause_kind == "not explained", rows["drake"].cause
+
+
+def test_a_finding_that_reproduces_the_difference_is_named(tmp_path):
+    """The other side, and issue 49 item 5: a moving link with no mass but an inertia, and one whose inertia breaks
+    the triangle inequality. Drake's URDF parser gives the first 1 kg and each the inertia of a solid sphere of water
+    of its mass, 0.4 m r^2 with r = (3 m / (4 pi 1000))^(1/3) (read from Drake itself below, to c eps): relacc's
+    reading of that reproduces every row."""
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    from relacc.validation.robots.causes import water_sphere
+
+    massless = ROTOR.format(root="").replace('<mass value="0.5"/>', '<mass value="0"/>').replace(
+        '<actuator name="m1"><drake:rotor_inertia value="0.001"/><drake:gear_ratio value="10"/></actuator>',
+        '<actuator name="m1"/>')
+    unphysical = massless.replace('<mass value="0"/>', '<mass value="2"/>').replace(
+        'ixx="0.005" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"', 'ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" '
+        'izz="0.05"')
+    for name, text, mass in (("massless", massless, 1.0), ("unphysical", unphysical, 2.0)):
+        path = tmp_path / f"{name}.urdf"
+        path.write_text(text)
+        plant = MultibodyPlant(0.0)
+        Parser(plant).AddModels(str(path))
+        plant.Finalize()
+        spatial = plant.GetBodyByName("lower").default_spatial_inertia()
+        central = spatial.Shift(spatial.get_com()).CalcRotationalInertia().CopyToFullMatrix3()
+        np.testing.assert_allclose(central, water_sphere(mass), rtol=0, atol=64 * EPS * water_sphere(mass)[0, 0])
+        result = compare(path, engines=["drake"], n_states=3, seed=4)
+        rows = {q: r["drake"] for q, r in result.dynamics.items() if not r["drake"].passed}
+        assert rows and all(r.cause_kind == "explained" and "solid sphere of water" in r.cause
+                            for r in rows.values()), {q: r.cause for q, r in rows.items()}
+
+
+DEFAULT_GEOM_POSE = """<mujoco model="fingers">
+  <default>
+    <default class="finger"><geom type="box" size="0.01 0.01 0.02" {pose} mass="0.1"/></default>
+  </default>
+  <worldbody>
+    <body name="palm" pos="0 0 0.5">
+      <joint name="j1" type="hinge" axis="0 1 0"/>
+      <geom class="finger"/>
+      <body name="tip" pos="0 0 0.05">
+        <joint name="j2" type="hinge" axis="1 0 0"/>
+        <geom class="finger"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("pose", ['pos="0 0 0.02"', 'quat="0.7071068 0.7071068 0 0"'])
+def test_pinocchio_ignoring_a_geoms_pose_from_its_default_class_is_a_known_reading(tmp_path, pose):
+    """Issue 49 item 5: an Allegro hand's eight "not explained" rows were Pinocchio ignoring a geom's pos (and
+    orientation) inherited from a <default> class. Pinocchio's own model puts the geom's mass centre at its body's
+    frame; relacc's reading the Pinocchio way (default_geom_pose_ignored) reproduces every row."""
+    import pinocchio as pin
+
+    path = tmp_path / "fingers.xml"
+    path.write_text(DEFAULT_GEOM_POSE.format(pose=pose))
+    model = pin.buildModelFromMJCF(str(path))
+    np.testing.assert_allclose(model.inertias[1].lever, 0.0, rtol=0, atol=0)  # the palm's geom, at its frame
+    result = compare(path, engines=["pinocchio"], n_states=3, seed=5)
+    rows = [a.as_json() for a in result.audit]
+    assert rows and all(r["cause_kind"] == "explained" for r in rows), [r["cause"] for r in rows]
+    assert failing(result) and "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"
+
+
+def test_a_zero_mass_mesh_geom_takes_nothing_from_mujoco(tmp_path):
+    """Issue 49 item 5: a 0 kg mesh geom (a visual mesh in a body given its mass by a box) marked its body "taken from
+    MuJoCo", so its audit rows said relacc could not judge. A geom of 0 kg adds nothing, whatever its mesh: relacc
+    needs no engine for it, and MuJoCo's compiled body agrees with relacc's box alone."""
+    import mujoco
+
+    from relacc.reading import read
+
+    (tmp_path / "tet.obj").write_text("v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    path = tmp_path / "visual.xml"
+    path.write_text('<mujoco model="v"><asset><mesh name="tet" file="tet.obj"/></asset><worldbody>'
+                    '<body name="b" pos="0 0 1"><joint name="j" type="hinge" axis="0 1 0"/>'
+                    '<geom type="box" size="0.1 0.05 0.02" pos="0.1 0 0"/><geom type="mesh" mesh="tet" mass="0"/>'
+                    "</body></worldbody></mujoco>")
+    reading = read(path)
+    assert reading.taken == {}
+    m = mujoco.MjModel.from_xml_path(str(path))
+    np.testing.assert_allclose(reading.tree.bodies[0].mass, m.body_mass[1], rtol=64 * EPS, atol=0)
+    np.testing.assert_allclose(reading.tree.bodies[0].com, m.body_ipos[1], rtol=0, atol=64 * EPS)
+
+
+CONNECTED = """<mujoco model="connected">
+  <worldbody>
+    <body name="a" pos="0 0 1"><joint name="j1" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      <body name="b" pos="0.3 0 0"><joint name="j2" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/></body>
+    </body>
+  </worldbody>
+  <equality><connect body1="a" body2="b" anchor="0 0 0"/></equality>
+</mujoco>
+"""
+
+DECORATED = """<robot name="decorated">
+  <material name="wood"><texture filename="package://nowhere/textures/wood.png"/></material>
+  <link name="base"/>
+  <link name="arm"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <gazebo reference="arm"><sensor:camera name="cam"><sensor:fov>1.0</sensor:fov></sensor:camera></gazebo>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("name,text", [("connected.xml", CONNECTED), ("decorated.urdf", DECORATED)])
+def test_drake_takes_part_where_only_what_the_dynamics_do_not_read_stopped_it(tmp_path, name, text):
+    """Issue 49 items 6 and 7: Drake took no part in any MJCF with a <connect> or <weld> (its continuous plant refuses
+    constraints, though the dynamics compared are the tree's without them), nor in a URDF with a robot-level
+    <material><texture filename="package://..."> (11 of 320 files of a public dataset); and an undeclared XML prefix
+    inside <gazebo> was refused for every engine, three times. What the dynamics do not read is left out of the
+    engines' text and said; every engine takes part and agrees."""
+    path = tmp_path / name
+    path.write_text(text)
+    result = compare(path, n_states=3, seed=2)
+    assert result.compared == ["relacc", "pinocchio", "mujoco", "drake"], {
+        e: r.error for e, r in result.engines.items()}
+    assert result.audit == [] and failing(result) == {}, f"seed {result.seed}"
+    said = " ".join(result.engines["drake"].warnings)
+    assert ("equality constraint out of this engine's model" in said if name.endswith(".xml")
+            else "1 robot-level material and 1 gazebo elements" in said), said
+
+
+def test_assetdir_is_where_meshes_are_as_mujoco_reads_it(tmp_path):
+    """Issue 49 item 7: <compiler assetdir="assets"> was ignored (meshdir only), a false exit 2; MuJoCo reads
+    assetdir as the mesh and texture directory where meshdir is not given."""
+    (tmp_path / "assets").mkdir()
+    _stl(tmp_path / "assets" / "part.stl")
+    path = tmp_path / "assetdir.xml"
+    path.write_text('<mujoco model="a"><compiler assetdir="assets"/><asset><mesh name="part" file="part.stl"/>'
+                    '</asset><worldbody><body name="b" pos="0 0 1"><joint name="j" type="hinge" axis="0 1 0"/>'
+                    '<geom type="mesh" mesh="part"/></body></worldbody></mujoco>')
+    result = compare(path, engines=["mujoco"], n_states=3, seed=2)
+    assert result.audit == [] and failing(result) == {}, f"seed {result.seed}"

@@ -8,6 +8,12 @@ removed and a note saying so; files it includes are inlined first (MuJoCo's ``<i
 top-level children in place of the element). Where a body's inertia would come from a mesh, the meshes cannot be
 dropped without changing the dynamics, and it says which body. A body whose ``<inertial>`` is zero (mass and
 inertia), which Drake's parser cannot take, loses it with its geoms: it has no mass in either reading.
+
+Drake's continuous plant also refuses a model with constraints when asked for its forward dynamics, and reads an
+MJCF's ``<connect>`` and ``<weld>`` equalities as such. The dynamics relacc compares are the tree's without
+constraints (the reading names them as not evaluated), so :func:`without_equality` gives the text without its
+``<equality>`` elements (its includes inlined, its mesh directory made absolute so that the text reads its meshes
+from anywhere), and both functions say what they left out.
 """
 
 from __future__ import annotations
@@ -56,6 +62,9 @@ def without_meshes(path) -> tuple[str, str]:
     if root.get("model") is None:
         root.set("model", path.stem)
     said = []
+    constraints = _drop_equality(root)
+    if constraints:
+        said.append(_EQUALITY_NOTE.format(n=constraints, s="s" if constraints > 1 else ""))
     if geoms or assets:
         said.append(f"relacc dropped the file's {geoms} mesh geoms and {assets} mesh assets for this engine, which "
                     "cannot read the meshes: every body's inertia is explicit, so they have no part in the dynamics")
@@ -66,6 +75,56 @@ def without_meshes(path) -> tuple[str, str]:
                     "zero mass (its mass > 0 assertion), and a body with neither has no mass in Drake, as the zero "
                     "inertial gives it none in MuJoCo")
     return ET.tostring(root, encoding="unicode"), "; ".join(said) or "relacc gave this engine the file's own text"
+
+
+_EQUALITY_NOTE = ("relacc left the file's {n} equality constraint{s} out of this engine's model (its continuous "
+                  "plant refuses constraints; the dynamics compared are the tree's without them)")
+
+
+def _drop_equality(root) -> int:
+    """Remove every ``<equality>`` element's constraints; returns how many."""
+    count = 0
+    for parent in list(root.iter()):
+        for child in list(parent):
+            if child.tag == "equality":
+                count += len(list(child))
+                parent.remove(child)
+    return count
+
+
+def has_equality(path) -> bool:
+    """Whether the MJCF at ``path`` or a file it includes has an ``<equality>`` constraint (False for a file that does
+    not parse: the engine's parser then says why)."""
+    path = Path(path)
+    try:
+        root = _read(path)
+        _inline(root, path.parent, path)
+    except ModelError:
+        return False
+    return any(len(list(e)) for e in root.iter("equality"))
+
+
+def without_equality(path) -> tuple[str, str]:
+    """``(text, note)``: the MJCF at ``path`` (its includes inlined) without its ``<equality>`` constraints, its
+    ``meshdir`` (or ``assetdir``) absolute so that the text reads its meshes wherever it is parsed from, and a
+    one-line note saying so.
+
+    Raises:
+        ModelError: the file or one it includes does not parse.
+    """
+    path = Path(path)
+    root = _read(path)
+    _inline(root, path.parent, path)
+    compilers = list(root.iter("compiler")) or [ET.SubElement(root, "compiler")]
+    for compiler in compilers:
+        for key in ("meshdir", "assetdir", "texturedir"):
+            if key in compiler.attrib or key == "meshdir":
+                value = compiler.get(key, compiler.get("assetdir", ""))
+                compiler.set(key, str((path.parent / value).resolve()))
+    if root.get("model") is None:
+        root.set("model", path.stem)
+    n = _drop_equality(root)
+    return ET.tostring(root, encoding="unicode"), _EQUALITY_NOTE.format(n=n, s="s" if n > 1 else "")
 
 
 def _zero(inertial) -> bool:

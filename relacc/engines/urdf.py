@@ -12,15 +12,20 @@ from __future__ import annotations
 
 import functools
 import re
-import xml.etree.ElementTree as ET
 from pathlib import Path
+from xml.parsers import expat
 
 from relacc.errors import ModelError
 from relacc.files import regular_file
 
 GEOMETRY = ("visual", "collision")
-ELEMENTS = re.compile(r"<(visual|collision|mimic)\b[^>]*?/>|<(visual|collision|mimic)\b.*?</\2\s*>", re.S)
-"""A self-closed or a whole element of those the dynamics do not read (none of them nests in itself)."""
+DROPPED = GEOMETRY + ("mimic", "material", "gazebo")
+ELEMENTS = re.compile(r"<(visual|collision|mimic|material|gazebo)\b[^>]*?/>"
+                      r"|<(visual|collision|mimic|material|gazebo)\b.*?</\2\s*>", re.S)
+"""A self-closed or a whole element of those the dynamics do not read (none of them nests in itself): geometry, the
+mimic constraint, a robot-level ``<material>`` (its ``<texture filename="package://...">`` stopped Drake's parser,
+which resolves it), and ``<gazebo>`` (a simulator's own settings, often with XML prefixes it never declares,
+``<sensor:camera>``, which a namespace-aware parser refuses)."""
 DECLARATION = re.compile(r"^<\?xml.*?\?>", re.S)
 
 
@@ -48,10 +53,14 @@ def _dynamics_text(path: Path, mtime_ns: int, size: int) -> tuple[str, str | Non
         # (optional) declaration itself, so that the engines' messages keep the file's line numbers
         body = DECLARATION.sub(lambda m: "\n" * m.group(0).count("\n"), text.lstrip()).rstrip("\x00")
         text = "\n" * text[:len(text) - len(text.lstrip())].count("\n") + body
-        ET.fromstring(text)  # a parse error names its line in the user's own file
-    except (ET.ParseError, OSError, UnicodeDecodeError) as exc:
+        parser = expat.ParserCreate()  # no namespace processing: as urdfdom's and Drake's TinyXML2 read it
+        parser.Parse(text, True)  # a parse error names its line in the user's own file
+    except expat.ExpatError as exc:
+        raise ModelError(f"{path}: not a readable URDF: {expat.ErrorString(exc.code)} at line {exc.lineno}, column "
+                         f"{exc.offset}") from None
+    except (OSError, UnicodeDecodeError) as exc:
         raise ModelError(f"{path}: not a readable URDF: {' '.join(str(exc).split())}") from None
-    counts = dict.fromkeys(GEOMETRY + ("mimic",), 0)
+    counts = dict.fromkeys(DROPPED, 0)
 
     def blank(match):  # the element goes, its lines stay: the engines' messages keep the file's line numbers
         counts[match.group(1) or match.group(2)] += 1
@@ -62,6 +71,9 @@ def _dynamics_text(path: Path, mtime_ns: int, size: int) -> tuple[str, str | Non
     if counts["visual"] or counts["collision"]:
         notes.append(f"relacc dropped the URDF's {counts['visual']} visual and {counts['collision']} collision "
                      "elements (their meshes have no part in the dynamics, which read the inertials)")
+    if counts["material"] or counts["gazebo"]:
+        notes.append(f"relacc dropped the URDF's {counts['material']} robot-level material and {counts['gazebo']} "
+                     "gazebo elements (appearance and a simulator's settings: no part in the dynamics)")
     if counts["mimic"]:
         notes.append(f"relacc dropped the URDF's {counts['mimic']} mimic element{'s' if counts['mimic'] > 1 else ''}: "
                      "the dynamics compared are the tree's without constraints, every joint free")

@@ -54,6 +54,9 @@ REFUSED = ("replicate", "attach", "composite", "flexcomp")
 DYNAMIC_ACTUATORS = ("cylinder", "muscle", "adhesion")
 """Actuator shortcuts with activation dynamics (``<general dyntype>`` other than ``none`` too)."""
 
+POSE_KEYS = ("pos", "quat", "axisangle", "euler", "xyaxes", "zaxis")
+"""The attributes that place an element in its body's frame."""
+
 GEOM_TYPES = ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder", "box", "mesh", "sdf")
 
 
@@ -77,7 +80,7 @@ MJMINVAL = 1e-15
 VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored", "visual_geoms_ignored",
             "mesh_unit_inertia", "gravity_default", "settotalmass_ignored", "gravity_flag_ignored",
             "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
-            "unnamed_siblings_dropped", "default_joint_pos_ignored",
+            "unnamed_siblings_dropped", "default_joint_pos_ignored", "default_geom_pose_ignored",
             "springdamper_ignored", "ball_damping_dropped")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
@@ -96,6 +99,9 @@ Pinocchio's:
 * ``unnamed_siblings_dropped``: of several unnamed ``<body>`` children of one body only the first, with its subtree
   (Pinocchio names an unnamed body after its parent, ``<parent>Bis``, so the later ones collide and are dropped;
   measured on pin 4.1: three unnamed children of 10, 100 and 1000 kg read as 10 kg);
+* ``default_geom_pose_ignored``: a geom's ``pos`` and orientation (``quat``, ``axisangle``, ``euler``, ``xyaxes``,
+  ``zaxis``) inherited from a ``<default>`` ignored, the geom at its body's frame (measured on pin 4.1: the whole of an
+  Allegro hand's eight rows no known reading explained, issue 49);
 * ``default_joint_pos_ignored``: a joint's ``pos`` inherited from a ``<default>`` (a class or the main default)
   ignored, the joint at the body's origin (one written on the joint is honoured; measured on pin 4.1, and the
   ``axis`` and ``armature`` of a class are read: dm_control's dog moves its lumbar joints by their class's
@@ -262,6 +268,7 @@ class _Reader:
         self.broken_classes = self._classes(broken=True)
         self.broken_defaults = 0  # elements whose defaults default_chain_broken reads otherwise
         self.default_joint_pos = 0  # joints whose pos comes from a <default>
+        self.default_geom_pose = 0  # geoms whose pos or orientation comes from a <default>
         self.unnamed_dropped = 0  # unnamed bodies after the first among one parent's children
         self.springdamper: dict[str, tuple] = {}  # joint: (timeconst, dampratio, springref) of a springdamper
         self.assets = {m.get("name") or Path(m.get("file", "")).stem: m
@@ -338,6 +345,11 @@ class _Reader:
             self.default_joint_pos += 1
             if "default_joint_pos_ignored" in self.variant:
                 del merged["pos"]
+        if node.tag == "geom" and any(k in merged and k not in node.attrib for k in POSE_KEYS):  # a pose from its class
+            self.default_geom_pose += 1
+            if "default_geom_pose_ignored" in self.variant:
+                for k in POSE_KEYS:
+                    merged.pop(k, None)
         if node.tag == "geom" and "mass" in merged and "mass" not in node.attrib:  # a mass from its class
             merged["_default_mass"] = "1"  # a mark, never an MJCF attribute (they have no leading underscore)
             if "default_geom_mass_ignored" in self.variant:
@@ -456,7 +468,8 @@ class _Reader:
                  "stacked": self.stacked, "unactuated_armature": self.unactuated, "damped_free": self.damped_free,
                  "damped_balls": self.damped_balls,
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
-                 "default_joint_pos": self.default_joint_pos, "springdamper": tuple(self.springdamper)}
+                 "default_joint_pos": self.default_joint_pos, "default_geom_pose": self.default_geom_pose,
+                 "springdamper": tuple(self.springdamper)}
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
                        self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
                        tuple(self.findings), facts=facts, variant=self.variant)
@@ -665,6 +678,8 @@ class _Reader:
         mass_given = number(g, "mass")
         if g.get("_default_mass"):
             self.default_masses += 1
+        if mass_given == 0 and kind in ("mesh", "sdf"):  # 0 kg: no mass properties to take from anyone
+            return None
         if kind in ("mesh", "sdf") or g.get("mesh"):  # a mesh, or a primitive MuJoCo fits to a mesh
             if self.meshes is None:
                 raise ModelError(f"{g.place}: body {body!r} takes mass properties from a mesh geom, which relacc does "

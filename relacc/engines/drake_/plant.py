@@ -25,7 +25,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, QuaternionFloatingJoint, RotationalInertia, SpatialInertia
 
 from relacc.engines.base import NQ, NV, Match, by_order
-from relacc.engines.mjcf import has_zero_inertial, without_meshes
+from relacc.engines.mjcf import has_equality, has_zero_inertial, without_equality, without_meshes
 from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import EngineError, ModelError
 
@@ -113,6 +113,10 @@ def parse(path):
         try:
             if not is_urdf(path) and has_zero_inertial(path):  # Drake's parser would abort on the zero mass
                 plant, welded = _without_meshes(path, handler, "its parser cannot take a body of zero mass")
+            elif not is_urdf(path) and has_equality(path):  # its continuous plant refuses constraints
+                text, note = without_equality(path)
+                plant, welded = _parse(path, named=False, text=text)
+                handler.lines.append(note)
             else:
                 plant, welded = _parse(path, named=False)
         except ModelError:

@@ -47,7 +47,7 @@ class Cause:
         return self.kind != "not explained"
 
 
-def _bodies(reading, change):
+def with_bodies(reading, change):
     """``reading`` with each body replaced by ``change(body)`` (None keeps it)."""
     bodies = tuple(change(b) or b for b in reading.tree.bodies)
     t = reading.tree
@@ -59,11 +59,33 @@ def _massless_with_inertia(reading) -> bool:
 
 
 def _drop_massless_inertia(reading):
-    return _bodies(reading, lambda b: replace(b, inertia=np.zeros((3, 3))) if b.mass == 0 else None)
+    return with_bodies(reading, lambda b: replace(b, inertia=np.zeros((3, 3))) if b.mass == 0 else None)
+
+
+WATER = 1000.0
+"""kg/m^3: the density of the solid sphere Drake's URDF parser puts in place of an inertia it cannot take."""
+
+
+def water_sphere(mass: float) -> np.ndarray:
+    """``(3, 3)`` kg m^2: the inertia about its centre of a solid sphere of water of ``mass`` kg, ``0.4 m r^2`` with
+    ``r = (3 m / (4 pi 1000))^(1/3)``: what Drake's URDF parser gives a link whose inertia is not physical (measured on
+    Drake 1.51: the 25 such bodies of a public URDF dataset to 1.2e-15, and a massless link given 1 kg)."""
+    r = (3.0 * mass / (4.0 * np.pi * WATER)) ** (1.0 / 3.0)
+    return 0.4 * mass * r * r * np.eye(3)
 
 
 def _massless_get_a_kilogram(reading):
-    return _bodies(reading, lambda b: replace(b, mass=1.0) if b.mass == 0 and np.any(b.inertia != 0) else None)
+    return with_bodies(reading, lambda b: replace(b, mass=1.0, inertia=water_sphere(1.0))
+                       if b.mass == 0 and np.any(b.inertia != 0) else None)
+
+
+def _unphysical_inertia(reading) -> bool:
+    return reading.format == "urdf" and any(not b.physical and b.mass > 0 for b in reading.tree.bodies)
+
+
+def _water_spheres(reading):
+    return with_bodies(reading, lambda b: replace(b, inertia=water_sphere(b.mass))
+                       if not b.physical and b.mass > 0 else None)
 
 
 def _urdf_inertial_turned(reading) -> bool:
@@ -74,7 +96,7 @@ def _urdf_inertial_turned(reading) -> bool:
 
 def _unturned_inertials(reading):
     """Each turned inertial as if its ``rpy`` were zero: the inertia as written, in the link's axes."""
-    return _bodies(
+    return with_bodies(
         reading,
         lambda b: replace(b, inertia=reading.turned_inertials[b.name]) if b.name in reading.turned_inertials else None,
     )
@@ -181,6 +203,13 @@ READINGS = {
             lambda r: _mjcf(r) and r.facts.get("default_joint_pos", 0) > 0,
             _reread("default_joint_pos_ignored"),
         ),
+        KnownBehaviour(
+            "default_geom_pose",
+            "Pinocchio's MJCF parser ignores a geom's pos and orientation inherited from a <default> (it honours "
+            "those written on the geom) and puts the geom at its body's frame",
+            lambda r: _mjcf(r) and r.facts.get("default_geom_pose", 0) > 0,
+            _reread("default_geom_pose_ignored"),
+        ),
         _springdamper_ignored("Pinocchio"),
         KnownBehaviour(
             "ball_free_damping",
@@ -240,9 +269,16 @@ READINGS = {
         KnownBehaviour(
             "massless_kilogram",
             "the file gives a body no mass but an inertia (a finding); Drake's URDF parser gives "
-            "such a link a mass of 1 kg",
+            "such a link a mass of 1 kg and the inertia of a solid sphere of water of that mass",
             lambda r: r.format == "urdf" and _massless_with_inertia(r),
             _massless_get_a_kilogram,
+        ),
+        KnownBehaviour(
+            "unphysical_water_sphere",
+            "the file gives a body an inertia that is not physical (a finding); Drake's URDF parser replaces it with "
+            "that of a solid sphere of water of the body's mass (0.4 m r^2, r = (3 m / (4 pi 1000 kg/m^3))^(1/3))",
+            _unphysical_inertia,
+            _water_spheres,
         ),
     ),
 }

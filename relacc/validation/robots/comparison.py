@@ -307,11 +307,16 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
     for item in items:
         cause = causes.get(item.key) or _fallback(item, reading, engine, unexplained)
         out.append(replace(item, cause=str(cause), kind=cause.kind, place=cause.place or _place(item, reading)))
-    links = [i for i in out if i.subject[0] == "link"]
-    if links and all(i.kind == "taken" for i in links):  # the total mass follows its links
-        taken = next(i for i in links)
-        out = [replace(i, cause=taken.cause, kind="taken") if i.item == "total mass (kg)" and i.kind ==
-               "not explained" else i for i in out]
+    masses = [i for i in out if i.subject[0] == "link" and i.item in ("mass (kg)", "body missing")]
+    if masses and all(i.kind != "not explained" for i in masses):  # the total mass follows its links' masses
+        from relacc.validation.robots.causes import KINDS
+
+        kind = max((i.kind for i in masses), key=KINDS.index)  # the least explained of theirs
+        first = next(i for i in masses if i.kind == kind)
+        cause = first.cause if kind in ("taken", "urdf") else (
+            "the sum of the links' masses, each explained above: " + "; ".join(dict.fromkeys(i.cause for i in masses)))
+        out = [replace(i, cause=cause, kind=kind) if i.item == "total mass (kg)" and i.kind == "not explained" else i
+               for i in out]
     return out
 
 
@@ -410,10 +415,15 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
         return Cause("singular", "forward dynamics undefined: " + "; ".join(
             f"{e}'s mass matrix over the shared speeds is singular (no inertia moves with "
             f"{', '.join(joints) or 'a combination of speeds'})" for e, joints in before.singular.items()))
-    if reading.findings:
-        f = reading.findings[0]
-        return Cause("finding", f"the file has bodies that are not physical (first: body {f.body}, {f.condition}): "
-                                "each engine reads them its own way", f.place)
+    for base in ([reading, current] if texts else [reading]) if reading.findings else []:
+        as_engine = findings_as_read(base, robot)
+        if as_engine is not None and _explained(compare_dynamics(TreeRobot(as_engine, 2, reading.tree), robot, states),
+                                                quantity, before):
+            f = reading.findings[0]
+            return Cause("finding", f"the file has bodies that are not physical (first: body {f.body}, {f.condition})"
+                                    f": read as {engine} reads them, the dynamics agree"
+                                    + ("" if base is reading else " (with its known readings: " + "; ".join(texts)
+                                       + ")"), f.place)
     kinds = {i.kind for i in items}
     source = ENGINE_LABELS[MESH_ENGINE]
     if reading.taken and (engine == MESH_ENGINE or ("taken" in kinds and kinds <= {"taken", "explained", "finding"})):
@@ -423,6 +433,37 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
     return Cause("not explained", f"not explained by a known difference of {engine}"
                  + (f" (its known readings of the file were applied: {'; '.join(texts)})" if texts else ""),
                  reading.source)
+
+
+def findings_as_read(reading, robot):
+    """``reading`` with each body of a finding (not physical) given the mass properties ``robot``'s engine read for it
+    (its link's mass, mass centre and inertia, turned into the body's frame at the reference configuration): what a
+    finding must reproduce before it is named as a dynamics row's cause (a body elsewhere being non-physical explains
+    nothing). None where a finding body is not a link of its own in both readings, or the engine lacks it."""
+    from relacc.core.tree import tree_kinematics
+    from relacc.core.tree.coordinates import reference_q
+    from relacc.validation.robots.causes import with_bodies
+
+    tree = reading.tree
+    theirs = {link.name: link for link in robot.structure.links}
+    ours = {link.name: link for link in structure(reading).links}
+    names = {f.body for f in reading.findings}
+    if any(n not in theirs or n not in ours or ours[n].bodies != (n,) or theirs[n].bodies != (n,) for n in names):
+        return None
+    k = tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv))
+    at = {body.name: b for b, body in enumerate(tree.bodies)}
+
+    def as_engine(body):
+        if body.name not in names:
+            return None
+        b, link = at[body.name], theirs[body.name]
+        R = k.rotation[b]
+        origin = k.position[b] - R @ body.com
+        inertia = R.T @ link.inertia @ R
+        return replace(body, mass=float(link.mass), com=R.T @ (link.com - origin), inertia=0.5 * (inertia + inertia.T),
+                       physical=False)
+
+    return with_bodies(reading, as_engine)
 
 
 def _geometry(structure_) -> dict:
