@@ -400,8 +400,9 @@ def terminate_as_interrupt():
         PENDING[0] = signum
         raise KeyboardInterrupt(f"signal {signum}")
 
-    try:
-        previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGINT)}
+    try:  # a signal the parent ignores (SIGINT in a script's background job) stays ignored
+        previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGINT)
+                    if signal.getsignal(sig) is not signal.SIG_IGN}
     except ValueError:  # not the main thread: leave signals alone
         yield
         return

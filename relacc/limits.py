@@ -50,6 +50,37 @@ kinematics of every body: positions, Jacobians, their rates, scales and bounds).
 body and speed, over two evaluated states each (ordinary and hard): 12-13 doubles per evaluated state."""
 
 
+COMPARE_DOUBLES = 10
+"""Doubles per state evaluated at once, per link and per entry of a link's Jacobian (3 x speeds), that comparing a
+model's dynamics holds (relacc's and an engine's Jacobians, their rates, the gravity terms' Jacobians, the scales):
+measured with ``compare`` on a 301-body, 306-speed tree, tracemalloc's peak 7.2-8.7 per state over 1 to 20 states."""
+
+CHUNK_STATES = 64
+"""States the dynamics comparison evaluates in one batched call of each evaluator
+(:data:`relacc.validation.robots.agreement.CHUNK`)."""
+
+
+def compare_bytes(tree, n_states: int) -> float:
+    """Bytes comparing ``tree``'s dynamics at ``n_states`` random states and the reference configuration holds at once
+    (:data:`COMPARE_DOUBLES` per state of a chunk, link and Jacobian entry)."""
+    at_once = min(int(n_states) + 1, CHUNK_STATES)
+    return 8.0 * COMPARE_DOUBLES * at_once * tree.nb * 3 * tree.nv
+
+
+def require_comparable(tree, n_states: int, what: str) -> None:
+    """Refuse up front a dynamics comparison that cannot fit (:func:`compare_bytes`), saying why in the model's terms.
+
+    Raises:
+        InputError: the estimate, what is available, and what to do instead.
+    """
+    at_once = min(int(n_states) + 1, CHUNK_STATES)
+    instead = ("compare fewer states (--states)" if at_once > 1 else
+               "even one state is too much: the comparison holds every link's Jacobian (bodies x 3 x speeds) in each "
+               "engine; compare a smaller model, or parts of this one")
+    require_memory(compare_bytes(tree, n_states), f"{what} {tree.name!r} ({tree.nb} bodies, {tree.nv} speeds) at "
+                   f"{at_once} state{'s' if at_once > 1 else ''} at once", instead)
+
+
 def tree_states_bytes(tree, n: float, case: int = 3) -> float:
     """Bytes to draw ``n`` states of ``tree`` in ``case`` (coordinates, speeds, rates; :data:`STATE_COPIES`), and in
     cases 1 and 3 the conversion's walk over a chunk of them

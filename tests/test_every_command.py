@@ -3,6 +3,7 @@ line and exit 2; what a file has that relacc does not evaluate is named in every
 does; an engine that cannot read every joint is left out of a model's default scene, and the result says so."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -306,3 +307,54 @@ def test_an_engine_run_alone_is_checked_at_its_own_states_normalized_and_says_so
     c = result.note_check["drake"]
     assert c["along"] == "drake" and c["quaternions_normalized"] > 1e-12, c
     assert c["error"] <= c["bound"], c
+
+
+def _flat_tree(tmp_path, n: int) -> Path:
+    """A free root with ``n`` hinged children: ``n + 1`` bodies, ``n + 6`` speeds, every link its own Jacobian."""
+    body = "".join(f'<body name="b{i}" pos="0.1 0 0"><joint name="j{i}" type="hinge"/><geom size="0.05"/></body>'
+                   for i in range(n))
+    path = tmp_path / f"flat{n}.xml"
+    path.write_text(f'<mujoco model="flat{n}"><worldbody><body name="root"><freejoint/><geom size="0.1"/>{body}'
+                    "</body></worldbody></mujoco>")
+    return path
+
+
+@pytest.mark.parametrize("command", [["compare"], ["check", "--model"]])
+def test_a_comparison_that_cannot_fit_is_refused_before_any_engine_loads(tmp_path, capsys, monkeypatch, command):
+    """Issue 50 item 8: 30,000 bodies read for 88 s, then asked for 161 GiB and advised "pass fewer states at a time"
+    for one state; check --model of 3,000 bodies grew to 4.3 GB with no estimate. The comparison's memory
+    (relacc.limits.compare_bytes) is estimated from the model as soon as it is read and refused before any engine
+    loads, saying the model's size; with one state at once, the advice is not to pass fewer states."""
+    import time
+
+    from relacc import limits
+    from relacc.limits import compare_bytes
+
+    path = _flat_tree(tmp_path, 300)
+    from relacc.reading import read
+
+    tree = read(path).tree
+    monkeypatch.setattr(limits, "available_memory", lambda: int(compare_bytes(tree, 0) * 1.5))
+    start = time.monotonic()
+    assert main(command + [str(path), "--states", "5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "(301 bodies, 306 speeds) at 6 states at once" in err[0] and "fewer states" in err[0]
+    monkeypatch.setattr(limits, "available_memory", lambda: int(compare_bytes(tree, 0) / 2))
+    assert main(command + [str(path), "--states", "5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "at 6 states at once" in err[0]
+    assert time.monotonic() - start < 30
+
+
+def test_one_state_of_a_model_too_large_for_its_partials_says_so(tmp_path, monkeypatch):
+    """The same for the API: one state whose partial velocities cannot fit is not told to pass fewer states."""
+    from relacc import limits
+    from relacc.core.tree import tree_kinematics
+    from relacc.core.tree.coordinates import reference_q
+    from relacc.errors import InputError
+    from relacc.reading import read
+
+    tree = read(_flat_tree(tmp_path, 300)).tree
+    monkeypatch.setattr(limits, "available_memory", lambda: 2**21)
+    with pytest.raises(InputError, match=r"1 state of 'flat300' \(301 bodies, 306 speeds\).*even one state"):
+        tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv))

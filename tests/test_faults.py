@@ -360,3 +360,23 @@ def test_what_an_engine_prints_while_swallowing_an_interrupt_is_not_passed_on(mo
     err = capfd.readouterr().err
     assert err.count("\n") == 1 and "interrupted" in err and "Traceback" not in err, err
     assert files.PENDING[0] is None
+
+
+@pytest.mark.slow
+def test_a_sigint_the_parent_ignores_stays_ignored(tmp_path):
+    """Issue 50 item 10: relacc re-enabled SIGINT that its parent had set to ignored (a script's background job, which
+    the shell starts with SIGINT ignored): a Ctrl-C meant for the script ended it. Ignored, it stays ignored: the
+    command finishes whole, exit 0. SIGTERM, not ignored, still ends it in one line."""
+    import signal
+    import time
+
+    def ignoring():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    argv = [sys.executable, "-m", "relacc", "check", "--states", "30000", "--cases", "1", "--quiet"]
+    proc = subprocess.Popen(argv, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=ignoring)
+    time.sleep(3.0)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=600)
+    assert proc.returncode == 0 and "comparisons agree" in out, (proc.returncode, err[-1000:])

@@ -518,3 +518,34 @@ def test_effects_mujocos_step_applies_and_relacc_does_not_evaluate_are_named(tmp
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
     assert abs(d.qfrc_gravcomp[0]) > 1e-3
+
+
+def test_nesting_mujoco_refuses_is_refused_and_what_it_reads_is_read(tmp_path):
+    """Issue 50 item 9: an MJCF nested deeper than about 900 elements was a RecursionError traceback in compare,
+    check --model and simulate --model; MuJoCo's TinyXML2 refuses 500 levels. relacc reads what MuJoCo reads (496
+    nested bodies with a joint and a geom each: 499 levels) and refuses the next one in one line naming the file."""
+    def nested(n):
+        return ("<mujoco><worldbody>" + '<body><joint type="hinge"/><geom size="0.1"/>' * n + "</body>" * n
+                + "</worldbody></mujoco>")
+
+    path = tmp_path / "deep.xml"
+    path.write_text(nested(496))
+    assert read(path).tree.nv == 496 and mujoco.MjModel.from_xml_path(str(path)).nv == 496
+    path.write_text(nested(497))
+    with pytest.raises(ValueError, match="XML_ELEMENT_DEPTH_EXCEEDED"):
+        mujoco.MjModel.from_xml_path(str(path))
+    with pytest.raises(ModelError, match=r"deep\.xml:1: elements nested 500 deep or more"):
+        read(path)
+
+
+def test_a_fifo_named_as_a_mesh_is_one_line(tmp_path):
+    """Issue 50 item 9: a FIFO given as a mesh file hung the reader with no word (MuJoCo waited on it); it is refused
+    in one line naming the asset, as a FIFO model or include is."""
+    import os
+
+    os.mkfifo(tmp_path / "tet.obj")
+    path = tmp_path / "fifo.xml"
+    path.write_text('<mujoco><asset><mesh name="tet" file="tet.obj"/></asset><worldbody><body name="b">'
+                    '<joint type="hinge"/><geom type="mesh" mesh="tet"/></body></worldbody></mujoco>')
+    with pytest.raises(ModelError, match=r"fifo\.xml:1: <mesh file='tet\.obj'>: .*a FIFO, not a regular file"):
+        read(path)

@@ -85,3 +85,14 @@ def test_check_prints_the_referee(capsys, fixture, monkeypatch):
     assert "referee: case 1 acceleration (quaternion route): the odd one out: drake (up to" in out
     assert main(["check", "--states", "50", "--cases", "1", "--quiet", "--json", "--model", str(fixture.source)]) == 1
     assert json.loads(capsys.readouterr().out)["referee"][0]["odd_ones_out"] == ["drake"]
+
+
+def test_a_referee_line_never_says_everyone_agrees_over_a_row_that_differs():
+    """Issue 50 item 10: compare printed a DIFFER row for relacc's case 1, then the referee line "no odd one out ...
+    agree": the referee votes on the case-2 readings. Rows outside the vote that differ are named in the line."""
+    from relacc.validation.referee import Verdict
+
+    v = Verdict("mass matrix", (), ("relacc", "mujoco"), (), {"relacc|mujoco": 0.2}, apart=("relacc (case 1)",))
+    line = v.sentence()
+    assert "no odd one out among the case-2 readings" in line and "relacc (case 1) differs from relacc's case 2" in line
+    assert v.as_json()["apart"] == ["relacc (case 1)"]

@@ -40,7 +40,7 @@ import numpy as np
 
 from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.errors import ModelError
-from relacc.files import note_input
+from relacc.files import note_input, regular_file
 from relacc.reading import frames, inertia, physical
 from relacc.reading.model import Reading
 from relacc.reading.xml import Node, number, numbers, parse_file, real, required_numbers, rounding
@@ -687,8 +687,13 @@ class _Reader:
             name = g.get("mesh")
             asset = self.assets.get(name)
             asset = None if asset is None else self.attrs(asset, asset.get("class") or "main")
-            if asset is not None and asset.get("file"):  # what the mesh is read from: an input of the command
-                note_input(self.path.parent / self.meshdir / asset.get("file"))
+            if asset is not None and asset.get("file"):  # what the mesh is read from: an input of the command, and a
+                mesh_file = self.path.parent / self.meshdir / asset.get("file")  # regular file (a FIFO would hang it)
+                note_input(mesh_file)
+                try:
+                    regular_file(mesh_file, ModelError, "mesh file")
+                except ModelError as exc:
+                    raise ModelError(f"{asset.place}: <mesh file={asset.get('file')!r}>: {exc}") from None
             mass, com, I = self.meshes(MeshGeom(str(self.path), g, asset, self.meshdir, self.degree, dict(g.attrib)))
             return mass, at + R @ np.asarray(com), R @ np.asarray(I) @ R.T, f"mesh {name!r}"
         size = numbers(g, "size", None, [0.0, 0.0, 0.0])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -37,13 +38,30 @@ def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", vari
     kind = SUFFIXES.get(path.suffix.lower())
     if kind is None:
         raise ModelError(f"{path}: a model file ends in .xml (MJCF) or .urdf (URDF)")
-    if kind == "urdf":
-        from relacc.reading import urdf
+    with _deep_enough():
+        if kind == "urdf":
+            from relacc.reading import urdf
 
-        return urdf.read(path)
-    from relacc.reading import mjcf
+            return urdf.read(path)
+        from relacc.reading import mjcf
 
-    return mjcf.read(path, _mesh_reader if meshes == "engine" else meshes, variant)
+        return mjcf.read(path, _mesh_reader if meshes == "engine" else meshes, variant)
+
+
+@contextlib.contextmanager
+def _deep_enough():
+    """Python's recursion limit raised for the reading: the reader walks bodies recursively, a few frames a level,
+    and a document may nest up to :data:`relacc.reading.xml.MAX_DEPTH` elements (deeper ones are refused)."""
+    import sys
+
+    from relacc.reading.xml import MAX_DEPTH
+
+    before = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(before, 20 * MAX_DEPTH))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(before)
 
 
 def note_files(path: str | os.PathLike) -> None:

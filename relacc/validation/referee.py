@@ -60,6 +60,9 @@ class Verdict:
     joined: str = ""
     case: int | None = None
     route: str | None = None
+    apart: tuple = ()
+    """Evaluators outside the vote whose rows differ (relacc's own cases 1 and 3, each judged against its case 2 and
+    not pairwise): named in the sentence, so that a line never says everyone agrees over a row that differs."""
 
     @property
     def everyone_agrees(self) -> bool:
@@ -71,13 +74,17 @@ class Verdict:
         where = self.quantity if self.case is None else f"case {self.case} {self.quantity} ({self.route} route)"
         known = f" (once {join(sorted(self.voted_as))}'s known difference is removed)" if self.voted_as else ""
         note = f" ({self.joined})" if self.joined else ""
+        if self.apart:
+            note += (f"; {join(list(self.apart))} differ{'s' if len(self.apart) == 1 else ''} from relacc's case 2 "
+                     "(outside the vote, which is among the case-2 readings)")
         if self.split:
             sides = " against ".join(join(list(side)) for side in self.split)
             return f"{where}: no majority, {sides}{known}{note}"
         if not self.agreeing:
             return f"{where}: no two evaluators agree ({join(list(self.odd_ones_out))}){known}{note}"
         if not self.odd_ones_out:
-            return f"{where}: no odd one out: {join(list(self.agreeing))} agree{known}{note}"
+            among = " among the case-2 readings" if self.apart else ""
+            return f"{where}: no odd one out{among}: {join(list(self.agreeing))} agree{known}{note}"
         ratio = max(r for k, r in self.pairs.items() if set(k.split("|")) & set(self.odd_ones_out))
         return (f"{where}: the odd one{'s' if len(self.odd_ones_out) > 1 else ''} out: {join(list(self.odd_ones_out))}"
                 f" (up to {ratio:.3g} x the tolerance away); {join(list(self.agreeing))} agree{known}{note}")
@@ -86,7 +93,8 @@ class Verdict:
         out = {"quantity": self.quantity, "odd_ones_out": list(self.odd_ones_out), "agreeing": list(self.agreeing),
                "split": [list(side) for side in self.split],
                "pairs": {k: (v if np.isfinite(v) else None) for k, v in self.pairs.items()},
-               "voted_as": dict(self.voted_as), "joined": self.joined, "verdict": self.sentence()}
+               "voted_as": dict(self.voted_as), "joined": self.joined, "apart": list(self.apart),
+               "verdict": self.sentence()}
         return out if self.case is None else {"case": self.case, "route": self.route, **out}
 
 

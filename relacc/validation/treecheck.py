@@ -55,6 +55,9 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
     from relacc.validation.robots import load_robot
 
     reading = read_moving(model, "there is nothing to check")
+    from relacc.limits import require_comparable
+
+    require_comparable(reading.tree, n_states, "checking")
     names = [e for e in ENGINES if installed(e)] if engines is None else list(engines)
     robots, not_loaded = [], {}
     for name in names:

@@ -147,7 +147,10 @@ def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_p
     n = float(math.prod(batch))
     # every entry point copies its inputs once, C-contiguous, besides what it computes
     require_memory(n * (bytes_per_state + 8.0 * (q.shape[-1] + 3 * tree.nv)),
-                   f"{what} {int(n)} states of {tree.name!r}", "pass fewer states at a time")
+                   f"{what} {int(n)} state{'s' if n != 1 else ''} of {tree.name!r} ({tree.nb} bodies, {tree.nv} speeds)",
+                   "pass fewer states at a time" if n > 1 else
+                   "even one state is too much for this model (its partial velocities are bodies x 3 x speeds): ask "
+                   "for fewer quantities (partials=False) or a smaller model")
     if values:
         check_q(tree, c, q)
         check_u(tree, f"u for case {c}", u)

@@ -34,6 +34,7 @@ from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
 from relacc.core.tree.coordinates import reference_q
 from relacc.errors import InputError
+from relacc.limits import CHUNK_STATES
 from relacc.validation.compare import Comparison
 from relacc.validation.robots.audit import Scales
 
@@ -43,7 +44,7 @@ QUANTITIES = tuple(ModelQuantity)
 """What is compared, in report order."""
 KINEMATIC = QUANTITIES[4:]
 """The quantities of each link's mass centre, which are also measured link by link (``Comparison.per_link``)."""
-CHUNK = 64
+CHUNK = CHUNK_STATES
 """States evaluated in one batched call of each evaluator (bounds the memory of Jacobians on a large model)."""
 
 

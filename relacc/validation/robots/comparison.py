@@ -34,6 +34,7 @@ from relacc.engines import load as load_adapter
 from relacc.engines.contain import survives
 from relacc.errors import EngineError, ModelError
 from relacc.files import regular_file
+from relacc.limits import require_comparable
 from relacc.reading import read_moving
 from relacc.validation.robots.agreement import QUANTITIES, compare_dynamics, random_states
 from relacc.validation.robots.audit import Item, Scales, differences, merge
@@ -171,6 +172,7 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
     if urdf is not None:
         regular_file(urdf, ModelError, "model file")
     reading = read_moving(model, "there are no dynamics to compare")
+    require_comparable(reading.tree, n_states, "comparing")
     if urdf is None and Path(model).suffix.lower() == ".urdf":
         urdf = model
     reference = TreeRobot(reading, 2)

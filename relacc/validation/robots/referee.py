@@ -70,7 +70,9 @@ def referee(voters_, states, dynamics, reading) -> list[Verdict]:
             weight["mujoco"] = 0  # one vote for the two
             note = (f"relacc took {', '.join(sorted(reading.taken))} from MuJoCo: the two count as one vote here")
         odd, agreeing, split = judge(names, pairs, weight)
-        out.append(Verdict(quantity, odd, agreeing, split, pairs, {v.engine: v.why for v in present if v.why}, note))
+        apart = tuple(e for e, r in dynamics[quantity].items() if not r.passed and e not in names)
+        out.append(Verdict(quantity, odd, agreeing, split, pairs, {v.engine: v.why for v in present if v.why}, note,
+                           apart=apart))
     return out
 
 
