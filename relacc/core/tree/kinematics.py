@@ -146,8 +146,9 @@ def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_p
         raise InputError(f"batch shapes of q, u, udot do not broadcast: {shapes}; give equal leading shapes") from None
     n = float(math.prod(batch))
     # every entry point copies its inputs once, C-contiguous, besides what it computes
+    states = f"{int(n)} state{'s' if n != 1 else ''}"
     require_memory(n * (bytes_per_state + 8.0 * (q.shape[-1] + 3 * tree.nv)),
-                   f"{what} {int(n)} state{'s' if n != 1 else ''} of {tree.name!r} ({tree.nb} bodies, {tree.nv} speeds)",
+                   f"{what} {states} of {tree.name!r} ({tree.nb} bodies, {tree.nv} speeds)",
                    "pass fewer states at a time" if n > 1 else
                    "even one state is too much for this model (its partial velocities are bodies x 3 x speeds): ask "
                    "for fewer quantities (partials=False) or a smaller model")
