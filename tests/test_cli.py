@@ -121,3 +121,34 @@ def test_unknown_keys_in_an_eval_state_are_refused(tmp_path):
     state.write_text(json.dumps({"case": 1, "q": [0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0], "u": [0] * 12,
                                  "udott": [0] * 12}))
     assert "udott" in one_line(run_relacc("eval", str(state), cwd=tmp_path))
+
+
+def test_the_first_compilation_of_a_kernel_is_said_once(capsys):
+    """Issue 49 item 9: the first simulate --model after install compiled for 444 s with no word. When numba starts
+    compiling one of relacc's kernels (its compile event), the command line says so on stderr, once per process;
+    numba compiling anything else, or a quiet command, says nothing."""
+    from types import SimpleNamespace
+
+    from numba.core import event
+
+    from relacc.cli.progress import COMPILE_NOTICE, compile_notice
+
+    def compiled(module):
+        fn = SimpleNamespace(py_func=SimpleNamespace(__module__=module))
+        event.start_event("numba:compile", data={"dispatcher": fn})
+        event.end_event("numba:compile", data={"dispatcher": fn})
+
+    before = {k: list(v) for k, v in event._registered.items()}
+    try:
+        compile_notice(quiet=True)
+        compiled("relacc.kernels.tree_step")
+        assert capsys.readouterr().err == ""
+        compile_notice(quiet=False)
+        compiled("numba.cpython.builtins")
+        assert capsys.readouterr().err == ""
+        compiled("relacc.kernels.tree_step")
+        compiled("relacc.kernels.tree_aba")
+        assert capsys.readouterr().err.splitlines() == [COMPILE_NOTICE]
+    finally:
+        event._registered.clear()
+        event._registered.update(before)

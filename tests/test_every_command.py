@@ -358,3 +358,103 @@ def test_one_state_of_a_model_too_large_for_its_partials_says_so(tmp_path, monke
     monkeypatch.setattr(limits, "available_memory", lambda: 2**21)
     with pytest.raises(InputError, match=r"1 state of 'flat300' \(301 bodies, 306 speeds\).*even one state"):
         tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv))
+
+
+FLOATING_ROOT = """<robot name="float">
+  <link name="world"/>
+  <link name="base"><inertial><mass value="2"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.04"/>
+  </inertial></link>
+  <link name="arm"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <joint name="root" type="floating"><parent link="world"/><child link="base"/><origin xyz="0 0 1"/></joint>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_urdfs_floating_root_is_one_free_joint_in_every_engine(tmp_path, capsys):
+    """Issue 49 item 9: a URDF whose root joint is floating read as 13 speeds in Pinocchio (relacc's adapter added a
+    free flyer to a model whose parser had already made one) and "the integration diverged ... reduce the step",
+    exit 2, in simulate; Drake's parser leaves the floating joint's child a free body, which relacc then welded to the
+    world. Each engine now reads one free joint: compare agrees, and the default scene runs on all four."""
+    from relacc.validation.robots import compare
+
+    path = tmp_path / "float.urdf"
+    path.write_text(FLOATING_ROOT)
+    result = compare(path, n_states=3, seed=1)
+    assert {e: (r.nq, r.nv) for e, r in result.engines.items()} == {e: (8, 7) for e in result.engines}
+    assert result.agree, [a.as_json() for a in result.audit]
+    assert main(["simulate", "--model", str(path), "--duration", "0.05", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["agree"] is True
+
+
+def test_an_engine_whose_run_diverges_because_it_misreads_is_named_and_the_rest_compared(tmp_path, monkeypatch,
+                                                                                          capsys):
+    """Issue 49 item 9: a run that diverges where relacc's does not is judged by its acceleration at the scene's start:
+    here MuJoCo's (planted: twice its own, and a stepper that diverges) differs, so the result names it (exit 1) and
+    the others are compared; with its acceleration right, the divergence is the integrator's and stays exit 2."""
+    from types import SimpleNamespace
+
+    from relacc.errors import IntegrationError
+    from relacc.simulate import subjects
+
+    path = tmp_path / "float.urdf"
+    path.write_text(FLOATING_ROOT)
+    real = subjects.adapter
+
+    def planted(scene, name, double=True):
+        engine = real(scene, name)
+        if name == "mujoco":
+            forward, stepper = engine.forward, engine.stepper
+            if double:
+                monkeypatch.setattr(engine, "forward", lambda *a, **k: 2.0 * np.asarray(forward(*a, **k)))
+
+            def diverging(*a, **k):
+                stepper(*a, **k)
+
+                def record(*b, **c):
+                    raise IntegrationError("the state became non-finite")
+                return SimpleNamespace(record=record)
+            monkeypatch.setattr(engine, "stepper", diverging)
+        return engine
+
+    monkeypatch.setattr(subjects, "adapter", planted)
+    assert main(["simulate", "--model", str(path), "--duration", "0.05", "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    assert "mujoco" in data["verdict"] and "its run diverged" in data["verdict"], data["verdict"]
+    monkeypatch.setattr(subjects, "adapter", lambda scene, name: planted(scene, name, double=False))
+    assert main(["simulate", "--model", str(path), "--duration", "0.05"]) == 2
+    assert "mujoco: between t = 0 s" in capsys.readouterr().err
+
+
+ON_AXIS = """<mujoco model="on_axis"><worldbody>
+  <body name="turntable" pos="0 0 1"><joint name="spin" type="hinge" axis="0 0 1"/>
+    <inertial pos="0 0 0.0005" mass="5" diaginertia="0.1 0.1 0.2"/>
+    <body name="arm" pos="0.4 0 0"><joint name="lift" type="hinge" axis="0 1 0"/>
+      <inertial pos="0.3 0 0" mass="1" diaginertia="0.01 0.02 0.02"/></body>
+  </body>
+</worldbody></mujoco>
+"""
+
+
+def test_a_models_scene_is_observed_where_something_moves(tmp_path, capsys):
+    """Issue 49 item 9: simulate --model and tradeoff --model watched "the first body a joint moves"; on the iCub its
+    mass centre sits 0.5 mm from its axis and moved 0.07 mm in a second, so differences of 1e-17 m between engines
+    said nothing. The default is the body whose mass centre moves fastest at the start (here the arm, whose mass
+    centre is 0.7 m from the spin axis); --observe BODY chooses, and a name that is no body is one line."""
+    from relacc.simulate import scenes
+    from relacc.tradeoff.models import why_no_order
+
+    path = tmp_path / "on_axis.xml"
+    path.write_text(ON_AXIS)
+    assert scenes.model_scene(path).observe == "arm"
+    assert scenes.model_scene(path, observe="turntable").observe == "turntable"
+    assert main(["simulate", "--model", str(path), "--observe", "nothing", "--duration", "0.01"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no body of on_axis.xml is named so" in err[0] and "turntable, arm" in err[0], err
+    # and a run whose order cannot be read says why
+    rows = [{"engine": "mujoco", "integrator": "rk4", "error": e, "diverged": False} for e in (1e-15, 3e-16, 2e-17)]
+    assert "every error is below 1e-12 m" in why_no_order(rows, "mujoco", "rk4")
+    rows = [{"engine": "mujoco", "integrator": "euler", "error": e, "diverged": False} for e in (1e-3, 1e-1, 2e-1)]
+    assert "only 1 of its steps" in why_no_order(rows, "mujoco", "euler")

@@ -299,8 +299,12 @@ def cmd_simulate(args) -> int:
         args.spread = 0.05 if args.spread is None else args.spread
     if args.out is not None:
         files.check_new_directory(args.out)
+    if args.observe is not None and not _is_robot(args):
+        raise InputError("--observe BODY goes with --model FILE.xml|FILE.urdf (a model's default scene); a scene "
+                         "file names its point in [simulate] observe")
     if args.model is not None:
-        scene = scenes.model_scene(args.model, seed=0 if args.seed is None else args.seed)
+        scene = scenes.model_scene(args.model, seed=0 if args.seed is None else args.seed,
+                                   **({"observe": args.observe} if _is_robot(args) else {}))
     else:
         scene = scenes.load(scene_path(args.scene))
     if args.ensemble is not None:
@@ -389,10 +393,13 @@ def cmd_tradeoff(args) -> int:
     from relacc import tradeoff
 
     progress = None if (args.quiet or args.json) else (lambda line: print(f"  {line}", file=sys.stderr, flush=True))
+    if args.observe is not None and not _is_robot(args):
+        raise InputError("--observe BODY goes with --model FILE.xml|FILE.urdf (a model's default scene)")
     if _is_robot(args):
         from relacc.tradeoff import models
 
-        model_result = models.run(args.model, quick=args.quick, seed=args.seed, progress=progress)
+        model_result = models.run(args.model, quick=args.quick, seed=args.seed, progress=progress,
+                                  observe=args.observe)
         print(json.dumps(model_result.as_json(), indent=2) if args.json else models.format_text(model_result))
         return model_result.exit_code
     result = tradeoff.run(quick=args.quick, seed=args.seed, progress=progress, fixture=fixtures.load(args.model))

@@ -36,7 +36,7 @@ def main(argv=None) -> int:
         return exc.code if isinstance(exc.code, int) else 2
     from relacc import files
     from relacc.cli import commands
-    from relacc.cli.progress import end_line
+    from relacc.cli.progress import compile_notice, end_line
     from relacc.errors import RelaccError
 
     name = f"relacc {args.command}"
@@ -44,6 +44,8 @@ def main(argv=None) -> int:
         with files.terminate_as_interrupt(), warnings.catch_warnings(), files.inputs(input_paths(args)):
             warnings.simplefilter("error", RuntimeWarning)
             note_model_files(args)
+            if args.command not in ("eval", "fixtures"):  # the commands that run compiled kernels
+                compile_notice(bool(getattr(args, "quiet", False)))
             code = getattr(commands, f"cmd_{args.command}")(args)
             files.check_interrupt()  # an interrupt a C library's callback swallowed on the way
             return code

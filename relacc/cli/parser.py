@@ -25,6 +25,12 @@ MAX_STATES = 10**9
 MAX_SEED = 2**63 - 1
 
 
+def _observe(p) -> None:
+    p.add_argument("--observe", metavar="BODY", default=None,
+                   help="with --model FILE.xml|FILE.urdf: the body at whose mass centre the engines are compared "
+                        "(default: the body whose mass centre moves fastest at the start)")
+
+
 class OneLineParser(argparse.ArgumentParser):
     """argparse, but a usage error is one line on stderr (``relacc <cmd>: error: ...``) and exit 2."""
 
@@ -285,6 +291,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--spread", type=_positive_float(), default=None,
                    help="with --ensemble: size of the perturbations (m, rad, m/s, rad/s; default 0.05)")
     _seed(p, default=None)
+    _observe(p)
     _quiet(p)
     _scheduler(p, "an --ensemble (one task per 1,024 members)")
 
@@ -328,6 +335,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="a small sweep (seconds)")
     _json(p, "all points and orders")
     _seed(p)
+    _observe(p)
     _quiet(p)
     _model(p, "a chain TOML, or an MJCF .xml or URDF .urdf model: its default scene's integrator sweep")
 

@@ -31,3 +31,36 @@ def line(label: str, fraction: float) -> None:
     print(f"\r  {label:9s} [{'#' * int(30 * fraction):30s}] {100 * fraction:5.1f} %", end="", file=sys.stderr,
           flush=True)
     OPEN[0] = True
+
+
+COMPILE_NOTICE = ("relacc: compiling its kernels for this machine (once: numba caches them beside the package for the "
+                  "next run); this takes from about a minute on a quiet 2-core machine to several under load")
+"""What the command line says when numba first compiles one of relacc's kernels in a process (issue 49: the first
+``simulate --model`` after install compiled for 444 s at load 12, with no word)."""
+
+
+def compile_notice(quiet: bool) -> None:
+    """Say :data:`COMPILE_NOTICE` on stderr, once per process, when numba starts compiling one of relacc's kernels
+    (a cached kernel is loaded, not compiled: nothing said). Nothing with ``quiet``, or without numba."""
+    if quiet:
+        return
+    try:
+        from numba.core import event
+    except ImportError:  # pragma: no cover - numba is a dependency
+        return
+
+    class Notice(event.Listener):
+        said = False
+
+        def on_start(self, ev) -> None:
+            dispatcher = (ev.data or {}).get("dispatcher")
+            module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
+            if not self.said and module.startswith("relacc."):
+                self.said = True
+                end_line()
+                print(COMPILE_NOTICE, file=sys.stderr, flush=True)
+
+        def on_end(self, ev) -> None:
+            pass
+
+    event.register("numba:compile", Notice())

@@ -32,7 +32,7 @@ import numpy as np
 from relacc import files
 from relacc.core.tolerances import EPS
 from relacc.dynamics.steps import BLOCK, blocks, recorded_steps
-from relacc.errors import EngineError
+from relacc.errors import EngineError, IntegrationError
 from relacc.limits import require_memory
 from relacc.simulate import subjects
 from relacc.simulate.scenes import SIM_ENGINES, Scene
@@ -94,7 +94,9 @@ class SimulationResult:
             return (f"every engine's acceleration agrees with {who} at the same states "
                     f"({', '.join(self.note_check)}); how far the trajectories then drift apart (shown) is the "
                     "integrators' doing and is not judged")
-        parts = [f"{name} by {c['error']:.2e} (bound {c['bound']:.1e})" for name, c in self.differing.items()]
+        parts = [f"{name} by {c['error']:.2e} (bound {c['bound']:.1e})" + (
+            " at the start, and its run diverged (left out of the run)" if "diverged" in c else "")
+            for name, c in self.differing.items()]
         return (f"DISAGREE: at the same states the acceleration differs from {who}: {'; '.join(parts)}: "
                 f"{'that engine reads' if len(parts) == 1 else 'those engines read'} the model or the scene's effects "
                 "differently (relacc compare FILE says where)")
@@ -172,7 +174,30 @@ class _Run:
 
 def run(scene: Scene, engines: Sequence[str] | None = None, progress: Callable[[str, float], object] | None = None, *,
         keep: bool = True, out: str | os.PathLike | None = None, check: bool = True) -> SimulationResult:
-    """Simulate a scene on its engines (or ``engines``), in lockstep, and compare them.
+    """Simulate a scene on its engines (or ``engines``), in lockstep, and compare them (:func:`_run`). An engine's
+    run that diverges where relacc's does not is judged as any engine is, by its acceleration against relacc's at the
+    same state (the scene's start): when it differs there, that engine reads the model differently (issue 49: a
+    second free joint read into a URDF diverged as "reduce the step"), and the run goes on without it, the result
+    naming it (exit 1); when it agrees, the divergence is the integrator's, and raised."""
+    names = tuple(engines) if engines is not None else scene.engines
+    try:
+        return _run(scene, names, progress, keep=keep, out=out, check=check)
+    except IntegrationError as exc:
+        who = str(exc).partition(":")[0]
+        if who == "relacc" or who not in names or "relacc" not in names or not check:
+            raise
+        engine = subjects.adapter(scene, who)
+        judged = subjects.note_check(scene, [(scene.q, scene.u, 0.0)], {who: engine})[who]
+        if judged["error"] <= judged["bound"]:
+            raise
+        rest = _run(scene, tuple(n for n in names if n != who), progress, keep=keep, out=out, check=check)
+        rest.note_check[who] = {**judged, "diverged": str(exc)}
+        return rest
+
+
+def _run(scene: Scene, names: tuple, progress: Callable[[str, float], object] | None = None, *,
+         keep: bool = True, out: str | os.PathLike | None = None, check: bool = True) -> SimulationResult:
+    """Simulate a scene on the engines ``names``, in lockstep, and compare them.
 
     Args:
         progress: callable ``(engine, fraction)`` or None.
@@ -188,7 +213,6 @@ def run(scene: Scene, engines: Sequence[str] | None = None, progress: Callable[[
         EngineError: unknown engine or an integrator an engine lacks.
         IntegrationError: a run diverged. InputError: ``out`` cannot be written (checked first).
     """
-    names = tuple(engines) if engines is not None else scene.engines
     bad = [n for n in names if n not in SIM_ENGINES]
     if bad:
         raise EngineError(f"unknown engines {bad}: accepted are {', '.join(SIM_ENGINES)}")

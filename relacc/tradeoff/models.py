@@ -51,6 +51,8 @@ class ModelTradeoff:
     """``{engine: why}``: installed engines the default scene runs without (they lack some of the model's joints)."""
     not_evaluated: tuple = ()
     """One line per kind of element of the file the scene leaves out (``Reading.unevaluated``)."""
+    no_order: dict | None = None
+    """``{"engine/integrator": why}``: runs whose order of convergence could not be read, and why."""
 
     @property
     def exit_code(self) -> int:
@@ -61,7 +63,7 @@ class ModelTradeoff:
         return {"model": self.model, "point": self.point, "duration": self.duration, "integrators": self.rows,
                 "reference": self.reference, "orders": self.orders, "misread": self.differing or {},
                 "agree": not self.differing, "left_out": self.left_out or {},
-                "not_evaluated": list(self.not_evaluated)}
+                "not_evaluated": list(self.not_evaluated), "no_order": self.no_order or {}}
 
 
 def _final(scene):
@@ -72,12 +74,34 @@ def _final(scene):
     return {name: (np.asarray(tr.position[-1]), tr.seconds) for name, tr in result.trajectories.items()}
 
 
-def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTradeoff:
+def why_no_order(rows, engine: str, integrator: str) -> str:
+    """Why ``observed_order`` read no order for a run: every error at rounding, every error beyond the asymptotic
+    range, or too few steps between (:data:`relacc.tradeoff.integrators.MIN_FIT_POINTS`)."""
+    from relacc.tradeoff.integrators import MIN_FIT_POINTS
+
+    errors = [r["error"] for r in rows if r["engine"] == engine and r["integrator"] == integrator
+              and not r["diverged"]]
+    if not errors:
+        return "every run diverged"
+    inside = [e for e in errors if 1e-12 <= e <= 5e-2]
+    if len(inside) >= MIN_FIT_POINTS:
+        return ""
+    if max(errors) < 1e-12:
+        return (f"every error is below 1e-12 m (at most {max(errors):.1e} m): rounding, where no order shows (the "
+                "observed point moves too little, or the integrator is exact for this motion; --observe chooses "
+                "another body)")
+    if min(errors) > 5e-2:
+        return f"every error is above 5e-2 m (at least {min(errors):.1e} m): the steps are too large to show an order"
+    return (f"only {len(inside)} of its steps have errors between 1e-12 and 5e-2 m, where an order shows; it takes "
+            f"{MIN_FIT_POINTS}")
+
+
+def run(model, *, quick: bool = False, seed: int = 0, progress=None, observe: str | None = None) -> ModelTradeoff:
     """Sweep every engine's fixed-step integrators on ``model``'s default scene (module docstring)."""
     from relacc import simulate
     from relacc.simulate import scenes
 
-    base = scenes.model_scene(model, seed=seed, duration=DURATION[bool(quick)], dt=DT)
+    base = scenes.model_scene(model, seed=seed, duration=DURATION[bool(quick)], dt=DT, observe=observe)
     if progress:
         progress("every engine's acceleration against relacc's along one run")
     differing = simulate.run(base, keep=False).differing
@@ -119,9 +143,10 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None) -> ModelTra
                 rows.append(row)
     runs = dict.fromkeys((r["engine"], r["integrator"]) for r in rows if not r["misread"])
     orders = {f"{e}/{i}": observed_order(rows, e, i) for e, i in runs}
+    no_order = {f"{e}/{i}": why_no_order(rows, e, i) for e, i in runs if orders[f"{e}/{i}"] is None}
     return ModelTradeoff(str(model), base.observe, base.duration, rows, reference,
                          {k: v for k, v in orders.items() if v is not None}, differing,
-                         dict(base.left_out), tuple(base.unevaluated))
+                         dict(base.left_out), tuple(base.unevaluated), no_order)
 
 
 def format_text(result: ModelTradeoff) -> str:
@@ -139,6 +164,8 @@ def format_text(result: ModelTradeoff) -> str:
     out.append("\nObserved order of convergence vs theory:")
     for key, order in result.orders.items():
         out.append(f"  {key:26s} {order:5.2f}   (theory {THEORY[key.split('/')[1]]})")
+    for key, why in (result.no_order or {}).items():
+        out.append(f"  {key:26s}   -     no order: {why}")
     for engine, c in (result.differing or {}).items():
         out.append(f"DISAGREE: {engine} reads this model differently: at the same states its acceleration differs "
                    f"from relacc's by {c['error']:.2e} (bound {c['bound']:.1e}), so its rows measure that, not its "

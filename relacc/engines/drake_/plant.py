@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import logging
+import re
 from pathlib import Path
 
 import numpy as np
@@ -60,8 +61,10 @@ def _parse(path, named: bool, text: str | None = None):
     parser = Parser(plant)
     welded = []
     if is_urdf(path):  # its kinematics and inertials only
-        for instance in parser.AddModelsFromString(dynamics_text(path)[0], "urdf"):
-            welded += _weld_roots(plant, instance)
+        text = dynamics_text(path)[0]
+        children = set(CHILD.findall(text))
+        for instance in parser.AddModelsFromString(text, "urdf"):
+            welded += _weld_roots(plant, instance, children)
     elif text is not None:
         parser.AddModelsFromString(text, "xml")
     elif named:
@@ -86,13 +89,19 @@ def _without_meshes(path, handler, reason: str):
     return plant, welded
 
 
-def _weld_roots(plant, instance) -> list[str]:
+CHILD = re.compile(r"""<child\b[^>]*\blink\s*=\s*["']([^"']+)["']""")
+"""A URDF joint's child link."""
+
+
+def _weld_roots(plant, instance, urdf_children=frozenset()) -> list[str]:
     """Weld to the world, where it is, each body of a URDF that no joint carries: URDF's root link, which MuJoCo
-    and Pinocchio fix to the world and Drake's parser alone would leave free (six more degrees of freedom)."""
+    and Pinocchio fix to the world and Drake's parser alone would leave free (six more degrees of freedom). A link
+    the file puts on a joint Drake does not build (a ``floating`` joint, which its parser leaves as a free body) is
+    the child of that joint, not a root: left free, as the file says (``urdf_children``: the file's child links)."""
     children = {plant.get_joint(j).child_body().index() for j in plant.GetJointIndices(instance)}
     names = []
     for index in plant.GetBodyIndices(instance):
-        if index not in children:
+        if index not in children and plant.get_body(index).name() not in urdf_children:
             body = plant.get_body(index)
             plant.WeldFrames(plant.world_frame(), body.body_frame())
             names.append(body.name())

@@ -11,6 +11,8 @@ positions, velocities, Jacobians and classical accelerations are right.
 
 from __future__ import annotations
 
+import re
+
 import pinocchio as pin
 
 from relacc.engines.base import NQ, NV, Match, by_order
@@ -32,6 +34,10 @@ def kind(joint) -> str | None:
     return None
 
 
+FLOATING = re.compile(r"""<joint\b[^>]*\btype\s*=\s*["']floating["']""")
+"""A URDF joint of type ``floating``, which Pinocchio's URDF parser reads as a free flyer itself."""
+
+
 def parse(path, urdf=None, root_free: bool = False) -> tuple["pin.Model", list[str]]:
     """Pinocchio's model of ``path`` (MJCF), or of ``urdf`` by its URDF parser, and the lines the parser printed
     (its warnings, on stdout or stderr: captured, never mixed into relacc's output).
@@ -44,9 +50,9 @@ def parse(path, urdf=None, root_free: bool = False) -> tuple["pin.Model", list[s
     text = dynamics_text(urdf)[0] if urdf is not None else None  # its kinematics and inertials only
     try:
         with captured_output(stdout=True) as printed:  # urdfdom prints its errors to stderr: they go in the message
-            if text is not None:
-                model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free else \
-                    pin.buildModelFromXML(text)
+            if text is not None:  # a URDF whose root is free by its own floating joint needs no second one
+                model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free and not FLOATING.search(
+                    text) else pin.buildModelFromXML(text)
             else:
                 model = pin.buildModelFromMJCF(str(path))
         return model, printed
