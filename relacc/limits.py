@@ -85,7 +85,7 @@ def tree_states_bytes(tree, n: float, case: int = 3) -> float:
     """Bytes to draw ``n`` states of ``tree`` in ``case`` (coordinates, speeds, rates; :data:`STATE_COPIES`), and in
     cases 1 and 3 the conversion's walk over a chunk of them
     (:data:`CONVERT_BYTES`)."""
-    arrays = 8.0 * float(n) * (max(tree.nq(2), tree.nq(3)) + 2 * tree.nv) * STATE_COPIES
+    arrays = 8.0 * float(n) * (max(tree.nq_in(2), tree.nq_in(3)) + 2 * tree.nv) * STATE_COPIES
     return arrays + (CONVERT_BYTES if int(case) != 2 else 0.0)
 
 

@@ -130,6 +130,11 @@ def test_report_shows_the_recorded_benchmark_runs(quick_report):
     assert 'id="recorded-runs"' in html
     for path in runs:
         assert f"<td>{path.name}</td>" in html
+    # issue 49 item 10: the latest run shown, the history behind a disclosure; no raw Python data on the page
+    latest = html[html.index('id="recorded-runs"'):]
+    assert f"<td>{runs[-1].name}</td>" in latest[:latest.index("</table>")]
+    assert (len(runs) == 1) == ('id="recorded-runs-earlier"' not in html)
+    assert "{&#39;" not in html and "[&#39;" not in html, "a Python dict or list printed raw"
 
 
 def test_recorded_runs_ratios_are_time_ratios(tmp_path):

@@ -182,12 +182,19 @@ def text(result) -> str:
              + f"; {data['states']} random states and the reference configuration, seed {data['seed']}",
              "readings (relacc reads the file itself and holds every engine to it; coordinates: relacc's case 2, the "
              "file's joints in order, through each engine's speed map):"]
+    done_by_relacc = []  # what relacc did to an engine's text (a weld, meshes or constraints left out): said
     for name, e in data["engines"].items():
         status = f"nq {e['nq']}, nv {e['nv']}" if e["loaded"] else f"not taking part: {e['error']}"
-        n = len(e["warnings"])
+        own = [w for w in e["warnings"] if w.startswith("relacc ")]
+        done_by_relacc += [(name, w) for w in own]
+        n = len(e["warnings"]) - len(own)
         warned = f"; {n} {'note' if name == 'relacc' else 'parser warning'}{'s' if n != 1 else ''} (in --json)" \
             if n else ""
         lines.append(f"  {name:9s} {status}{warned}")
+    said: dict = {}
+    for name, w in done_by_relacc:  # one line per thing relacc did, naming the engines it did it for
+        said.setdefault(_first_clause(w), []).append(name)
+    lines += [f"  for {', '.join(names)}: {what}" for what, names in said.items()]
     lines.append(f"compared: {', '.join(data['compared'])}")
     for f in data["findings"]:
         lines.append(f"finding: body {f['body']} ({f['place']}): {f['condition']}: {f['numbers']}")
@@ -234,6 +241,12 @@ def verdict_line(data: dict) -> str:
         return "every engine reads the file as relacc does and the dynamics agree"
     return (f"every engine that took part ({took}) reads the file as relacc does and the dynamics agree; "
             f"{', '.join(absent)} did not take part (see above)")
+
+
+def _first_clause(text: str) -> str:
+    """A note's first clause (up to its first colon or parenthesis): one short line."""
+    cut = min([i for i in (text.find(" ("), text.find(": ")) if i > 0] or [len(text)])
+    return text[:cut]
 
 
 def _short(value) -> str:

@@ -437,7 +437,7 @@ def _one_state(tree, case, q, u, effects):
     """One state's answer by the kernel's single-state lane (:func:`relacc.kernels.tree_dynamics.one_state`), or None
     for anything but one plain, valid state in case 1 or 2 whose equations are regular (the general path then decides,
     and says what is wrong)."""
-    if not (isinstance(tree, Tree) and type(case) is int and case in (1, 2) and _plain_row(q, tree.nq(case))
+    if not (isinstance(tree, Tree) and type(case) is int and case in (1, 2) and _plain_row(q, tree.nq_in(case))
             and _plain_row(u, tree.nv)):
         return None
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity

@@ -511,7 +511,7 @@ class Adapter(abc.ABC):
         if len(self.dofs) != self.reference.nv:
             raise EngineError(f"{self.engine} lacks some of the reference's joints: its states do not map back")
         qe, ve = np.atleast_2d(np.asarray(qe, dtype=float)), np.atleast_2d(np.asarray(ve, dtype=float))
-        q = np.zeros((len(qe), self.reference.nq(2)))
+        q = np.zeros((len(qe), self.reference.nq_in(2)))
         for m in self.matches:
             q[:, list(m.ref_q)] = self.q_back(m, qe[:, list(m.q)])
         T, _ = self.speed_map(q, np.zeros((len(q), self.reference.nv)))
@@ -541,7 +541,7 @@ class Adapter(abc.ABC):
             cached = self._joint_plan = (effects, resolved, planned)
         _, resolved, plan = cached
         n = len(qe)
-        q, v = np.zeros((n, self.reference.nq(2))), np.zeros((n, self.reference.nv))
+        q, v = np.zeros((n, self.reference.nq_in(2))), np.zeros((n, self.reference.nv))
         blocks = []
         for m, iq, iv, ref_q, ref_v, T in plan:
             x = self.q_back(m, qe[:, iq])

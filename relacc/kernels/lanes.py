@@ -268,7 +268,7 @@ def trace(tree, case: int, algorithm: str = "crba") -> Trace:
     folded = welded_folded(tree)
     T, (anc, depth), (mass, com, inertia, arm, free) = arrays_of(folded), dof_paths(folded), inertia_arrays(folded)
     qadr = T.qadr3 if case >= 3 else T.qadr
-    nq, nv, nb, nj = folded.nq(case), folded.nv, T.parent.shape[0], T.jtype.shape[0]
+    nq, nv, nb, nj = folded.nq_in(case), folded.nv, T.parent.shape[0], T.jtype.shape[0]
     g = _Graph()
     inputs = {}
 

@@ -176,7 +176,7 @@ def _single(tree, case, gravity):
     if cache is None:
         cache = _SINGLE[tree] = {}
     if key not in cache:
-        Q, U, tau, out = np.zeros((1, tree.nq(case))), np.zeros((1, tree.nv)), np.zeros((1, tree.nv)), \
+        Q, U, tau, out = np.zeros((1, tree.nq_in(case))), np.zeros((1, tree.nv)), np.zeros((1, tree.nv)), \
             np.zeros((1, tree.nv))
         lane = _lanes(tree, case, None)
         if lane is not None:  # the compiled function on the buffers' addresses: a call is the kernel and ctypes

@@ -49,8 +49,16 @@ class Normalized:
         return x / np.sqrt(norm2)
 
     def notes(self, fmt: str) -> list[str]:
-        return [f"{n} {what}{'s' if n > 1 else ''} not unit in the file (largest | |x|^2 - 1 | "
+        return [f"{n} {plural(what) if n > 1 else what} not unit in the file (largest | |x|^2 - 1 | "
                 f"{self.worst[what]:.2g}): normalized, as {fmt} specifies" for what, n in self.counts.items()]
+
+
+def plural(noun: str) -> str:
+    """English plural of the nouns relacc's notes count: ``joint axis`` -> ``joint axes``, ``quaternion`` ->
+    ``quaternions``."""
+    if noun.endswith("axis"):
+        return noun[:-4] + "axes"
+    return noun + ("es" if noun.endswith(("s", "x", "sh", "ch")) else "s")
 
 
 def axis_angle(axis, angle: float) -> np.ndarray:

@@ -106,7 +106,9 @@ def read_moving(path: str | os.PathLike, purpose: str) -> Reading:
     """
     reading = read(path)
     if reading.tree.nv == 0:
-        raise ModelError(f"{path}: no joint in it (relacc's reading): nothing moves, so {purpose}")
+        fixed = sum(1 for kind, _ in reading.places if kind == "joint")
+        which = f"its {fixed} joint{'s are' if fixed > 1 else ' is'} fixed" if fixed else "no joint in it"
+        raise ModelError(f"{path}: nothing moves in relacc's reading ({which}), so {purpose}")
     return reading
 
 

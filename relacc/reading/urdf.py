@@ -135,11 +135,22 @@ def read(path) -> Reading:
     index: dict[str, int] = {}
     bodies, places, ranges, damping, findings, turned = [], {}, {}, {}, [], {}
     unevaluated = []
-    mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None]
+    mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None and j.get("type") != "fixed"]
     if mimics:
         unevaluated.append(f"{len(mimics)} mimic joint{'s' if len(mimics) > 1 else ''} ({', '.join(mimics)}): "
                            "a constraint coupling joints; the comparisons are the tree's without constraints, every "
                            "joint free")
+    fixed_mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None and j.get("type") == "fixed"]
+    if fixed_mimics:  # a fixed joint has no coordinate to couple: nothing is freed
+        notes.append(f"{len(fixed_mimics)} fixed joint{'s' if len(fixed_mimics) > 1 else ''} with a <mimic> "
+                     f"({', '.join(fixed_mimics[:3])}{' ...' if len(fixed_mimics) > 3 else ''}): a fixed joint has no "
+                     "coordinate to couple; the mimic is read as nothing")
+    loops = root.findall("loop_joint")
+    if loops:  # a closed chain's extra joint (an extension of the format some robots use): a constraint
+        names = [lj.get("name") or "(unnamed)" for lj in loops]
+        unevaluated.append(f"{len(loops)} loop joint{'s' if len(loops) > 1 else ''} ({', '.join(names[:5])}"
+                           f"{', ...' if len(loops) > 5 else ''}): a constraint closing a loop; the comparisons are "
+                           "the tree's without constraints")
     spherical = [j.get("name") for j in joints.values() if j.get("type") == "spherical"]
     if spherical:
         notes.append(f"{len(spherical)} spherical joint{'s' if len(spherical) > 1 else ''} ({', '.join(spherical[:3])}"

@@ -60,7 +60,7 @@ def check_q(tree, case, q, values: bool = True) -> np.ndarray:
             naming the joint.
     """
     c = as_case(case)
-    arr = as_numbers(f"q for case {int(c)} of tree {tree.name!r}", q, tree.nq(c),
+    arr = as_numbers(f"q for case {int(c)} of tree {tree.name!r}", q, tree.nq_in(c),
                      lambda: "the joints' coordinates in order: "
                      + ", ".join(f"{j.name} ({j.type})" for _, j in tree.joints),
                      values)
@@ -140,7 +140,7 @@ def reference_q(tree: Tree, case: int) -> np.ndarray:
     """``(nq,)`` the tree as placed: free bodies where their placement puts them, balls at identity, hinges
     and slides at ``ref`` (MuJoCo's ``qpos0``)."""
     c = int(as_case(case))
-    q = np.zeros(tree.nq(c))
+    q = np.zeros(tree.nq_in(c))
     for (b, j), a in zip(tree.joints, tree.qadr(c)):
         if j.type == "free":
             body = tree.bodies[b]
@@ -159,7 +159,7 @@ def q_in_case(tree, source: int, target: int, q):
     """``q`` of ``source`` in ``target``'s layout (quaternions <-> 1-2-3 angles; nothing else changes)."""
     if (source == 3) == (target == 3):
         return q.copy()
-    out = np.empty(q.shape[:-1] + (tree.nq(target),), dtype=q.dtype)
+    out = np.empty(q.shape[:-1] + (tree.nq_in(target),), dtype=q.dtype)
     qs, qt = tree.qadr(source), tree.qadr(target)
     for (_, j), a, t in zip(tree.joints, qs, qt):
         lin = 3 if j.type == "free" else 0

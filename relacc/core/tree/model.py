@@ -294,7 +294,13 @@ class Tree:
         """Number of generalized speeds (the same in every case)."""
         return sum(j.nv for _, j in self.joints)
 
-    def nq(self, case: int) -> int:
+    @property
+    def nq(self) -> int:
+        """Number of coordinates in cases 1 and 2 (quaternions for balls and free joints), a number as :attr:`nv` is
+        (:meth:`nq_in` for a case's)."""
+        return self._nq[0]
+
+    def nq_in(self, case: int) -> int:
         """Number of coordinates in a case: quaternions in cases 1-2, 1-2-3 angles in case 3."""
         return self._nq[1 if int(case) == 3 else 0]
 

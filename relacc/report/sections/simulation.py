@@ -54,6 +54,25 @@ def _order(sweep):
     return None
 
 
+def readable(value) -> str:
+    """Plain data as a reader reads it: a dict as ``key value; ...`` (zero and empty entries left out: an effect that
+    is off), a list of numbers as ``(x, y, z)``, numbers to 4 significant digits."""
+    if isinstance(value, dict):
+        parts = [f"{k} {readable(v)}" for k, v in value.items() if v not in (None, 0, 0.0, [], {}, "")
+                 and not (isinstance(v, list) and all(x == 0 for x in v if isinstance(x, (int, float))) and v)]
+        return "; ".join(parts) if parts else "none"
+    if isinstance(value, (list, tuple)):
+        return "(" + ", ".join(readable(v) for v in value) + ")"
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)
+
+
+def _words(x) -> str:
+    """A list of words joined, anything else :func:`readable`."""
+    return ", ".join(x) if isinstance(x, list) and all(isinstance(i, str) for i in x) else readable(x)
+
+
 def build(ctx) -> dict:
     entries = ctx.simulations
     rows = []
@@ -64,12 +83,11 @@ def build(ctx) -> dict:
         rows.append({
             "name": r.scene.name, "title": r.scene.title, "description": r.scene.description,
             "case": r.scene.case, "dt": r.scene.dt, "duration": r.scene.duration, "integrator": r.scene.integrator,
-            "effects": ", ".join(f"{k} = {v}" for k, v in eff.describe().items()) or "none",
+            "effects": readable(eff.describe()),
             "position": summary["max_g2_position_difference"], "velocity": summary["max_g2_velocity_difference"],
             "engines": [{"name": n, "energy_drift": v["energy_drift"], "momentum_drift": v["momentum_drift"],
                          "seconds": v["seconds"],
-                         "applied": "; ".join(f"{k}: {', '.join(x) if isinstance(x, list) else x}"
-                                              for k, x in v["applied"].items())}
+                         "applied": "; ".join(f"{k}: {_words(x)}" for k, x in v["applied"].items())}
                         for n, v in summary["engines"].items()],
             "note": summary["note_acceleration_vs_engines"],
             "sweep": e["sweep"], "order": _order(e["sweep"]),

@@ -176,7 +176,7 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
     if urdf is None and Path(model).suffix.lower() == ".urdf":
         urdf = model
     reference = TreeRobot(reading, 2)
-    reports = {REFERENCE: EngineReport(REFERENCE, True, reading.tree.nq(2), reading.tree.nv,
+    reports = {REFERENCE: EngineReport(REFERENCE, True, reading.tree.nq_in(2), reading.tree.nv,
                                        warnings=tuple(reading.notes))}
     robots, unshared = _load(model, names, reading, urdf, reports)
     other_file = urdf is not None and Path(urdf).resolve() != Path(model).resolve()
@@ -227,14 +227,28 @@ def _massless_speeds(reading, reference, states) -> tuple:
     from relacc.reading import Finding
     from relacc.validation.robots.agreement import inertialess
 
-    M = reference.dynamics(states.q[0], np.zeros(reading.tree.nv)).M
+    tree = reading.tree
+    M = reference.dynamics(states.q[0], np.zeros(tree.nv)).M
     out = []
-    for name in inertialess(reference, M, np.arange(reading.tree.nv)):
+    for name in inertialess(reference, M, np.arange(tree.nv)):
         joint, _, body = name.partition(" (body ")
-        out.append(Finding(body.rstrip(")"), "a joint that moves no mass", f"joint {joint}: no body it moves has mass "
-                           "or inertia (its row of the mass matrix is zero): its acceleration is undefined",
-                           reading.place("joint", joint)))
+        body = body.rstrip(")")
+        b = tree.body(body)
+        moved = sum(tree.bodies[k].mass for k in _subtree(tree, b))
+        what = ("the mass it moves lies on its axis, with no inertia about it" if moved > 0 else
+                "no body it moves has mass or inertia")
+        out.append(Finding(body, "a joint that moves no mass", f"joint {joint}: {what} (its row of the mass matrix is "
+                           "zero): its acceleration is undefined", reading.place("joint", joint)))
     return tuple(out)
+
+
+def _subtree(tree, b: int) -> list[int]:
+    """Body ``b`` and every body below it (bodies come after their parents)."""
+    inside = {b}
+    for k in range(b + 1, tree.nb):
+        if tree.bodies[k].parent in inside:
+            inside.add(k)
+    return sorted(inside)
 
 
 def _load(model, names, reading, urdf, reports) -> tuple[list, list]:

@@ -49,5 +49,5 @@ def structure(reading) -> Structure:
         parts = [(tree.bodies[c].mass, k.position[c], R[c] @ tree.bodies[c].inertia @ R[c].T) for c in members]
         mass, com, inertia = combine(parts)
         links.append(Link(tree.bodies[head].name, tuple(tree.bodies[c].name for c in members), mass, com, inertia))
-    return Structure(tree.nq(2), tree.nv, tuple(joints), tuple(links), np.array(tree.gravity, dtype=float),
+    return Structure(tree.nq_in(2), tree.nv, tuple(joints), tuple(links), np.array(tree.gravity, dtype=float),
                      moving_mass(tuple(links)), tree.body_names)

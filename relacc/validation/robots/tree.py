@@ -52,7 +52,7 @@ class TreeRobot:
             ModelError: a joint the reference lacks, or the joints in another order.
         """
         if reference is self.tree:
-            return np.arange(self.tree.nv), np.arange(self.tree.nq(2))
+            return np.arange(self.tree.nv), np.arange(self.tree.nq_in(2))
         dofs, qdofs = [], []
         for _, joint in self.tree.joints:
             k = reference.joint(joint.name)
