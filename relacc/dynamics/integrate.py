@@ -217,8 +217,10 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, cas
     chosen = p.method
     anc, depth, mass, com, inertia, arm, free = p.arrays()
     gravity, E = kernel.effect_arrays(tree, effects)
-    fixed = (T, T.qadr3 if case == Case.ANGLE_RATES else T.qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
-    method, aba, width, nq, nv = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1], tree.nq_in(case), tree.nv
+    qadr = T.qadr3 if case == Case.ANGLE_RATES else T.qadr
+    fixed = (T, qadr, anc, depth, mass, com, inertia, arm, free, gravity, E)
+    method, aba, width = kernel.INTEGRATORS[integrator], chosen == "aba", anc.shape[1]
+    nq, nv = tree.nq_in(case), tree.nv
     space, clock = TreeSpace(tree, case), [0]  # clock: steps taken
     cost = (4 if method == kernel.RK4 else 1) * US_PER_SPEED * nv  # us per step of a row, for parallel_pays
 
