@@ -255,3 +255,27 @@ def test_a_graded_module_beside_a_file_named_like_an_engine_is_one_line(tmp_path
     line = one_line(run_relacc("grade", spec, "--quantity", "velocity", "--case", "1", "--states", "3",
                                cwd=tmp_path))
     assert "fn raised AttributeError" in line and "HELPER" in line, line
+
+
+def test_grade_refuses_when_its_own_references_disagree(tmp_path, monkeypatch):
+    """Issue 50 item 4: when relacc's reading and an engine's disagree (there, a DTD entity only relacc's reader
+    applied), a student whose answer equals one of them was graded WRONG against the other. grade now checks its
+    references against each other first and refuses in one line, naming both and the state. Planted here: MuJoCo's
+    truth of the arm's forearm moved by 1 mm."""
+    from relacc.errors import ModelError
+    from relacc.testing import trees
+
+    real = trees.model_truth
+
+    def moved(s, engine="relacc", quantities=trees.TREE_QUANTITIES):
+        out = real(s, engine, quantities)
+        if engine == "mujoco":
+            for e in out.values():
+                e.values[...] += 1e-3
+        return out
+
+    monkeypatch.setattr("relacc.testing.grade.model_truth", moved)
+    spec = _module(tmp_path, "def fn(tree, q, u, udot):\n    return relacc.tree_kinematics(tree, 2, q, u).position[2]\n")
+    with pytest.raises(ModelError, match=r"grade's references disagree on the position of body 'forearm'.*relacc and "
+                                         r"mujoco at state \d+, .* times their tolerance apart"):
+        check_formula(load_function(spec), quantity="position", case=2, n=3, model=str(ARM), body="forearm")

@@ -104,6 +104,7 @@ def check_formula(fn: Callable | UserFunction, *, quantity: str, case: int, n: i
               for name in ("relacc",) + tuple(available() if engines is None else engines)]
     blocks = [(name, list(range(sl.start, sl.stop))) for name, sl in zip(SPEED_NAMES[c], U_BLOCKS.values())]
     refs = [(t.source, t.values, t.scale, t.bound) for t in truths]
+    references_agree(refs, f"G2's {quantity} in case {c}", "relacc check says which engine reads the chain apart")
     return _grade(fn, chain, chain_tree(chain), 1, quantity, s, seed, refs, blocks, CHAIN_CALL, timeout,
                   matches=lambda mine, tol: _matches(mine, chain, c, quantity, s, tol))
 
@@ -145,9 +146,34 @@ def grade_body(fn: Callable | UserFunction, *, model: str | os.PathLike | Tree, 
         if quantity in t:  # an evaluator may lack the quantity in this case (MuJoCo's V of case 1, say)
             e = t[quantity]
             truths.append((engine, e.values[:, b], e.scale[:, b], e.bound[:, b]))
+    references_agree(truths, f"the {quantity} of body {tree.body_names[b]!r} in case {c}",
+                     f"relacc compare {model if isinstance(model, (str, os.PathLike)) else 'MODEL'} says where")
     blocks = [(j.name, list(range(d, d + j.nv))) for (_, j), d in zip(tree.joints, tree.dofadr)]
     return _grade(fn, tree, tree, b, quantity, s, seed, truths, blocks, TREE_CALL, timeout, body=tree.body_names[b],
                   not_evaluated=notes)
+
+
+def references_agree(truths: list, what: str, where: str) -> None:
+    """Refuse to grade when the references ``[(source, values, scale, bound)]`` disagree among themselves (each
+    against the first, relacc's, within ``tol + bound_a + bound_b``): a student's answer cannot be right against both.
+    Issue 50: relacc's reader applied a DTD's entities MuJoCo does not, and grade blamed a student whose answer was
+    relacc's.
+
+    Raises:
+        ModelError: naming the references, the state, how far apart, and where to look.
+    """
+    from relacc.errors import ModelError
+
+    tol = rounding_tolerance()
+    first, values0, scale0, bound0 = truths[0]
+    for source, values, scale, bound in truths[1:]:
+        err = np.atleast_1d(normalized_error(values, values0, np.maximum(scale, scale0)))
+        ratio = err / (tol + bound + bound0)
+        i = int(np.argmax(ratio))
+        if not ratio[i] <= 1.0:
+            raise ModelError(f"grade's references disagree on {what}: {first} and {source} at state {i}, "
+                             f"{ratio[i]:.3g} times their tolerance apart, so no answer can be graded right against "
+                             f"both; nothing graded ({where})")
 
 
 def _grade(fn, subject, tree, b: int, quantity: str, s: States, seed: int, truths: list, blocks: list, called: str,
