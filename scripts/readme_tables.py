@@ -1,4 +1,5 @@
-"""Rewrite the README's schema tables from relacc.fixtures.schema (tests/test_readme.py checks they match).
+"""Rewrite the guide's schema tables (docs/guide.md) from relacc.fixtures.schema (tests/test_readme.py checks they
+match).
 
 Run:  python scripts/readme_tables.py
 """
@@ -9,7 +10,7 @@ from pathlib import Path
 from relacc.files import write_text
 from relacc.fixtures.schema import ChainFile, SceneFile, markdown_table
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = Path(__file__).resolve().parents[1] / "docs" / "guide.md"
 
 text = README.read_text()
 for name, schema in (("chain", ChainFile), ("scene", SceneFile)):
