@@ -275,7 +275,8 @@ def test_grade_refuses_when_its_own_references_disagree(tmp_path, monkeypatch):
         return out
 
     monkeypatch.setattr("relacc.testing.grade.model_truth", moved)
-    spec = _module(tmp_path, "def fn(tree, q, u, udot):\n    return relacc.tree_kinematics(tree, 2, q, u).position[2]\n")
+    spec = _module(tmp_path, "def fn(tree, q, u, udot):\n"
+                             "    return relacc.tree_kinematics(tree, 2, q, u).position[2]\n")
     with pytest.raises(ModelError, match=r"grade's references disagree on the position of body 'forearm'.*relacc and "
                                          r"mujoco at state \d+, .* times their tolerance apart"):
         check_formula(load_function(spec), quantity="position", case=2, n=3, model=str(ARM), body="forearm")
