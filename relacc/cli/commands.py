@@ -110,7 +110,7 @@ def _is_robot(args) -> bool:
     """Whether ``--model`` names an MJCF or URDF file (checked as a tree) rather than a chain TOML."""
     from pathlib import Path
 
-    return args.model is not None and Path(args.model).suffix.lower() in (".xml", ".urdf")
+    return args.model is not None and Path(args.model).suffix.lower() in (".xml", ".urdf", ".xacro")
 
 
 CHAIN_STATES, MODEL_STATES = 1000, 20

@@ -3,14 +3,38 @@
 from __future__ import annotations
 
 import json
+import sys
 
 from relacc.core.tolerances import EPS
+
+INTERNAL = 3
+"""The exit code of relacc's own failure on a file (:data:`relacc.cli.main.INTERNAL`)."""
 
 
 def cmd_compare(args) -> int:
     from relacc import files
 
+    for given in getattr(args, "xacro_arg", None) or []:
+        name, sep, value = given.partition(":=")
+        if not sep or not name:
+            from relacc.errors import InputError
+
+            raise InputError(f"--xacro-arg {given!r}: expected NAME:=VALUE, as xacro takes its arguments")
+        from relacc.reading.xacro import ARGUMENTS
+
+        ARGUMENTS[name] = value
     found = models(args.model)
+    if getattr(args, "models_only", False):
+        from relacc.reading.read import is_description
+
+        skipped = [shown for path, shown in found if not is_description(path)]
+        found = [(path, shown) for path, shown in found if is_description(path)]
+        if skipped:
+            print(f"relacc compare: skipped {len(skipped)} file{'s' if len(skipped) > 1 else ''} that "
+                  f"{'are' if len(skipped) > 1 else 'is'} not a robot description: {', '.join(skipped[:5])}"
+                  f"{', ...' if len(skipped) > 5 else ''}", file=sys.stderr)
+        if not found:
+            return 0
     args.model = [path for path, _ in found]
     args.shown = {path: shown for path, shown in found}
     with files.inputs(args.model):  # a directory's files are inputs too: --out may be none of them
@@ -24,6 +48,17 @@ def _compare(args) -> int:
     out = None
     if args.out is not None:
         out = files.check_output_file(args.out)  # before the work: a bad path is a one-line error up front
+    ci_outputs = {flag: getattr(args, flag) for flag in ("junit", "sarif", "write_baseline")
+                  if getattr(args, flag, None) is not None}
+    for flag, path in ci_outputs.items():
+        files.check_output_file(path, f"--{flag.replace('_', '-')}")
+    accepted = None
+    if getattr(args, "baseline", None) is not None:
+        from relacc.report import ci
+
+        accepted = ci.read_baseline(args.baseline)
+    if ci_outputs or accepted is not None:
+        return _with_ci(args, out, accepted)
     many = len(args.model) > 1 or args.scheduler
     if args.verbose and (not many or args.json):
         from relacc.errors import InputError
@@ -69,11 +104,79 @@ def models(paths) -> list[tuple[str, str]]:
                              "under a directory or none") from None
 
         found = sorted(Path(root) / name for root, _, names in os.walk(path, onerror=unreadable) for name in names
-                       if Path(name).suffix.lower() in (".xml", ".urdf") and (Path(root) / name).is_file())
+                       if Path(name).suffix.lower() in (".xml", ".urdf", ".xacro") and (Path(root) / name).is_file())
         if not found:
             raise InputError(f"{given}: a directory with no .xml or .urdf file in it")
         out += [(str(p), str(p.relative_to(path))) for p in found]
     return out
+
+
+def _with_ci(args, out, accepted) -> int:
+    """The comparison with CI outputs (``--junit``, ``--sarif``, ``--write-baseline``) and a baseline (``--baseline``):
+    each model compared and timed, the usual text or JSON printed, the files written; with a baseline, a model whose
+    every failing result it accepts exits 0 (an internal error never does)."""
+    import time
+
+    from relacc import files
+    from relacc.errors import RelaccError
+    from relacc.report import ci
+    from relacc.validation.robots import compare
+
+    outcomes: list = []
+    for model in args.model:
+        start = time.perf_counter()
+        outcome: object
+        try:
+            outcome = compare(model, urdf=args.urdf, engines=args.engines, n_states=args.states, seed=args.seed)
+        except RelaccError as exc:
+            outcome = exc
+        except Exception as exc:  # noqa: BLE001 - relacc's own failure on this file: said, and the run goes on
+            from relacc.cli.main import internal_error
+
+            outcome = Internal(internal_error(exc))
+        outcomes.append((model, outcome, time.perf_counter() - start))
+    per_model = [(m, ci.results(m, o), t) for m, o, t in outcomes]
+    found = [r for _, rs, _ in per_model for r in rs]
+    if args.junit is not None:
+        files.write_text(args.junit, ci.junit(per_model, accepted or set()))
+    if args.sarif is not None:
+        files.write_text(args.sarif, ci.sarif(found, accepted))
+    if args.write_baseline is not None:
+        ci.write_baseline(args.write_baseline, found)
+    results_ = [(m, o) for m, o, _ in outcomes]
+    codes = [exit_code(o) for _, o in results_]
+    if accepted is not None:  # what the baseline accepts fails nothing
+        codes = [code if code == INTERNAL or ci.failing(rs, accepted) else 0
+                 for code, (_, rs, _) in zip(codes, per_model)]
+    if len(results_) == 1 and not isinstance(results_[0][1], Exception):
+        result = results_[0][1]
+        if out is not None:
+            from relacc.report.robot import write
+
+            write(result, out)
+        print(json.dumps(result.as_json(), indent=2) if args.json else text(result))
+    else:
+        if out is not None:
+            from relacc.report.robot import write_many
+
+            write_many([(args.shown.get(m, m), r) for m, r in results_], out)
+        if args.json:
+            print(json.dumps([{"model": m, "shown": args.shown.get(m, m), "error": str(r), "exit": exit_code(r)}
+                              if isinstance(r, Exception) else {**r.as_json(), "shown": args.shown.get(m, m),
+                                                                "exit": exit_code(r)} for m, r in results_], indent=2))
+        else:
+            if len(results_) == 1:
+                print(f"relacc compare: {results_[0][0]}: error: {results_[0][1]}")
+            else:
+                print(summary_table([(args.shown.get(m, m), r) for m, r in results_]))
+    new = sum(len(ci.failing(rs, accepted or set())) for _, rs, _ in per_model)
+    if not args.json:
+        said = [f"wrote {p}" for p in (args.junit, args.sarif, args.write_baseline) if p is not None]
+        if accepted is not None:
+            said.insert(0, f"baseline {args.baseline}: {new} new result{'s' if new != 1 else ''} (the accepted ones "
+                           "do not fail the run)")
+        print("\n".join(said))
+    return max(codes)
 
 
 def _many(args) -> int:
@@ -118,8 +221,8 @@ def _many(args) -> int:
                                                             "exit": r.exit_code} for m, r in results], indent=2))
         return max(codes)
     print(f"relacc compare: {len(results)} models: {codes.count(0)} agree, {codes.count(1)} disagree, "
-          f"{codes.count(2)} cannot be compared" + (f", {codes.count(3)} internal errors (exit 3: please report them)"
-                                                    if 3 in codes else ""))
+          f"{codes.count(2)} cannot be compared" + (f", {codes.count(INTERNAL)} internal errors (exit 3: please report "
+                                                    "them)" if INTERNAL in codes else ""))
     print(summary_table([(args.shown.get(m, m), r) for m, r in results]))
     if args.verbose:
         for (model, r), code in zip(results, codes):
@@ -144,7 +247,7 @@ def exit_code(result) -> int:
     if isinstance(result, RelaccError):
         return 2
     if isinstance(result, Exception):
-        return 3
+        return INTERNAL
     return result.exit_code
 
 

@@ -109,7 +109,7 @@ def input_paths(args) -> list[str]:
             from relacc.fixtures import MODEL_FILES
 
             out += [Path(given).parent / name for name in MODEL_FILES]
-    for key in ("urdf", "scene", "state"):
+    for key in ("urdf", "scene", "state", "baseline"):
         value = getattr(args, key, None)
         if isinstance(value, str):
             out.append(value)
@@ -125,7 +125,7 @@ def note_model_files(args) -> None:
     model = getattr(args, "model", None)
     paths = [p for p in (model if isinstance(model, list) else [model]) if isinstance(p, str)]
     paths += [p for p in (getattr(args, "urdf", None),) if isinstance(p, str)]
-    models = [p for p in paths if Path(p).suffix.lower() in (".xml", ".urdf") and Path(p).is_file()]
+    models = [p for p in paths if Path(p).suffix.lower() in (".xml", ".urdf", ".xacro") and Path(p).is_file()]
     if models:
         from relacc.reading.read import note_files
 

@@ -266,7 +266,7 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
             return one
     if backend not in ("auto", "fast", "reference"):
         raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
-    if any(np.iscomplexobj(x) for x in (q, u, tau)):  # complex steps: Kane's equations carry them, the kernels cannot
+    if any(x is not None and np.iscomplexobj(x) for x in (q, u, tau)):  # complex steps: Kane's equations carry them
         if backend == "fast":
             raise InputError("complex q, u or tau: the compiled kernel takes real numbers; backend 'auto' or "
                              "'reference' carries complex ones (complex-step derivatives) through Kane's equations")

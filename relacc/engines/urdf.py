@@ -30,7 +30,8 @@ DECLARATION = re.compile(r"^<\?xml.*?\?>", re.S)
 
 
 def is_urdf(path) -> bool:
-    return Path(path).suffix.lower() == ".urdf"
+    """A URDF, or a xacro file (its expansion is one, :mod:`relacc.reading.xacro`)."""
+    return Path(path).suffix.lower() in (".urdf", ".xacro")
 
 
 def dynamics_text(path) -> tuple[str, str | None]:
@@ -42,13 +43,23 @@ def dynamics_text(path) -> tuple[str, str | None]:
     """
     path = regular_file(path, ModelError, "model file")
     stat = path.stat()
-    return _dynamics_text(path, stat.st_mtime_ns, stat.st_size)  # each adapter asks; the file is read once
+    arguments = ()
+    if path.suffix.lower() == ".xacro":  # its expansion depends on its arguments too
+        from relacc.reading.xacro import ARGUMENTS
+
+        arguments = tuple(sorted(ARGUMENTS.items()))
+    return _dynamics_text(path, stat.st_mtime_ns, stat.st_size, arguments)  # each adapter asks; read once
 
 
 @functools.lru_cache(maxsize=8)
-def _dynamics_text(path: Path, mtime_ns: int, size: int) -> tuple[str, str | None]:
+def _dynamics_text(path: Path, mtime_ns: int, size: int, arguments: tuple = ()) -> tuple[str, str | None]:
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        if path.suffix.lower() == ".xacro":  # its expansion, in memory (the reader's and every engine's)
+            from relacc.reading.xacro import expand
+
+            text = expand(path)
+        else:
+            text = path.read_text(encoding="utf-8-sig")
         # what MuJoCo reads: whitespace before the declaration and NUL bytes after the document left out, and the
         # (optional) declaration itself, so that the engines' messages keep the file's line numbers
         body = DECLARATION.sub(lambda m: "\n" * m.group(0).count("\n"), text.lstrip()).rstrip("\x00")

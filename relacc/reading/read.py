@@ -14,8 +14,14 @@ from relacc.reading.model import Reading
 if TYPE_CHECKING:
     from relacc.core.tree import Tree
 
-SUFFIXES = {".xml": "mjcf", ".urdf": "urdf"}
-"""Description formats by file suffix (lower case; ``BALL.XML`` is an MJCF too)."""
+SUFFIXES = {".xml": "mjcf", ".urdf": "urdf", ".xacro": "urdf"}
+"""Description formats by file suffix (lower case; ``BALL.XML`` is an MJCF too; a ``.xacro`` expands to a URDF,
+:mod:`relacc.reading.xacro`)."""
+
+
+def format_of(path) -> str | None:
+    """``"mjcf"``, ``"urdf"`` (a ``.xacro`` too) or None, by the file's suffix."""
+    return SUFFIXES.get(Path(path).suffix.lower())
 
 
 def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", variant: frozenset = frozenset()
@@ -35,9 +41,9 @@ def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", vari
         raise ModelError(f"a model file: expected a path (str or pathlib.Path), got {type(path).__name__} "
                          f"{path!r:.60}")
     path = Path(path)
-    kind = SUFFIXES.get(path.suffix.lower())
+    kind = format_of(path)
     if kind is None:
-        raise ModelError(f"{path}: a model file ends in .xml (MJCF) or .urdf (URDF)")
+        raise ModelError(f"{path}: a model file ends in .xml (MJCF), .urdf (URDF) or .xacro (a URDF's source)")
     with _deep_enough():
         if kind == "urdf":
             from relacc.reading import urdf
@@ -64,13 +70,44 @@ def _deep_enough():
         sys.setrecursionlimit(before)
 
 
+DESCRIPTION_ROOTS = ("mujoco", "robot")
+"""The root elements of the descriptions relacc reads: an MJCF's ``<mujoco>``, a URDF's ``<robot>`` (a xacro's too)."""
+
+
+def is_description(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is a robot description relacc reads (its root element one of :data:`DESCRIPTION_ROOTS`),
+    judged from its first element only; False for a file that cannot be read or parsed that far (a ROS
+    ``package.xml``, a launch file, an MJCF fragment of ``<mujocoinclude>``)."""
+    from xml.parsers import expat
+
+    class Found(Exception):
+        pass
+
+    found: list[str] = []
+
+    def start(tag, attrib):
+        found.append(tag)
+        raise Found
+
+    parser = expat.ParserCreate()
+    parser.StartElementHandler = start
+    try:
+        with open(path, "rb") as fh:
+            parser.ParseFile(fh)
+    except Found:
+        pass
+    except (OSError, expat.ExpatError):
+        return False
+    return bool(found) and found[0].split(":")[-1] in DESCRIPTION_ROOTS
+
+
 def note_files(path: str | os.PathLike) -> None:
     """Every file the description at ``path`` reads (its ``<include>``s, its meshes, a URDF's ``package://`` targets)
     noted as an input of the running command (:func:`relacc.files.note_input`), before any work: an output that is
     one of them is refused up front. Only the XML is read here (no tree is built); a file that cannot be read is left
     to the command, which says why."""
     path = Path(path)
-    kind = SUFFIXES.get(path.suffix.lower())
+    kind = format_of(path)
     try:
         if kind == "urdf":
             from relacc.reading import urdf

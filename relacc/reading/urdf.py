@@ -31,7 +31,8 @@ from relacc.errors import ModelError
 from relacc.files import note_input
 from relacc.reading import frames, physical
 from relacc.reading.model import Reading
-from relacc.reading.xml import Node, number, numbers, parse_file, rounding
+from relacc.reading.xacro import is_xacro
+from relacc.reading.xml import Node, number, numbers, parse_file, parse_text, rounding
 
 JOINTS = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide", "floating": "free", "fixed": None,
           "spherical": "ball"}
@@ -64,6 +65,33 @@ def note_files(path: Path) -> None:
     _note_geometry(parse_file(path), path)
 
 
+def _xacro_root(path: Path, notes: list) -> Node:
+    """The root of a xacro file's expansion (:mod:`relacc.reading.xacro`), its elements placed in the source: where an
+    element's ``name`` is written literally once there, at that line, its children with it; else in the file, without
+    a line (said once in ``notes``)."""
+    from relacc.reading.xacro import expand, source_lines
+
+    note_input(path)
+    root = parse_text(expand(path), str(path), notes)
+    lines = source_lines(path)
+    unplaced = 0
+
+    def place(node: Node, inherited: int) -> None:
+        nonlocal unplaced
+        line = lines.get(node.get("name") or "", inherited)
+        if line == 0 and node.tag in ("link", "joint"):
+            unplaced += 1
+        node.line = line
+        for child in node.children:
+            place(child, line)
+
+    place(root, 0)
+    notes.append(f"{path}: expanded by xacro" + (f"; {unplaced} links and joints come from its macros, whose source "
+                                                  "lines are not known: their places name the file only"
+                                                  if unplaced else ""))
+    return root
+
+
 def _note_geometry(root: Node, path: Path) -> None:
     """The files the geometry names (``<mesh filename>``, ``<texture filename>``) that can be found: inputs of the
     running command, which no output may replace."""
@@ -83,7 +111,7 @@ def read(path) -> Reading:
     """
     path = Path(path)
     notes: list[str] = []
-    root = parse_file(path, notes)
+    root = _xacro_root(path, notes) if is_xacro(path) else parse_file(path, notes)
     if root.tag != "robot":
         raise ModelError(f"{root.place}: the root element is <{root.tag}>; a URDF's is <robot>")
     _note_geometry(root, path)

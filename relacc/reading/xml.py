@@ -33,8 +33,8 @@ class Node:
 
     @property
     def place(self) -> str:
-        """``file:line`` of the element."""
-        return f"{self.file}:{self.line}"
+        """``file:line`` of the element (the file alone where its line is not known: a xacro macro's element)."""
+        return f"{self.file}:{self.line}" if self.line > 0 else self.file
 
     def get(self, key: str, default=None):
         return self.attrib.get(key, default)

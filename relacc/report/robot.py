@@ -94,7 +94,7 @@ def write(result, out) -> str:
 def render_many(results) -> str:
     """One page for several models: ``results`` ``[(model path, RobotComparison or the RelaccError that stopped
     it)]``; a summary table with a row per model, linked to each compared model's sections."""
-    rows = []
+    rows: list[dict] = []
     for model, r in results:
         if isinstance(r, Exception):  # an input error (2), or relacc's own failure on that file (3)
             rows.append({"model": str(model), "exit": 2 if isinstance(r, RelaccError) else 3, "error": str(r),

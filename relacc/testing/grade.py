@@ -123,7 +123,7 @@ def grade_body(fn: Callable | UserFunction, *, model: str | os.PathLike | Tree, 
     if quantity not in TREE_QUANTITIES:
         raise InputError(f"unknown quantity {quantity!r} for a model's body: accepted are {', '.join(TREE_QUANTITIES)}")
     notes: tuple = ()
-    if isinstance(model, (str, os.PathLike)) and Path(model).suffix.lower() in (".xml", ".urdf"):
+    if isinstance(model, (str, os.PathLike)) and Path(model).suffix.lower() in (".xml", ".urdf", ".xacro"):
         from relacc.reading import read
 
         reading = read(model)

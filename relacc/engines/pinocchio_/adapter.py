@@ -17,7 +17,7 @@ from relacc.core.rotations import (
 )
 from relacc.engines.base import Adapter, BuiltJoint, Link, Loop, Points, Structure, fixed_step_only, moving_mass
 from relacc.engines.pinocchio_.model import match, parse, split_composites
-from relacc.engines.urdf import dynamics_text
+from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import EngineError, ModelError
 from relacc.limits import require_memory
 
@@ -60,7 +60,7 @@ class PinocchioAdapter(Adapter):
     absolute_velocities = frozenset({"acceleration", "Vdot"})  # measured: tests/test_hardcases.py
 
     def __init__(self, path, reference, urdf=None, split=False, armature_as_case2=False):
-        if urdf is None and Path(path).suffix.lower() == ".urdf":  # a URDF goes to Pinocchio's URDF parser
+        if urdf is None and is_urdf(path):  # a URDF goes to Pinocchio's URDF parser
             urdf = path
         self.from_urdf = urdf is not None
         root_free = bool(reference.joints) and reference.joints[0][1].type == "free"

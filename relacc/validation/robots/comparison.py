@@ -36,6 +36,7 @@ from relacc.errors import EngineError, ModelError
 from relacc.files import regular_file
 from relacc.limits import require_comparable
 from relacc.reading import read_moving
+from relacc.reading.read import format_of
 from relacc.validation.robots.agreement import QUANTITIES, compare_dynamics, random_states
 from relacc.validation.robots.audit import Item, Scales, differences, merge
 from relacc.validation.robots.causes import READINGS, Cause
@@ -173,7 +174,7 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
         regular_file(urdf, ModelError, "model file")
     reading = read_moving(model, "there are no dynamics to compare")
     require_comparable(reading.tree, n_states, "comparing")
-    if urdf is None and Path(model).suffix.lower() == ".urdf":
+    if urdf is None and format_of(model) == "urdf":
         urdf = model
     reference = TreeRobot(reading, 2)
     reports = {REFERENCE: EngineReport(REFERENCE, True, reading.tree.nq_in(2), reading.tree.nv,

@@ -1,0 +1,92 @@
+"""A ``.xacro`` file, the source form of most ROS robot descriptions, expanded into the URDF it describes.
+
+The expansion is the ``xacro`` package's (PyPI; ROS's own macro processor, without ROS): properties, macros,
+conditionals, includes and ``$(arg name)`` with the arguments given (``relacc compare --xacro-arg name:=value``,
+:data:`ARGUMENTS`). ``$(find pkg)`` is resolved without ROS as a URDF's ``package://`` is
+(:func:`relacc.reading.urdf.resolve_uri`'s rule: the nearest directory above the file that is ``pkg`` or holds it).
+The text stays in memory: relacc's reader and every engine read the same expansion, and nothing is written.
+
+Places: xacro keeps no line numbers, so an element of the expansion is placed in the source where its ``name`` is
+written literally once in the xacro file (a link, a joint) and its children with it; an element whose name a macro
+builds (``${prefix}_link``) is placed in the file without a line, and the reading's notes say how many.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import re
+import threading
+from pathlib import Path
+
+from relacc.errors import ModelError
+
+ARGUMENTS: dict[str, str] = {}
+"""``$(arg name)`` values for every expansion in this process (the command line's ``--xacro-arg name:=value``)."""
+
+_LOCK = threading.Lock()  # xacro keeps its state in module globals
+
+
+def is_xacro(path) -> bool:
+    return str(path).lower().endswith(".xacro")
+
+
+def expand(path) -> str:
+    """The URDF text the xacro file at ``path`` expands to.
+
+    Raises:
+        ModelError: the xacro package is missing, or the expansion fails (its message, one line).
+    """
+    from relacc.files import regular_file
+
+    path = regular_file(path, ModelError, "xacro file")
+    try:
+        import xacro
+        import xacro.substitution_args as subst
+    except ImportError:  # pragma: no cover - xacro is a dependency
+        raise ModelError(f"{path}: reading a .xacro file needs the xacro package (pip install xacro)") from None
+    from relacc.isolate import captured_output
+
+    with _LOCK, _find_without_ros(subst, path), captured_output() as said:
+        try:
+            doc = xacro.process_file(str(path), mappings=dict(ARGUMENTS))
+        except Exception as exc:  # xacro raises XacroException, and whatever a macro's Python raises
+            text = " ".join(str(exc).split())
+            where = " ".join(" ".join(said).split())
+            raise ModelError(f"{path}: xacro cannot expand it: {text}" + (f" ({where[:300]})" if where else ""))
+    return doc.toprettyxml(indent="  ")
+
+
+@contextlib.contextmanager
+def _find_without_ros(subst, path: Path):
+    """``$(find pkg)`` resolved as a ``package://`` target is, for the expansion's duration."""
+    saved = subst._eval_find
+
+    def find(pkg):
+        for folder in path.resolve().parents:
+            if folder.name == pkg:
+                return str(folder)
+            if (folder / pkg).is_dir():
+                return str(folder / pkg)
+        raise ModelError(f"{path}: $(find {pkg}): no directory {pkg!r} above the file (relacc finds a package as "
+                         "ROS's layout puts it, without ROS)")
+
+    subst._eval_find = find
+    try:
+        yield
+    finally:
+        subst._eval_find = saved
+
+
+NAME = re.compile(r"""\bname\s*=\s*["']([^"'$]+)["']""")
+
+
+def source_lines(path) -> dict[str, int]:
+    """``{name: line}`` for each ``name="..."`` written literally exactly once in the xacro file (1-based)."""
+    counts: dict[str, list[int]] = {}
+    for number, line in enumerate(Path(path).read_text(encoding="utf-8-sig").splitlines(), start=1):
+        for name in NAME.findall(line):
+            counts.setdefault(name, []).append(number)
+    return {name: lines[0] for name, lines in counts.items() if len(lines) == 1}
+
+
+__all__ = ["ARGUMENTS", "expand", "is_xacro", "source_lines"]

@@ -1,0 +1,141 @@
+"""relacc in a description repository's CI (issue 53): JUnit XML and SARIF 2.1.0 pointing at the element's file and
+line, a baseline of accepted results, and the rules' fixed list (docs/ci.md)."""
+
+import json
+import xml.etree.ElementTree as ET
+
+import pytest
+from sarif_pydantic import Sarif
+
+from relacc.cli import main
+from relacc.report.ci import RULES
+
+GOOD = """<robot name="good"><link name="base"/>
+  <link name="arm"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+BAD = GOOD.replace('izz="0.02"', 'izz="0.05"').replace('"good"', '"bad"')
+"""The same arm whose link breaks the triangle inequality (0.01 + 0.02 < 0.05): a finding at line 2, its <inertial>."""
+
+
+@pytest.fixture
+def repo(tmp_path, monkeypatch):
+    """A description repository: two URDFs under robots/, relacc run from its root (as CI runs it)."""
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "robots" / "good.urdf").write_text(GOOD)
+    (tmp_path / "robots" / "bad.urdf").write_text(BAD)
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def test_junit_has_a_testcase_per_model_failing_at_file_and_line(repo, capsys):
+    assert main(["compare", "robots", "--states", "2", "--engines", "pinocchio,mujoco", "--junit", "out/j.xml"]) == 1
+    suite = ET.parse(repo / "out" / "j.xml").getroot().find("testsuite")
+    cases = {c.get("name"): c for c in suite.findall("testcase")}
+    assert set(cases) == {"robots/bad.urdf", "robots/good.urdf"} and suite.get("failures") == "1"
+    assert cases["robots/good.urdf"].find("failure") is None
+    failure = cases["robots/bad.urdf"].find("failure")
+    lines = failure.text.splitlines()
+    assert any(line.startswith("robots/bad.urdf:2: body arm: principal moments that break the triangle inequality")
+               and "[RELACC001 non-physical-body]" in line for line in lines), lines
+
+
+def test_sarif_is_sarif_2_1_0_and_points_at_the_element(repo, capsys):
+    """The file parses as SARIF 2.1.0 (sarif-pydantic's model of the standard, every rule declared once); the finding
+    is a result of rule RELACC001, level error, at robots/bad.urdf line 2, where the link's <inertial> starts."""
+    assert main(["compare", "robots", "--states", "2", "--engines", "pinocchio,mujoco", "--sarif", "s.sarif"]) == 1
+    data = json.loads((repo / "s.sarif").read_text())
+    log = Sarif.model_validate(data)
+    assert log.version == "2.1.0" and len(log.runs) == 1
+    driver = data["runs"][0]["tool"]["driver"]
+    assert [r["id"] for r in driver["rules"]] == list(RULES) and driver["name"] == "relacc"
+    (found,) = [r for r in data["runs"][0]["results"] if r["ruleId"] == "RELACC001"]
+    assert found["level"] == "error" and driver["rules"][found["ruleIndex"]]["id"] == "RELACC001"
+    where = found["locations"][0]["physicalLocation"]
+    assert where == {"artifactLocation": {"uri": "robots/bad.urdf"}, "region": {"startLine": 2}}
+    assert "<inertial>" in (repo / "robots" / "bad.urdf").read_text().splitlines()[1]
+
+
+def test_a_baseline_accepts_known_results_and_fails_on_new_ones(repo, capsys):
+    """--write-baseline records what fails now; with --baseline the same tree exits 0, and a new problem (the good arm
+    broken too) exits 1, its SARIF results marked new, the accepted ones unchanged. A line moved by an edit elsewhere
+    keeps a result accepted (fingerprints name what, not where)."""
+    args = ["compare", "robots", "--states", "2", "--engines", "pinocchio,mujoco"]
+    assert main(args + ["--write-baseline", "base.json"]) == 1
+    assert main(args + ["--baseline", "base.json"]) == 0
+    (repo / "robots" / "bad.urdf").write_text("\n\n" + BAD)  # the same finding two lines down
+    assert main(args + ["--baseline", "base.json"]) == 0
+    (repo / "robots" / "good.urdf").write_text(BAD.replace('"bad"', '"good"'))
+    assert main(args + ["--baseline", "base.json", "--sarif", "s.sarif"]) == 1
+    states = {(r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"], r["ruleId"]): r["baselineState"]
+              for r in json.loads((repo / "s.sarif").read_text())["runs"][0]["results"]}
+    assert states[("robots/good.urdf", "RELACC001")] == "new" and states[("robots/bad.urdf", "RELACC001")] == "unchanged"
+    assert "new result" in capsys.readouterr().out
+    (repo / "junk.json").write_text("[1, 2]")
+    assert main(args + ["--baseline", "junk.json"]) == 2
+    assert "not a relacc baseline" in capsys.readouterr().err
+
+
+def test_a_refusal_is_a_result_and_an_error_in_junit(repo, capsys):
+    (repo / "robots" / "broken.urdf").write_text("<robot name='x'><link name='a'/><joint name='j' type='planar'>"
+                                                 "<parent link='a'/><child link='b'/></joint></robot>")
+    assert main(["compare", "robots", "--states", "2", "--engines", "mujoco", "--junit", "j.xml", "--sarif",
+                 "s.sarif"]) == 2
+    cases = {c.get("name"): c for c in ET.parse(repo / "j.xml").getroot().iter("testcase")}
+    assert cases["robots/broken.urdf"].find("error") is not None
+    results = json.loads((repo / "s.sarif").read_text())["runs"][0]["results"]
+    assert any(r["ruleId"] == "RELACC008" for r in results)
+
+
+XACRO = """<?xml version="1.0"?>
+<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:arg name="mass" default="1.0"/>
+  <xacro:property name="len" value="0.3"/>
+  <xacro:macro name="box_inertial" params="m x y z">
+    <inertial><origin xyz="${x/2} 0 0"/><mass value="${m}"/>
+      <inertia ixx="${m*(y*y+z*z)/12}" ixy="0" ixz="0" iyy="${m*(x*x+z*z)/12}" iyz="0" izz="${IZZ}"/>
+    </inertial>
+  </xacro:macro>
+  <link name="base"/>
+  <link name="upper"><xacro:box_inertial m="$(arg mass)" x="${len}" y="0.05" z="0.05"/></link>
+  <link name="lower"><xacro:box_inertial m="0.5" x="${len}" y="0.04" z="0.04"/></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="lower"/><origin xyz="${len} 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("izz,verdict", [("m*(x*x+y*y)/12", 0), ("m*(x*x+y*y)", 1)])
+def test_a_xacro_is_read_directly_with_its_expansions_verdict(repo, capsys, izz, verdict):
+    """Issue 53 item 5: relacc compare robot.urdf.xacro expands it with the xacro package (properties, macros, an
+    argument) and gives its expansion's verdict; a finding is placed at the link's line in the xacro source (its name
+    written there once), not in an expansion nobody has. --xacro-arg sets an argument."""
+    import xacro
+
+    path = repo / "robots" / "arm.urdf.xacro"
+    path.write_text(XACRO.replace("${IZZ}", "${" + izz + "}"))
+    (repo / "robots" / "good.urdf").unlink()
+    (repo / "robots" / "bad.urdf").unlink()
+    expanded = repo / "robots" / "expanded.urdf"
+    expanded.write_text(xacro.process_file(str(path)).toprettyxml())
+    assert main(["compare", str(expanded), "--states", "2", "--json"]) == verdict
+    theirs = json.loads(capsys.readouterr().out)
+    assert main(["compare", "robots/arm.urdf.xacro", "--states", "2", "--json", "--sarif", "s.sarif"]) == verdict
+    mine = json.loads(capsys.readouterr().out)
+    assert [f["condition"] for f in mine["findings"]] == [f["condition"] for f in theirs["findings"]]
+    assert mine["compared"] == theirs["compared"] == ["relacc", "pinocchio", "mujoco", "drake"] or verdict == 1
+    if verdict:
+        (found,) = [r for r in json.loads((repo / "s.sarif").read_text())["runs"][0]["results"]
+                    if r["ruleId"] == "RELACC001" and "upper" in r["message"]["text"]]
+        assert found["locations"][0]["physicalLocation"] == {"artifactLocation": {"uri": "robots/arm.urdf.xacro"},
+                                                              "region": {"startLine": 11}}
+    else:
+        assert main(["compare", "robots/arm.urdf.xacro", "--states", "2", "--json", "--xacro-arg", "mass:=2.5"]) == 0
+        heavier = json.loads(capsys.readouterr().out)
+        links = {x["name"]: x["mass"] for x in heavier["geometry"]["relacc"]["links"]}
+        assert links["upper"] == 2.5
