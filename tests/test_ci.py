@@ -72,7 +72,8 @@ def test_a_baseline_accepts_known_results_and_fails_on_new_ones(repo, capsys):
     assert main(args + ["--baseline", "base.json", "--sarif", "s.sarif"]) == 1
     states = {(r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"], r["ruleId"]): r["baselineState"]
               for r in json.loads((repo / "s.sarif").read_text())["runs"][0]["results"]}
-    assert states[("robots/good.urdf", "RELACC001")] == "new" and states[("robots/bad.urdf", "RELACC001")] == "unchanged"
+    assert states[("robots/good.urdf", "RELACC001")] == "new"
+    assert states[("robots/bad.urdf", "RELACC001")] == "unchanged"
     assert "new result" in capsys.readouterr().out
     (repo / "junk.json").write_text("[1, 2]")
     assert main(args + ["--baseline", "junk.json"]) == 2
@@ -139,3 +140,43 @@ def test_a_xacro_is_read_directly_with_its_expansions_verdict(repo, capsys, izz,
         heavier = json.loads(capsys.readouterr().out)
         links = {x["name"]: x["mass"] for x in heavier["geometry"]["relacc"]["links"]}
         assert links["upper"] == 2.5
+
+
+@pytest.mark.slow
+def test_the_pre_commit_hook_fails_on_a_non_physical_link_and_passes_once_it_is_fixed(tmp_path):
+    """Issue 53 item 4: in a temporary git repository holding two URDFs (one with a link that breaks the triangle
+    inequality) and a ROS package.xml, `pre-commit try-repo <relacc> relacc-compare --all-files` fails and names the
+    link's file and line, skipping package.xml with a word; with the link fixed it passes. pre-commit installs relacc
+    into its own environment from this checkout (its cache kept apart, in the test's directory)."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    repo = tmp_path / "descriptions"
+    (repo / "robots").mkdir(parents=True)
+    (repo / "robots" / "good.urdf").write_text(GOOD)
+    (repo / "robots" / "bad.urdf").write_text(BAD)
+    (repo / "package.xml").write_text('<package format="2"><name>descriptions</name></package>')
+    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home"), "GIT_AUTHOR_NAME": "t",
+           "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t", "GIT_COMMITTER_EMAIL": "t@t"}
+
+    def git(*args):
+        subprocess.run(["git", *args], cwd=repo, check=True, capture_output=True, env=env)
+
+    def hook():
+        return subprocess.run([sys.executable, "-m", "pre_commit", "try-repo", str(root), "relacc-compare",
+                               "--all-files"], cwd=repo, capture_output=True, text=True, env=env, timeout=1500)
+
+    git("init", "-q")
+    git("add", "-A")
+    git("commit", "-qm", "descriptions")
+    out = hook()
+    assert out.returncode == 1, out.stdout[-3000:]
+    assert "robots/bad.urdf:2: body arm: principal moments that break the triangle inequality" in out.stdout
+    assert "skipped 1 file that is not a robot description: package.xml" in out.stdout
+    (repo / "robots" / "bad.urdf").write_text(GOOD.replace('"good"', '"bad"'))
+    git("commit", "-qam", "fixed")
+    out = hook()
+    assert out.returncode == 0, out.stdout[-3000:]

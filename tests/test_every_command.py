@@ -458,3 +458,28 @@ def test_a_models_scene_is_observed_where_something_moves(tmp_path, capsys):
     assert "every error is below 1e-12 m" in why_no_order(rows, "mujoco", "rk4")
     rows = [{"engine": "mujoco", "integrator": "euler", "error": e, "diverged": False} for e in (1e-3, 1e-1, 2e-1)]
     assert "only 1 of its steps" in why_no_order(rows, "mujoco", "euler")
+
+
+COMMENTED_FLOATING = """<robot name="commented">
+  <!-- <link name="world"/>
+  <joint name="floating_base_joint" type="floating"><parent link="world"/><child link="base"/></joint> -->
+  <link name="base"><inertial><mass value="2"/><inertia ixx="0.02" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.04"/>
+  </inertial></link>
+  <link name="arm"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_commented_out_floating_joint_is_no_joint(tmp_path):
+    """The floating root's reading must not see a joint in a comment: example-robot-data's G1 comments its world link
+    and `floating_base_joint` out, and Drake's adapter then left its pelvis free (35 speeds against 29)."""
+    from relacc.validation.robots import compare
+
+    path = tmp_path / "commented.urdf"
+    path.write_text(COMMENTED_FLOATING)
+    result = compare(path, n_states=2, seed=1)
+    assert {e: r.nv for e, r in result.engines.items()} == {e: 1 for e in result.engines}, result.engines
+    assert result.agree

@@ -84,7 +84,6 @@ def test_cli_tradeoff_json(capsys):
     assert "relacc/rk4" in out["orders"]
 
 
-@pytest.mark.slow
 def _fastest_by_mujoco(path, seed: int = 0) -> str:
     """The body whose mass centre moves fastest at the start of a model's default scene (qpos0, standard-normal speeds
     from ``default_rng(seed)``), by MuJoCo itself: a central difference of its ``xipos`` along ``qvel`` (exact to
@@ -107,6 +106,7 @@ def _fastest_by_mujoco(path, seed: int = 0) -> str:
     return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(np.argmax(speed)))
 
 
+@pytest.mark.slow
 def test_tradeoff_takes_a_model_file(tmp_path):
     """relacc tradeoff --model hopper.xml: every engine's fixed-step integrators on the model's default scene, observed
     at the body whose mass centre moves fastest at the start (MuJoCo's own reading says which); the

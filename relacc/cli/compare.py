@@ -224,6 +224,8 @@ def _many(args) -> int:
           f"{codes.count(2)} cannot be compared" + (f", {codes.count(INTERNAL)} internal errors (exit 3: please report "
                                                     "them)" if INTERNAL in codes else ""))
     print(summary_table([(args.shown.get(m, m), r) for m, r in results]))
+    for line in findings_lines(results):
+        print(line)
     if args.verbose:
         for (model, r), code in zip(results, codes):
             print()
@@ -249,6 +251,21 @@ def exit_code(result) -> int:
     if isinstance(result, Exception):
         return INTERNAL
     return result.exit_code
+
+
+def findings_lines(results) -> list[str]:
+    """Each finding about a file, and each difference no known reading explains, as ``file:line: what``: what a
+    linter prints, and what an editor or CI log links to the element."""
+    from relacc.report.ci import results as ci_results
+
+    out = []
+    for model, r in results:
+        if isinstance(r, Exception):
+            continue
+        for found in ci_results(model, r):
+            if found.rule in ("RELACC001", "RELACC003", "RELACC005"):
+                out.append(f"  {found.located()}")
+    return out
 
 
 def summary_table(results) -> str:

@@ -327,11 +327,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                    help="an argument of the .xacro files compared ($(arg NAME)), as ROS's xacro takes it; repeat for "
                         "several")
-    p.add_argument("--models-only", action="store_true", help="skip, and say so in one line, the files given that "
-                   "are not robot descriptions (an XML whose root is neither <mujoco> nor <robot>: a ROS package.xml, a "
-                   "launch file, an MJCF fragment): what a pre-commit hook passes")
-    p.add_argument("--junit", metavar="FILE.xml", help="also write JUnit XML: one testcase per model, failing with each "
-                   "result at file:line (docs/ci.md)")
+    p.add_argument("--models-only", action="store_true",
+                   help="skip, and say so in one line, the files given that are not robot descriptions (an XML whose "
+                        "root is neither <mujoco> nor <robot>: a ROS package.xml, a launch file, an MJCF fragment): "
+                        "what a pre-commit hook passes")
+    p.add_argument("--junit", metavar="FILE.xml",
+                   help="also write JUnit XML: one testcase per model, failing with each result at file:line "
+                        "(docs/ci.md)")
     p.add_argument("--sarif", metavar="FILE.sarif", help="also write SARIF 2.1.0 (GitHub code scanning shows it "
                    "inline): one result per finding, audit difference, dynamics row and refusal, each with its rule, "
                    "level and file:line (docs/ci.md)")

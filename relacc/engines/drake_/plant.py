@@ -62,7 +62,7 @@ def _parse(path, named: bool, text: str | None = None):
     welded = []
     if is_urdf(path):  # its kinematics and inertials only
         text = dynamics_text(path)[0]
-        children = set(CHILD.findall(text))
+        children = set(CHILD.findall(COMMENT.sub("", text)))  # a commented-out joint is no joint
         for instance in parser.AddModelsFromString(text, "urdf"):
             welded += _weld_roots(plant, instance, children)
     elif text is not None:
@@ -91,6 +91,7 @@ def _without_meshes(path, handler, reason: str):
 
 CHILD = re.compile(r"""<child\b[^>]*\blink\s*=\s*["']([^"']+)["']""")
 """A URDF joint's child link."""
+COMMENT = re.compile(r"<!--.*?-->", re.S)
 
 
 def _weld_roots(plant, instance, urdf_children=frozenset()) -> list[str]:

@@ -51,8 +51,9 @@ def parse(path, urdf=None, root_free: bool = False) -> tuple["pin.Model", list[s
     try:
         with captured_output(stdout=True) as printed:  # urdfdom prints its errors to stderr: they go in the message
             if text is not None:  # a URDF whose root is free by its own floating joint needs no second one
-                model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free and not FLOATING.search(
-                    text) else pin.buildModelFromXML(text)
+                floating = FLOATING.search(re.sub(r"<!--.*?-->", "", text, flags=re.S))  # not a commented-out one
+                model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free and not floating else \
+                    pin.buildModelFromXML(text)
             else:
                 model = pin.buildModelFromMJCF(str(path))
         return model, printed
