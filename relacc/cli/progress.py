@@ -39,10 +39,15 @@ COMPILE_NOTICE = ("relacc: compiling its kernels for this machine (once: numba c
 ``simulate --model`` after install compiled for 444 s at load 12, with no word)."""
 
 
+NOTICE = {"listening": False, "said": False, "quiet": False}
+"""The compile notice's state in this process: one listener, one notice (``main`` may run many times in a process)."""
+
+
 def compile_notice(quiet: bool) -> None:
     """Say :data:`COMPILE_NOTICE` on stderr, once per process, when numba starts compiling one of relacc's kernels
     (a cached kernel is loaded, not compiled: nothing said). Nothing with ``quiet``, or without numba."""
-    if quiet:
+    NOTICE["quiet"] = quiet
+    if NOTICE["listening"]:
         return
     try:
         from numba.core import event
@@ -50,13 +55,11 @@ def compile_notice(quiet: bool) -> None:
         return
 
     class Notice(event.Listener):
-        said = False
-
         def on_start(self, ev) -> None:
             dispatcher = (ev.data or {}).get("dispatcher")
             module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
-            if not self.said and module.startswith("relacc."):
-                self.said = True
+            if not NOTICE["said"] and not NOTICE["quiet"] and module.startswith("relacc."):
+                NOTICE["said"] = True
                 end_line()
                 print(COMPILE_NOTICE, file=sys.stderr, flush=True)
 
@@ -64,3 +67,4 @@ def compile_notice(quiet: bool) -> None:
             pass
 
     event.register("numba:compile", Notice())
+    NOTICE["listening"] = True

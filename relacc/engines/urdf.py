@@ -43,7 +43,7 @@ def dynamics_text(path) -> tuple[str, str | None]:
     """
     path = regular_file(path, ModelError, "model file")
     stat = path.stat()
-    arguments = ()
+    arguments: tuple[tuple[str, str], ...] = ()
     if path.suffix.lower() == ".xacro":  # its expansion depends on its arguments too
         from relacc.reading.xacro import ARGUMENTS
 
