@@ -14,6 +14,7 @@ import numpy as np
 import relacc
 from relacc import files, fixtures
 from relacc.cli.compare import cmd_compare  # noqa: E402,F401  (dispatched by name from main)
+from relacc.cli.diff import cmd_diff  # noqa: E402,F401  (dispatched by name from main)
 from relacc.cli.progress import bar, end_line
 from relacc.cli.progress import line as progress_line
 from relacc.core.conventions import CASE_NAMES, CONVENTIONS, COORDINATES, QUANTITIES, SPEEDS

@@ -11,9 +11,12 @@ INTERNAL = 3
 """The exit code of relacc's own failure on a file (:data:`relacc.cli.main.INTERNAL`)."""
 
 
-def cmd_compare(args) -> int:
-    from relacc import files
+def xacro_arguments(args) -> None:
+    """The ``--xacro-arg NAME:=VALUE`` given, set for the reading of the .xacro files (:mod:`relacc.reading.xacro`).
 
+    Raises:
+        InputError: an argument not of the form ``NAME:=VALUE``.
+    """
     for given in getattr(args, "xacro_arg", None) or []:
         name, sep, value = given.partition(":=")
         if not sep or not name:
@@ -23,6 +26,12 @@ def cmd_compare(args) -> int:
         from relacc.reading.xacro import ARGUMENTS
 
         ARGUMENTS[name] = value
+
+
+def cmd_compare(args) -> int:
+    from relacc import files
+
+    xacro_arguments(args)
     found = models(args.model)
     if getattr(args, "models_only", False):
         from relacc.reading.read import is_description

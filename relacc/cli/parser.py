@@ -344,6 +344,30 @@ def build_parser() -> argparse.ArgumentParser:
     _scheduler(p, "one task per model")
     _quiet(p)
 
+    p = _sub(sub, "diff", "are two descriptions (a URDF and its MJCF) the same robot? what differs, where",
+             "relacc reads both files itself (MJCF, URDF or xacro, each by its format's specification), fuses each "
+             "body welded to another into one moving part (a URDF link on a fixed joint, an MJCF body without "
+             "joints; bodies welded to the world are the world's), matches parts and joints by name, then by "
+             "structure, and compares what the physics depends on whatever frames each file chose: each part's mass, "
+             "mass centre and inertia, each joint's type, axis, anchor, zero, armature, damping, spring and range, "
+             "and gravity, at the reference configuration, after the one rigid motion that places B's robot on A's. "
+             "Each difference is classified (changed, added, dropped, rounded, placement, convention, unmatched) and "
+             "located (file:line in each). Then the mass matrix, bias forces and forward dynamics of both at matched "
+             "coordinates. A difference counts beyond what printing each number to 6 significant digits can change "
+             "(relative 5e-6 of the magnitude of the terms it is formed from; --rtol widens it). Exit 0: the same "
+             "robot; 1: differences; 2: a file relacc cannot read.",
+             ["relacc diff robot.urdf robot.xml", "relacc diff old.urdf new.urdf --json > changes.json",
+              "relacc diff arm.urdf.xacro arm.xml --xacro-arg prefix:=left_ --rtol 1e-4"])
+    p.add_argument("model", metavar="FILE", nargs=2, help="A and B: two descriptions (.xml MJCF, .urdf, .xacro)")
+    p.add_argument("--rtol", type=_positive_float(), default=None, metavar="R",
+                   help="the relative error allowed each printed number (default 5e-6: half a unit in the 6th "
+                        "significant digit; only wider is accepted)")
+    _states(p, 8, "random states besides the reference configuration, for the dynamics")
+    _seed(p)
+    _json(p, "the differences (docs/diff.md gives the contract)")
+    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
+                   help="an argument of a .xacro file ($(arg NAME)); repeat for several")
+
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
              "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "
              "Richardson, complex step and the engines (on --model's chain); whole trajectories by every "

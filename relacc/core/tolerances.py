@@ -138,6 +138,27 @@ def triangle_violation(moments, written: float = 0.0) -> str:
     return ""
 
 
+PRINTED_DIGITS = 6
+"""Significant digits a description file is assumed to print its numbers with (MuJoCo's saved XML, most exporters):
+``relacc diff`` counts a difference between two files only beyond what printing to that many digits can change."""
+
+PRINTED_RTOL = 0.5 * 10.0 ** (1 - PRINTED_DIGITS)
+"""5e-6: half a unit in the :data:`PRINTED_DIGITS`-th significant digit, relative to the number printed (at most; a
+number whose leading digit is 9 is printed 10 times closer)."""
+
+PRINTED_ANGLE = PRINTED_RTOL * np.pi
+"""rad: the largest rotation one printed orientation may be off by: an angle up to pi printed to
+:data:`PRINTED_DIGITS` digits (a URDF's ``rpy``; a quaternion's unit components are off by less)."""
+
+
+def printed_tolerance(scale, rtol: float = PRINTED_RTOL) -> float:
+    """How far two files' numbers for one quantity may be apart from printing alone: each file's ``rtol`` of the
+    magnitude of the written terms the quantity is formed from (``scale``, in the quantity's units, see
+    :mod:`relacc.validation.diff` for each quantity's), plus the float64 rounding of forming it
+    (``ROUNDING_FACTOR * eps``)."""
+    return (2.0 * float(rtol) + ROUNDING_FACTOR * EPS) * float(scale)
+
+
 def rounding_tolerance(factor: float = ROUNDING_FACTOR) -> float:
     """Tolerance on a normalized error that comes from rounding only: ``factor * eps``."""
     return factor * EPS

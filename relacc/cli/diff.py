@@ -1,0 +1,63 @@
+"""``relacc diff A B``: two descriptions of one robot, aligned, every difference classified and located
+(:mod:`relacc.validation.diff`); text or JSON."""
+
+from __future__ import annotations
+
+import json
+
+SHOWN = 20
+"""Differences the text lists; the rest are counted ("N more in --json")."""
+
+
+def cmd_diff(args) -> int:
+    from relacc.cli.compare import xacro_arguments
+    from relacc.core.tolerances import PRINTED_DIGITS, PRINTED_RTOL
+    from relacc.errors import InputError
+    from relacc.validation.diff import diff
+
+    xacro_arguments(args)
+    rtol = PRINTED_RTOL if args.rtol is None else args.rtol
+    if rtol < PRINTED_RTOL:
+        raise InputError(f"--rtol {rtol:g}: at least {PRINTED_RTOL:g} (what printing to {PRINTED_DIGITS} significant "
+                         "digits changes); --rtol only widens the tolerance")
+    a, b = args.model
+    result = diff(a, b, rtol=rtol, states=args.states, seed=args.seed)
+    if args.json:
+        print(json.dumps(result.as_json(), indent=1))
+    else:
+        print("\n".join(text(result)))
+    return 0 if result.same else 1
+
+
+def text(result) -> list[str]:
+    """The text answer: the verdict first, the notes, then the differences by element, then the dynamics."""
+    pairs = result.matched["parts"]
+    how: dict = {}
+    for pair in pairs:
+        how[pair["how"]] = how.get(pair["how"], 0) + 1
+    matched = f"{len(pairs)} moving parts matched ({', '.join(f'{n} by {k}' for k, n in how.items())})" if pairs \
+        else "no moving part matched"
+    if result.same:
+        lines = [f"relacc diff: the same robot within printing to 6 significant digits (rtol {result.rtol:g}): "
+                 f"{matched}"]
+    else:
+        kinds: dict = {}
+        for d in result.differences:
+            kinds[d.kind] = kinds.get(d.kind, 0) + 1
+        beyond = [row["quantity"] for row in result.dynamics if row["beyond"]]
+        said = ", ".join(f"{n} {k}" for k, n in kinds.items()) or "none in the description"
+        lines = [f"relacc diff: not the same robot: {len(result.differences)} difference"
+                 f"{'s' if len(result.differences) != 1 else ''} ({said})"
+                 + (f"; the {', '.join(beyond)} differ beyond printing" if beyond else "") + f"; {matched}"]
+    lines += [f"  note: {note}" for note in result.notes]
+    ordered = sorted(result.differences, key=lambda d: (d.element, d.quantity))
+    lines += [d.line() for d in ordered[:SHOWN]]
+    if len(ordered) > SHOWN:
+        lines.append(f"  {len(ordered) - SHOWN} more in --json")
+    for row in result.dynamics:
+        lines.append(f"  dynamics: {row['quantity']}: worst of {row['states']} states (state {row['worst_state']}; 0 "
+                     f"is the reference) {row['normalized']:.2g} of its largest entry, printing allows "
+                     f"{row['tolerance']:.2g}" + ("  BEYOND" if row["beyond"] else ""))
+    return lines
+
+

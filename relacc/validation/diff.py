@@ -1,0 +1,631 @@
+"""Two descriptions of one robot (``relacc diff A B``): are they the same robot, and if not, what differs and where.
+
+Each file is read by relacc itself (:func:`relacc.reading.read`), never through an engine. The comparison is of what
+the physics depends on, in a way that does not depend on either file's choice of frames:
+
+* **Parts.** A body with joints and every body welded to it (a URDF link on a fixed joint, an MJCF body without
+  joints) make one *part*: its mass, its mass centre and its inertia about the mass centre are the composite's. Bodies
+  welded to the world make the world's part: on a fixed base their mass moves nothing, and is said once (a note).
+* **At the reference configuration** (every joint at its ``ref``: a file's zero), in world components: each part's
+  mass centre and inertia, each joint's axis and (hinge, ball) anchor, a hinge's anchor compared as its distance from
+  the other file's axis line (where on the line a file puts it is a choice of frame). How either file chose its link
+  frames and inertial frames, principal axes or full tensors, drops out.
+* **Placement.** A whole robot placed or rotated differently in the world is one rigid motion, found from the parts'
+  mass centres and their feet on the joint axes (a fit that leaves out points beyond the tolerance, so that one moved
+  mass centre does not spread over the others), one ``placement`` entry; B is compared after it.
+* **Where the frames coincide** (a converted file keeps its source's link frames: MuJoCo's saved XML does), a part
+  made of one body is compared in its body's own components too, number by number, so that a number *rounded* to
+  fewer digits is named as such.
+
+Matching: parts by a joint name in common, then by a body name in common, then by structure (a matched parent's
+unmatched children with the same joint types, in file order); joints within a part by name, then by type and order.
+
+Tolerance (:func:`relacc.core.tolerances.printed_tolerance`): a difference counts beyond what printing each file's
+numbers to 6 significant digits can change, ``2 rtol`` of the magnitude of the written terms a quantity is formed
+from: a mass, the masses summed; a position, the lengths of the placements on its path from the world plus ``pi``
+times its distance from each of their origins (each printed orientation may be off by ``rtol pi`` rad); an inertia,
+each body's largest entry (times ``1 + 2 pi`` per orientation on its path) and its parallel-axis terms. ``rtol``
+defaults to :data:`relacc.core.tolerances.PRINTED_RTOL` (5e-6) and may only be widened.
+
+Kinds of difference: ``changed``, ``added`` (in B only: an armature, a damping, a limit), ``dropped`` (in A only; a
+fused body's mass left out), ``rounded`` (one file's number is the other's rounded to the digits it prints),
+``placement``, ``convention`` (a joint axis reversed: the same motion is q -> -q), ``unmatched``.
+
+The dynamics of A and B (mass matrix, bias forces ``f`` of ``M udot = f``, and forward dynamics, MuJoCo's speeds,
+case 2) are compared at matched coordinates, through the sign of each reversed joint, at the reference configuration
+and at seeded random states: the consequence of the differences, worst state first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from relacc.core.rotations import matrix_from_quaternion
+from relacc.core.tolerances import PRINTED_RTOL, printed_tolerance
+
+KINDS = ("changed", "added", "dropped", "rounded", "placement", "convention", "unmatched")
+"""The kinds of a :class:`Difference` (module docstring)."""
+
+UNITS = {"mass": "kg", "mass centre": "m", "inertia": "kg m^2", "axis": "unit vector", "anchor": "m",
+         "armature": "kg m^2 or kg", "damping": "N m s/rad or N s/m", "range": "rad or m",
+         "stiffness": "N m/rad or N/m", "spring reference": "rad or m", "type": "", "gravity": "m/s^2",
+         "placement": "deg, unit axis, m", "part": "", "joint": "", "zero": "rad or m"}
+"""Units of each quantity a difference names (world components for vectors and tensors, at the reference
+configuration; ``mass centre (body frame)`` in the body's own components)."""
+
+
+@dataclass(frozen=True)
+class Difference:
+    """One difference between A and B: its ``kind`` (:data:`KINDS`), the ``element`` (a part, body or joint name,
+    ``A-name / B-name`` where they differ), the ``quantity`` (its units in :data:`UNITS`), the values ``a`` and ``b``
+    (numbers, lists or text; None where absent), ``relative`` (``|a - b| / max(|a|, |b|)``, None for text), and each
+    element's place (``file:line``)."""
+
+    kind: str
+    element: str
+    quantity: str
+    a: object
+    b: object
+    relative: float | None
+    where_a: str
+    where_b: str
+
+    def as_json(self) -> dict:
+        return {"kind": self.kind, "element": self.element, "quantity": self.quantity, "a": self.a, "b": self.b,
+                "relative": self.relative, "where_a": self.where_a, "where_b": self.where_b}
+
+    def line(self) -> str:
+        unit = UNITS.get(self.quantity.split(" (")[0], "")
+        values = f"A {_show(self.a)}, B {_show(self.b)}" + (f" {unit}" if unit and self.kind not in (
+            "unmatched",) else "")
+        rel = f" ({self.relative:.2g} relative)" if self.relative is not None else ""
+        where = self.where_a if self.where_a == self.where_b else f"{self.where_a} | {self.where_b}"
+        return f"  {self.kind:10s} {self.element}: {self.quantity}: {values}{rel}  [{where}]"
+
+
+def _show(x) -> str:
+    if x is None:
+        return "none"
+    if isinstance(x, (list, tuple)):
+        return "(" + ", ".join(_show(v) for v in x) + ")"
+    if isinstance(x, float):
+        return f"{x:.8g}"
+    return str(x)
+
+
+@dataclass(frozen=True, eq=False)
+class Part:
+    """A moving part of one file (module docstring): its first body ``name`` (the one with joints; ``""`` the
+    world's part), ``bodies`` (names, that body first), the ``parent`` part's index (-1 the world), its joints with
+    their world ``anchors`` and ``axes`` ``(nj, 3)``, ``mass`` (kg), ``com`` ``(3,)`` (m) and ``inertia`` ``(3, 3)``
+    about it (kg m^2), world components at the reference configuration, ``R``/``origin`` its first body's frame
+    in the world, and the tolerance scales (module docstring) of each quantity (``turn_scale``: of its frame's
+    orientation)."""
+
+    name: str
+    bodies: tuple
+    masses: tuple
+    parent: int
+    index: int
+    joints: tuple
+    anchors: np.ndarray
+    axes: np.ndarray
+    anchor_scales: tuple
+    axis_scales: tuple
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+    com_scale: float
+    inertia_scale: float
+    R: np.ndarray
+    origin: np.ndarray
+    local_com: np.ndarray
+    single: bool
+    turn_scale: float = 1.0
+
+
+def parts_of(reading) -> tuple[list[Part], Part]:
+    """``(parts, world part)`` of a reading (module docstring), parts in file order (parents first)."""
+    tree = reading.tree
+    n = len(tree.bodies)
+    R = [np.eye(3)] * n
+    p = [np.zeros(3)] * n
+    chain: list[list[int]] = [[] for _ in range(n)]
+    owner = [-1] * n
+    for b, body in enumerate(tree.bodies):
+        parent = body.parent
+        Rp, pp = (np.eye(3), np.zeros(3)) if parent < 0 else (R[parent], p[parent])
+        R[b] = Rp @ matrix_from_quaternion(body.quat)
+        p[b] = pp + Rp @ body.pos
+        chain[b] = ([] if parent < 0 else chain[parent]) + [b]
+        owner[b] = b if body.joints else (owner[parent] if parent >= 0 else -1)
+
+    def scale(b: int, x: np.ndarray) -> float:
+        """Position scale of the world point ``x`` moved with body ``b``: the placements on its path, and pi times
+        its distance from each of their parents' origins (module docstring)."""
+        s = 0.0
+        for k in chain[b]:
+            s += float(np.linalg.norm(tree.bodies[k].pos))
+            parent = tree.bodies[k].parent
+            s += np.pi * float(np.linalg.norm(x - (p[parent] if parent >= 0 else np.zeros(3))))
+        return s
+
+    groups: dict[int, list[int]] = {}
+    for b in range(n):
+        groups.setdefault(owner[b], []).append(b)
+    index = {o: i for i, o in enumerate(o for o in groups if o >= 0)}
+    parts: list[Part] = []
+    world = None
+    for o, members in groups.items():
+        body_names = tuple(tree.bodies[b].name for b in members)
+        masses = tuple(float(tree.bodies[b].mass) for b in members)
+        m = float(sum(masses))
+        coms = [p[b] + R[b] @ tree.bodies[b].com for b in members]
+        com = sum(mi * c for mi, c in zip(masses, coms)) / m if m > 0 else (p[o] if o >= 0 else np.zeros(3))
+        inertia = np.zeros((3, 3))
+        i_scale = 0.0
+        c_scale = 0.0
+        for b, mi, c in zip(members, masses, coms):
+            body = tree.bodies[b]
+            d = c - com
+            inertia += R[b] @ body.inertia @ R[b].T + mi * (float(d @ d) * np.eye(3) - np.outer(d, d))
+            s = scale(b, c) + float(np.linalg.norm(body.com))
+            big = float(np.abs(body.inertia).max(initial=0.0))
+            i_scale += big * (1 + 2 * np.pi * len(chain[b])) + mi * float(np.linalg.norm(d)) * (
+                float(np.linalg.norm(d)) + 2 * s) + body.written / PRINTED_RTOL
+            c_scale += mi * (s + float(np.linalg.norm(d)))
+        c_scale = c_scale / m if m > 0 else 0.0
+        if o < 0:
+            world = Part("", body_names, masses, -1, -1, (), np.zeros((0, 3)), np.zeros((0, 3)), (), (), m, com,
+                         inertia, c_scale, i_scale, np.eye(3), np.zeros(3), np.zeros(3), False)
+            continue
+        body = tree.bodies[o]
+        joints = body.joints
+        anchors = np.array([p[o] + R[o] @ j.pos for j in joints]).reshape(-1, 3)
+        axes = np.array([R[o] @ j.axis for j in joints]).reshape(-1, 3)
+        parent = body.parent
+        parts.append(Part(body.name, body_names, masses, index[owner[parent]] if parent >= 0 and owner[parent] >= 0
+                          else -1, index[o], joints, anchors, axes,
+                          tuple(scale(o, a) for a in anchors), tuple(1 + np.pi * len(chain[o]) for _ in joints),
+                          m, com, inertia, c_scale, i_scale, R[o], p[o], body.com.copy(), len(members) == 1,
+                          1 + np.pi * len(chain[o])))
+    if world is None:
+        world = Part("", (), (), -1, -1, (), np.zeros((0, 3)), np.zeros((0, 3)), (), (), 0.0, np.zeros(3),
+                     np.zeros((3, 3)), 0.0, 0.0, np.eye(3), np.zeros(3), np.zeros(3), False)
+    return parts, world
+
+
+@dataclass(frozen=True)
+class Match:
+    """Matched parts ``pairs`` ``[(i_A, i_B, how)]`` (how: ``"joint name"``, ``"body name"``, ``"structure"``), and
+    the parts of each file without a counterpart."""
+
+    pairs: list
+    only_a: list
+    only_b: list
+
+
+def match(parts_a: list[Part], parts_b: list[Part]) -> Match:
+    """Parts of A matched to parts of B (module docstring)."""
+    pairs: list = []
+    used_a: set = set()
+    used_b: set = set()
+
+    def pair(i, k, how):
+        pairs.append((i, k, how))
+        used_a.add(i)
+        used_b.add(k)
+
+    joint_owner_b = {j.name: k for k, part in enumerate(parts_b) for j in part.joints}
+    for i, part in enumerate(parts_a):
+        for j in part.joints:
+            k = joint_owner_b.get(j.name)
+            if k is not None and k not in used_b:
+                pair(i, k, "joint name")
+                break
+    body_owner_b = {name: k for k, part in enumerate(parts_b) for name in part.bodies}
+    for i, part in enumerate(parts_a):
+        if i in used_a:
+            continue
+        for name in part.bodies:
+            k = body_owner_b.get(name)
+            if k is not None and k not in used_b:
+                pair(i, k, "body name")
+                break
+    changed = True
+    while changed:  # by structure, a matched parent's children in order
+        changed = False
+        counterpart = {i: k for i, k, _ in pairs}
+        counterpart[-1] = -1
+        for i, part in enumerate(parts_a):
+            if i in used_a or part.parent not in counterpart:
+                continue
+            kinds = tuple(j.type for j in part.joints)
+            for k, other in enumerate(parts_b):
+                if k not in used_b and other.parent == counterpart[part.parent] and \
+                        tuple(j.type for j in other.joints) == kinds:
+                    pair(i, k, "structure")
+                    changed = True
+                    break
+    pairs.sort()
+    return Match(pairs, [i for i in range(len(parts_a)) if i not in used_a],
+                 [k for k in range(len(parts_b)) if k not in used_b])
+
+
+def joint_pairs(a: Part, b: Part) -> tuple[list, list, list]:
+    """``([(ja, jb)], only in a, only in b)``: joint indices of two matched parts, by name, then by type in order."""
+    pairs = []
+    names_b = {j.name: k for k, j in enumerate(b.joints)}
+    used_b: set = set()
+    rest_a = []
+    for i, j in enumerate(a.joints):
+        k = names_b.get(j.name)
+        if k is not None:
+            pairs.append((i, k))
+            used_b.add(k)
+        else:
+            rest_a.append(i)
+    only_a = []
+    for i in rest_a:
+        k = next((k for k, j in enumerate(b.joints) if k not in used_b and j.type == a.joints[i].type), None)
+        if k is None:
+            only_a.append(i)
+        else:
+            pairs.append((i, k))
+            used_b.add(k)
+    return sorted(pairs), only_a, [k for k in range(len(b.joints)) if k not in used_b]
+
+
+def significant_digits(x: float) -> int:
+    """Significant digits of the shortest text that reads back as ``x`` (``0.163``: 3)."""
+    if x == 0 or not np.isfinite(x):
+        return 1
+    mantissa = f"{abs(x):.17e}".split("e")[0]
+    for d in range(1, 18):
+        if float(f"{x:.{d - 1}e}") == x:
+            return d
+    return len(mantissa.replace(".", ""))
+
+
+def rounds_to(x: float, y: float) -> bool:
+    """Whether ``y`` is ``x`` rounded to the significant digits ``y`` is written with (fewer than ``x``'s)."""
+    d = significant_digits(y)
+    return d < significant_digits(x) and float(f"{x:.{d - 1}e}") == y
+
+
+def rounded_pair(a, b) -> bool:
+    """Whether one of two numbers (or arrays, entry by entry, at least one entry differing) is the other rounded."""
+    a, b = np.atleast_1d(np.asarray(a, dtype=float)), np.atleast_1d(np.asarray(b, dtype=float))
+    differ = a != b
+    if not differ.any():
+        return False
+    return all(rounds_to(x, y) for x, y in zip(a[differ], b[differ])) or \
+        all(rounds_to(y, x) for x, y in zip(a[differ], b[differ]))
+
+
+def _relative(a, b) -> float:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    big = max(float(np.abs(a).max(initial=0.0)), float(np.abs(b).max(initial=0.0)))
+    return float(np.abs(a - b).max(initial=0.0)) / big if big > 0 else 0.0
+
+
+def _values(x):
+    x = np.asarray(x, dtype=float)
+    return [float(v) for v in x.ravel()] if x.ndim and x.size > 1 else float(x.ravel()[0])
+
+
+def fit_placement(points_a: np.ndarray, points_b: np.ndarray, tolerances: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(R, p)``: the rigid motion taking B's world points ``(n, 3)`` to A's, ``x_a = R x_b + p`` (Kabsch), refitted on
+    the points within ``tolerances`` ``(n,)`` (m) of it, so that a few moved points do not spread over the rest; the
+    identity when it already fits every point, or when too few points remain."""
+    if len(points_a) == 0 or np.all(np.linalg.norm(points_a - points_b, axis=1) <= tolerances):
+        return np.eye(3), np.zeros(3)
+    keep = np.ones(len(points_a), dtype=bool)
+    R, p = np.eye(3), np.zeros(3)
+    for _ in range(4):
+        if keep.sum() < 3:
+            return np.eye(3), np.zeros(3)
+        a, b = points_a[keep], points_b[keep]
+        ca, cb = a.mean(axis=0), b.mean(axis=0)
+        U, _, Vt = np.linalg.svd((b - cb).T @ (a - ca))
+        D = np.diag([1.0, 1.0, np.sign(np.linalg.det(Vt.T @ U.T))])
+        R = Vt.T @ D @ U.T
+        p = ca - R @ cb
+        inside = np.linalg.norm(points_a - (points_b @ R.T + p), axis=1) <= tolerances
+        if (inside == keep).all():
+            break
+        keep = inside
+    if keep.sum() < max(3, (len(points_a) + 1) // 2):
+        return np.eye(3), np.zeros(3)
+    return R, p
+
+
+@dataclass
+class Diff:
+    """The answer of :func:`diff` (see :meth:`as_json` for the documented contract, docs/diff.md)."""
+
+    a: str
+    b: str
+    matched: dict
+    differences: list
+    notes: list
+    dynamics: list
+    rtol: float
+    engines: dict = field(default_factory=dict)
+
+    @property
+    def same(self) -> bool:
+        return not self.differences and not any(row["beyond"] for row in self.dynamics)
+
+    def as_json(self) -> dict:
+        return {"same": self.same, "a": self.a, "b": self.b, "rtol": self.rtol, "matched": self.matched,
+                "differences": [d.as_json() for d in self.differences], "notes": self.notes,
+                "dynamics": self.dynamics, "engines": self.engines}
+
+
+def diff(path_a, path_b, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: int = 0) -> Diff:
+    """``relacc diff A B``: whether two description files describe the same robot, and what differs (module
+    docstring).
+
+    Args:
+        path_a, path_b: MJCF (``.xml``), URDF (``.urdf``) or xacro files. rtol: the relative printing error allowed
+            each number (:data:`relacc.core.tolerances.PRINTED_RTOL`, at least). states: seeded random states
+            the dynamics are compared at, besides the reference configuration. seed: their seed.
+
+    Raises:
+        ModelError: a file that cannot be read (as :func:`relacc.reading.read`).
+    """
+    from relacc.reading import read
+
+    ra, rb = read(path_a), read(path_b)
+    return diff_readings(ra, rb, rtol=rtol, states=states, seed=seed)
+
+
+def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: int = 0) -> Diff:
+    """:func:`diff` of two readings."""
+    parts_a, world_a = parts_of(ra)
+    parts_b, world_b = parts_of(rb)
+    m = match(parts_a, parts_b)
+    out: list[Difference] = []
+    notes: list[str] = []
+
+    def tol(scale):
+        return printed_tolerance(scale, rtol)
+
+    def place(reading, kind, name):
+        return reading.place(kind, name)
+
+    def name_of(a: Part, b: Part) -> str:
+        return a.name if a.name == b.name else f"{a.name} / {b.name}"
+
+    for reading, world, label in ((ra, world_a, "A"), (rb, world_b, "B")):
+        if world.bodies and world.mass > 0:
+            notes.append(f"{label}: {', '.join(world.bodies)} ({world.mass:.6g} kg) welded to the world: on a fixed "
+                         "base its mass moves nothing")
+
+    # placement: B's world points taken to A's
+    pa, pb, pt = [], [], []
+    for i, k, _ in m.pairs:
+        a, b = parts_a[i], parts_b[k]
+        if a.mass > 0 and b.mass > 0:
+            pa.append(a.com)
+            pb.append(b.com)
+            pt.append(tol(max(a.com_scale, b.com_scale)))
+            for ja, jb in joint_pairs(a, b)[0]:
+                if a.joints[ja].type == "hinge" and b.joints[jb].type == "hinge":
+                    pa.append(_foot(a.com, a.anchors[ja], a.axes[ja]))
+                    pb.append(_foot(b.com, b.anchors[jb], b.axes[jb]))
+                    pt.append(tol(max(a.anchor_scales[ja], b.anchor_scales[jb]) + a.com_scale + b.com_scale))
+    floating = any(j.type == "free" for part in parts_a for j in part.joints)
+    R, p = fit_placement(np.array(pa).reshape(-1, 3), np.array(pb).reshape(-1, 3), np.array(pt))
+    if not np.allclose(R, np.eye(3), rtol=0, atol=0) or np.any(p != 0):
+        from scipy.spatial.transform import Rotation
+
+        turn = Rotation.from_matrix(R.T).as_rotvec()  # B's robot is A's turned by R^T, then moved by -R^T p
+        angle = float(np.linalg.norm(turn))
+        about = turn / angle if angle > 0 else np.array([0.0, 0.0, 1.0])
+        moved = -R.T @ p
+        motion = {"turned_deg": float(np.degrees(angle)), "about": _values(about), "moved_m": _values(moved)}
+        out.append(Difference("placement", "the robot", "placement", None, motion, None, ra.source, rb.source))
+        notes.append(f"B's robot is A's turned {np.degrees(angle):.6g} deg about {np.array2string(about, precision=6)} "
+                     f"and moved by {np.array2string(moved, precision=6)} m in the world"
+                     + (" (a floating base: its initial pose only)" if floating else "")
+                     + "; B compared after taking that motion back")
+    com_b = {k: R @ part.com + p for k, part in enumerate(parts_b)}
+    inertia_b = {k: R @ part.inertia @ R.T for k, part in enumerate(parts_b)}
+
+    signs: dict = {}
+    absorbed: dict = {}  # A's unmatched parts whose first body is welded into a matched part of B: a joint removed
+    for i in m.only_a:
+        owner_b = next((k for k, part in enumerate(parts_b) if parts_a[i].name in part.bodies), None)
+        if owner_b is not None:
+            absorbed.setdefault(owner_b, []).append(parts_a[i])
+    for i, k, how in m.pairs:
+        a, b = parts_a[i], parts_b[k]
+        el = name_of(a, b)
+        wa, wb = place(ra, "body", a.name), place(rb, "body", b.name)
+        _part_terms(out, a, b, el, wa, wb, com_b[k], inertia_b[k], R, p, tol, ra, rb, tuple(absorbed.get(k, ())))
+        jp, only_ja, only_jb = joint_pairs(a, b)
+        for ja, jb in jp:
+            signs[(i, ja)] = _joint_terms(out, ra, rb, a, b, ja, jb, R, p, tol)
+        for ja in only_ja:
+            j = a.joints[ja]
+            out.append(Difference("unmatched", j.name, "joint", j.type, None, None, place(ra, "joint", j.name),
+                                  rb.source))
+        for jb in only_jb:
+            j = b.joints[jb]
+            out.append(Difference("unmatched", j.name, "joint", None, j.type, None, ra.source,
+                                  place(rb, "joint", j.name)))
+    for i in m.only_a:
+        a = parts_a[i]
+        welded = any(a in group for group in absorbed.values())
+        out.append(Difference("unmatched", a.name, "joint" if welded else "part",
+                              ", ".join(f"{j.name} ({j.type})" for j in a.joints),
+                              "welded to its parent" if welded else None, None,
+                              place(ra, "joint", a.joints[0].name) if welded else place(ra, "body", a.name),
+                              place(rb, "body", a.name) if welded else rb.source))
+    for k in m.only_b:
+        b = parts_b[k]
+        out.append(Difference("unmatched", b.name, "part", None, ", ".join(j.name for j in b.joints), None,
+                              ra.source, place(rb, "body", b.name)))
+    ga, gb = ra.tree.gravity, rb.tree.gravity
+    if np.linalg.norm(ga - gb) > tol(max(np.linalg.norm(ga), np.linalg.norm(gb))):
+        out.append(Difference("rounded" if rounded_pair(ga, gb) else "changed", "world", "gravity", _values(ga),
+                              _values(gb), _relative(ga, gb), ra.place("option", "gravity"),
+                              rb.place("option", "gravity")))
+    matched = {"parts": [{"a": parts_a[i].name, "b": parts_b[k].name, "how": how,
+                          "bodies_a": list(parts_a[i].bodies), "bodies_b": list(parts_b[k].bodies)}
+                         for i, k, how in m.pairs],
+               "only_a": [parts_a[i].name for i in m.only_a], "only_b": [parts_b[k].name for k in m.only_b]}
+    from relacc.validation.diff_dynamics import compare_dynamics
+
+    joints = {(i, k): joint_pairs(parts_a[i], parts_b[k]) for i, k, _ in m.pairs}
+    dynamics, why = compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, states, seed)
+    if why:
+        notes.append(f"dynamics not compared: {why}")
+    return Diff(str(ra.source), str(rb.source), matched, out, notes, dynamics, rtol)
+
+
+def _foot(x: np.ndarray, anchor: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """The point of the line through ``anchor`` along ``axis`` nearest ``x`` (m, world)."""
+    return anchor + float((x - anchor) @ axis) * axis
+
+
+def _combined(parts: list[Part]) -> tuple[float, np.ndarray, np.ndarray, float, float]:
+    """``(mass, com, inertia, com scale, inertia scale)`` of several parts as one (world components)."""
+    m = float(sum(x.mass for x in parts))
+    com = np.sum([x.mass * x.com for x in parts], axis=0) / m if m > 0 else parts[0].com
+    inertia = np.sum([x.inertia + x.mass * (float((x.com - com) @ (x.com - com)) * np.eye(3)
+                                            - np.outer(x.com - com, x.com - com)) for x in parts], axis=0)
+    c_scale = max(x.com_scale for x in parts)
+    i_scale = float(sum(x.inertia_scale + x.mass * float(np.linalg.norm(x.com - com)) * (
+        float(np.linalg.norm(x.com - com)) + 2 * c_scale) for x in parts))
+    return m, com, inertia, c_scale, i_scale
+
+
+def _part_terms(out, a: Part, b: Part, el, wa, wb, com_b, inertia_b, R, p, tol, ra, rb, absorbed=()) -> None:
+    """The mass, mass centre and inertia of two matched parts (module docstring). ``absorbed``: A's unmatched parts
+    whose first body is welded into ``b`` in B (a joint removed): compared as one with ``a``, the joint said once."""
+    wia, wib = ra.place("inertial", a.name), rb.place("inertial", b.name)
+    a_bodies = set(a.bodies).union(*(x.bodies for x in absorbed))
+    mass_a, com_a, inertia_a, c_scale, i_scale = _combined([a, *absorbed])
+    missing = [(name, mass) for name, mass in zip(a.bodies, a.masses) if name not in b.bodies]
+    extra = [(name, mass) for name, mass in zip(b.bodies, b.masses) if name not in a_bodies and mass > 0]
+    if abs(mass_a - b.mass) > tol(mass_a + b.mass):
+        gone = next((n for n, mass in missing if mass > 0 and abs(mass_a - mass - b.mass) <= tol(mass_a + b.mass)),
+                    None)
+        new = next((n for n, mass in extra if abs(mass_a + mass - b.mass) <= tol(mass_a + b.mass)), None)
+        if gone:
+            out.append(Difference("dropped", f"{el} (fused body {gone})", "mass", mass_a, b.mass,
+                                  _relative(mass_a, b.mass), ra.place("body", gone), wb))
+            return  # its mass centre and inertia follow from the mass left out
+        if new:
+            out.append(Difference("added", f"{el} (fused body {new})", "mass", mass_a, b.mass,
+                                  _relative(mass_a, b.mass), wa, rb.place("body", new)))
+            return
+        kind = "rounded" if rounded_pair(mass_a, b.mass) else "changed"
+        out.append(Difference(kind, el, "mass", mass_a, b.mass, _relative(mass_a, b.mass), wia, wib))
+    coincide = not absorbed and a.single and b.single and \
+        np.abs(a.R - R @ b.R).max() <= tol(a.turn_scale + b.turn_scale) and \
+        np.linalg.norm(a.origin - (R @ b.origin + p)) <= tol(a.com_scale + b.com_scale)
+    if mass_a > 0 and b.mass > 0 and np.linalg.norm(com_a - com_b) > tol(c_scale + b.com_scale):
+        if coincide and rounded_pair(a.local_com, b.local_com):
+            out.append(Difference("rounded", el, "mass centre (body frame)", _values(a.local_com),
+                                  _values(b.local_com), _relative(a.local_com, b.local_com), wia, wib))
+        else:
+            out.append(Difference("changed", el, "mass centre", _values(com_a), _values(com_b),
+                                  float(np.linalg.norm(com_a - com_b)) / max(float(np.linalg.norm(com_a)), 1e-300),
+                                  wia, wib))
+    t = tol(i_scale + b.inertia_scale)
+    if np.abs(inertia_a - inertia_b).max() > t:
+        for name, mass in missing:  # a massless fused body's inertia left out (it moves no mass centre)
+            k = ra.tree.body(name)
+            if mass == 0:
+                Rk = _world_rotation(ra.tree, k)
+                if np.abs(inertia_a - Rk @ ra.tree.bodies[k].inertia @ Rk.T - inertia_b).max() <= t:
+                    out.append(Difference("dropped", f"{el} (massless fused body {name})", "inertia",
+                                          _values(inertia_a), _values(inertia_b), _relative(inertia_a, inertia_b),
+                                          ra.place("inertial", name), wib))
+                    return
+        out.append(Difference("changed", el, "inertia", _values(inertia_a), _values(inertia_b),
+                              _relative(inertia_a, inertia_b), wia, wib))
+
+
+def _world_rotation(tree, b: int) -> np.ndarray:
+    """``(3, 3)`` body ``b``'s frame in the world at the reference configuration."""
+    R = np.eye(3)
+    while b >= 0:
+        R = matrix_from_quaternion(tree.bodies[b].quat) @ R
+        b = tree.bodies[b].parent
+    return R
+
+
+def _joint_terms(out, ra, rb, a: Part, b: Part, ja: int, jb: int, R, p, tol) -> float:
+    """The type, axis, anchor, zero, armature, damping, spring and range of two matched joints; returns the sign
+    that maps A's coordinate and speed to B's (-1 where the axis is reversed)."""
+    j, k = a.joints[ja], b.joints[jb]
+    el = j.name if j.name == k.name else f"{j.name} / {k.name}"
+    wa, wb = ra.place("joint", j.name), rb.place("joint", k.name)
+    if j.type != k.type:
+        out.append(Difference("changed", el, "type", j.type, k.type, None, wa, wb))
+        return 1.0
+    sign = 1.0
+    if j.type in ("hinge", "slide"):
+        axis_a, axis_b = a.axes[ja], R @ b.axes[jb]
+        t = tol(a.axis_scales[ja] + b.axis_scales[jb])
+        if np.linalg.norm(axis_a + axis_b) <= t:
+            sign = -1.0
+            out.append(Difference("convention", el, "axis", _values(axis_a), _values(axis_b), None, wa, wb))
+        elif np.linalg.norm(axis_a - axis_b) > t:
+            out.append(Difference("changed", el, "axis", _values(axis_a), _values(axis_b),
+                                  float(np.linalg.norm(axis_a - axis_b)), wa, wb))
+    if j.type in ("hinge", "ball"):
+        anchor_b = R @ b.anchors[jb] + p
+        off = anchor_b - a.anchors[ja]
+        if j.type == "hinge":
+            off = off - float(off @ a.axes[ja]) * a.axes[ja]
+        if np.linalg.norm(off) > tol(a.anchor_scales[ja] + b.anchor_scales[jb]):
+            pos_a = ra.tree.bodies[ra.tree.body(a.name)].pos
+            pos_b = rb.tree.bodies[rb.tree.body(b.name)].pos
+            if rounded_pair(pos_a, pos_b):  # the body's place in its parent, written to fewer digits
+                out.append(Difference("rounded", el, "anchor (position in the parent)", _values(pos_a),
+                                      _values(pos_b), _relative(pos_a, pos_b), ra.place("body", a.name),
+                                      rb.place("body", b.name)))
+            else:
+                out.append(Difference("changed", el, "anchor", _values(a.anchors[ja]), _values(anchor_b),
+                                      float(np.linalg.norm(off)), wa, wb))
+    if j.type in ("hinge", "slide") and j.ref != k.ref:
+        _number(out, el, "zero", j.ref, k.ref, tol, wa, wb)
+    _number(out, el, "armature", j.armature, k.armature, tol, wa, wb)
+    nv = j.nv
+    _number(out, el, "damping", ra.joint_damping(j.name, nv), rb.joint_damping(k.name, nv), tol, wa, wb)
+    sa, sb = ra.stiffness.get(j.name), rb.stiffness.get(k.name)
+    _number(out, el, "stiffness", sa[0] if sa else 0.0, sb[0] if sb else 0.0, tol, wa, wb)
+    if sa and sb:
+        _number(out, el, "spring reference", sa[1], sign * sb[1], tol, wa, wb)
+    lim_a, lim_b = ra.ranges.get(j.name), rb.ranges.get(k.name)
+    if lim_b is not None and sign < 0:
+        lim_b = (-lim_b[1], -lim_b[0])
+    if lim_a is None and lim_b is not None:
+        out.append(Difference("added", el, "range", None, list(lim_b), None, wa, wb))
+    elif lim_b is None and lim_a is not None:
+        out.append(Difference("dropped", el, "range", list(lim_a), None, None, wa, wb))
+    elif lim_a is not None:
+        _number(out, el, "range", np.asarray(lim_a), np.asarray(lim_b), tol, wa, wb)
+    return sign
+
+
+def _number(out, el, quantity, a, b, tol, wa, wb) -> None:
+    """One number (or vector) of a joint: absent in one file (zero) -> added/dropped; else rounded or changed."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if np.abs(a - b).max(initial=0.0) <= tol(np.abs(a).max(initial=0.0) + np.abs(b).max(initial=0.0)):
+        return
+    if not a.any():
+        kind = "added"
+    elif not b.any():
+        kind = "dropped"
+    else:
+        kind = "rounded" if rounded_pair(a, b) else "changed"
+    out.append(Difference(kind, el, quantity, _values(a), _values(b), _relative(a, b), wa, wb))

@@ -1,0 +1,152 @@
+"""What the differences between two descriptions do to the dynamics (``relacc diff``, :mod:`relacc.validation.diff`).
+
+A's coordinates are mapped to B's through the matched joints: a hinge's or slide's displacement from its zero times
+the joint's sign (-1 where the axis is reversed), a ball's quaternion as it is and a free joint's pose through the
+placement (both only where the two files' body frames coincide: otherwise their coordinates mean different things and
+the dynamics are not compared, said in one note). Speeds map by ``u_B = T u_A`` with ``T`` orthogonal (signs and
+rotations), so that ``M_A`` is compared with ``T^T M_B T``, the bias forces ``f_A`` with ``T^T f_B`` and the forward
+dynamics ``udot_A`` with ``T^T udot_B``: MuJoCo's speeds (case 2), relacc's own dynamics
+(:func:`relacc.dynamics.tree.tree_dynamics`), gravity each file's own.
+
+Each quantity's difference is normalized by its largest entry over A and B at that state, and is *beyond* printing
+when it exceeds :func:`relacc.core.tolerances.printed_tolerance` of ``1 + 2 pi d`` (``d`` the deepest part's depth: each
+orientation on a path may be off by ``rtol pi`` rad and moves an inertia's entries by twice that), times the mass
+matrix's condition number for the forward dynamics.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from relacc.core.rotations import quaternion_multiply
+from relacc.core.tolerances import printed_tolerance
+
+QUANTITIES = ("mass matrix", "bias forces", "forward dynamics")
+"""The rows of the dynamics comparison, each with its worst state (0: the reference configuration)."""
+
+
+def _quat_of(R: np.ndarray) -> np.ndarray:
+    """Unit quaternion ``(w, x, y, z)`` of a rotation matrix (Shepperd's method)."""
+    from scipy.spatial.transform import Rotation
+
+    x, y, z, w = Rotation.from_matrix(R).as_quat()
+    return np.array([w, x, y, z])
+
+
+def coordinate_map(ra, rb, parts_a, parts_b, m, R, p, signs, joints: dict
+                   ) -> tuple[tuple[Callable, np.ndarray] | None, str]:
+    """``(map, why)``: a function ``q_A (n, nq_A) -> q_B (n, nq_B)`` and the speed map ``T`` ``(nv_B, nv_A)``, or
+    None and why the coordinates cannot be mapped. ``joints``: ``{(i_A, i_B): (pairs, only in A, only in B)}`` of the
+    matched parts' joints (:func:`relacc.validation.diff.joint_pairs`)."""
+    ta, tb = ra.tree, rb.tree
+    if m.only_a or m.only_b:
+        return None, "parts without a counterpart"
+    if ta.nv != tb.nv:
+        return None, f"A has {ta.nv} speeds, B {tb.nv}"
+    jindex_a = {(body, joint.name): n for n, (body, joint) in enumerate(ta.joints)}
+    jindex_b = {(body, joint.name): n for n, (body, joint) in enumerate(tb.joints)}
+    qa_adr, qb_adr = ta.qadr(2), tb.qadr(2)
+    T = np.zeros((tb.nv, ta.nv))
+    steps: list[tuple] = []
+    for i, k, _ in m.pairs:
+        a, b = parts_a[i], parts_b[k]
+        jp, only_a, only_b = joints[(i, k)]
+        if only_a or only_b:
+            return None, f"joints without a counterpart in {a.name}"
+        ba, bb = ta.body(a.name), tb.body(b.name)
+        coincide = np.allclose(a.R, R @ b.R, rtol=0, atol=1e-6) and np.allclose(a.origin, R @ b.origin + p, rtol=0,
+                                                                                  atol=1e-6)
+        for ja, jb in jp:
+            j, jbj = a.joints[ja], b.joints[jb]
+            na, nb = jindex_a[(ba, j.name)], jindex_b[(bb, jbj.name)]
+            if j.type != jbj.type:
+                return None, f"joint {j.name} is a {j.type} in A and a {jbj.type} in B"
+            da, db = ta.dofadr[na], tb.dofadr[nb]
+            qa, qb = qa_adr[na], qb_adr[nb]
+            if j.type in ("hinge", "slide"):
+                s = signs.get((i, ja), 1.0)
+                T[db, da] = s
+                steps.append(("scalar", qa, qb, s, j.ref, jbj.ref))
+            elif not coincide:
+                return None, f"the {j.type} joint {j.name}'s body frames differ between the files"
+            elif j.type == "ball":
+                T[db:db + 3, da:da + 3] = np.eye(3)
+                steps.append(("ball", qa, qb))
+            else:
+                T[db:db + 3, da:da + 3] = R.T
+                T[db + 3:db + 6, da + 3:da + 6] = np.eye(3)
+                steps.append(("free", qa, qb))
+    turn = _quat_of(R.T)
+
+    def q_map(q_a: np.ndarray) -> np.ndarray:
+        q_b = np.zeros((q_a.shape[0], tb.nq_in(2)))
+        for step in steps:
+            if step[0] == "scalar":
+                _, qa, qb, s, ref_a, ref_b = step
+                q_b[:, qb] = ref_b + s * (q_a[:, qa] - ref_a)
+            elif step[0] == "ball":
+                q_b[:, step[2]:step[2] + 4] = q_a[:, step[1]:step[1] + 4]
+            else:
+                qa, qb = step[1], step[2]
+                q_b[:, qb:qb + 3] = (q_a[:, qa:qa + 3] - p) @ R
+                q_b[:, qb + 3:qb + 7] = np.array([quaternion_multiply(turn, x) for x in q_a[:, qa + 3:qa + 7]])
+        return q_b
+
+    return (q_map, T), ""
+
+
+def compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, states, seed) -> tuple[list, str]:
+    """``(rows, why)``: one row per :data:`QUANTITIES` (``quantity``, ``worst_state``, ``normalized``,
+    ``tolerance``, ``beyond``), worst first, or ``([], why not compared)``."""
+    from relacc.core.tree.coordinates import random_states, reference_q
+    from relacc.dynamics.tree import tree_dynamics
+    from relacc.errors import RelaccError
+
+    ta, tb = ra.tree, rb.tree
+    if ta.nv == 0:
+        return [], "nothing moves"
+    mapped, why = coordinate_map(ra, rb, parts_a, parts_b, m, R, p, signs, joints)
+    if mapped is None:
+        return [], why
+    q_map, T = mapped
+    drawn = random_states(ta, 2, states, seed, ranges=dict(ra.ranges))
+    q_a = np.vstack([reference_q(ta, 2)[None], np.asarray(drawn.q)])
+    u_a = np.vstack([np.zeros((1, ta.nv)), np.asarray(drawn.u)])
+    q_b = q_map(q_a)
+    u_b = u_a @ T.T
+    try:
+        da = tree_dynamics(ta, 2, q_a, u_a)
+        db = tree_dynamics(tb, 2, q_b, u_b)
+    except RelaccError as exc:
+        return [], f"relacc's dynamics refused a state ({exc})"
+    Ma, fa = np.asarray(da.M), np.asarray(da.f)
+    Mb = np.einsum("ji,njk,kl->nil", T, np.asarray(db.M), T)
+    fb = np.asarray(db.f) @ T
+    depth = max(ta.depth) if ta.depth else 0
+    base = printed_tolerance(1 + 2 * np.pi * (depth + 1), rtol)
+    rows: list[dict] = []
+    for name, xa, xb in (("mass matrix", Ma, Mb), ("bias forces", fa, fb), ("forward dynamics", fa, fb)):
+        if name == "forward dynamics":
+            try:
+                xa = np.linalg.solve(Ma, fa[..., None])[..., 0]
+                xb = np.linalg.solve(Mb, fb[..., None])[..., 0]
+            except np.linalg.LinAlgError:
+                continue
+            cond = np.linalg.cond(Ma)
+        else:
+            cond = np.ones(len(q_a))
+        n = len(q_a)
+        err = np.zeros(n)
+        tolerance = np.zeros(n)
+        for s in range(n):
+            big = max(float(np.abs(xa[s]).max(initial=0.0)), float(np.abs(xb[s]).max(initial=0.0)))
+            err[s] = float(np.abs(xa[s] - xb[s]).max(initial=0.0)) / big if big > 0 else 0.0
+            tolerance[s] = base * float(cond[s])
+        worst = int(np.argmax(err / tolerance))
+        rows.append({"quantity": name, "worst_state": worst, "normalized": float(err[worst]),
+                     "tolerance": float(tolerance[worst]), "beyond": bool(err[worst] > tolerance[worst]),
+                     "states": n})
+    rows.sort(key=lambda r: -float(r["normalized"]) / float(r["tolerance"]))
+    return rows, ""

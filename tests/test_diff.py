@@ -1,0 +1,235 @@
+"""``relacc diff A B`` (issue 47): a URDF and the MJCF MuJoCo saves from it are the same robot; each change planted in
+that MJCF is found, named and classified, and nothing else is reported.
+
+The reference for "the same robot" is MuJoCo's own conversion (``MjModel.from_xml_path`` then ``mj_saveLastXML``): an
+independent writer of the second file, which fuses the fixed link, drops the link welded to the world, rewrites every
+inertia as principal moments and a quaternion, and prints 6 significant digits. Each planted change is one edit of
+that file, so the expected answer is known without relacc.
+"""
+
+from __future__ import annotations
+
+import json
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from relacc.cli.main import main
+from relacc.validation.diff import diff, rounds_to, significant_digits
+
+URDF = """<robot name="arm">
+  <link name="base">
+    <inertial><origin xyz="0 0 0.05"/><mass value="2.0"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="l1"/><origin xyz="0 0 0.1625"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="10" velocity="1"/><dynamics damping="0.5"/>
+  </joint>
+  <link name="l1">
+    <inertial><origin xyz="0.01 0.02 0.1" rpy="0.1 0.2 0.3"/><mass value="3.7"/>
+      <inertia ixx="0.0102675" ixy="0.001" ixz="0.0005" iyy="0.0102675" iyz="0.0002" izz="0.00666"/></inertial>
+  </link>
+  <joint name="j2" type="revolute">
+    <parent link="l1"/><child link="l2"/><origin xyz="0 0.138 0" rpy="0 1.5708 0"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="10" velocity="1"/>
+  </joint>
+  <link name="l2">
+    <inertial><origin xyz="0.21254 0 0.13617"/><mass value="8.393"/>
+      <inertia ixx="0.133886" ixy="0" ixz="0" iyy="0.133886" iyz="0" izz="0.0151074"/></inertial>
+  </link>
+  <joint name="j3" type="revolute">
+    <parent link="l2"/><child link="l3"/><origin xyz="0 -0.1197 0.425"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="10" velocity="1"/>
+  </joint>
+  <link name="l3">
+    <inertial><origin xyz="0 0 0.196125"/><mass value="2.275"/>
+      <inertia ixx="0.0311796" ixy="0" ixz="0" iyy="0.0311796" iyz="0" izz="0.004095"/></inertial>
+  </link>
+  <joint name="tool_fixed" type="fixed">
+    <parent link="l3"/><child link="tool"/><origin xyz="0 0 0.39225" rpy="0 0 1.2"/>
+  </joint>
+  <link name="tool">
+    <inertial><origin xyz="0.003 0.001 0.02"/><mass value="0.1879"/>
+      <inertia ixx="0.0001" ixy="0" ixz="0" iyy="0.0002" iyz="0" izz="0.00015"/></inertial>
+  </link>
+</robot>
+"""
+
+
+def saved_by_mujoco(tmp_path, urdf_text: str, name: str = "arm"):
+    """``(urdf path, MJCF path)``: the URDF written, and the MJCF MuJoCo saves after reading it."""
+    mujoco = pytest.importorskip("mujoco")
+    urdf = tmp_path / f"{name}.urdf"
+    urdf.write_text(urdf_text)
+    xml = tmp_path / f"{name}.xml"
+    mujoco.mj_saveLastXML(str(xml), mujoco.MjModel.from_xml_path(str(urdf)))
+    return urdf, xml
+
+
+def edited(xml, edit):
+    """The MJCF at ``xml`` with ``edit(root)`` applied, written beside it."""
+    tree = ET.parse(xml)
+    edit(tree.getroot())
+    out = xml.with_name("edited.xml")
+    tree.write(out)
+    return out
+
+
+def body(root, name):
+    return next(b for b in root.iter("body") if b.get("name") == name)
+
+
+def joint(root, name):
+    return next(j for j in root.iter("joint") if j.get("name") == name)
+
+
+def kinds(result):
+    return sorted((d.kind, d.element, d.quantity) for d in result.differences)
+
+
+def test_mujoco_s_own_conversion_is_the_same_robot(tmp_path):
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+    result = diff(urdf, xml)
+    assert result.differences == [] and result.same, [d.line() for d in result.differences]
+    assert [(p["a"], p["b"], p["how"]) for p in result.matched["parts"]] == [
+        ("l1", "l1", "joint name"), ("l2", "l2", "joint name"), ("l3", "l3", "joint name")]
+    assert result.matched["parts"][2]["bodies_a"] == ["l3", "tool"]  # the fixed link fused, as MuJoCo fuses it
+    assert any("base (2 kg) welded to the world" in n for n in result.notes)
+    # the dynamics at matched coordinates: MuJoCo printed 6 digits, so they agree to about 1e-6 of the largest entry
+    assert {row["quantity"] for row in result.dynamics} == {"mass matrix", "bias forces", "forward dynamics"}
+    assert all(row["normalized"] < 1e-5 and not row["beyond"] for row in result.dynamics), result.dynamics
+
+
+def test_a_file_and_itself(tmp_path, capsys):
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+    assert main(["diff", str(xml), str(xml), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["same"] is True and data["differences"] == []
+    assert all(row["normalized"] == 0.0 for row in data["dynamics"])  # the same numbers, the same operations
+
+
+@pytest.mark.parametrize("plant, expected", [
+    ("mass", [("changed", "l2", "mass")]),
+    ("armature", [("added", "j1", "armature")]),
+    ("rounded", [("rounded", "l2", "mass centre (body frame)")]),
+    ("placement", [("placement", "the robot", "placement")]),
+    ("reversed", [("convention", "j2", "axis")]),
+    ("removed", [("unmatched", "l3", "joint")]),
+    ("principal axes", []),
+])
+def test_each_planted_change_is_found_named_and_classified_and_nothing_else(tmp_path, plant, expected):
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+
+    def edit(root):
+        if plant == "mass":  # 1 % more
+            inertial = body(root, "l2").find("inertial")
+            inertial.set("mass", repr(float(inertial.get("mass")) * 1.01))
+        elif plant == "armature":
+            joint(root, "j1").set("armature", "0.1")
+        elif plant == "rounded":  # the mass centre to 3 significant digits
+            body(root, "l2").find("inertial").set("pos", "0.213 0 0.136")
+        elif plant == "placement":  # the whole robot turned 30 degrees about z and moved
+            root_body = body(root, "l1")
+            turn = np.array([np.cos(np.pi / 12), 0, 0, np.sin(np.pi / 12)])
+            c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
+            pos = np.array([float(x) for x in root_body.get("pos").split()])
+            root_body.set("pos", " ".join(repr(float(x)) for x in np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ pos
+                                          + [0.4, -0.2, 0.0]))
+            root_body.set("quat", " ".join(repr(float(x)) for x in turn))
+        elif plant == "reversed":
+            joint(root, "j2").set("axis", "0 -1 0")
+        elif plant == "removed":
+            l3 = body(root, "l3")
+            l3.remove(joint(root, "j3"))
+        elif plant == "principal axes":  # l1's principal moments listed in another order, the quaternion turned
+            from scipy.spatial.transform import Rotation
+
+            inertial = body(root, "l1").find("inertial")
+            a, b, c = (float(x) for x in inertial.get("diaginertia").split())
+            w, x, y, z = (float(v) for v in inertial.get("quat").split())
+            before = Rotation.from_quat([x, y, z, w])
+            # P's columns: the axes of the moments b, c, a in the old principal frame (y, z, x)
+            turned = before * Rotation.from_matrix(np.array([[0.0, 0, 1], [1, 0, 0], [0, 1, 0]]))
+            x, y, z, w = turned.as_quat()
+            np.testing.assert_allclose(turned.as_matrix() @ np.diag([b, c, a]) @ turned.as_matrix().T,
+                                       before.as_matrix() @ np.diag([a, b, c]) @ before.as_matrix().T,
+                                       rtol=0, atol=16 * np.finfo(float).eps * a)  # the same tensor, to rounding
+            inertial.set("diaginertia", f"{b!r} {c!r} {a!r}")
+            inertial.set("quat", " ".join(repr(float(v)) for v in (w, x, y, z)))
+
+    result = diff(urdf, edited(xml, edit))
+    assert kinds(result) == sorted(expected), [d.line() for d in result.differences]
+    if plant == "mass":
+        (d,) = result.differences
+        assert d.a == 8.393 and d.b == pytest.approx(8.393 * 1.01, rel=0, abs=1e-12)
+        np.testing.assert_allclose(d.relative, 0.01 / 1.01, rtol=0, atol=1e-12)
+        line = 1 + next(n for n, text in enumerate(URDF.splitlines()) if "0.21254" in text)  # l2's <inertial>
+        assert d.where_a.endswith(f"{urdf.name}:{line}") and d.where_b.endswith("edited.xml:9")
+    if plant == "placement":
+        (d,) = result.differences
+        # the motion planted: B's robot is A's turned 30 degrees about z, then moved by (0.4, -0.2, 0) m; the printed
+        # quaternion of l1 (6 digits) and the fit allow 1e-5
+        np.testing.assert_allclose(d.b["turned_deg"], 30.0, rtol=0, atol=1e-4)
+        np.testing.assert_allclose(d.b["about"], [0, 0, 1], rtol=0, atol=1e-5)
+        np.testing.assert_allclose(d.b["moved_m"], [0.4, -0.2, 0.0], rtol=0, atol=1e-5)
+    if plant == "reversed":
+        assert result.dynamics and not any(row["beyond"] for row in result.dynamics)  # through q -> -q: the same
+    if plant in ("mass", "armature"):
+        assert any(row["beyond"] for row in result.dynamics)  # the consequence shows in the dynamics
+    if plant == "principal axes":
+        assert result.same
+
+
+def test_a_fused_link_s_mass_left_out_is_named(tmp_path):
+    """B made by MuJoCo from the URDF without the fixed link's inertial: its 0.1879 kg is missing from l3."""
+    urdf, _ = saved_by_mujoco(tmp_path, URDF)
+    without = URDF.replace('<inertial><origin xyz="0.003 0.001 0.02"/><mass value="0.1879"/>\n      <inertia '
+                           'ixx="0.0001" ixy="0" ixz="0" iyy="0.0002" iyz="0" izz="0.00015"/></inertial>', "")
+    assert without != URDF
+    _, xml = saved_by_mujoco(tmp_path, without, "light")
+    result = diff(urdf, xml)
+    assert kinds(result) == [("dropped", "l3 (fused body tool)", "mass")], [d.line() for d in result.differences]
+    (d,) = result.differences
+    np.testing.assert_allclose(d.a - d.b, 0.1879, rtol=0, atol=1e-12)
+
+
+def test_a_difference_counts_beyond_six_digits_and_not_within(tmp_path):
+    """The default tolerance: a mass off in its 7th digit is what printing to 6 digits does (not a difference); off
+    by 1e-4 of itself it is one; --rtol 1e-3 accepts that too."""
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+
+    def mass(factor):
+        def edit(root):
+            inertial = body(root, "l2").find("inertial")
+            inertial.set("mass", repr(8.393 * factor))
+        return edit
+
+    assert diff(urdf, edited(xml, mass(1 + 2e-7))).differences == []
+    assert kinds(diff(urdf, edited(xml, mass(1 + 1e-4)))) == [("changed", "l2", "mass")]
+    assert diff(urdf, edited(xml, mass(1 + 1e-4)), rtol=1e-3).differences == []
+
+
+def test_significant_digits_and_rounding():
+    assert [significant_digits(x) for x in (0.163, 0.1625, 1.0, 2.4629, 1e-7)] == [3, 4, 1, 5, 1]
+    assert rounds_to(0.1625, 0.163)  # the UR5e's shoulder height in Menagerie's MJCF against the ROS URDF (issue 47)
+    assert rounds_to(0.21254, 0.213) and rounds_to(0.0311796, 0.03118) and not rounds_to(0.163, 0.1625)
+
+
+def test_the_command_line(tmp_path, capsys):
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+    changed = edited(xml, lambda root: joint(root, "j1").set("damping", "0.7"))
+    assert main(["diff", str(urdf), str(changed)]) == 1
+    out, err = capsys.readouterr()
+    first, *rest = out.splitlines()
+    assert first.startswith("relacc diff: not the same robot: 1 difference (1 changed)") and err == ""
+    assert any(line.split()[:3] == ["changed", "j1:", "damping:"] for line in rest), out
+    assert main(["diff", str(urdf), str(xml), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data) == {"same", "a", "b", "rtol", "matched", "differences", "notes", "dynamics", "engines"}
+    for bad in (["diff", str(urdf)], ["diff", str(urdf), str(tmp_path / "none.xml")],
+                ["diff", str(urdf), str(xml), "--rtol", "1e-9"]):
+        assert main(bad) == 2
+        out, err = capsys.readouterr()
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
