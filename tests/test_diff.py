@@ -163,17 +163,17 @@ def test_each_planted_change_is_found_named_and_classified_and_nothing_else(tmp_
     assert kinds(result) == sorted(expected), [d.line() for d in result.differences]
     if plant == "mass":
         (d,) = result.differences
-        assert d.a == 8.393 and d.b == pytest.approx(8.393 * 1.01, rel=0, abs=1e-12)
-        np.testing.assert_allclose(d.relative, 0.01 / 1.01, rtol=0, atol=1e-12)
+        assert d.a == 8.393 and d.b == 8.393 * 1.01  # the number written back by repr, read exactly
+        np.testing.assert_allclose(d.relative, 0.01 / 1.01, rtol=0, atol=1e-12)  # one subtraction of ~8.5: ~1e-15
         line = 1 + next(n for n, text in enumerate(URDF.splitlines()) if "0.21254" in text)  # l2's <inertial>
         assert d.where_a.endswith(f"{urdf.name}:{line}") and d.where_b.endswith("edited.xml:9")
     if plant == "placement":
         (d,) = result.differences
         # the motion planted: B's robot is A's turned 30 degrees about z, then moved by (0.4, -0.2, 0) m; the printed
         # quaternion of l1 (6 digits) and the fit allow 1e-5
-        np.testing.assert_allclose(d.b["turned_deg"], 30.0, rtol=0, atol=1e-4)
-        np.testing.assert_allclose(d.b["about"], [0, 0, 1], rtol=0, atol=1e-5)
-        np.testing.assert_allclose(d.b["moved_m"], [0.4, -0.2, 0.0], rtol=0, atol=1e-5)
+        np.testing.assert_allclose(d.b["turned_deg"], 30.0, rtol=0, atol=1e-4)  # 6-digit quaternion: ~2e-6 rad
+        np.testing.assert_allclose(d.b["about"], [0, 0, 1], rtol=0, atol=1e-5)  # the same printed quaternion
+        np.testing.assert_allclose(d.b["moved_m"], [0.4, -0.2, 0.0], rtol=0, atol=1e-5)  # 6-digit positions, ~1 m
     if plant == "reversed":
         assert result.dynamics and not any(row["beyond"] for row in result.dynamics)  # through q -> -q: the same
     if plant in ("mass", "armature"):
@@ -192,7 +192,7 @@ def test_a_fused_link_s_mass_left_out_is_named(tmp_path):
     result = diff(urdf, xml)
     assert kinds(result) == [("dropped", "l3 (fused body tool)", "mass")], [d.line() for d in result.differences]
     (d,) = result.differences
-    np.testing.assert_allclose(d.a - d.b, 0.1879, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(d.a - d.b, 0.1879, rtol=0, atol=1e-12)  # sums of three masses of ~10 kg: ~1e-15
 
 
 def test_a_difference_counts_beyond_six_digits_and_not_within(tmp_path):
@@ -233,3 +233,15 @@ def test_the_command_line(tmp_path, capsys):
         assert main(bad) == 2
         out, err = capsys.readouterr()
         assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+
+
+def test_compare_urdf_is_diff(tmp_path, capsys):
+    """Issue 47 item 9: one way to compare two files. ``compare MODEL.xml --urdf MODEL.urdf`` says so on stderr and
+    answers as ``diff MODEL.urdf MODEL.xml``."""
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+    changed = edited(xml, lambda root: joint(root, "j1").set("armature", "0.1"))
+    assert main(["compare", str(changed), "--urdf", str(urdf)]) == 1
+    out, err = capsys.readouterr()
+    assert err.splitlines() == [f"relacc compare: --urdf compares two files of one robot, which relacc diff does: "
+                                f"relacc diff {urdf} {changed}"]
+    assert out.startswith("relacc diff: not the same robot: 1 difference (1 added)")

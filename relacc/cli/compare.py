@@ -11,27 +11,13 @@ INTERNAL = 3
 """The exit code of relacc's own failure on a file (:data:`relacc.cli.main.INTERNAL`)."""
 
 
-def xacro_arguments(args) -> None:
-    """The ``--xacro-arg NAME:=VALUE`` given, set for the reading of the .xacro files (:mod:`relacc.reading.xacro`).
-
-    Raises:
-        InputError: an argument not of the form ``NAME:=VALUE``.
-    """
-    for given in getattr(args, "xacro_arg", None) or []:
-        name, sep, value = given.partition(":=")
-        if not sep or not name:
-            from relacc.errors import InputError
-
-            raise InputError(f"--xacro-arg {given!r}: expected NAME:=VALUE, as xacro takes its arguments")
-        from relacc.reading.xacro import ARGUMENTS
-
-        ARGUMENTS[name] = value
-
-
 def cmd_compare(args) -> int:
     from relacc import files
+    from relacc.reading.xacro import set_arguments
 
-    xacro_arguments(args)
+    set_arguments(getattr(args, "xacro_arg", None))
+    if args.urdf is not None:
+        return _urdf_is_diff(args)
     found = models(args.model)
     if getattr(args, "models_only", False):
         from relacc.reading.read import is_description
@@ -48,6 +34,22 @@ def cmd_compare(args) -> int:
     args.shown = {path: shown for path, shown in found}
     with files.inputs(args.model):  # a directory's files are inputs too: --out may be none of them
         return _compare(args)
+
+
+def _urdf_is_diff(args) -> int:
+    """``compare MODEL.xml --urdf MODEL.urdf``: two files of one robot, which ``relacc diff`` compares (issue 47: one
+    way to compare two files); said in one line on stderr, then ``diff URDF MJCF``'s answer and exit code."""
+    from relacc.cli.diff import answer
+    from relacc.errors import InputError
+    from relacc.validation.diff import diff
+
+    if len(args.model) != 1 or args.out or args.junit or args.sarif or args.baseline or args.write_baseline:
+        raise InputError("--urdf compares one MJCF with a URDF of the same robot, which is relacc diff now: run "
+                         "relacc diff MODEL.urdf MODEL.xml")
+    result = diff(args.urdf, args.model[0], states=min(args.states, 8), seed=args.seed)
+    print(f"relacc compare: --urdf compares two files of one robot, which relacc diff does: relacc diff {args.urdf} "
+          f"{args.model[0]}", file=sys.stderr)
+    return answer(result, args.json)
 
 
 def _compare(args) -> int:

@@ -10,19 +10,24 @@ SHOWN = 20
 
 
 def cmd_diff(args) -> int:
-    from relacc.cli.compare import xacro_arguments
     from relacc.core.tolerances import PRINTED_DIGITS, PRINTED_RTOL
     from relacc.errors import InputError
+    from relacc.reading.xacro import set_arguments
     from relacc.validation.diff import diff
 
-    xacro_arguments(args)
+    set_arguments(args.xacro_arg)
     rtol = PRINTED_RTOL if args.rtol is None else args.rtol
     if rtol < PRINTED_RTOL:
         raise InputError(f"--rtol {rtol:g}: at least {PRINTED_RTOL:g} (what printing to {PRINTED_DIGITS} significant "
                          "digits changes); --rtol only widens the tolerance")
     a, b = args.model
-    result = diff(a, b, rtol=rtol, states=args.states, seed=args.seed)
-    if args.json:
+    return answer(diff(a, b, rtol=rtol, states=args.states, seed=args.seed), args.json)
+
+
+def answer(result, as_json: bool) -> int:
+    """Print a :class:`relacc.validation.diff.Diff` (text, or JSON) and return its exit code: 0 the same robot, 1
+    differences."""
+    if as_json:
         print(json.dumps(result.as_json(), indent=1))
     else:
         print("\n".join(text(result)))

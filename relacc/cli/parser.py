@@ -297,7 +297,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = _sub(sub, "compare", "does each engine read the robot the file describes?",
              "relacc reads the MJCF or URDF itself, by the format's specification, and holds MuJoCo, Pinocchio (its "
-             "MJCF parser, or --urdf) and Drake to that reading: it audits what each made of the file (joints, axes, "
+             "MJCF parser) and Drake to that reading: it audits what each made of the file (joints, axes, "
              "masses, inertias, armature, damping, gravity), each difference with its cause and its place in the "
              "file, compares their dynamics (mass matrix, bias and gravity forces, forward dynamics, each link's "
              "centre-of-mass Jacobian, J_dot v and classical acceleration) at the reference configuration and at "
@@ -305,7 +305,7 @@ def build_parser() -> argparse.ArgumentParser:
              "bodies that are not physical. An engine that refuses the file is one line; the others are compared. "
              "Exit 1 when anything differs or a body is not physical, 2 when relacc cannot read the file or no "
              "engine takes part.",
-             ["relacc compare robot.xml", "relacc compare robot.xml --urdf robot.urdf --engines pinocchio",
+             ["relacc compare robot.xml", "relacc compare robot.xml --engines pinocchio,mujoco",
               "relacc compare robot.xml --json --out robot.html",
               "relacc compare models/*.xml --scheduler local:2 --json > all.json",
               "relacc compare path/to/robots/ --states 5"])
@@ -314,7 +314,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "directory (its .xml and .urdf files, in sorted order, searched recursively): each compared "
                         "alone, one summary (exit: the highest of theirs)")
     p.add_argument("--urdf", metavar="MODEL.urdf",
-                   help="a URDF of the same robot for Pinocchio (links named as the MJCF's bodies)")
+                   help="a URDF of the same robot: the two files are compared by relacc diff MODEL.urdf MODEL.xml (said "
+                        "on stderr); compare reads one file in every engine")
     p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), metavar="ENGINES",
                    help="comma-separated subset of pinocchio,mujoco,drake (default: those installed)")
     _states(p, 20, "random states besides the reference configuration")

@@ -283,6 +283,7 @@ class _Reader:
         self.first_body = None
         self.visual_geoms = self.stacked = self.unactuated = self.damped_free = self.damped_balls = 0
         self.friction: list[str] = []  # joints with a frictionloss (dry friction, a constraint in MuJoCo)
+        self.frictionloss: dict[str, float] = {}  # their frictionloss (N m or N)
         self.driven = {a.get("joint") for s in root.findall("actuator") for a in s.children
                        if a.tag in ("motor", "position") and a.get("joint")}
 
@@ -472,7 +473,7 @@ class _Reader:
                  "springdamper": tuple(self.springdamper)}
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
                        self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
-                       tuple(self.findings), facts=facts, variant=self.variant)
+                       tuple(self.findings), facts=facts, variant=self.variant, friction=self.frictionloss)
 
     def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         """Bodies and frames directly in ``node`` (a body, a frame or the world), placed by ``(at, R)`` in the parent
@@ -566,8 +567,10 @@ class _Reader:
             self.njoints += 1
             self.places[("joint", name)] = j.place
             nv = {"free": 6, "ball": 3}.get(kind, 1)
-            if number(j, "frictionloss", 0.0):
+            frictionloss = number(j, "frictionloss", 0.0)
+            if frictionloss:
                 self.friction.append(name)
+                self.frictionloss[name] = frictionloss
             armature = number(j, "armature", 0.0)
             if armature and name not in self.driven:
                 self.unactuated += 1

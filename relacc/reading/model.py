@@ -56,6 +56,8 @@ class Reading:
             ``gravity_written``, ``gravity_disabled``).
         variant: the engine's way of reading the file this reading follows (:data:`relacc.reading.mjcf.VARIANTS`;
             empty: the format's).
+        friction: ``{joint name: dry friction}`` (MJCF ``frictionloss``, URDF ``<dynamics friction>``; N m or N) of the
+            joints that have one: compared by ``relacc diff``, not evaluated by the dynamics.
     """
 
     tree: Tree
@@ -72,6 +74,7 @@ class Reading:
     turned_inertials: dict = field(default_factory=dict)
     facts: dict = field(default_factory=dict)
     variant: frozenset = frozenset()
+    friction: dict = field(default_factory=dict)
 
     def place(self, kind: str, name: str) -> str:
         """``file:line`` of an element, or the file when unknown."""

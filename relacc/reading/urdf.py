@@ -161,7 +161,7 @@ def read(path) -> Reading:
         raise ModelError(f"{path}: links {', '.join(lost)} are not reachable from the root {roots[0]!r} (a loop)")
     world = roots[0] == "world"
     index: dict[str, int] = {}
-    bodies, places, ranges, damping, findings, turned = [], {}, {}, {}, [], {}
+    bodies, places, ranges, damping, findings, turned, friction = [], {}, {}, {}, [], {}, {}
     unevaluated = []
     mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None and j.get("type") != "fixed"]
     if mimics:
@@ -209,6 +209,9 @@ def read(path) -> Reading:
                 d = number(dyn, "damping", 0.0) if dyn is not None else 0.0
                 if d:
                     damping[jname] = np.full(joint_list[0].nv, d)
+                dry = number(dyn, "friction", 0.0) if dyn is not None else 0.0
+                if dry:
+                    friction[jname] = dry
         mass, com, inertia, where, written, digits = _inertial(link, normalized)
         if written is not None:
             turned[name] = written
@@ -225,7 +228,7 @@ def read(path) -> Reading:
     tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array([0.0, 0.0, -9.81]), source=str(path))
     notes += normalized.notes("URDF")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
-                   tuple(findings), turned)
+                   tuple(findings), turned, friction=friction)
 
 
 def _link_of(joint: Node, end: str) -> str:

@@ -26,6 +26,21 @@ ARGUMENTS: dict[str, str] = {}
 _LOCK = threading.Lock()  # xacro keeps its state in module globals
 
 
+def set_arguments(given) -> None:
+    """``NAME:=VALUE`` strings (``--xacro-arg``, as ROS's xacro takes them) set in :data:`ARGUMENTS`.
+
+    Raises:
+        InputError: one not of the form ``NAME:=VALUE``.
+    """
+    for text in given or []:
+        name, sep, value = text.partition(":=")
+        if not sep or not name:
+            from relacc.errors import InputError
+
+            raise InputError(f"--xacro-arg {text!r}: expected NAME:=VALUE, as xacro takes its arguments")
+        ARGUMENTS[name] = value
+
+
 def is_xacro(path) -> bool:
     return str(path).lower().endswith(".xacro")
 

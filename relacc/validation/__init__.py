@@ -6,6 +6,8 @@ and :mod:`relacc.core.scales`.
 
 * :mod:`~relacc.validation.check`: case x engine x route x quantity cross-validation (``relacc check``).
 * :mod:`~relacc.validation.errata`: each equation id of the note, printed against corrected.
+* :mod:`~relacc.validation.diff`, :mod:`~relacc.validation.diff_dynamics`: two descriptions of one robot
+  (``relacc diff``).
 * :mod:`~relacc.validation.hardcases`, :mod:`~relacc.validation.hardsearch`: the hard-case
   catalogue with its accuracy models, and a Hypothesis search for the worst state.
 """

@@ -7,7 +7,8 @@ the physics depends on, in a way that does not depend on either file's choice of
   joints) make one *part*: its mass, its mass centre and its inertia about the mass centre are the composite's. Bodies
   welded to the world make the world's part: on a fixed base their mass moves nothing, and is said once (a note).
 * **At the reference configuration** (every joint at its ``ref``: a file's zero), in world components: each part's
-  mass centre and inertia, each joint's axis and (hinge, ball) anchor, a hinge's anchor compared as its distance from
+  mass centre and inertia, each joint's axis and (hinge, ball) anchor, zero, armature, damping, friction loss,
+  spring and range, a hinge's anchor compared as its distance from
   the other file's axis line (where on the line a file puts it is a choice of frame). How either file chose its link
   frames and inertial frames, principal axes or full tensors, drops out.
 * **Placement.** A whole robot placed or rotated differently in the world is one rigid motion, found from the parts'
@@ -49,7 +50,7 @@ KINDS = ("changed", "added", "dropped", "rounded", "placement", "convention", "u
 """The kinds of a :class:`Difference` (module docstring)."""
 
 UNITS = {"mass": "kg", "mass centre": "m", "inertia": "kg m^2", "axis": "unit vector", "anchor": "m",
-         "armature": "kg m^2 or kg", "damping": "N m s/rad or N s/m", "range": "rad or m",
+         "armature": "kg m^2 or kg", "damping": "N m s/rad or N s/m", "friction loss": "N m or N", "range": "rad or m",
          "stiffness": "N m/rad or N/m", "spring reference": "rad or m", "type": "", "gravity": "m/s^2",
          "placement": "deg, unit axis, m", "part": "", "joint": "", "zero": "rad or m"}
 """Units of each quantity a difference names (world components for vectors and tensors, at the reference
@@ -563,7 +564,7 @@ def _world_rotation(tree, b: int) -> np.ndarray:
 
 
 def _joint_terms(out, ra, rb, a: Part, b: Part, ja: int, jb: int, R, p, tol) -> float:
-    """The type, axis, anchor, zero, armature, damping, spring and range of two matched joints; returns the sign
+    """The type, axis, anchor, zero, armature, damping, friction loss, spring and range of two matched joints; returns the sign
     that maps A's coordinate and speed to B's (-1 where the axis is reversed)."""
     j, k = a.joints[ja], b.joints[jb]
     el = j.name if j.name == k.name else f"{j.name} / {k.name}"
@@ -601,6 +602,7 @@ def _joint_terms(out, ra, rb, a: Part, b: Part, ja: int, jb: int, R, p, tol) -> 
     _number(out, el, "armature", j.armature, k.armature, tol, wa, wb)
     nv = j.nv
     _number(out, el, "damping", ra.joint_damping(j.name, nv), rb.joint_damping(k.name, nv), tol, wa, wb)
+    _number(out, el, "friction loss", ra.friction.get(j.name, 0.0), rb.friction.get(k.name, 0.0), tol, wa, wb)
     sa, sb = ra.stiffness.get(j.name), rb.stiffness.get(k.name)
     _number(out, el, "stiffness", sa[0] if sa else 0.0, sb[0] if sb else 0.0, tol, wa, wb)
     if sa and sb:
