@@ -314,8 +314,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "directory (its .xml and .urdf files, in sorted order, searched recursively): each compared "
                         "alone, one summary (exit: the highest of theirs)")
     p.add_argument("--urdf", metavar="MODEL.urdf",
-                   help="a URDF of the same robot: the two files are compared by relacc diff MODEL.urdf MODEL.xml (said "
-                        "on stderr); compare reads one file in every engine")
+                   help="a URDF of the same robot: the two files are compared by relacc diff MODEL.urdf MODEL.xml "
+                        "(said on stderr); compare reads one file in every engine")
     p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), metavar="ENGINES",
                    help="comma-separated subset of pinocchio,mujoco,drake (default: those installed)")
     _states(p, 20, "random states besides the reference configuration")

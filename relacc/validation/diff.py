@@ -564,8 +564,8 @@ def _world_rotation(tree, b: int) -> np.ndarray:
 
 
 def _joint_terms(out, ra, rb, a: Part, b: Part, ja: int, jb: int, R, p, tol) -> float:
-    """The type, axis, anchor, zero, armature, damping, friction loss, spring and range of two matched joints; returns the sign
-    that maps A's coordinate and speed to B's (-1 where the axis is reversed)."""
+    """The type, axis, anchor, zero, armature, damping, friction loss, spring and range of two matched joints;
+    returns the sign that maps A's coordinate and speed to B's (-1 where the axis is reversed)."""
     j, k = a.joints[ja], b.joints[jb]
     el = j.name if j.name == k.name else f"{j.name} / {k.name}"
     wa, wb = ra.place("joint", j.name), rb.place("joint", k.name)
