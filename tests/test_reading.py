@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation
 
 import relacc
 from relacc.cli import main
-from relacc.core.tolerances import EPS
+from relacc.core.tolerances import EPS, ROUNDING_FACTOR
 from relacc.engines import load
 from relacc.errors import ModelError
 from relacc.reading import read
@@ -263,21 +263,52 @@ def test_unphysical_bodies_are_findings_and_mujocos_refusal_is_one_line(tmp_path
     assert {"pinocchio", "drake"} <= set(result.compared) and result.exit_code == 1
 
 
-def test_a_body_relacc_takes_from_mujoco_says_so(tmp_path):
-    """A mesh geom's mass properties come from MuJoCo (relacc does not compute meshes): the body is named in
-    ``taken`` and the reading still agrees with MuJoCo's compiled model."""
+def _tetrahedron_stl(path):
+    """A binary STL of the unit tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1), its faces turned outwards."""
     import struct
 
-    stl = tmp_path / "tet.stl"
     tri = [((0, 0, 0), (0, 1, 0), (1, 0, 0)), ((0, 0, 0), (1, 0, 0), (0, 0, 1)), ((0, 0, 0), (0, 0, 1), (0, 1, 0)),
            ((1, 0, 0), (0, 1, 0), (0, 0, 1))]
     data = bytearray(80) + struct.pack("<I", len(tri))
     for t in tri:
         data += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *v) for v in t) + b"\0\0"
-    stl.write_bytes(bytes(data))
+    path.write_bytes(bytes(data))
+
+
+def test_a_mesh_body_is_relacc_s_own_reading(tmp_path):
+    """Issue 53 item 6: relacc computes a mesh geom's mass properties itself (relacc.reading.mesh), nothing taken from
+    MuJoCo. The reference is the tetrahedron's closed form: side a = 0.2 m, density 1000, volume a^3/6, mass centre
+    a/4 on each axis, second moments a^5/60 (squares) and a^5/120 (products) about the corner; the geom placed at
+    (0.1, 0, 0) and turned 30 degrees about y. MuJoCo's compiled model agrees too (c eps)."""
+    _tetrahedron_stl(tmp_path / "tet.stl")
     path = tmp_path / "meshed.xml"
     path.write_text('<mujoco><asset><mesh name="tet" file="tet.stl" scale="0.2 0.2 0.2"/></asset><worldbody>'
                     '<body name="a"><joint name="ja"/><geom type="mesh" mesh="tet" pos="0.1 0 0" euler="0 30 0"/>'
+                    '</body></worldbody></mujoco>')
+    reading = agrees_with_mujoco(path)
+    assert reading.taken == {}
+    a, rho = 0.2, 1000.0
+    mass = rho * a ** 3 / 6
+    corner = rho * a ** 5 * (np.full((3, 3), -1 / 120) + np.eye(3) * (2 / 60 + 1 / 120))
+    c = np.full(3, a / 4)
+    about_c = corner - mass * (c @ c * np.eye(3) - np.outer(c, c))
+    t = np.radians(30)
+    Ry = np.array([[np.cos(t), 0, np.sin(t)], [0, 1, 0], [-np.sin(t), 0, np.cos(t)]])
+    body = reading.tree.bodies[0]
+    # sums over 4 faces of products of 3 coordinates of ~0.2 m: c eps of each quantity's magnitude
+    np.testing.assert_allclose(body.mass, mass, rtol=0, atol=ROUNDING_FACTOR * EPS * mass)
+    np.testing.assert_allclose(body.com, [0.1, 0, 0] + Ry @ c, rtol=0, atol=ROUNDING_FACTOR * EPS * 0.2)
+    np.testing.assert_allclose(body.inertia, Ry @ about_c @ Ry.T, rtol=0,
+                               atol=ROUNDING_FACTOR * EPS * np.abs(about_c).max())
+
+
+def test_a_primitive_fitted_to_a_mesh_is_taken_from_mujoco_and_says_so(tmp_path):
+    """A box fitted to a mesh (MuJoCo's fitting) is still computed by MuJoCo: the body is named in ``taken`` and the
+    reading agrees with MuJoCo's compiled model."""
+    _tetrahedron_stl(tmp_path / "tet.stl")
+    path = tmp_path / "fitted.xml"
+    path.write_text('<mujoco><asset><mesh name="tet" file="tet.stl" scale="0.2 0.2 0.2"/></asset><worldbody>'
+                    '<body name="a"><joint name="ja"/><geom type="box" mesh="tet" pos="0.1 0 0"/>'
                     '<geom type="sphere" size="0.05" pos="0 0.2 0"/></body></worldbody></mujoco>')
     reading = agrees_with_mujoco(path)
     assert set(reading.taken) == {"a"} and "mesh 'tet'" in reading.taken["a"]

@@ -81,7 +81,7 @@ VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored
             "mesh_unit_inertia", "gravity_default", "settotalmass_ignored", "gravity_flag_ignored",
             "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
             "unnamed_siblings_dropped", "default_joint_pos_ignored", "default_geom_pose_ignored",
-            "springdamper_ignored", "ball_damping_dropped")
+            "springdamper_ignored", "ball_damping_dropped", "mesh_obj_first_object", "mesh_inertia_exact")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
@@ -120,11 +120,20 @@ Drake's:
 * ``armature_without_actuator``: a joint's armature kept only where a ``<motor>`` or ``<position>`` actuator drives
   it;
 * ``free_damping_dropped``: a free joint's damping dropped;
+* ``mesh_inertia_exact``: a mesh's exact volume, mass centre and inertia whatever its ``inertia`` mode (measured on
+  Drake 1.51: two disjoint 0.1 m cubes in one OBJ read as 2 kg at density 1000, where the default legacy mode gives
+  3.33 kg);
 * ``default_chain_broken``: a ``<default>`` class's attributes for an element (``<joint>``, ``<geom>``, ...) are
   its own merged over its parent class's only where the parent has that element too: a class without a ``<joint>``
   (or ``<geom>``) default gives its joints (geoms) nothing, not even what its ancestors set, and breaks the chain
   for the classes under it (measured on Drake 1.51: damping 30 set in a class two levels up reads 0; dm_control's
   quadruped loses its hips' damping so).
+
+MuJoCo's:
+
+* ``mesh_obj_first_object``: of an OBJ mesh file with several objects (``o`` or ``g``), the first object's faces only
+  (google-deepmind/mujoco#911; the convex hull, which takes every vertex, is the whole file's): the volume, mass
+  centre and inertia of the legacy, exact and shell modes are the first object's.
 """
 
 
@@ -276,6 +285,11 @@ class _Reader:
         self.bodies: list[Body] = []
         self.points: list[Point] = []
         self.places, self.ranges, self.damping, self.stiffness, self.taken = {}, {}, {}, {}, {}
+        self.mesh_geoms = 0
+        self.legacy_meshes = 0  # mesh geoms in MuJoCo's default legacy mode (Drake computes them exactly)
+        self._geom_body: dict[int, str] = {}  # each geom's body, while its mass properties are read
+        self.mesh_body_names: set[str] = set()  # bodies with a mesh geom (whoever computed it)
+        self.multi_object_meshes: list[str] = []  # OBJ files of several objects (MuJoCo reads the first)
         self.written: dict[str, float] = {}  # body: the Frobenius norm of its written inertia's rounding (kg m^2)
         self.findings = []
         self.njoints = 0
@@ -465,7 +479,8 @@ class _Reader:
                  "gravity_disabled": disabled, "settotalmass": self._compiler_numbers("settotalmass", [-1.0])[0] > 0,
                  "placed_jointless_first": first is not None and not self._has_joint(first)
                  and any(first.get(k) is not None for k in ("pos", "quat", "axisangle", "euler", "xyaxes", "zaxis")),
-                 "visual_geoms": self.visual_geoms, "mesh_bodies": bool(self.taken),
+                 "visual_geoms": self.visual_geoms, "mesh_bodies": bool(self.mesh_body_names),
+                 "multi_object_meshes": tuple(self.multi_object_meshes), "legacy_meshes": self.legacy_meshes,
                  "stacked": self.stacked, "unactuated_armature": self.unactuated, "damped_free": self.damped_free,
                  "damped_balls": self.damped_balls,
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
@@ -645,10 +660,13 @@ class _Reader:
             return 0.0, np.zeros(3), np.zeros((3, 3))
         parts, meshy, solid = [], [], []
         for g, at, R in self._elements(node, "geom", cls):
+            self._geom_body[id(g)] = body
             part = self._geom(g, at, R, body)
             if part is not None:
                 parts.append(part[:3])
                 if part[3]:
+                    self.mesh_body_names.add(body)
+                if part[4]:
                     meshy.append(part[3])
                 if not (number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0):
                     solid.append((bool(part[3]), at + R @ np.array(numbers(g, "pos", 3, [0.0, 0.0, 0.0]))))
@@ -697,8 +715,13 @@ class _Reader:
                     regular_file(mesh_file, ModelError, "mesh file")
                 except ModelError as exc:
                     raise ModelError(f"{asset.place}: <mesh file={asset.get('file')!r}>: {exc}") from None
+            self.mesh_geoms += 1
+            own = self._own_mesh(g, kind, asset, mass_given, name)
+            if own is not None:
+                mass, com, I = own
+                return mass, at + R @ com, R @ I @ R.T, f"mesh {name!r}", False
             mass, com, I = self.meshes(MeshGeom(str(self.path), g, asset, self.meshdir, self.degree, dict(g.attrib)))
-            return mass, at + R @ np.asarray(com), R @ np.asarray(I) @ R.T, f"mesh {name!r}"
+            return mass, at + R @ np.asarray(com), R @ np.asarray(I) @ R.T, f"mesh {name!r}", True
         size = numbers(g, "size", None, [0.0, 0.0, 0.0])
         size = list(size) + [0.0] * (3 - len(size))
         pos, Rg = self.pose(g)
@@ -722,7 +745,60 @@ class _Reader:
                              "<inertial>") from None
         mass = mass_given if mass_given is not None else number(g, "density", 1000.0) * measure
         Rw = R @ Rg
-        return mass, at + R @ pos, Rw @ np.diag(mass * moments) @ Rw.T, ""
+        return mass, at + R @ pos, Rw @ np.diag(mass * moments) @ Rw.T, "", False
+
+    def _own_mesh(self, g: Node, kind: str, asset, mass_given, name):
+        """``(mass, centre (3,), inertia (3, 3))`` of a mesh geom in its parent's frame, computed by relacc
+        (:mod:`relacc.reading.mesh`), or None where relacc leaves it to MuJoCo (a primitive fitted to a mesh, a
+        builtin mesh, a convex hull limited by ``maxhullvert``).
+
+        Raises:
+            ModelError: ``shellinertia`` on a mesh geom (MuJoCo's compiler refuses it: a mesh's inertia mode is its
+                asset's), a mesh file that cannot be read, a volume or area MuJoCo refuses.
+        """
+        from relacc.reading import mesh
+
+        if g.get("shellinertia") is not None:
+            raise ModelError(f"{g.place}: shellinertia on a mesh geom: MuJoCo's compiler refuses it (a mesh's inertia "
+                             "is its asset's inertia=\"legacy|exact|convex|shell\")")
+        mode = "legacy" if asset is None else asset.get("inertia", "legacy")
+        if mode == "legacy":
+            self.legacy_meshes += 1
+        if "mesh_inertia_exact" in self.variant and mode != "shell":
+            mode = "exact"
+        if kind != "mesh" or asset is None or asset.get("builtin") or (asset.get("maxhullvert") and mode == "convex") \
+                or not (asset.get("file") or asset.get("vertex")):
+            return None
+        place = asset.place
+        if asset.get("file"):
+            path = self.path.parent / self.meshdir / asset.get("file")
+            vertices, objects = mesh.cached(path, place)
+            if len(objects) > 1:
+                self.multi_object_meshes.append(asset.get("file"))
+            kept = objects[:1] if "mesh_obj_first_object" in self.variant else objects
+            faces = np.concatenate(kept) if kept else np.zeros((0, 3), dtype=np.int64)
+        else:
+            vertices = np.asarray(numbers(asset, "vertex"), dtype=np.float32).astype(np.float64).reshape(-1, 3)
+            faces = np.asarray(numbers(asset, "face", None, []), dtype=np.int64).reshape(-1, 3)
+        vertices = mesh.transformed(vertices, numbers(asset, "refpos", 3, [0.0, 0.0, 0.0]),
+                                    numbers(asset, "refquat", 4, [1.0, 0.0, 0.0, 0.0]),
+                                    numbers(asset, "scale", 3, [1.0, 1.0, 1.0]))
+        props = mesh.mass_properties(vertices, faces, mode, place)
+        mass = mass_given if mass_given is not None else number(g, "density", 1000.0) * props.measure
+        pos, Rg = self.pose(g)
+        inertia_geom = mass / props.measure * props.inertia
+        self._mesh_written(g, inertia_geom)
+        return mass, pos + Rg @ props.com, Rg @ inertia_geom @ Rg.T
+
+    def _mesh_written(self, g: Node, inertia_geom: np.ndarray) -> None:
+        """A mesh's vertices are written in single precision: what that allows its geom's inertia (kg m^2,
+        :data:`relacc.reading.mesh.VERTEX_ROUNDING` of its largest entry) is added to the body's ``written``, as a
+        written inertia's digits are."""
+        from relacc.reading.mesh import VERTEX_ROUNDING
+
+        body = self._geom_body.get(id(g))
+        if body is not None:
+            self.written[body] = self.written.get(body, 0.0) + VERTEX_ROUNDING * float(np.abs(inertia_geom).max())
 
     def _compiler_masses(self) -> None:
         """``boundmass``, ``boundinertia``, ``balanceinertia``, ``settotalmass`` (module docstring)."""

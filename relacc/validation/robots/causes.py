@@ -140,6 +140,13 @@ READINGS = {
             _drop_massless_inertia,
         ),
         KnownBehaviour(
+            "obj_first_object",
+            "MuJoCo reads only the first object (o or g) of an OBJ mesh file of several (google-deepmind/mujoco#911): "
+            "its legacy, exact and shell inertias are that object's",
+            lambda r: _mjcf(r) and bool(r.facts.get("multi_object_meshes")),
+            _reread("mesh_obj_first_object"),
+        ),
+        KnownBehaviour(
             "urdf_inertial_rotation",
             "MuJoCo's URDF reader up to 3.13 drops the rotation of an <inertial>'s <origin "
             "rpy> (google-deepmind/mujoco#3559, fixed in 3.14): it takes the inertia as if written in the link's axes",
@@ -260,6 +267,14 @@ READINGS = {
             _reread("settotalmass_ignored"),
         ),
         _springdamper_ignored("Drake"),
+        KnownBehaviour(
+            "mesh_exact",
+            "Drake computes a mesh geom's volume, mass centre and inertia exactly, whatever the mesh's inertia mode: "
+            "MuJoCo's default, legacy, sums every face's pyramid from the face centroid as positive, which overcounts "
+            "a mesh that is not convex",
+            lambda r: _mjcf(r) and r.facts.get("legacy_meshes", 0) > 0,
+            _reread("mesh_inertia_exact"),
+        ),
         KnownBehaviour(
             "gravity_flag",
             'Drake\'s MJCF parser ignores <flag gravity="disable"/> and keeps <option gravity>',

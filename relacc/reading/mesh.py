@@ -1,0 +1,232 @@
+"""A mesh's volume (or area), mass centre and inertia, computed by relacc as MuJoCo's compiler specifies them.
+
+MuJoCo's XML reference gives a mesh asset an ``inertia`` mode (``legacy``, the default, ``exact``, ``convex``,
+``shell``); its compiler (``user_mesh.cc``, ``mjCMesh::Process``) computes, after the asset's ``refpos``, ``refquat``
+and ``scale``:
+
+* the *face centroid* ``c_f``: the area-weighted mean of the triangles' centroids;
+* the volume and mass centre as a sum of pyramids from ``c_f`` over each triangle (``exact``: signed volumes, a closed
+  surface's; ``legacy``: each pyramid's volume taken positive, which overcounts a non-convex mesh; ``convex``: the
+  triangles of the convex hull), or for ``shell`` the area and its centroid (each triangle's weight its area,
+  its centroid taken 3/4 of the way from ``c_f``);
+* the inertia about that mass centre as the sum of each triangle's tetrahedron with its apex at the mass centre
+  (``shell``: each triangle's second moments), the volume summed again over the same tetrahedra (for ``legacy``
+  from the mass centre, not ``c_f``: the two sums differ, and the second is the one the geom's mass uses).
+
+A mesh geom of density ``rho`` then has mass ``rho V`` (or its ``mass``) and inertia ``(mass / V) I``, in the mesh's
+frame, which the geom's pose places. This module computes that in float64 from the file's vertices (binary STL,
+OBJ, MuJoCo's MSH), so that relacc's reading of a mesh body is its own, and MuJoCo's is judged like any other reading.
+Meshes are read with trimesh (STL, OBJ); ``scipy.spatial.ConvexHull`` (Qhull, as MuJoCo) gives the hull.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from relacc.errors import ModelError
+
+MODES = ("legacy", "exact", "convex", "shell")
+"""A mesh asset's ``inertia`` modes (MuJoCo's default: ``legacy``)."""
+
+VERTEX_ROUNDING = 4 * float(np.finfo(np.float32).eps)
+"""Relative to a mesh geom's largest inertia entry: how far two float64 computations of it from the same single
+precision vertices may differ where one of them rounds intermediate vertices to single precision, as MuJoCo's
+compiler does when it recentres and turns the mesh (measured: at most 7e-8 = 0.6 eps_f32 over the 76 mesh bodies of
+the pinned robosuite and gymnasium models, and 9.5e-8 over 80 of their mesh files in every mode); four eps_f32
+covers the rotation's three roundings and the products' one."""
+
+MJMINVAL = 1e-15
+"""MuJoCo's ``mjMINVAL``: below it a volume or an area is refused."""
+
+
+@dataclass(frozen=True)
+class MeshMass:
+    """A mesh's mass properties per unit density, in the mesh asset's frame (after ``refpos``, ``refquat``,
+    ``scale``): ``measure`` (m^3, or m^2 for a shell), ``com`` ``(3,)`` (m) and ``inertia`` ``(3, 3)`` about it per
+    unit density (m^5, or m^4 for a shell)."""
+
+    measure: float
+    com: np.ndarray
+    inertia: np.ndarray
+
+
+def load(path: Path, place: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(vertices (n, 3) float64 of the file's float32 values, faces (m, 3) int)`` of a mesh file: binary STL, OBJ
+    or MSH, as MuJoCo reads them (vertex coordinates are single precision in all three).
+
+    Raises:
+        ModelError: another format, an ASCII STL (MuJoCo reads binary STL only), or a file that does not parse.
+    """
+    suffix = path.suffix.lower()
+    data = path.read_bytes()
+    if suffix == ".msh":
+        header = np.frombuffer(data[:16], dtype="<i4") if len(data) >= 16 else np.zeros(0, dtype="<i4")
+        if len(header) < 4:
+            raise ModelError(f"{place}: {path.name}: an MSH file shorter than its header")
+        nv, nn, nt, nf = (int(x) for x in header)
+        if 16 + 4 * (3 * nv + 3 * nn + 2 * nt + 3 * nf) != len(data) or nv < 4:
+            raise ModelError(f"{place}: {path.name}: an MSH file whose size does not match its header")
+        floats = np.frombuffer(data[16:16 + 12 * nv], dtype="<f4").reshape(nv, 3)
+        start = 16 + 4 * (3 * nv + 3 * nn + 2 * nt)
+        faces = np.frombuffer(data[start:start + 12 * nf], dtype="<i4").reshape(nf, 3)
+        return floats.astype(np.float64), faces.astype(np.int64)
+    if suffix == ".stl":
+        count = int(np.frombuffer(data[80:84], dtype="<u4")[0]) if len(data) >= 84 else -1
+        if count < 0 or len(data) != 84 + 50 * count:
+            raise ModelError(f"{place}: {path.name}: not a binary STL (MuJoCo reads binary STL only)")
+        records = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+        vertices = records["v"].reshape(-1, 3).astype(np.float64)
+        return vertices, np.arange(len(vertices)).reshape(-1, 3)
+    if suffix == ".obj":
+        vertices, objects = read_obj(data, path.name, place)
+        return vertices, np.concatenate(objects) if objects else np.zeros((0, 3), dtype=np.int64)
+    raise ModelError(f"{place}: {path.name}: a mesh file is .stl, .obj or .msh")
+
+
+def cached(path: Path, place: str) -> tuple[np.ndarray, list[np.ndarray]]:
+    """``(vertices (n, 3), [faces (m_k, 3) of each object])`` of a mesh file (one object but in an OBJ), read once per
+    file version (its size and modification time)."""
+    stat = path.stat()
+    return _cached(path, stat.st_mtime_ns, stat.st_size, place)
+
+
+@functools.lru_cache(maxsize=64)
+def _cached(path: Path, mtime_ns: int, size: int, place: str) -> tuple[np.ndarray, list[np.ndarray]]:
+    if path.suffix.lower() == ".obj":
+        return read_obj(path.read_bytes(), path.name, place)
+    vertices, faces = load(path, place)
+    return vertices, [faces]
+
+
+def read_obj(data: bytes, name: str, place: str) -> tuple[np.ndarray, list[np.ndarray]]:
+    """``(vertices (n, 3), [faces (m_k, 3) of each object])`` of an OBJ file: its ``v`` lines (single precision, as
+    MuJoCo keeps them) and its ``f`` lines (1-based or negative indices, ``v/vt/vn`` forms; a polygon split into a fan
+    of triangles from its first vertex), an object starting at each ``o`` or ``g`` line that follows faces.
+
+    Written here rather than taken from trimesh because the reading must keep the file's order and where each object
+    starts: MuJoCo reads the first object's faces only (mujoco#911), and relacc names that reading of a multi-object
+    file (:data:`OBJ_FIRST_OBJECT`), which trimesh's loader, regrouping faces by object and material, cannot show.
+
+    Raises:
+        ModelError: a line that does not parse, or a face naming a vertex that is not there.
+    """
+    vertices: list[list[float]] = []
+    objects: list[list[list[int]]] = [[]]
+    for number, raw in enumerate(data.decode("utf-8", errors="replace").splitlines(), start=1):
+        fields = raw.split()
+        if not fields:
+            continue
+        try:
+            if fields[0] == "v":
+                vertices.append([float(x) for x in fields[1:4]])
+            elif fields[0] == "f":
+                ids = [int(f.split("/")[0]) for f in fields[1:]]
+                ids = [i - 1 if i > 0 else len(vertices) + i for i in ids]
+                if len(ids) < 3 or min(ids) < 0 or max(ids) >= len(vertices):
+                    raise ValueError("a face with fewer than 3 vertices or naming one not there")
+                objects[-1] += [[ids[0], ids[k], ids[k + 1]] for k in range(1, len(ids) - 1)]
+            elif fields[0] in ("o", "g") and objects[-1]:
+                objects.append([])
+        except ValueError as exc:
+            raise ModelError(f"{place}: {name}:{number}: {exc}") from None
+    v = np.asarray(vertices, dtype=np.float32).astype(np.float64).reshape(-1, 3)
+    return v, [np.asarray(o, dtype=np.int64).reshape(-1, 3) for o in objects if o]
+
+
+OBJ_FIRST_OBJECT = ("MuJoCo reads an OBJ file's first object (o or g) only: its faces, not the others' "
+                    "(mujoco#911; the convex hull, which takes every vertex, is the file's)")
+"""What MuJoCo does with a multi-object OBJ file, as relacc's reading names it (variant ``mesh_obj_first_object``)."""
+
+
+def _triangles(vertices: np.ndarray, faces: np.ndarray):
+    """``(normals (m, 3) unit, centroids (m, 3), areas (m,))`` of the triangles (MuJoCo's ``triangle``)."""
+    a, b, c = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
+    cross = np.cross(b - a, c - a)
+    norm = np.linalg.norm(cross, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        normals = np.where(norm[:, None] > 0, cross / np.where(norm > 0, norm, 1.0)[:, None], 0.0)
+    return normals, (a + b + c) / 3.0, norm / 2.0
+
+
+def mass_properties(vertices: np.ndarray, faces: np.ndarray, mode: str, place: str) -> MeshMass:
+    """A mesh's :class:`MeshMass` in ``mode`` (:data:`MODES`), as MuJoCo's compiler computes it (module docstring).
+
+    Raises:
+        ModelError: a surface or a volume below ``mjMINVAL``, or a negative volume (triangles turned inwards), as
+            MuJoCo refuses them.
+    """
+    if mode not in MODES:
+        raise ModelError(f"{place}: mesh inertia={mode!r}; MuJoCo's are {', '.join(MODES)}")
+    if len(faces) == 0:  # vertices only: MuJoCo takes the convex hull's faces
+        faces = hull_faces(vertices, place)
+    _, centroids, areas = _triangles(vertices, faces)
+    total_area = float(areas.sum())
+    if total_area < MJMINVAL:
+        raise ModelError(f"{place}: the mesh's surface area is too small ({total_area:.3g} m^2), as MuJoCo refuses it")
+    facecen = (areas[:, None] * centroids).sum(axis=0) / total_area
+    used = hull_faces(vertices, place) if mode == "convex" else faces
+    normals, centroids, areas = _triangles(vertices, used)
+    if mode == "shell":
+        weights = areas
+    else:
+        weights = np.einsum("ij,ij->i", centroids - facecen, normals) * areas / 3.0
+        if mode == "legacy":
+            weights = np.abs(weights)
+    measure = float(weights.sum())
+    if measure < MJMINVAL:
+        what = "volume is negative (triangles turned inwards)" if measure < 0 else \
+            "volume is too small (MuJoCo suggests inertia=\"shell\")"
+        raise ModelError(f"{place}: the mesh's {what}, as MuJoCo refuses it")
+    com = (weights[:, None] * (0.75 * centroids + 0.25 * facecen)).sum(axis=0) / measure
+    D, E, F = (vertices[used[:, k]] - com for k in range(3))
+    normals, centroids, areas = _triangles(vertices - com, used)
+    if mode == "shell":
+        weights, C = areas, 12.0
+    else:
+        weights, C = np.einsum("ij,ij->i", centroids, normals) * areas / 3.0, 20.0
+        if mode == "legacy":
+            weights = np.abs(weights)
+    P = np.zeros((3, 3))
+    for j in range(3):
+        for k in range(j, 3):
+            P[j, k] = P[k, j] = float((weights / C * (
+                2 * (D[:, j] * D[:, k] + E[:, j] * E[:, k] + F[:, j] * F[:, k])
+                + D[:, j] * E[:, k] + D[:, k] * E[:, j] + D[:, j] * F[:, k] + D[:, k] * F[:, j]
+                + E[:, j] * F[:, k] + E[:, k] * F[:, j])).sum())
+    inertia = np.trace(P) * np.eye(3) - P
+    return MeshMass(float(weights.sum()), com, inertia)
+
+
+def hull_faces(vertices: np.ndarray, place: str) -> np.ndarray:
+    """``(m, 3)`` the triangles of the vertices' convex hull (Qhull, as MuJoCo's compiler), each turned outwards.
+
+    Raises:
+        ModelError: vertices with no hull (fewer than 4, or all in a plane).
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        hull = ConvexHull(vertices)
+    except (QhullError, ValueError) as exc:
+        raise ModelError(f"{place}: the mesh's vertices have no convex hull ({str(exc).splitlines()[0]})") from None
+    used = np.array(hull.simplices, dtype=np.int64)
+    normals, centroids, _ = _triangles(vertices, used)
+    inward = np.einsum("ij,ij->i", normals, centroids - vertices[hull.vertices].mean(axis=0)) < 0
+    used[inward] = used[inward][:, ::-1]
+    return used
+
+
+def transformed(vertices: np.ndarray, refpos, refquat, scale) -> np.ndarray:
+    """The vertices after a mesh asset's ``refpos`` (subtracted), ``refquat`` (its inverse applied; normalized, as
+    MuJoCo does) and ``scale`` (per axis), in MuJoCo's order."""
+    from relacc.core.rotations import matrix_from_quaternion
+
+    v = vertices - np.asarray(refpos, dtype=float)
+    q = np.asarray(refquat, dtype=float)
+    if not np.array_equal(q, [1.0, 0.0, 0.0, 0.0]):
+        v = v @ matrix_from_quaternion(q / np.linalg.norm(q))
+    return v * np.asarray(scale, dtype=float)

@@ -1,0 +1,146 @@
+"""A mesh geom's mass properties are relacc's own (issue 53 item 6, :mod:`relacc.reading.mesh`).
+
+Each mode of MuJoCo's mesh ``inertia`` is held to a closed form where one exists and to MuJoCo's compiled model, on
+minimal meshes written here: an L-shaped prism (not convex: ``legacy`` overcounts it, ``convex`` fills it) and an OBJ
+file of two cubes (MuJoCo reads only its first object, mujoco#911; Drake computes the exact volume of both).
+"""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import pytest
+
+from relacc.core.tolerances import EPS, ROUNDING_FACTOR
+from relacc.errors import ModelError
+from relacc.reading import read
+from relacc.reading.mesh import VERTEX_ROUNDING
+
+# the L's outline in the xy-plane (counterclockwise), extruded from z = 0 to z = H
+L_OUTLINE = [(0.0, 0.0), (0.3, 0.0), (0.3, 0.1), (0.1, 0.1), (0.1, 0.2), (0.0, 0.2)]
+H = 0.05
+
+
+def l_prism_stl(path):
+    """A binary STL of the L prism, every face turned outwards (the caps fanned from a vertex where the fan stays
+    inside the L: from (0.1, 0.1), the reflex corner)."""
+    bottom = [(x, y, 0.0) for x, y in L_OUTLINE]
+    top = [(x, y, H) for x, y in L_OUTLINE]
+    n = len(L_OUTLINE)
+    tris = []
+    k = 3  # the reflex corner
+    for i in range(n):
+        a, b = (k + 1 + i) % n, (k + 2 + i) % n
+        if k in (a, b):
+            continue
+        tris.append((top[k], top[a], top[b]))
+        tris.append((bottom[k], bottom[b], bottom[a]))
+    for i in range(n):
+        j = (i + 1) % n
+        tris.append((bottom[i], bottom[j], top[j]))
+        tris.append((bottom[i], top[j], top[i]))
+    data = bytearray(80) + struct.pack("<I", len(tris))
+    for t in tris:
+        data += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *v) for v in t) + b"\0\0"
+    path.write_bytes(bytes(data))
+
+
+def box(lo, hi, rho):
+    """``(mass, centre, inertia about it)`` of a solid box of density ``rho`` (kg/m^3) from corner ``lo`` to ``hi``."""
+    lo, hi = np.asarray(lo), np.asarray(hi)
+    d = hi - lo
+    m = rho * d.prod()
+    return m, (lo + hi) / 2, m / 12 * np.diag([d[1] ** 2 + d[2] ** 2, d[0] ** 2 + d[2] ** 2, d[0] ** 2 + d[1] ** 2])
+
+
+def combined(parts):
+    m = sum(p[0] for p in parts)
+    c = sum(p[0] * p[1] for p in parts) / m
+    inertia = sum(p[2] + p[0] * ((p[1] - c) @ (p[1] - c) * np.eye(3) - np.outer(p[1] - c, p[1] - c)) for p in parts)
+    return m, c, inertia
+
+
+def model(tmp_path, mesh_file, mode):
+    path = tmp_path / f"{mode}.xml"
+    path.write_text(f'<mujoco><asset><mesh name="m" file="{mesh_file}" inertia="{mode}"/></asset><worldbody>'
+                    '<body name="a"><joint name="ja" axis="0 1 0"/><geom type="mesh" mesh="m" density="1000"/>'
+                    '</body></worldbody></mujoco>')
+    return path
+
+
+def mujoco_body(path):
+    mujoco = pytest.importorskip("mujoco")
+    from relacc.core.rotations import matrix_from_quaternion
+
+    m = mujoco.MjModel.from_xml_path(str(path))
+    R = matrix_from_quaternion(m.body_iquat[1])
+    return m.body_mass[1], m.body_ipos[1], R @ np.diag(m.body_inertia[1]) @ R.T
+
+
+@pytest.mark.parametrize("mode", ["legacy", "exact", "convex", "shell"])
+def test_each_mode_is_mujoco_s(tmp_path, mode):
+    """relacc's reading of the L prism in each mode against MuJoCo's compiled body: mass and mass centre to c eps;
+    the inertia to :data:`relacc.reading.mesh.VERTEX_ROUNDING` of its largest entry (MuJoCo rounds the recentred
+    vertices to single precision). The exact mode is also the two boxes' closed form; legacy overcounts the L, and
+    convex fills its notch, so both weigh more."""
+    l_prism_stl(tmp_path / "l.stl")
+    path = model(tmp_path, "l.stl", mode)
+    body = read(path).tree.bodies[0]
+    assert read(path).taken == {}
+    mass, com, inertia = mujoco_body(path)
+    np.testing.assert_allclose(body.mass, mass, rtol=0, atol=ROUNDING_FACTOR * EPS * mass)
+    np.testing.assert_allclose(body.com, com, rtol=0, atol=ROUNDING_FACTOR * EPS * 0.3)  # 0.3 m: the mesh's extent
+    np.testing.assert_allclose(body.inertia, inertia, rtol=0, atol=VERTEX_ROUNDING * np.abs(inertia).max())
+    exact = combined([box((0, 0, 0), (0.3, 0.1, H), 1000.0), box((0, 0.1, 0), (0.1, 0.2, H), 1000.0)])
+    if mode == "exact":
+        # the vertices are single precision (0.3f, 0.1f): their relative rounding, 3e-8, bounds the closed form's
+        np.testing.assert_allclose(body.mass, exact[0], rtol=0, atol=4 * VERTEX_ROUNDING * exact[0])
+        np.testing.assert_allclose(body.com, exact[1], rtol=0, atol=4 * VERTEX_ROUNDING * 0.3)
+        np.testing.assert_allclose(body.inertia, exact[2], rtol=0, atol=8 * VERTEX_ROUNDING * np.abs(exact[2]).max())
+    elif mode in ("legacy", "convex"):
+        assert body.mass > exact[0] * 1.01
+
+
+def test_an_obj_of_two_objects_is_read_whole_and_mujoco_s_reading_is_named(tmp_path):
+    """Two 0.1 m cubes in one OBJ (objects "first" and "second"): relacc's exact reading is both (2 kg, the mass
+    centre midway); MuJoCo's, the first cube only (1 kg at its centre), which relacc reproduces as MuJoCo's reading
+    (variant mesh_obj_first_object) and ``compare`` names as the cause."""
+    cube = ["v {} {} {}".format(*c) for c in
+            [(0, 0, 0), (.1, 0, 0), (.1, .1, 0), (0, .1, 0), (0, 0, .1), (.1, 0, .1), (.1, .1, .1), (0, .1, .1)]]
+    faces = ["1 4 3 2", "5 6 7 8", "1 2 6 5", "2 3 7 6", "3 4 8 7", "4 1 5 8"]
+    lines = ["o first"] + cube + [f"f {f}" for f in faces] + ["o second"]
+    lines += ["v {} {} {}".format(float(x) + 0.3, y, z) for x, y, z in (c.split()[1:] for c in cube)]
+    lines += ["f " + " ".join(str(int(i) + 8) for i in f.split()) for f in faces]
+    (tmp_path / "two.obj").write_text("\n".join(lines) + "\n")
+    path = model(tmp_path, "two.obj", "exact")
+    ours = read(path)
+    assert ours.facts["multi_object_meshes"] == ("two.obj",)
+    two = combined([box((0, 0, 0), (.1, .1, .1), 1000.0), box((.3, 0, 0), (.4, .1, .1), 1000.0)])
+    body = ours.tree.bodies[0]
+    np.testing.assert_allclose(body.mass, two[0], rtol=0, atol=4 * VERTEX_ROUNDING * two[0])  # 0.1f, 0.3f, 0.4f
+    np.testing.assert_allclose(body.com, two[1], rtol=0, atol=4 * VERTEX_ROUNDING * 0.4)
+    first = read(path, variant=frozenset(["mesh_obj_first_object"])).tree.bodies[0]
+    mass, com, inertia = mujoco_body(path)
+    np.testing.assert_allclose(first.mass, mass, rtol=0, atol=ROUNDING_FACTOR * EPS * mass)
+    np.testing.assert_allclose(first.com, com, rtol=0, atol=ROUNDING_FACTOR * EPS * 0.4)
+    np.testing.assert_allclose(mass, 1.0, rtol=0, atol=4 * VERTEX_ROUNDING)  # the first cube alone, 1 kg
+    from relacc.validation.robots import compare
+
+    result = compare(path, engines=["mujoco"], n_states=2, seed=0)
+    text = " ".join(str(row) for row in result.as_json()["audit"])
+    assert "mujoco#911" in text and "not explained" not in text
+
+
+def test_meshes_mujoco_refuses_are_refused(tmp_path):
+    """An ASCII STL (MuJoCo reads binary STL only) and ``shellinertia`` on a mesh geom (a mesh's mode is its asset's)
+    are refused with the element's place, as MuJoCo's compiler refuses them."""
+    (tmp_path / "a.stl").write_text("solid x\nendsolid x\n")
+    with pytest.raises(ModelError, match="not a binary STL"):
+        read(model(tmp_path, "a.stl", "legacy"))
+    l_prism_stl(tmp_path / "l.stl")
+    path = tmp_path / "shell.xml"
+    path.write_text('<mujoco><asset><mesh name="m" file="l.stl"/></asset><worldbody><body name="a"><joint name="j"/>'
+                    '<geom type="mesh" mesh="m" shellinertia="true"/></body></worldbody></mujoco>')
+    with pytest.raises(ModelError, match="shellinertia on a mesh geom"):
+        read(path)
