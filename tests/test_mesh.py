@@ -144,3 +144,38 @@ def test_meshes_mujoco_refuses_are_refused(tmp_path):
                     '<geom type="mesh" mesh="m" shellinertia="true"/></body></worldbody></mujoco>')
     with pytest.raises(ModelError, match="shellinertia on a mesh geom"):
         read(path)
+
+
+def test_mujoco_s_mesh_inertia_is_within_its_eigen_tolerance_and_compare_agrees(tmp_path):
+    """MuJoCo diagonalizes a mesh's unit-density inertia with mjuu_eig3, stopped at an absolute off-diagonal of
+    MUJOCO_EIG_EPS (m^5): its inertia differs from relacc's by at most twice that times the density
+    (MujocoAdapter.inertia_allowance), and ``compare`` holds MuJoCo to relacc's reading within it. A small L (scaled
+    to 5 cm) of 0.5 kg: an effective density of 5.6e5 kg/m^3, where the allowance matters."""
+    from relacc.engines import load
+    from relacc.validation.robots import compare
+
+    l_prism_stl(tmp_path / "l.stl")
+    path = tmp_path / "small.xml"
+    path.write_text('<mujoco><asset><mesh name="m" file="l.stl" scale="0.2 0.2 0.2"/></asset><worldbody>'
+                    '<body name="a"><joint name="ja" axis="0 1 0"/><geom type="mesh" mesh="m" mass="0.5"/>'
+                    '<body name="b" pos="0.1 0 0"><joint name="jb" axis="1 0 0"/>'
+                    '<geom type="mesh" mesh="m" mass="0.5" euler="10 20 30"/></body></body></worldbody></mujoco>')
+    reading = read(path)
+    allowance = load("mujoco", path).inertia_allowance(reading)
+    expected = 2 * 1e-12 * sum(reading.facts["mesh_density"].values())
+    np.testing.assert_allclose(allowance, expected, rtol=1e-15, atol=0)  # one sum of two densities: its rounding
+    for body in reading.tree.bodies:
+        _, _, inertia = mujoco_body_named(path, body.name)
+        assert np.abs(body.inertia - inertia).max() <= allowance, body.name
+    result = compare(path, engines=["mujoco"], n_states=4, seed=2)
+    assert result.exit_code == 0, result.as_json()["dynamics"]
+
+
+def mujoco_body_named(path, name):
+    mujoco = pytest.importorskip("mujoco")
+    from relacc.core.rotations import matrix_from_quaternion
+
+    m = mujoco.MjModel.from_xml_path(str(path))
+    i = m.body(name).id
+    R = matrix_from_quaternion(m.body_iquat[i])
+    return m.body_mass[i], m.body_ipos[i], R @ np.diag(m.body_inertia[i]) @ R.T
