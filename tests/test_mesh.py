@@ -12,7 +12,7 @@ import struct
 import numpy as np
 import pytest
 
-from relacc.core.tolerances import EPS, ROUNDING_FACTOR
+from relacc.core.tolerances import EPS, MUJOCO_EIG_EPS, ROUNDING_FACTOR
 from relacc.errors import ModelError
 from relacc.reading import read
 from relacc.reading.mesh import VERTEX_ROUNDING
@@ -81,9 +81,9 @@ def mujoco_body(path):
 @pytest.mark.parametrize("mode", ["legacy", "exact", "convex", "shell"])
 def test_each_mode_is_mujoco_s(tmp_path, mode):
     """relacc's reading of the L prism in each mode against MuJoCo's compiled body: mass and mass centre to c eps;
-    the inertia to :data:`relacc.reading.mesh.VERTEX_ROUNDING` of its largest entry (MuJoCo rounds the recentred
-    vertices to single precision). The exact mode is also the two boxes' closed form; legacy overcounts the L, and
-    convex fills its notch, so both weigh more."""
+    the inertia to MuJoCo's eigen tolerance (twice MUJOCO_EIG_EPS times the density: mjuu_eig3 stops at an absolute
+    off-diagonal of 1e-12 on the unit-density tensor). The exact mode is also the two boxes' closed form (to the
+    single precision vertices' rounding); legacy overcounts the L, and convex fills its notch, so both weigh more."""
     l_prism_stl(tmp_path / "l.stl")
     path = model(tmp_path, "l.stl", mode)
     body = read(path).tree.bodies[0]
@@ -91,7 +91,7 @@ def test_each_mode_is_mujoco_s(tmp_path, mode):
     mass, com, inertia = mujoco_body(path)
     np.testing.assert_allclose(body.mass, mass, rtol=0, atol=ROUNDING_FACTOR * EPS * mass)
     np.testing.assert_allclose(body.com, com, rtol=0, atol=ROUNDING_FACTOR * EPS * 0.3)  # 0.3 m: the mesh's extent
-    np.testing.assert_allclose(body.inertia, inertia, rtol=0, atol=VERTEX_ROUNDING * np.abs(inertia).max())
+    np.testing.assert_allclose(body.inertia, inertia, rtol=0, atol=2 * MUJOCO_EIG_EPS * 1000.0)
     exact = combined([box((0, 0, 0), (0.3, 0.1, H), 1000.0), box((0, 0.1, 0), (0.1, 0.2, H), 1000.0)])
     if mode == "exact":
         # the vertices are single precision (0.3f, 0.1f): their relative rounding, 3e-8, bounds the closed form's

@@ -33,11 +33,10 @@ MODES = ("legacy", "exact", "convex", "shell")
 """A mesh asset's ``inertia`` modes (MuJoCo's default: ``legacy``)."""
 
 VERTEX_ROUNDING = 4 * float(np.finfo(np.float32).eps)
-"""Relative to a mesh geom's largest inertia entry: how far two float64 computations of it from the same single
-precision vertices may differ where one of them rounds intermediate vertices to single precision, as MuJoCo's
-compiler does when it recentres and turns the mesh (measured: at most 7e-8 = 0.6 eps_f32 over the 76 mesh bodies of
-the pinned robosuite and gymnasium models, and 9.5e-8 over 80 of their mesh files in every mode); four eps_f32
-covers the rotation's three roundings and the products' one."""
+"""Relative to a mesh geom's largest inertia entry: what single precision vertices (every mesh format's) allow the
+inertia computed from them, as a written inertia's digits allow its value: each coordinate is within eps_f32 / 2 of
+the one meant, and the inertia, a sum of products of two coordinates, within twice that of its largest entry; four
+eps_f32 with the mass centre's shift. Added to the body's ``written`` (the physical checks' allowance)."""
 
 MJMINVAL = 1e-15
 """MuJoCo's ``mjMINVAL``: below it a volume or an area is refused."""

@@ -798,7 +798,7 @@ class _Reader:
     def _mesh_written(self, g: Node, inertia_geom: np.ndarray) -> None:
         """A mesh's vertices are written in single precision: what that allows its geom's inertia (kg m^2,
         :data:`relacc.reading.mesh.VERTEX_ROUNDING` of its largest entry) is added to the body's ``written``, as a
-        written inertia's digits are."""
+        written inertia's digits are (the physical checks' allowance)."""
         from relacc.reading.mesh import VERTEX_ROUNDING
 
         body = self._geom_body.get(id(g))
