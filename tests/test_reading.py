@@ -28,7 +28,8 @@ rotation, a product of inertias, an eigen-decomposition in MuJoCo), relative to 
 
 def differences(reading, adapter) -> list[str]:
     """Every joint (axis, anchor, armature, damping) and link (mass, mass centre, inertia) of relacc's reading that
-    differs from an engine's structure by more than c eps of its scale, and the joint order; an empty list agrees."""
+    differs from an engine's structure by more than c eps of its scale (an inertia, plus the engine's own documented
+    tolerance: MuJoCo's eigen tolerance on a mesh's inertia), and the joint order; an empty list agrees."""
     a, b = structure(reading), adapter.structure
     out = []
     size = max([np.linalg.norm(x.com) for x in b.links] + [1.0])
@@ -61,7 +62,7 @@ def differences(reading, adapter) -> list[str]:
         if min(x.mass, o.mass) > TOL * mass:
             if np.abs(x.com - o.com).max() > TOL * size:
                 out.append(f"link {x.name} com {x.com} vs {o.com}")
-            if np.abs(x.inertia - o.inertia).max() > TOL * inertia:
+            if np.abs(x.inertia - o.inertia).max() > TOL * inertia + adapter.inertia_allowance(reading):
                 out.append(f"link {x.name} inertia {x.inertia.tolist()} vs {o.inertia.tolist()}")
     if np.abs(a.gravity - b.gravity).max() > TOL:
         out.append(f"gravity {a.gravity} vs {b.gravity}")

@@ -200,6 +200,34 @@ def mass_properties(vertices: np.ndarray, faces: np.ndarray, mode: str, place: s
     return MeshMass(float(weights.sum()), com, inertia)
 
 
+def exact_or_hull(vertices: np.ndarray, faces: np.ndarray, place: str) -> MeshMass:
+    """Drake's reading of a mesh (its ``CalcSpatialInertia`` and the fallback it warns of): the exact volume,
+    mass centre and inertia as tetrahedra from the mesh frame's origin (for a closed mesh the exact mode's, from any
+    point; for an open one they depend on the point, and Drake's is the origin), or the convex hull's where that is
+    not a rigid body's (a volume below 1e-14 m^3, principal moments negative or breaking the triangle inequality)."""
+    from relacc.core.tolerances import triangle_violation
+
+    if len(faces):
+        a, b, c = (vertices[faces[:, k]] for k in range(3))
+        volumes = np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0
+        measure = float(volumes.sum())
+        if measure >= 1e-14:
+            com = (volumes[:, None] * (a + b + c) / 4.0).sum(axis=0) / measure
+            D, E, F = a - com, b - com, c - com
+            P = np.zeros((3, 3))
+            for j in range(3):
+                for k in range(j, 3):  # the tetrahedron (com, a, b, c)'s second moments, its volume signed
+                    P[j, k] = P[k, j] = float((volumes / 20.0 * (
+                        2 * (D[:, j] * D[:, k] + E[:, j] * E[:, k] + F[:, j] * F[:, k])
+                        + D[:, j] * E[:, k] + D[:, k] * E[:, j] + D[:, j] * F[:, k] + D[:, k] * F[:, j]
+                        + E[:, j] * F[:, k] + E[:, k] * F[:, j])).sum())
+            inertia = np.trace(P) * np.eye(3) - P
+            moments = np.linalg.eigvalsh(inertia)
+            if moments[0] >= 0 and not triangle_violation(moments):
+                return MeshMass(measure, com, inertia)
+    return mass_properties(vertices, faces, "convex", place)
+
+
 def hull_faces(vertices: np.ndarray, place: str) -> np.ndarray:
     """``(m, 3)`` the triangles of the vertices' convex hull (Qhull, as MuJoCo's compiler), each turned outwards.
 

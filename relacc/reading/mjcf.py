@@ -122,7 +122,8 @@ Drake's:
 * ``free_damping_dropped``: a free joint's damping dropped;
 * ``mesh_inertia_exact``: a mesh's exact volume, mass centre and inertia whatever its ``inertia`` mode (measured on
   Drake 1.51: two disjoint 0.1 m cubes in one OBJ read as 2 kg at density 1000, where the default legacy mode gives
-  3.33 kg);
+  3.33 kg), its convex hull's where that is not a physical inertia (a volume below 1e-14 m^3, an open or inside-out
+  mesh: Drake's ``CalcSpatialInertia`` fallback, which it warns of; robosuite's omron base, issue 53);
 * ``default_chain_broken``: a ``<default>`` class's attributes for an element (``<joint>``, ``<geom>``, ...) are
   its own merged over its parent class's only where the parent has that element too: a class without a ``<joint>``
   (or ``<geom>``) default gives its joints (geoms) nothing, not even what its ancestors set, and breaks the chain
@@ -785,7 +786,10 @@ class _Reader:
         vertices = mesh.transformed(vertices, numbers(asset, "refpos", 3, [0.0, 0.0, 0.0]),
                                     numbers(asset, "refquat", 4, [1.0, 0.0, 0.0, 0.0]),
                                     numbers(asset, "scale", 3, [1.0, 1.0, 1.0]))
-        props = mesh.mass_properties(vertices, faces, mode, place)
+        if "mesh_inertia_exact" in self.variant and mode == "exact":
+            props = mesh.exact_or_hull(vertices, faces, place)
+        else:
+            props = mesh.mass_properties(vertices, faces, mode, place)
         mass = mass_given if mass_given is not None else number(g, "density", 1000.0) * props.measure
         pos, Rg = self.pose(g)
         inertia_geom = mass / props.measure * props.inertia

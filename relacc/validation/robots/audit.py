@@ -79,14 +79,15 @@ def _value(x):
     return float(arr) if arr.ndim == 0 else arr.tolist()
 
 
-def differences(ref, other, ref_name: str, engine: str, sc: Scales) -> list[Item]:
+def differences(ref, other, ref_name: str, engine: str, sc: Scales, inertia_slack: float = 0.0) -> list[Item]:
     """Every difference between the structure ``ref`` of reading ``ref_name`` and an engine's ``other`` (causes
-    empty)."""
+    empty). ``inertia_slack`` (kg m^2): what the engine's own numerical tolerance allows each body inertia beyond
+    rounding (:meth:`relacc.engines.base.Adapter.inertia_allowance`)."""
     items = []
 
-    def differ(a, b, scale):
+    def differ(a, b, scale, slack=0.0):
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-        return a.shape != b.shape or bool(np.max(np.abs(a - b), initial=0.0) > sc.tolerance * scale)
+        return a.shape != b.shape or bool(np.max(np.abs(a - b), initial=0.0) > sc.tolerance * scale + slack)
 
     subject = ("model", "")
 
@@ -130,7 +131,7 @@ def differences(ref, other, ref_name: str, engine: str, sc: Scales) -> list[Item
             continue  # a massless link has no centre of mass to compare; its mass is reported above
         if differ(link.com, o.com, sc.length):
             add("centre of mass (world, m)", where, link.com, o.com)
-        if differ(link.inertia, o.inertia, sc.inertia):
+        if differ(link.inertia, o.inertia, sc.inertia, inertia_slack):
             add("inertia about the centre of mass (world, kg m^2)", where, link.inertia, o.inertia)
     subject = ("model", "")
     if differ(ref.total_mass, other.total_mass, sc.mass):

@@ -269,9 +269,10 @@ READINGS = {
         _springdamper_ignored("Drake"),
         KnownBehaviour(
             "mesh_exact",
-            "Drake computes a mesh geom's volume, mass centre and inertia exactly, whatever the mesh's inertia mode: "
-            "MuJoCo's default, legacy, sums every face's pyramid from the face centroid as positive, which overcounts "
-            "a mesh that is not convex",
+            "Drake computes a mesh geom's volume, mass centre and inertia exactly (tetrahedra from the mesh's origin), "
+            "whatever the mesh's inertia mode, and from its convex hull where that is not a rigid body's (an open "
+            "mesh, which it warns of): MuJoCo's default, legacy, sums every face's pyramid from the face centroid as "
+            "positive, which overcounts a mesh that is not convex",
             lambda r: _mjcf(r) and r.facts.get("legacy_meshes", 0) > 0,
             _reread("mesh_inertia_exact"),
         ),

@@ -300,7 +300,8 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
     explained, with the element's place in the file."""
     engine = robot.engine
     sc = scales.larger(Scales.of(robot.structure))
-    items = differences(reference.structure, robot.structure, REFERENCE, engine, sc)
+    slack = getattr(robot, "inertia_allowance", lambda r: 0.0)(reading)
+    items = differences(reference.structure, robot.structure, REFERENCE, engine, sc, slack)
     if not items:
         return []
     causes: dict = {}
@@ -314,7 +315,7 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
             candidate = known.change(current)
         except ModelError:
             continue
-        after = {i.key for i in differences(structure(candidate), robot.structure, REFERENCE, engine, sc)}
+        after = {i.key for i in differences(structure(candidate), robot.structure, REFERENCE, engine, sc, slack)}
         gone = left - after
         for k in gone:
             causes[k] = Cause("explained", text)
