@@ -103,8 +103,8 @@ def _cached(path: Path, mtime_ns: int, size: int, place: str) -> tuple[np.ndarra
 
 def read_obj(data: bytes, name: str, place: str) -> tuple[np.ndarray, list[np.ndarray]]:
     """``(vertices (n, 3), [faces (m_k, 3) of each object])`` of an OBJ file: its ``v`` lines (single precision, as
-    MuJoCo keeps them) and its ``f`` lines (1-based or negative indices, ``v/vt/vn`` forms; a polygon split into a fan
-    of triangles from its first vertex), an object starting at each ``o`` or ``g`` line that follows faces.
+    MuJoCo keeps them) and its ``f`` lines (1-based or negative indices, ``v/vt/vn`` forms; a polygon cut into
+    triangles by :func:`triangulate`), an object starting at each ``o`` or ``g`` line that follows faces.
 
     Written here rather than taken from trimesh because the reading must keep the file's order and where each object
     starts: MuJoCo reads the first object's faces only (mujoco#911), and relacc names that reading of a multi-object
@@ -127,13 +127,94 @@ def read_obj(data: bytes, name: str, place: str) -> tuple[np.ndarray, list[np.nd
                 ids = [i - 1 if i > 0 else len(vertices) + i for i in ids]
                 if len(ids) < 3 or min(ids) < 0 or max(ids) >= len(vertices):
                     raise ValueError("a face with fewer than 3 vertices or naming one not there")
-                objects[-1] += [[ids[0], ids[k], ids[k + 1]] for k in range(1, len(ids) - 1)]
+                objects[-1].append(ids)
             elif fields[0] in ("o", "g") and objects[-1]:
                 objects.append([])
         except ValueError as exc:
             raise ModelError(f"{place}: {name}:{number}: {exc}") from None
-    v = np.asarray(vertices, dtype=np.float32).astype(np.float64).reshape(-1, 3)
-    return v, [np.asarray(o, dtype=np.int64).reshape(-1, 3) for o in objects if o]
+    v32 = np.asarray(vertices, dtype=np.float32).reshape(-1, 3)
+    out = []
+    for polygons in objects:
+        if polygons:
+            triangles = [t for poly in polygons for t in (
+                [poly] if len(poly) == 3 else triangulate(poly, v32))]
+            out.append(np.asarray(triangles, dtype=np.int64).reshape(-1, 3))
+    return v32.astype(np.float64), out
+
+
+def triangulate(polygon: list[int], v: np.ndarray) -> list[list[int]]:
+    """The triangles of one OBJ polygon of more than three vertices, as tinyobjloader (the OBJ reader MuJoCo and
+    Drake share, its default triangulation, in single precision) cuts it: a quad along its shorter diagonal, a larger
+    polygon by clipping ears in the plane of the two axes its first corner spans most, from its first vertex on.
+
+    The OBJ format makes a face a planar polygon; one that is not planar has no one surface, and each triangulation
+    gives another volume (robosuite's GR1 meshes: 538 of 903 quads cut along the other diagonal than a fan from the
+    first vertex, 0.2 % of the mass). relacc cuts them as the engines' shared reader does, so that a difference in a
+    mesh's mass is not a choice of diagonals; ``v``: the file's vertices ``(n, 3)``, float32."""
+    f32 = np.float32
+    eps = np.finfo(np.float32).eps
+    n = len(polygon)
+    if n == 4:  # a quad: cut along its shorter diagonal (0-2 only when strictly shorter)
+        d02, d13 = v[polygon[2]] - v[polygon[0]], v[polygon[3]] - v[polygon[1]]
+        if (d02 * d02).sum(dtype=f32) < (d13 * d13).sum(dtype=f32):
+            return [[polygon[0], polygon[1], polygon[2]], [polygon[0], polygon[2], polygon[3]]]
+        return [[polygon[0], polygon[1], polygon[3]], [polygon[1], polygon[2], polygon[3]]]
+    axes = [1, 2]
+    for k in range(n):
+        v0, v1, v2 = v[polygon[k % n]], v[polygon[(k + 1) % n]], v[polygon[(k + 2) % n]]
+        e0, e1 = v1 - v0, v2 - v1
+        cx = abs(e0[1] * e1[2] - e0[2] * e1[1])
+        cy = abs(e0[2] * e1[0] - e0[0] * e1[2])
+        cz = abs(e0[0] * e1[1] - e0[1] * e1[0])
+        if cx > eps or cy > eps or cz > eps:  # a corner: the plane it spans most
+            if not (cx > cy and cx > cz):
+                axes[0] = 0
+                if cz > cx and cz > cy:
+                    axes[1] = 1
+            break
+    a0, a1 = axes
+    area = f32(0.0)
+    for k in range(n):
+        p, q = v[polygon[k]], v[polygon[(k + 1) % n]]
+        area += (p[a0] * q[a1] - p[a1] * q[a0]) * f32(0.5)
+    remaining = list(polygon)
+    guess, iterations, before = 0, n, n
+    out = []
+    while len(remaining) > 3 and iterations > 0:
+        m = len(remaining)
+        if guess >= m:
+            guess -= m
+        if before != m:
+            before, iterations = m, m
+        else:
+            iterations -= 1
+        ind = [remaining[(guess + k) % m] for k in range(3)]
+        vx = [v[i][a0] for i in ind]
+        vy = [v[i][a1] for i in ind]
+        cross = (vx[1] - vx[0]) * (vy[2] - vy[1]) - (vy[1] - vy[0]) * (vx[2] - vx[1])
+        if cross * area < 0:  # a reflex corner
+            guess += 1
+            continue
+        if any(_inside(vx, vy, v[remaining[(guess + o) % m]][a0], v[remaining[(guess + o) % m]][a1])
+               for o in range(3, m)):
+            guess += 1
+            continue
+        out.append(ind)
+        del remaining[(guess + 1) % m]
+    if len(remaining) == 3:
+        out.append(remaining)
+    return out
+
+
+def _inside(vx, vy, tx, ty) -> bool:
+    """tinyobjloader's ``pnpoly``: whether the point ``(tx, ty)`` is inside the triangle ``(vx, vy)`` (crossings)."""
+    c = False
+    j = 2
+    for i in range(3):
+        if (vy[i] > ty) != (vy[j] > ty) and tx < (vx[j] - vx[i]) * (ty - vy[i]) / (vy[j] - vy[i]) + vx[i]:
+            c = not c
+        j = i
+    return c
 
 
 OBJ_FIRST_OBJECT = ("MuJoCo reads an OBJ file's first object (o or g) only: its faces, not the others' "
