@@ -39,11 +39,11 @@ LAYERS = {
 ENGINE_PACKAGES = {"mujoco": "mujoco_", "pinocchio": "pinocchio_", "pydrake": "drake_"}
 """Each engine's Python package and the one adapter package of ``relacc.engines`` that may import it."""
 
-LAZY_ONLY = {("core", "kernels"), ("relacc.core.tree.model", "reading"), ("relacc.core.tree.model", "fixtures"),
-             ("relacc.reading.read", "engines")}
+LAZY_ONLY = {("core", "kernels"), ("relacc.core.tree.model", "reading"), ("relacc.core.tree.model", "fixtures")}
 """Imports allowed inside functions only: the core loads the kernels at the first batched call; ``Tree.from_file``
-hands a model file to relacc's reading or a chain TOML to the fixtures; the reading asks MuJoCo for a mesh's mass
-properties, the one thing it takes from an engine (and says so per body)."""
+hands a model file to relacc's reading or a chain TOML to the fixtures. The reading imports no engine, not even in
+a function (issue 53): relacc computes meshes itself, and an engine offers what it does not
+(:data:`relacc.reading.read.MESH_ENGINES`)."""
 
 
 def _modules():

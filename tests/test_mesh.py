@@ -179,3 +179,36 @@ def mujoco_body_named(path, name):
     i = m.body(name).id
     R = matrix_from_quaternion(m.body_iquat[i])
     return m.body_mass[i], m.body_ipos[i], R @ np.diag(m.body_inertia[i]) @ R.T
+
+
+def test_the_reading_imports_no_engine(tmp_path):
+    """Issue 53: relacc's reading of a mesh model imports no engine (not MuJoCo, not relacc.engines), in a fresh
+    process; a primitive fitted to a mesh, which relacc does not compute, is refused there with the reason, and
+    read once relacc.engines has offered MuJoCo's computation."""
+    import subprocess
+    import sys
+
+    l_prism_stl(tmp_path / "l.stl")
+    mesh = model(tmp_path, "l.stl", "legacy")
+    fitted = tmp_path / "fitted.xml"
+    fitted.write_text('<mujoco><asset><mesh name="m" file="l.stl"/></asset><worldbody><body name="a">'
+                      '<joint name="j"/><geom type="box" mesh="m"/></body></worldbody></mujoco>')
+    code = f"""
+import sys
+from relacc.reading import read
+from relacc.errors import ModelError
+read({str(mesh)!r})
+assert not any(m == "mujoco" or m.startswith(("relacc.engines", "pinocchio", "pydrake")) for m in sys.modules), \\
+    sorted(m for m in sys.modules if "engines" in m or m == "mujoco")
+try:
+    read({str(fitted)!r})
+except ModelError as exc:
+    assert "import relacc.engines" in str(exc), exc
+else:
+    raise AssertionError("a fitted primitive was read without an engine")
+import relacc.engines
+assert read({str(fitted)!r}).taken
+print("ok")
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert done.stdout.strip() == "ok", done.stderr

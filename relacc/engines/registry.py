@@ -138,6 +138,18 @@ def mesh_inertia(mesh: Any) -> Any:
     return importlib.import_module(f"{module.__name__}.meshes").mesh_inertia(mesh)
 
 
+def _offer_meshes_to_the_reading() -> None:
+    """MuJoCo's computation of a mesh geom relacc does not compute itself (a primitive fitted to a mesh), offered to
+    relacc's reading (:data:`relacc.reading.read.MESH_ENGINES`), which imports no engine."""
+    from relacc.reading.read import MESH_ENGINES
+
+    if mesh_inertia not in MESH_ENGINES:
+        MESH_ENGINES.append(mesh_inertia)
+
+
+_offer_meshes_to_the_reading()
+
+
 def load_engine(name: str, fixture: Fixture | None = None, **options) -> ChainEngine:
     """The note's chain (``fixture``; default the shipped ``two_body.toml``) in one engine, both routes.
 

@@ -29,9 +29,10 @@ def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", vari
     """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file; ``variant``: an engine's way of reading an
     MJCF (:data:`relacc.reading.mjcf.VARIANTS`), for reproducing that engine.
 
-    ``meshes``: where an MJCF's mesh geoms' mass properties come from (:func:`relacc.reading.mjcf.read`): ``"engine"``
-    (default) asks the engine that computes them, MuJoCo (:func:`relacc.engines.mesh_inertia`, imported only then;
-    the bodies concerned are named in ``taken``); a callable; or None, which refuses such a body.
+    ``meshes``: where the mass properties of the mesh geoms relacc does not compute itself come from (a primitive
+    fitted to a mesh, :func:`relacc.reading.mjcf.read`; relacc computes a ``type="mesh"`` geom's,
+    :mod:`relacc.reading.mesh`): ``"engine"`` (default) an engine registered in :data:`MESH_ENGINES` (the bodies
+    concerned are named in ``taken``); a callable; or None, which refuses such a body.
 
     Raises:
         ModelError: not a path, another suffix, or a file that cannot be read (the message names the file, the
@@ -121,17 +122,26 @@ def note_files(path: str | os.PathLike) -> None:
         pass
 
 
+MESH_ENGINES: list[Callable] = []
+"""Where a mesh geom's mass properties come from when relacc does not compute them itself (a primitive fitted to a
+mesh, a builtin mesh, a hull limited by ``maxhullvert``): callables ``MeshGeom -> (mass, centre, inertia)`` an
+engine package registers when it is imported (:mod:`relacc.engines` registers MuJoCo's). The reading imports no
+engine: without one registered, such a body is refused, and the message says why."""
+
+
 def _mesh_reader(mesh):
-    """MuJoCo's mass properties of one mesh geom: the one thing relacc's reading asks an engine for (declared per
-    body in ``taken``)."""
-    from relacc.engines import mesh_inertia
+    """An engine's mass properties of one mesh geom relacc does not compute (declared per body in ``taken``)."""
     from relacc.errors import EngineError
 
+    if not MESH_ENGINES:
+        raise ModelError(f"{mesh.geom.place}: a body takes mass properties from a primitive fitted to a mesh (or a "
+                         "builtin mesh), which relacc does not compute: give the body an <inertial>, or import "
+                         "relacc.engines so that MuJoCo computes it")
     try:
-        return mesh_inertia(mesh)
+        return MESH_ENGINES[-1](mesh)
     except EngineError as exc:
-        raise ModelError(f"{mesh.geom.place}: a body takes mass properties from a mesh, which relacc asks MuJoCo for: "
-                         f"{exc}; or give the body an <inertial>") from None
+        raise ModelError(f"{mesh.geom.place}: a body takes mass properties from a primitive fitted to a mesh, which "
+                         f"relacc asks MuJoCo for: {exc}; or give the body an <inertial>") from None
 
 
 def read_moving(path: str | os.PathLike, purpose: str) -> Reading:
