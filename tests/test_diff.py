@@ -245,3 +245,24 @@ def test_compare_urdf_is_diff(tmp_path, capsys):
     assert err.splitlines() == [f"relacc compare: --urdf compares two files of one robot, which relacc diff does: "
                                 f"relacc diff {urdf} {changed}"]
     assert out.startswith("relacc diff: not the same robot: 1 difference (1 added)")
+
+
+def test_diff_writes_junit_and_sarif_at_the_places_in_b(tmp_path, capsys):
+    """Issue 53 item 1 on diff: --junit and --sarif name each difference at its file:line in B (RELACC010); both
+    parse (SARIF against sarif-pydantic's 2.1.0 model) and the run's exit code is diff's."""
+    from sarif_pydantic import Sarif
+
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+    changed = edited(xml, lambda root: joint(root, "j1").set("armature", "0.1"))
+    junit, sarif = tmp_path / "d.xml", tmp_path / "d.sarif"
+    assert main(["diff", str(urdf), str(changed), "--junit", str(junit), "--sarif", str(sarif)]) == 1
+    capsys.readouterr()
+    case = ET.parse(junit).getroot().find("testsuite/testcase")
+    assert case.get("classname") == "relacc.diff" and case.find("failure") is not None
+    line = 1 + next(n for n, text in enumerate(changed.read_text().splitlines()) if 'armature="0.1"' in text)
+    assert f"edited.xml:{line}: added j1: armature" in case.find("failure").text
+    data = json.loads(sarif.read_text())
+    Sarif.model_validate(data)
+    results = data["runs"][0]["results"]
+    assert {r["ruleId"] for r in results} == {"RELACC010"}
+    assert any(r["locations"][0]["physicalLocation"]["region"]["startLine"] == line for r in results)

@@ -20,8 +20,29 @@ def cmd_diff(args) -> int:
     if rtol < PRINTED_RTOL:
         raise InputError(f"--rtol {rtol:g}: at least {PRINTED_RTOL:g} (what printing to {PRINTED_DIGITS} significant "
                          "digits changes); --rtol only widens the tolerance")
+    from relacc import files
+
+    outputs = {flag: getattr(args, flag, None) for flag in ("junit", "sarif")}
+    for flag, path in outputs.items():
+        if path is not None:
+            files.check_output_file(path, f"--{flag}")  # before the work: a bad path is one line up front
     a, b = args.model
-    return answer(diff(a, b, rtol=rtol, states=args.states, seed=args.seed), args.json)
+    import time
+
+    start = time.perf_counter()
+    result = diff(a, b, rtol=rtol, states=args.states, seed=args.seed)
+    seconds = time.perf_counter() - start
+    if any(outputs.values()):
+        from relacc.report import ci
+
+        found = ci.diff_results(result)
+        written = {}
+        if outputs["junit"]:
+            written[outputs["junit"]] = ci.junit([(f"{a} -> {b}", found, seconds)], set(), "diff")
+        if outputs["sarif"]:
+            written[outputs["sarif"]] = ci.sarif(found, None)
+        files.replace_all(written)
+    return answer(result, args.json)
 
 
 def answer(result, as_json: bool) -> int:

@@ -368,6 +368,10 @@ def build_parser() -> argparse.ArgumentParser:
     _json(p, "the differences (docs/diff.md gives the contract)")
     p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                    help="an argument of a .xacro file ($(arg NAME)); repeat for several")
+    p.add_argument("--junit", metavar="FILE.xml", help="also write JUnit XML: one testcase, failing with each "
+                   "difference at its file:line in B (docs/ci.md)")
+    p.add_argument("--sarif", metavar="FILE.sarif", help="also write SARIF 2.1.0: one result (RELACC010) per "
+                   "difference, at its file:line in B (docs/ci.md)")
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
              "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "

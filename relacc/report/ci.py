@@ -45,12 +45,15 @@ RULES = {r.id: r for r in (
          "model, for a reproduced reason.", "warning"),
     Rule("RELACC005", "dynamics-differ", "An engine's dynamics differ from relacc's reading beyond the error model, "
          "and nothing known reproduces it.", "error"),
-    Rule("RELACC006", "taken-from-engine", "relacc took an element's mass properties from an engine (a mesh's from "
-         "MuJoCo) and cannot judge that engine there.", "note"),
+    Rule("RELACC006", "taken-from-engine", "relacc took an element's mass properties from an engine (a primitive "
+         "fitted to a mesh, from MuJoCo) and cannot judge that engine there.", "note"),
     Rule("RELACC007", "not-evaluated", "The file has what relacc's comparison leaves out (constraints, tendons, "
          "actuators with dynamics, gravity compensation, fluid forces, dry friction).", "note"),
     Rule("RELACC008", "cannot-compare", "relacc cannot read the file, or no engine takes part.", "error"),
     Rule("RELACC009", "internal-error", "relacc failed on the file (a bug in relacc; please report it).", "error"),
+    Rule("RELACC010", "descriptions-differ", "Two descriptions of one robot differ (relacc diff): a mass, mass "
+         "centre, inertia, joint axis, anchor, zero, armature, damping, friction, spring, range or gravity, a part "
+         "or joint without a counterpart, the placement, or the dynamics beyond printing.", "error"),
 )}
 """The fixed list of rules (docs/ci.md)."""
 
@@ -133,6 +136,23 @@ def results(model: str, outcome) -> list[Result]:
     return out
 
 
+def diff_results(result) -> list[Result]:
+    """Every result of ``relacc diff A B`` (a :class:`relacc.validation.diff.Diff`): one :data:`RULES` RELACC010 per
+    difference, at its place in B (the file a conversion or an edit wrote; A's place in the message), and one per
+    dynamics row beyond printing, at B."""
+    model = result.b
+    out = []
+    for d in result.differences:
+        out.append(Result("RELACC010", f"{d.kind} {d.element}: {d.quantity}: A {d.a}, B {d.b} (A at {d.where_a})",
+                          model, d.where_b, f"{d.kind}|{d.element}|{d.quantity}"))
+    for row in result.dynamics:
+        if row["beyond"]:
+            out.append(Result("RELACC010", f"the {row['quantity']} of A and B differ by {row['normalized']:.3g} of its "
+                              f"largest entry (printing allows {row['tolerance']:.3g})", model, model,
+                              f"dynamics|{row['quantity']}"))
+    return out
+
+
 def _relative(path: str) -> str:
     """``path`` relative to the working directory where it lies under it (as CI, run at a repository's root, wants
     it), POSIX-style; else as given."""
@@ -177,14 +197,14 @@ def failing(found: list[Result], accepted: set[str]) -> list[Result]:
 
 # --- JUnit ----------------------------------------------------------------------------------------------------------
 
-def junit(per_model: list[tuple[str, list[Result], float]], accepted: set[str]) -> str:
+def junit(per_model: list[tuple[str, list[Result], float]], accepted: set[str], command: str = "compare") -> str:
     """JUnit XML: one testcase per model (``name`` its path relative to the working directory, ``time`` its seconds),
     failing with each new result, ``file:line: message``, one per line; a refusal or an internal error is an
-    ``<error>``."""
-    suite = ET.Element("testsuite", name="relacc compare", tests=str(len(per_model)))
+    ``<error>``. ``command``: the suite's name, ``relacc compare`` or ``relacc diff``."""
+    suite = ET.Element("testsuite", name=f"relacc {command}", tests=str(len(per_model)))
     failures = errors = 0
     for model, found, seconds in per_model:
-        case = ET.SubElement(suite, "testcase", classname="relacc.compare", name=_relative(model),
+        case = ET.SubElement(suite, "testcase", classname=f"relacc.{command}", name=_relative(model),
                              file=_relative(model), time=f"{seconds:.3f}")
         new = failing(found, accepted)
         if not new:
@@ -234,4 +254,4 @@ def sarif(found: list[Result], accepted: set[str] | None) -> str:
     return json.dumps(doc, indent=2) + "\n"
 
 
-__all__ = ["RULES", "Result", "Rule", "failing", "junit", "read_baseline", "results", "sarif", "write_baseline"]
+__all__ = ["RULES", "Result", "Rule", "diff_results", "failing", "junit", "read_baseline", "results", "sarif", "write_baseline"]
