@@ -86,24 +86,24 @@ def load(path: Path, place: str) -> tuple[np.ndarray, np.ndarray]:
     raise ModelError(f"{place}: {path.name}: a mesh file is .stl, .obj or .msh")
 
 
-def cached(path: Path, place: str) -> tuple[np.ndarray, list[np.ndarray]]:
+def cached(path: Path, place: str, quads: bool = True) -> tuple[np.ndarray, list[np.ndarray]]:
     """``(vertices (n, 3), [faces (m_k, 3) of each object])`` of a mesh file (one object but in an OBJ), read once per
-    file version (its size and modification time)."""
+    file version (its size and modification time); ``quads``: as :func:`triangulate`."""
     stat = path.stat()
-    return _cached(path, stat.st_mtime_ns, stat.st_size, place)
+    return _cached(path, stat.st_mtime_ns, stat.st_size, place, quads)
 
 
 @functools.lru_cache(maxsize=64)
-def _cached(path: Path, mtime_ns: int, size: int, place: str) -> tuple[np.ndarray, list[np.ndarray]]:
+def _cached(path: Path, mtime_ns: int, size: int, place: str, quads: bool) -> tuple[np.ndarray, list[np.ndarray]]:
     if path.suffix.lower() == ".obj":
-        return read_obj(path.read_bytes(), path.name, place)
+        return read_obj(path.read_bytes(), path.name, place, quads)
     vertices, faces = load(path, place)
     return vertices, [faces]
 
 
-def read_obj(data: bytes, name: str, place: str) -> tuple[np.ndarray, list[np.ndarray]]:
+def read_obj(data: bytes, name: str, place: str, quads: bool = True) -> tuple[np.ndarray, list[np.ndarray]]:
     """``(vertices (n, 3), [faces (m_k, 3) of each object])`` of an OBJ file: its ``v`` lines (single precision, as
-    MuJoCo keeps them) and its ``f`` lines (1-based or negative indices, ``v/vt/vn`` forms; a polygon cut into
+    MuJoCo keeps them; double with ``quads=False``, Drake's) and its ``f`` lines (1-based or negative indices, ``v/vt/vn`` forms; a polygon cut into
     triangles by :func:`triangulate`), an object starting at each ``o`` or ``g`` line that follows faces.
 
     Written here rather than taken from trimesh because the reading must keep the file's order and where each object
@@ -132,17 +132,17 @@ def read_obj(data: bytes, name: str, place: str) -> tuple[np.ndarray, list[np.nd
                 objects.append([])
         except ValueError as exc:
             raise ModelError(f"{place}: {name}:{number}: {exc}") from None
-    v32 = np.asarray(vertices, dtype=np.float32).reshape(-1, 3)
+    vs = np.asarray(vertices, dtype=np.float32 if quads else np.float64).reshape(-1, 3)
     out = []
     for polygons in objects:
         if polygons:
             triangles = [t for poly in polygons for t in (
-                [poly] if len(poly) == 3 else triangulate(poly, v32))]
+                [poly] if len(poly) == 3 else triangulate(poly, vs, quads))]
             out.append(np.asarray(triangles, dtype=np.int64).reshape(-1, 3))
-    return v32.astype(np.float64), out
+    return vs.astype(np.float64), out
 
 
-def triangulate(polygon: list[int], v: np.ndarray) -> list[list[int]]:
+def triangulate(polygon: list[int], v: np.ndarray, quads: bool = True) -> list[list[int]]:
     """The triangles of one OBJ polygon of more than three vertices, as tinyobjloader (the OBJ reader MuJoCo and
     Drake share, its default triangulation, in single precision) cuts it: a quad along its shorter diagonal, a larger
     polygon by clipping ears in the plane of the two axes its first corner spans most, from its first vertex on.
@@ -150,13 +150,15 @@ def triangulate(polygon: list[int], v: np.ndarray) -> list[list[int]]:
     The OBJ format makes a face a planar polygon; one that is not planar has no one surface, and each triangulation
     gives another volume (robosuite's GR1 meshes: 538 of 903 quads cut along the other diagonal than a fan from the
     first vertex, 0.2 % of the mass). relacc cuts them as the engines' shared reader does, so that a difference in a
-    mesh's mass is not a choice of diagonals; ``v``: the file's vertices ``(n, 3)``, float32."""
-    f32 = np.float32
-    eps = np.finfo(np.float32).eps
+    mesh's mass is not a choice of diagonals; ``v``: the file's vertices ``(n, 3)``, float32. ``quads=False``: Drake's
+    tinyobjloader (1.51): vertices in double precision, and a quad clipped like any polygon, as tinyobjloader did before
+    it cut quads along the shorter diagonal (measured: robosuite's omron base to 1e-15 in Drake's reading)."""
+    f32 = v.dtype.type
+    eps = np.finfo(v.dtype).eps
     n = len(polygon)
-    if n == 4:  # a quad: cut along its shorter diagonal (0-2 only when strictly shorter)
+    if n == 4 and quads:  # a quad: cut along its shorter diagonal (0-2 only when strictly shorter)
         d02, d13 = v[polygon[2]] - v[polygon[0]], v[polygon[3]] - v[polygon[1]]
-        if (d02 * d02).sum(dtype=f32) < (d13 * d13).sum(dtype=f32):
+        if (d02 * d02).sum(dtype=v.dtype) < (d13 * d13).sum(dtype=v.dtype):
             return [[polygon[0], polygon[1], polygon[2]], [polygon[0], polygon[2], polygon[3]]]
         return [[polygon[0], polygon[1], polygon[3]], [polygon[1], polygon[2], polygon[3]]]
     axes = [1, 2]

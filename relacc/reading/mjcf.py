@@ -775,7 +775,7 @@ class _Reader:
         place = asset.place
         if asset.get("file"):
             path = self.path.parent / self.meshdir / asset.get("file")
-            vertices, objects = mesh.cached(path, place)
+            vertices, objects = mesh.cached(path, place, quads="mesh_inertia_exact" not in self.variant)
             if len(objects) > 1:
                 self.multi_object_meshes.append(asset.get("file"))
             kept = objects[:1] if "mesh_obj_first_object" in self.variant else objects
