@@ -103,8 +103,9 @@ def _cached(path: Path, mtime_ns: int, size: int, place: str, quads: bool) -> tu
 
 def read_obj(data: bytes, name: str, place: str, quads: bool = True) -> tuple[np.ndarray, list[np.ndarray]]:
     """``(vertices (n, 3), [faces (m_k, 3) of each object])`` of an OBJ file: its ``v`` lines (single precision, as
-    MuJoCo keeps them; double with ``quads=False``, Drake's) and its ``f`` lines (1-based or negative indices, ``v/vt/vn`` forms; a polygon cut into
-    triangles by :func:`triangulate`), an object starting at each ``o`` or ``g`` line that follows faces.
+    MuJoCo keeps them; double with ``quads=False``, Drake's) and its ``f`` lines (1-based or negative indices,
+    ``v/vt/vn`` forms; a polygon cut into triangles by :func:`triangulate`), an object starting at each ``o`` or
+    ``g`` line that follows faces.
 
     Written here rather than taken from trimesh because the reading must keep the file's order and where each object
     starts: MuJoCo reads the first object's faces only (mujoco#911), and relacc names that reading of a multi-object

@@ -254,4 +254,5 @@ def sarif(found: list[Result], accepted: set[str] | None) -> str:
     return json.dumps(doc, indent=2) + "\n"
 
 
-__all__ = ["RULES", "Result", "Rule", "diff_results", "failing", "junit", "read_baseline", "results", "sarif", "write_baseline"]
+__all__ = ["RULES", "Result", "Rule", "diff_results", "failing", "junit", "read_baseline", "results", "sarif",
+           "write_baseline"]
