@@ -176,10 +176,6 @@ def triangulate(polygon: list[int], v: np.ndarray, quads: bool = True) -> list[l
                     axes[1] = 1
             break
     a0, a1 = axes
-    area = f32(0.0)
-    for k in range(n):
-        p, q = v[polygon[k]], v[polygon[(k + 1) % n]]
-        area += (p[a0] * q[a1] - p[a1] * q[a0]) * f32(0.5)
     remaining = list(polygon)
     guess, iterations, before = 0, n, n
     out = []
@@ -195,7 +191,8 @@ def triangulate(polygon: list[int], v: np.ndarray, quads: bool = True) -> list[l
         vx = [v[i][a0] for i in ind]
         vy = [v[i][a1] for i in ind]
         cross = (vx[1] - vx[0]) * (vy[2] - vy[1]) - (vy[1] - vy[0]) * (vx[2] - vx[1])
-        if cross * area < 0:  # a reflex corner
+        area = (vx[0] * vy[1] - vy[0] * vx[1]) * f32(0.5)  # tinyobjloader's test, as it is written
+        if cross * area < 0:  # a reflex corner, by that test
             guess += 1
             continue
         if any(_inside(vx, vy, v[remaining[(guess + o) % m]][a0], v[remaining[(guess + o) % m]][a1])

@@ -289,6 +289,7 @@ class _Reader:
         self.mesh_geoms = 0
         self.legacy_meshes = 0  # mesh geoms in MuJoCo's default legacy mode (Drake computes them exactly)
         self.mesh_density: dict[str, float] = {}  # each body's mesh geoms' densities, summed (kg/m^3)
+        self.mesh_inertia: dict[str, float] = {}  # each body's mesh geoms' largest inertia entries, summed (kg m^2)
         self._geom_body: dict[int, str] = {}  # each geom's body, while its mass properties are read
         self.mesh_body_names: set[str] = set()  # bodies with a mesh geom (whoever computed it)
         self.multi_object_meshes: list[str] = []  # OBJ files of several objects (MuJoCo reads the first)
@@ -483,7 +484,7 @@ class _Reader:
                  and any(first.get(k) is not None for k in ("pos", "quat", "axisangle", "euler", "xyaxes", "zaxis")),
                  "visual_geoms": self.visual_geoms, "mesh_bodies": bool(self.mesh_body_names),
                  "multi_object_meshes": tuple(self.multi_object_meshes), "legacy_meshes": self.legacy_meshes,
-                 "mesh_density": dict(self.mesh_density),
+                 "mesh_density": dict(self.mesh_density), "mesh_inertia": dict(self.mesh_inertia),
                  "stacked": self.stacked, "unactuated_armature": self.unactuated, "damped_free": self.damped_free,
                  "damped_balls": self.damped_balls,
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
@@ -795,8 +796,9 @@ class _Reader:
         inertia_geom = mass / props.measure * props.inertia
         self._mesh_written(g, inertia_geom)
         body = self._geom_body.get(id(g))
-        if body is not None:  # kg/m^3: what an engine's tolerance on the unit-density tensor is multiplied by
+        if body is not None:  # kg/m^3 and kg m^2: what an engine's tolerances on the unit-density tensor scale with
             self.mesh_density[body] = self.mesh_density.get(body, 0.0) + abs(mass / props.measure)
+            self.mesh_inertia[body] = self.mesh_inertia.get(body, 0.0) + float(np.abs(inertia_geom).max())
         return mass, pos + Rg @ props.com, Rg @ inertia_geom @ Rg.T
 
     def _mesh_written(self, g: Node, inertia_geom: np.ndarray) -> None:
