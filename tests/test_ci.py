@@ -180,3 +180,23 @@ def test_the_pre_commit_hook_fails_on_a_non_physical_link_and_passes_once_it_is_
     git("commit", "-qam", "fixed")
     out = hook()
     assert out.returncode == 0, out.stdout[-3000:]
+
+
+def test_a_file_a_xacro_includes_is_an_input(repo, capsys):
+    """A xacro's included files are the command's inputs, as an MJCF's <include>s are: an output naming one is refused
+    up front (exit 2, one line) and the file is unchanged."""
+    robots = repo / "robots"
+    (robots / "inertial.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="box_inertial" params="m x y z">\n'
+        '    <inertial><origin xyz="${x/2} 0 0"/><mass value="${m}"/>\n'
+        '      <inertia ixx="${m*(y*y+z*z)/12}" ixy="0" ixz="0" iyy="${m*(x*x+z*z)/12}" iyz="0" '
+        'izz="${m*(x*x+y*y)/12}"/></inertial>\n  </xacro:macro>\n</robot>\n')
+    main_file = robots / "arm.urdf.xacro"
+    main_file.write_text(XACRO.replace('<xacro:macro name="box_inertial"', '<xacro:include filename="inertial.xacro"/>'
+                                       '<xacro:macro name="unused"').replace("${IZZ}", "0"))
+    before = (robots / "inertial.xacro").read_bytes()
+    assert main(["compare", str(main_file), "--states", "2", "--out", str(robots / "inertial.xacro")]) == 2
+    out, err = capsys.readouterr()
+    assert len(err.strip().splitlines()) == 1 and "inertial.xacro" in err, err
+    assert (robots / "inertial.xacro").read_bytes() == before

@@ -61,7 +61,13 @@ def resolve_uri(uri: str, path: Path) -> Path | None:
 
 
 def note_files(path: Path) -> None:
-    """The files the URDF at ``path`` names, noted as inputs (:func:`relacc.reading.read.note_files`)."""
+    """The files the URDF at ``path`` names, noted as inputs (:func:`relacc.reading.read.note_files`); a xacro's are
+    its expansion's, and the files it includes (noted by :func:`relacc.reading.xacro.expand`)."""
+    from relacc.reading.xacro import expand, is_xacro
+
+    if is_xacro(path):
+        _note_geometry(parse_text(expand(path), str(path), []), path)
+        return
     _note_geometry(parse_file(path), path)
 
 

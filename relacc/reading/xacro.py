@@ -61,13 +61,22 @@ def expand(path) -> str:
         raise ModelError(f"{path}: reading a .xacro file needs the xacro package (pip install xacro)") from None
     from relacc.isolate import captured_output
 
-    with _LOCK, _find_without_ros(subst, path), captured_output() as said:
+    import io
+
+    written = io.StringIO()  # xacro's warnings through Python's stream (where a caller replaced it, not fd 2)
+    with _LOCK, _find_without_ros(subst, path), captured_output() as said, contextlib.redirect_stderr(written):
+        del xacro.all_includes[:]  # the files this expansion includes (xacro's own record of them)
         try:
             doc = xacro.process_file(str(path), mappings=dict(ARGUMENTS))
         except Exception as exc:  # xacro raises XacroException, and whatever a macro's Python raises
             text = " ".join(str(exc).split())
-            where = " ".join(" ".join(said).split())
+            where = " ".join((" ".join(said) + " " + written.getvalue()).split())
             raise ModelError(f"{path}: xacro cannot expand it: {text}" + (f" ({where[:300]})" if where else ""))
+        included = list(xacro.all_includes)
+    from relacc.files import note_input
+
+    for name in included:  # inputs of the command, as an MJCF's <include>s are: no output may be one of them
+        note_input(Path(name))
     return doc.toprettyxml(indent="  ")
 
 
