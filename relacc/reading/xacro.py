@@ -59,9 +59,9 @@ def expand(path) -> str:
         import xacro.substitution_args as subst
     except ImportError:  # pragma: no cover - xacro is a dependency
         raise ModelError(f"{path}: reading a .xacro file needs the xacro package (pip install xacro)") from None
-    from relacc.isolate import captured_output
-
     import io
+
+    from relacc.isolate import captured_output
 
     written = io.StringIO()  # xacro's warnings through Python's stream (where a caller replaced it, not fd 2)
     with _LOCK, _find_without_ros(subst, path), captured_output() as said, contextlib.redirect_stderr(written):
