@@ -36,6 +36,9 @@ def files(cache: Path) -> list[Path]:
 def compare(path: Path, mode: str) -> dict:
     """One file in one mode: ``{"mujoco": error or None, "relacc": error or None, "mass", "com", "inertia"}``
     (relative differences, when both computed it)."""
+    import contextlib
+    import tempfile
+
     import mujoco
 
     from relacc.core.rotations import matrix_from_quaternion
@@ -44,8 +47,9 @@ def compare(path: Path, mode: str) -> dict:
     row: dict = {"mujoco": None, "relacc": None}
     xml = (f'<mujoco><asset><mesh name="m" file="{path}" inertia="{mode}"/></asset><worldbody><body><freejoint/>'
            '<geom type="mesh" mesh="m" density="1000"/></body></worldbody></mujoco>')
-    try:
-        m = mujoco.MjModel.from_xml_string(xml)
+    try:  # in a scratch directory: MuJoCo appends its warnings to MUJOCO_LOG.TXT in the working directory
+        with tempfile.TemporaryDirectory() as scratch, contextlib.chdir(scratch):
+            m = mujoco.MjModel.from_xml_string(xml)
         R = matrix_from_quaternion(m.body_iquat[1])
         theirs = (m.body_mass[1], m.body_ipos[1].copy(), R @ np.diag(m.body_inertia[1]) @ R.T)
     except ValueError as exc:

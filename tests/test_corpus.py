@@ -93,7 +93,7 @@ its macro's call), which MuJoCo loads as an empty model and relacc refuses."""
 
 
 @pytest.mark.slow
-def test_diff_of_each_urdf_and_the_mjcf_mujoco_saves_from_it(roots, tmp_path):
+def test_diff_of_each_urdf_and_the_mjcf_mujoco_saves_from_it(roots, tmp_path, monkeypatch):
     """Issue 47: for every URDF of the pinned example-robot-data that MuJoCo loads, ``relacc diff robot.urdf
     saved.xml`` against the MJCF MuJoCo itself saves from it is the same robot, except the conversions in
     :data:`DIFF_EXCEPTIONS` (each difference a reproduced MuJoCo behaviour). The URDFs' visual and collision elements
@@ -104,6 +104,8 @@ def test_diff_of_each_urdf_and_the_mjcf_mujoco_saves_from_it(roots, tmp_path):
     mujoco = pytest.importorskip("mujoco")
     from relacc.errors import ModelError
     from relacc.validation.diff import diff
+
+    monkeypatch.chdir(tmp_path)  # MuJoCo, called directly, appends its warnings to MUJOCO_LOG.TXT there
 
     root = roots["example-robot-data"]
     seen, same, refused = {}, 0, []

@@ -58,6 +58,13 @@ URDF = """<robot name="arm">
 """
 
 
+@pytest.fixture(autouse=True)
+def _in_a_scratch_directory(tmp_path, monkeypatch):
+    """MuJoCo, called directly here to write the reference MJCF, appends its warnings to MUJOCO_LOG.TXT in the working
+    directory: that directory is the test's own."""
+    monkeypatch.chdir(tmp_path)
+
+
 def saved_by_mujoco(tmp_path, urdf_text: str, name: str = "arm"):
     """``(urdf path, MJCF path)``: the URDF written, and the MJCF MuJoCo saves after reading it."""
     mujoco = pytest.importorskip("mujoco")

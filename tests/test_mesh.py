@@ -23,6 +23,13 @@ L_OUTLINE = [(0.0, 0.0), (0.3, 0.0), (0.3, 0.1), (0.1, 0.1), (0.1, 0.2), (0.0, 0
 H = 0.05
 
 
+@pytest.fixture(autouse=True)
+def _in_a_scratch_directory(tmp_path, monkeypatch):
+    """MuJoCo, called directly here as the reference, appends its warnings to MUJOCO_LOG.TXT in the working
+    directory: that directory is the test's own."""
+    monkeypatch.chdir(tmp_path)
+
+
 def l_prism_stl(path):
     """A binary STL of the L prism, every face turned outwards (the caps fanned from a vertex where the fan stays
     inside the L: from (0.1, 0.1), the reflex corner)."""
