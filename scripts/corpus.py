@@ -143,7 +143,7 @@ def main(argv=None) -> int:
     parser.add_argument("--write", action="store_true", help="rewrite docs/compare.md's table")
     parser.add_argument("--json", type=Path, help="also write every row to this JSON file")
     args = parser.parse_args(argv)
-    roots = fetch(args.cache)
+    roots = fetch(args.cache.resolve())  # each file runs in a temporary directory: paths must be absolute
     todo = [(package, shown, path) for package, root in roots.items() for shown, path in files(package, root)]
     with ThreadPoolExecutor(args.jobs) as pool:
         rows = list(pool.map(lambda t: run(t[2], roots[t[0]]), todo))
