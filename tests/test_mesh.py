@@ -251,3 +251,20 @@ def test_meshes_of_other_people_s_models_are_mujoco_s(tmp_path_factory, request)
             eig = 2 * MUJOCO_EIG_EPS * 1000.0 + 2 * np.sqrt(2 * MUJOCO_EIG_EPS) * row["inertia_max"]
             assert row["inertia_abs"] <= eig, (path.name, mode, row)
     assert compared >= 80
+
+
+def test_an_inconsistently_turned_mesh_is_refused_in_the_exact_mode_only(tmp_path):
+    """MuJoCo's compiler refuses inertia="exact" for a mesh whose neighbouring faces are turned differently (the
+    signed volumes would mean nothing), and computes the other modes; relacc's reading does the same, naming two
+    vertices of the edge."""
+    l_prism_stl(tmp_path / "l.stl")
+    data = bytearray((tmp_path / "l.stl").read_bytes())
+    first = 84 + 12  # the first triangle's corners: swap the second and third
+    data[first + 12:first + 24], data[first + 24:first + 36] = data[first + 24:first + 36], data[first + 12:first + 24]
+    (tmp_path / "l.stl").write_bytes(bytes(data))
+    with pytest.raises(ModelError, match="not turned consistently"):
+        read(model(tmp_path, "l.stl", "exact"))
+    mujoco = pytest.importorskip("mujoco")
+    with pytest.raises(ValueError, match="inconsistent orientation"):
+        mujoco.MjModel.from_xml_path(str(model(tmp_path, "l.stl", "exact")))
+    read(model(tmp_path, "l.stl", "legacy"))  # the other modes are read

@@ -78,8 +78,10 @@ def load(path: Path, place: str) -> tuple[np.ndarray, np.ndarray]:
         if count < 0 or len(data) != 84 + 50 * count:
             raise ModelError(f"{place}: {path.name}: not a binary STL (MuJoCo reads binary STL only)")
         records = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
-        vertices = records["v"].reshape(-1, 3).astype(np.float64)
-        return vertices, np.arange(len(vertices)).reshape(-1, 3)
+        corners = records["v"].reshape(-1, 3).astype(np.float64)
+        # one vertex per position, as MuJoCo's STL reader keeps them (faces then share their edges' vertices)
+        vertices, index = np.unique(corners, axis=0, return_inverse=True)
+        return vertices, index.reshape(-1, 3).astype(np.int64)
     if suffix == ".obj":
         vertices, objects = read_obj(data, path.name, place)
         return vertices, np.concatenate(objects) if objects else np.zeros((0, 3), dtype=np.int64)
@@ -243,6 +245,8 @@ def mass_properties(vertices: np.ndarray, faces: np.ndarray, mode: str, place: s
         raise ModelError(f"{place}: mesh inertia={mode!r}; MuJoCo's are {', '.join(MODES)}")
     if len(faces) == 0:  # vertices only: MuJoCo takes the convex hull's faces
         faces = hull_faces(vertices, place)
+    if mode == "exact":
+        _check_orientation(vertices, faces, place)
     _, centroids, areas = _triangles(vertices, faces)
     total_area = float(areas.sum())
     if total_area < MJMINVAL:
@@ -279,6 +283,24 @@ def mass_properties(vertices: np.ndarray, faces: np.ndarray, mode: str, place: s
                 + E[:, j] * F[:, k] + E[:, k] * F[:, j])).sum())
     inertia = np.trace(P) * np.eye(3) - P
     return MeshMass(float(weights.sum()), com, inertia)
+
+
+def _check_orientation(vertices: np.ndarray, faces: np.ndarray, place: str) -> None:
+    """The exact mode's condition (MuJoCo's compiler refuses a mesh without it): no directed edge in two faces of area
+    above ``sqrt(mjMINVAL)``, i.e. neighbouring faces turned the same way.
+
+    Raises:
+        ModelError: naming two vertices (1-based, as MuJoCo's message) of an edge two faces run the same way.
+    """
+    _, _, areas = _triangles(vertices, faces)
+    kept = faces[areas > np.sqrt(MJMINVAL)]
+    edges = np.concatenate([kept[:, [0, 1]], kept[:, [1, 2]], kept[:, [2, 0]]])
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    if (counts > 1).any():
+        a, b = unique[np.argmax(counts > 1)]
+        raise ModelError(f"{place}: the mesh's faces are not turned consistently (two faces run the edge from vertex "
+                         f"{a + 1} to {b + 1} the same way), which inertia=\"exact\" needs, as MuJoCo's compiler "
+                         "refuses it; use inertia=\"legacy\", \"convex\" or \"shell\", or fix the mesh")
 
 
 def exact_or_hull(vertices: np.ndarray, faces: np.ndarray, place: str) -> MeshMass:
