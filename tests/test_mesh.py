@@ -190,6 +190,7 @@ def mujoco_body_named(path, name):
     return m.body_mass[i], m.body_ipos[i], R @ np.diag(m.body_inertia[i]) @ R.T
 
 
+@pytest.mark.slow
 def test_the_reading_imports_no_engine(tmp_path):
     """Issue 53: relacc's reading of a mesh model imports no engine (not MuJoCo, not relacc.engines), in a fresh
     process; a primitive fitted to a mesh, which relacc does not compute, is refused there with the reason, and

@@ -316,7 +316,7 @@ class Adapter(abc.ABC):
 
     # --- what each engine implements -------------------------------------------------------------------------
 
-    def inertia_allowance(self, reading) -> float:
+    def inertia_allowance(self, reading: Any) -> float:
         """kg m^2: how far this engine's body inertias may be from relacc's ``reading`` of the same file by the
         engine's own documented numerical tolerances (0: none beyond rounding). Added, through the mass matrix, to
         the dynamics comparison's tolerance (:func:`relacc.validation.robots.agreement.compare_dynamics`)."""

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -137,7 +138,7 @@ class MujocoAdapter(Adapter):
     def version(self) -> str:
         return version()
 
-    def inertia_allowance(self, reading) -> float:
+    def inertia_allowance(self, reading: Any) -> float:
         """MuJoCo's compiler diagonalizes each mesh's inertia per unit density (m^5) with a Jacobi iteration
         (``mjuu_eig3``) that stops at an absolute off-diagonal of :data:`relacc.core.tolerances.MUJOCO_EIG_EPS`, or
         when a rotation's cosine is within that of 1 (a rotation below sqrt(2 eps_eig) = 1.4e-6 rad, which leaves an
