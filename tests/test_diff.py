@@ -67,7 +67,7 @@ def _in_a_scratch_directory(tmp_path, monkeypatch):
 
 def saved_by_mujoco(tmp_path, urdf_text: str, name: str = "arm"):
     """``(urdf path, MJCF path)``: the URDF written, and the MJCF MuJoCo saves after reading it."""
-    mujoco = pytest.importorskip("mujoco")
+    import mujoco  # a declared dependency: never skipped
     urdf = tmp_path / f"{name}.urdf"
     urdf.write_text(urdf_text)
     xml = tmp_path / f"{name}.xml"

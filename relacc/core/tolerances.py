@@ -107,6 +107,16 @@ MUJOCO_EIG_EPS = 1e-12
 (absolute), and the principal moments it keeps drop those entries, so the tensor rebuilt from ``body_inertia`` and
 ``body_iquat`` differs from the file's by up to that much (measured on the chain: 6e-16)."""
 
+MJMINVAL = 1e-15
+"""MuJoCo's ``mjMINVAL``: the floor of the divisors in its springdamper computation, and the smallest mesh volume or
+area its compiler accepts (relacc's reading follows both, :mod:`relacc.reading.mjcf`, :mod:`relacc.reading.mesh`)."""
+
+VERTEX_ROUNDING = 4 * float(np.finfo(np.float32).eps)
+"""Relative to a mesh geom's largest inertia entry: what single precision vertices (every mesh format's) allow the
+inertia computed from them, as a written inertia's digits allow its value: each coordinate is within eps_f32 / 2 of
+the one meant, and the inertia, a sum of products of two coordinates, within twice that of its largest entry; four
+eps_f32 with the mass centre's shift. Added to the body's ``written`` (the physical checks' allowance)."""
+
 COMPLEX_STEP = 1e-20
 """Step ``h`` of the complex-step derivative ``Im f(x + i h) / h``.
 

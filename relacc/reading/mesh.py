@@ -27,19 +27,15 @@ from pathlib import Path
 
 import numpy as np
 
+from relacc.core.tolerances import MJMINVAL
 from relacc.errors import ModelError
 
 MODES = ("legacy", "exact", "convex", "shell")
 """A mesh asset's ``inertia`` modes (MuJoCo's default: ``legacy``)."""
 
-VERTEX_ROUNDING = 4 * float(np.finfo(np.float32).eps)
-"""Relative to a mesh geom's largest inertia entry: what single precision vertices (every mesh format's) allow the
-inertia computed from them, as a written inertia's digits allow its value: each coordinate is within eps_f32 / 2 of
-the one meant, and the inertia, a sum of products of two coordinates, within twice that of its largest entry; four
-eps_f32 with the mass centre's shift. Added to the body's ``written`` (the physical checks' allowance)."""
-
-MJMINVAL = 1e-15
-"""MuJoCo's ``mjMINVAL``: below it a volume or an area is refused."""
+DRAKE_MIN_VOLUME = 1e-14
+"""m^3: the smallest volume Drake's ``CalcSpatialInertia`` takes as a mesh's (below it, or for an inertia no rigid
+body has, Drake falls back to the convex hull, :func:`exact_or_hull`)."""
 
 
 @dataclass(frozen=True)
@@ -307,14 +303,15 @@ def exact_or_hull(vertices: np.ndarray, faces: np.ndarray, place: str) -> MeshMa
     """Drake's reading of a mesh (its ``CalcSpatialInertia`` and the fallback it warns of): the exact volume,
     mass centre and inertia as tetrahedra from the mesh frame's origin (for a closed mesh the exact mode's, from any
     point; for an open one they depend on the point, and Drake's is the origin), or the convex hull's where that is
-    not a rigid body's (a volume below 1e-14 m^3, principal moments negative or breaking the triangle inequality)."""
+    not a rigid body's (a volume below :data:`DRAKE_MIN_VOLUME`, principal moments negative or breaking the
+    triangle inequality)."""
     from relacc.core.tolerances import triangle_violation
 
     if len(faces):
         a, b, c = (vertices[faces[:, k]] for k in range(3))
         volumes = np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0
         measure = float(volumes.sum())
-        if measure >= 1e-14:
+        if measure >= DRAKE_MIN_VOLUME:
             com = (volumes[:, None] * (a + b + c) / 4.0).sum(axis=0) / measure
             D, E, F = a - com, b - com, c - com
             P = np.zeros((3, 3))

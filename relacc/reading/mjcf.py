@@ -38,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
+from relacc.core.tolerances import MJMINVAL, VERTEX_ROUNDING
 from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.errors import ModelError
 from relacc.files import note_input, regular_file
@@ -73,9 +74,6 @@ class MeshGeom:
     degree: bool
     attributes: dict
 
-
-MJMINVAL = 1e-15
-"""MuJoCo's ``mjMINVAL``: the floor of the divisors in its springdamper computation."""
 
 VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored", "visual_geoms_ignored",
             "mesh_unit_inertia", "gravity_default", "settotalmass_ignored", "gravity_flag_ignored",
@@ -290,7 +288,6 @@ class _Reader:
         self.legacy_meshes = 0  # mesh geoms in MuJoCo's default legacy mode (Drake computes them exactly)
         self.mesh_density: dict[str, float] = {}  # each body's mesh geoms' densities, summed (kg/m^3)
         self.mesh_inertia: dict[str, float] = {}  # each body's mesh geoms' largest inertia entries, summed (kg m^2)
-        self._geom_body: dict[int, str] = {}  # each geom's body, while its mass properties are read
         self.mesh_body_names: set[str] = set()  # bodies with a mesh geom (whoever computed it)
         self.multi_object_meshes: list[str] = []  # OBJ files of several objects (MuJoCo reads the first)
         self.written: dict[str, float] = {}  # body: the Frobenius norm of its written inertia's rounding (kg m^2)
@@ -664,7 +661,6 @@ class _Reader:
             return 0.0, np.zeros(3), np.zeros((3, 3))
         parts, meshy, solid = [], [], []
         for g, at, R in self._elements(node, "geom", cls):
-            self._geom_body[id(g)] = body
             part = self._geom(g, at, R, body)
             if part is not None:
                 parts.append(part[:3])
@@ -720,7 +716,7 @@ class _Reader:
                 except ModelError as exc:
                     raise ModelError(f"{asset.place}: <mesh file={asset.get('file')!r}>: {exc}") from None
             self.mesh_geoms += 1
-            own = self._own_mesh(g, kind, asset, mass_given, name)
+            own = self._own_mesh(g, kind, asset, mass_given, body)
             if own is not None:
                 mass, com, I = own
                 return mass, at + R @ com, R @ I @ R.T, f"mesh {name!r}", False
@@ -751,8 +747,9 @@ class _Reader:
         Rw = R @ Rg
         return mass, at + R @ pos, Rw @ np.diag(mass * moments) @ Rw.T, "", False
 
-    def _own_mesh(self, g: Node, kind: str, asset, mass_given, name):
-        """``(mass, centre (3,), inertia (3, 3))`` of a mesh geom in its parent's frame, computed by relacc
+    def _own_mesh(self, g: Node, kind: str, asset, mass_given, body: str):
+        """``(mass kg, centre (3,) m, inertia about it (3, 3) kg m^2)`` of a mesh geom of ``body``, in the frame it is
+        placed in (its body's, or the ``<frame>`` holding it), computed by relacc
         (:mod:`relacc.reading.mesh`), or None where relacc leaves it to MuJoCo (a primitive fitted to a mesh, a
         builtin mesh, a convex hull limited by ``maxhullvert``).
 
@@ -794,22 +791,14 @@ class _Reader:
         mass = mass_given if mass_given is not None else number(g, "density", 1000.0) * props.measure
         pos, Rg = self.pose(g)
         inertia_geom = mass / props.measure * props.inertia
-        self._mesh_written(g, inertia_geom)
-        body = self._geom_body.get(id(g))
-        if body is not None:  # kg/m^3 and kg m^2: what an engine's tolerances on the unit-density tensor scale with
-            self.mesh_density[body] = self.mesh_density.get(body, 0.0) + abs(mass / props.measure)
-            self.mesh_inertia[body] = self.mesh_inertia.get(body, 0.0) + float(np.abs(inertia_geom).max())
+        largest = float(np.abs(inertia_geom).max())
+        # single precision vertices: what they allow the inertia is added to the body's written allowance, as a
+        # written inertia's digits are (the physical checks')
+        self.written[body] = self.written.get(body, 0.0) + VERTEX_ROUNDING * largest
+        # kg/m^3 and kg m^2: what an engine's tolerances on the unit-density tensor scale with
+        self.mesh_density[body] = self.mesh_density.get(body, 0.0) + abs(mass / props.measure)
+        self.mesh_inertia[body] = self.mesh_inertia.get(body, 0.0) + largest
         return mass, pos + Rg @ props.com, Rg @ inertia_geom @ Rg.T
-
-    def _mesh_written(self, g: Node, inertia_geom: np.ndarray) -> None:
-        """A mesh's vertices are written in single precision: what that allows its geom's inertia (kg m^2,
-        :data:`relacc.reading.mesh.VERTEX_ROUNDING` of its largest entry) is added to the body's ``written``, as a
-        written inertia's digits are (the physical checks' allowance)."""
-        from relacc.reading.mesh import VERTEX_ROUNDING
-
-        body = self._geom_body.get(id(g))
-        if body is not None:
-            self.written[body] = self.written.get(body, 0.0) + VERTEX_ROUNDING * float(np.abs(inertia_geom).max())
 
     def _compiler_masses(self) -> None:
         """``boundmass``, ``boundinertia``, ``balanceinertia``, ``settotalmass`` (module docstring)."""

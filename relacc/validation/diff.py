@@ -283,11 +283,7 @@ def significant_digits(x: float) -> int:
     """Significant digits of the shortest text that reads back as ``x`` (``0.163``: 3)."""
     if x == 0 or not np.isfinite(x):
         return 1
-    mantissa = f"{abs(x):.17e}".split("e")[0]
-    for d in range(1, 18):
-        if float(f"{x:.{d - 1}e}") == x:
-            return d
-    return len(mantissa.replace(".", ""))
+    return next(d for d in range(1, 18) if float(f"{x:.{d - 1}e}") == x)  # 17 digits always read back
 
 
 def rounds_to(x: float, y: float) -> bool:
@@ -395,9 +391,6 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
     def tol(scale):
         return printed_tolerance(scale, rtol)
 
-    def place(reading, kind, name):
-        return reading.place(kind, name)
-
     def name_of(a: Part, b: Part) -> str:
         return a.name if a.name == b.name else f"{a.name} / {b.name}"
 
@@ -446,31 +439,31 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
     for i, k, how in m.pairs:
         a, b = parts_a[i], parts_b[k]
         el = name_of(a, b)
-        wa, wb = place(ra, "body", a.name), place(rb, "body", b.name)
+        wa, wb = ra.place("body", a.name), rb.place("body", b.name)
         _part_terms(out, a, b, el, wa, wb, com_b[k], inertia_b[k], R, p, tol, ra, rb, tuple(absorbed.get(k, ())))
         jp, only_ja, only_jb = joint_pairs(a, b)
         for ja, jb in jp:
             signs[(i, ja)] = _joint_terms(out, ra, rb, a, b, ja, jb, R, p, tol)
         for ja in only_ja:
             j = a.joints[ja]
-            out.append(Difference("unmatched", j.name, "joint", j.type, None, None, place(ra, "joint", j.name),
+            out.append(Difference("unmatched", j.name, "joint", j.type, None, None, ra.place("joint", j.name),
                                   rb.source))
         for jb in only_jb:
             j = b.joints[jb]
             out.append(Difference("unmatched", j.name, "joint", None, j.type, None, ra.source,
-                                  place(rb, "joint", j.name)))
+                                  rb.place("joint", j.name)))
     for i in m.only_a:
         a = parts_a[i]
         welded = any(a in group for group in absorbed.values())
         out.append(Difference("unmatched", a.name, "joint" if welded else "part",
                               ", ".join(f"{j.name} ({j.type})" for j in a.joints),
                               "welded to its parent" if welded else None, None,
-                              place(ra, "joint", a.joints[0].name) if welded else place(ra, "body", a.name),
-                              place(rb, "body", a.name) if welded else rb.source))
+                              ra.place("joint", a.joints[0].name) if welded else ra.place("body", a.name),
+                              rb.place("body", a.name) if welded else rb.source))
     for k in m.only_b:
         b = parts_b[k]
         out.append(Difference("unmatched", b.name, "part", None, ", ".join(j.name for j in b.joints), None,
-                              ra.source, place(rb, "body", b.name)))
+                              ra.source, rb.place("body", b.name)))
     ga, gb = ra.tree.gravity, rb.tree.gravity
     if np.linalg.norm(ga - gb) > tol(max(np.linalg.norm(ga), np.linalg.norm(gb))):
         out.append(Difference("rounded" if rounded_pair(ga, gb) else "changed", "world", "gravity", _values(ga),

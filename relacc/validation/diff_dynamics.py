@@ -27,14 +27,6 @@ QUANTITIES = ("mass matrix", "bias forces", "forward dynamics")
 """The rows of the dynamics comparison, each with its worst state (0: the reference configuration)."""
 
 
-def _quat_of(R: np.ndarray) -> np.ndarray:
-    """Unit quaternion ``(w, x, y, z)`` of a rotation matrix (Shepperd's method)."""
-    from scipy.spatial.transform import Rotation
-
-    x, y, z, w = Rotation.from_matrix(R).as_quat()
-    return np.array([w, x, y, z])
-
-
 def coordinate_map(ra, rb, parts_a, parts_b, m, R, p, signs, joints: dict
                    ) -> tuple[tuple[Callable, np.ndarray] | None, str]:
     """``(map, why)``: a function ``q_A (n, nq_A) -> q_B (n, nq_B)`` and the speed map ``T`` ``(nv_B, nv_A)``, or
@@ -78,7 +70,9 @@ def coordinate_map(ra, rb, parts_a, parts_b, m, R, p, signs, joints: dict
                 T[db:db + 3, da:da + 3] = R.T
                 T[db + 3:db + 6, da + 3:da + 6] = np.eye(3)
                 steps.append(("free", qa, qb))
-    turn = _quat_of(R.T)
+    from relacc.reading.frames import quaternion_of
+
+    turn = quaternion_of(R.T)
 
     def q_map(q_a: np.ndarray) -> np.ndarray:
         q_b = np.zeros((q_a.shape[0], tb.nq_in(2)))

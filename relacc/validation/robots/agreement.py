@@ -36,7 +36,7 @@ from relacc.core.tree.coordinates import reference_q
 from relacc.errors import InputError
 from relacc.limits import CHUNK_STATES
 from relacc.validation.compare import Comparison
-from relacc.validation.robots.audit import Scales
+from relacc.validation.robots.audit import Scales, inertia_slack
 
 QTY = ModelQuantity
 """A short name for the quantities in the comparison's arithmetic below."""
@@ -142,7 +142,7 @@ def compare_dynamics(reference, robot, states: States) -> dict:
     reading = getattr(reference, "reading", None) or getattr(robot, "reading", None)
     # kg m^2: an engine's inertias may differ from the reading's by its documented tolerance (MuJoCo's mesh inertia);
     # a body inertia's error dI enters M as J_w^T dI J_w, each entry at most 3 |dI| (unit rotation axes)
-    inertia_slack = 3.0 * max(getattr(e, "inertia_allowance", lambda r: 0.0)(reading) for e in (reference, robot))
+    slack_M = 3.0 * max(inertia_slack(e, reading) for e in (reference, robot))
     per_link = {k: dict.fromkeys(links, 0.0) for k in KINEMATIC}  # the worst normalized error of each link
     singular = {}  # engine -> joints with no inertia, where its M over the shared speeds is exactly singular
 
@@ -204,8 +204,8 @@ def compare_dynamics(reference, robot, states: States) -> dict:
                     singular.setdefault(name, [])
                     singular[name] += [j for j in inertialess(reference, M, dofs) if j not in singular[name]]
             m_scale = max(np.abs(np.diag(M0)).max(initial=0), np.abs(np.diag(M1)).max(initial=0))
-            add(QTY.MASS_MATRIX, M1, M0, m_scale if m_scale > 0 else sc.inertia, inertia_slack)
-            add(QTY.BIAS_FORCES, b1, b0, bias_scale, inertia_slack * max(vs, 1.0) ** 2)
+            add(QTY.MASS_MATRIX, M1, M0, m_scale if m_scale > 0 else sc.inertia, slack_M)
+            add(QTY.BIAS_FORCES, b1, b0, bias_scale, slack_M * max(vs, 1.0) ** 2)
             g_scale = G[i] + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0)
             add(QTY.GRAVITY_FORCES, g1, g0, max(g_scale, sc.mass * sc.length * gravity))
             f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
@@ -220,7 +220,7 @@ def compare_dynamics(reference, robot, states: States) -> dict:
             else:
                 # dM moves udot by at most ||M^-1|| |dM| |udot|
                 add(QTY.FORWARD_DYNAMICS, f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
-                    inv * inertia_slack * np.abs(f0).max(initial=0) if np.isfinite(inv) else 0.0)
+                    inv * slack_M * np.abs(f0).max(initial=0) if np.isfinite(inv) else 0.0)
             if links:
                 J0, J1 = k0.J[i][:, :, cols0], k1.J[i][:, :, cols1]
                 jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length, paths)

@@ -79,6 +79,13 @@ def _value(x):
     return float(arr) if arr.ndim == 0 else arr.tolist()
 
 
+def inertia_slack(evaluator, reading) -> float:
+    """kg m^2: what an evaluator's own documented numerical tolerance allows each body inertia of ``reading`` beyond
+    rounding (:meth:`relacc.engines.base.Adapter.inertia_allowance`; 0 for relacc's own tree, which has none)."""
+    allowance = getattr(evaluator, "inertia_allowance", None)
+    return float(allowance(reading)) if allowance is not None else 0.0
+
+
 def differences(ref, other, ref_name: str, engine: str, sc: Scales, inertia_slack: float = 0.0) -> list[Item]:
     """Every difference between the structure ``ref`` of reading ``ref_name`` and an engine's ``other`` (causes
     empty). ``inertia_slack`` (kg m^2): what the engine's own numerical tolerance allows each body inertia beyond

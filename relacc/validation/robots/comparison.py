@@ -38,7 +38,7 @@ from relacc.limits import require_comparable
 from relacc.reading import read_moving
 from relacc.reading.read import format_of
 from relacc.validation.robots.agreement import QUANTITIES, compare_dynamics, random_states
-from relacc.validation.robots.audit import Item, Scales, differences, merge
+from relacc.validation.robots.audit import Item, Scales, differences, inertia_slack, merge
 from relacc.validation.robots.causes import READINGS, Cause
 from relacc.validation.robots.reading import structure
 from relacc.validation.robots.referee import referee, voters
@@ -300,7 +300,7 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
     explained, with the element's place in the file."""
     engine = robot.engine
     sc = scales.larger(Scales.of(robot.structure))
-    slack = getattr(robot, "inertia_allowance", lambda r: 0.0)(reading)
+    slack = inertia_slack(robot, reading)
     items = differences(reference.structure, robot.structure, REFERENCE, engine, sc, slack)
     if not items:
         return []
