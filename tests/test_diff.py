@@ -234,7 +234,10 @@ def test_the_command_line(tmp_path, capsys):
     assert any(line.split()[:3] == ["changed", "j1:", "damping:"] for line in rest), out
     assert main(["diff", str(urdf), str(xml), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"same", "a", "b", "rtol", "matched", "differences", "notes", "dynamics", "engines"}
+    assert set(data) == {"same", "a", "b", "rtol", "matched", "differences", "notes", "dynamics", "trees", "engines"}
+    assert data["engines"] == {}  # not asked for (--engines)
+    assert [p["name"] for p in data["trees"]["b"]["parts"]] == ["l1", "l2", "l3"]
+    assert [p["parent"] for p in data["trees"]["b"]["parts"]] == [-1, 0, 1]
     for bad in (["diff", str(urdf)], ["diff", str(urdf), str(tmp_path / "none.xml")],
                 ["diff", str(urdf), str(xml), "--rtol", "1e-9"]):
         assert main(bad) == 2
@@ -273,3 +276,96 @@ def test_diff_writes_junit_and_sarif_at_the_places_in_b(tmp_path, capsys):
     results = data["runs"][0]["results"]
     assert {r["ruleId"] for r in results} == {"RELACC010"}
     assert any(r["locations"][0]["physicalLocation"]["region"]["startLine"] == line for r in results)
+
+
+def test_the_page_s_rows_put_each_part_beside_its_counterpart_and_b_s_own_after_its_parent():
+    """The side-by-side order of ``--out``'s page, on trees written by hand: A depth first in file order; a part of B
+    without a counterpart right after its parent's row."""
+    from relacc.report.diff_page import rows
+
+    def parts(*spec):
+        return {"world": [], "parts": [{"name": n, "parent": p, "bodies": [n], "joints": []} for n, p in spec]}
+
+    trees = {"a": parts(("a0", -1), ("a1", 0), ("a2", -1), ("a3", 1), ("a4", 0)),
+             "b": parts(("b0", -1), ("b1", 0), ("b2", 0), ("b3", -1)),
+             "pairs": [[0, 0, "joint name"], [1, 1, "structure"], [2, 3, "body name"]]}
+    assert [(r["a"], r["b"]) for r in rows(trees)] == [
+        (0, 0), (None, 2), (1, 1), (3, None), (4, None), (2, 3)]
+
+
+@pytest.mark.slow
+def test_the_page_shows_both_trees_side_by_side_with_every_difference_at_its_element(tmp_path, capsys):
+    """Issue 47 item 8: ``--out page.html`` in a real browser (Debian's Chromium): the verdict first; the two trees
+    side by side (A's labels left of B's); one numbered mark per difference of the JSON, in the row of its element;
+    no label overlaps another; an input as --out refused."""
+    from playwright.sync_api import sync_playwright
+
+    from tests.test_compare_page import _browser, _overlaps
+
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+
+    def edit(root):
+        inertial = body(root, "l2").find("inertial")
+        inertial.set("mass", repr(float(inertial.get("mass")) * 1.01))
+        joint(root, "j1").set("armature", "0.1")
+        joint(root, "j3").set("damping", "0.2")
+
+    changed = edited(xml, edit)
+    assert main(["diff", str(urdf), str(changed), "--json"]) == 1
+    expected = json.loads(capsys.readouterr().out)["differences"]
+    assert sorted((d["kind"], d["element"], d["quantity"]) for d in expected) == [
+        ("added", "j1", "armature"), ("added", "j3", "damping"), ("changed", "l2", "mass")]
+    page_path = tmp_path / "page.html"
+    assert main(["diff", str(urdf), str(changed), "--out", str(page_path)]) == 1
+    capsys.readouterr()
+    assert main(["diff", str(urdf), str(changed), "--out", str(changed)]) == 2  # an input is never written over
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    with sync_playwright() as p:
+        browser = _browser(p)
+        page = browser.new_page(viewport={"width": 1366, "height": 900})
+        errors = []
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.goto(page_path.as_uri(), wait_until="load")
+        verdict = page.inner_text("#verdict")
+        boxes = page.evaluate("[...document.querySelectorAll('#trees .label, #trees a.mark')].map(t => {"
+                              " const b = t.getBoundingClientRect(); return {x: b.x, y: b.y, width: b.width,"
+                              " height: b.height, text: t.textContent,"
+                              " side: t.closest('td').className}; })")
+        rows = page.evaluate("[...document.querySelectorAll('#trees tr')].slice(1).map(r => ({"
+                             " a: r.querySelector('td.side-a .part')?.textContent || null,"
+                             " b: r.querySelector('td.side-b .part')?.textContent || null,"
+                             " marks: [...r.querySelectorAll('a.mark')].map(m => m.textContent) }))")
+        listed = page.evaluate("[...document.querySelectorAll('#differences tr[id]')].map(r => [r.id,"
+                               " r.children[2].textContent])")
+        browser.close()
+    assert errors == []
+    assert verdict.startswith("Not the same robot: 3 differences"), verdict
+    assert rows[0]["a"] == "world" and [(r["a"], r["b"]) for r in rows[1:]] == [("l1", "l1"), ("l2", "l2"),
+                                                                               ("l3", "l3")]
+    element_of = {number.removeprefix("d"): element for number, element in listed}
+    assert sorted(element_of.values()) == sorted(d["element"] for d in expected)
+    where = {element_of[m]: (r["a"], r["b"]) for r in rows for m in r["marks"]}
+    assert where == {"j1": ("l1", "l1"), "l2": ("l2", "l2"), "j3": ("l3", "l3")}  # each at its part's row
+    assert _overlaps(boxes) == [], boxes
+    right_of_a = max(b["x"] + b["width"] for b in boxes if b["side"] == "side-a")
+    assert all(b["x"] > right_of_a for b in boxes if b["side"] == "side-b")  # side by side
+
+
+@pytest.mark.slow
+def test_the_engines_line_is_compare_s_verdict_on_each_file(tmp_path, capsys):
+    """Issue 47 item 6: ``--engines`` says per file whether the engines read it as relacc does; the reference is
+    ``relacc compare`` run on each file by itself."""
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+    codes = []
+    for path in (urdf, xml):
+        codes.append(main(["compare", str(path), "--engines", "mujoco,pinocchio", "--states", "2"]))
+        capsys.readouterr()
+    assert main(["diff", str(urdf), str(xml), "--engines", "mujoco,pinocchio", "--states", "2", "--json"]) == 0
+    engines = json.loads(capsys.readouterr().out)["engines"]
+    assert [engines["a"]["exit"], engines["b"]["exit"]] == codes == [0, 0]
+    assert engines["a"]["compared"][:1] == ["relacc"] and {"mujoco", "pinocchio"} <= set(engines["a"]["compared"])
+    assert main(["diff", str(urdf), str(xml), "--engines", "mujoco", "--states", "2"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[1:3] == [f"  engines on A ({urdf}): every engine reads the file as relacc does and the dynamics agree",
+                        f"  engines on B ({xml}): every engine reads the file as relacc does and the dynamics agree"]

@@ -350,28 +350,10 @@ def text(result) -> str:
     if data["referee"]:
         lines.append("referee (relacc's reading and every engine, pair by pair):")
         lines += [f"  {v['verdict']}" for v in data["referee"]]
+    from relacc.validation.robots.comparison import verdict_line
+
     lines.append(verdict_line(data))
     return "\n".join(lines)
-
-
-def verdict_line(data: dict) -> str:
-    """The comparison's last line: its verdict in one sentence."""
-    absent = [name for name, e in data["engines"].items() if not e["loaded"]]
-    took = ", ".join(data["compared"])
-    if not data["agree"]:
-        parts = []
-        if data["audit"]:
-            parts.append(f"{len(data['audit'])} audit difference{'s' if len(data['audit']) != 1 else ''}")
-        bad = sum(not r["ok"] for row in data["dynamics"].values() for r in row["engines"].values())
-        if bad:
-            parts.append(f"{bad} dynamics row{'s' if bad != 1 else ''} outside tolerance")
-        if data["findings"]:
-            parts.append(f"{len(data['findings'])} finding{'s' if len(data['findings']) != 1 else ''} about the file")
-        return f"DISAGREE (exit 1): {', '.join(parts)}"
-    if not absent:
-        return "every engine reads the file as relacc does and the dynamics agree"
-    return (f"every engine that took part ({took}) reads the file as relacc does and the dynamics agree; "
-            f"{', '.join(absent)} did not take part (see above)")
 
 
 def _first_clause(text: str) -> str:

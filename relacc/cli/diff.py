@@ -22,7 +22,7 @@ def cmd_diff(args) -> int:
                          "digits changes); --rtol only widens the tolerance")
     from relacc import files
 
-    outputs = {flag: getattr(args, flag, None) for flag in ("junit", "sarif")}
+    outputs = {flag: getattr(args, flag, None) for flag in ("junit", "sarif", "out")}
     for flag, path in outputs.items():
         if path is not None:
             files.check_output_file(path, f"--{flag}")  # before the work: a bad path is one line up front
@@ -32,17 +32,54 @@ def cmd_diff(args) -> int:
     start = time.perf_counter()
     result = diff(a, b, rtol=rtol, states=args.states, seed=args.seed)
     seconds = time.perf_counter() - start
-    if any(outputs.values()):
+    if args.engines is not None:
+        result.engines = engine_verdicts((a, b), args.engines, states=args.states, seed=args.seed)
+    written = {}
+    if outputs["out"]:
+        from relacc.report.diff_page import render
+
+        written[outputs["out"]] = render(result)
+    if outputs["junit"] or outputs["sarif"]:
         from relacc.report import ci
 
         found = ci.diff_results(result)
-        written = {}
         if outputs["junit"]:
             written[outputs["junit"]] = ci.junit([(f"{a} -> {b}", found, seconds)], set(), "diff")
         if outputs["sarif"]:
             written[outputs["sarif"]] = ci.sarif(found, None)
-        files.replace_all(written)
-    return answer(result, args.json)
+    files.replace_all(written)  # every file or none
+    code = answer(result, args.json)
+    if outputs["out"] and not args.json:
+        print(f"wrote {outputs['out']}")
+    return code
+
+
+def engine_verdicts(paths, engines, *, states: int, seed: int) -> dict:
+    """``{"a": ..., "b": ...}``: for each file, ``relacc compare``'s verdict on it (``{"file", "exit", "agree",
+    "compared", "line"}``: whether ``engines`` (empty: every one installed) read it as relacc does), a file named
+    twice compared once. A file no
+    engine can compare is said so (exit 2), not raised: the diff stands without it."""
+    import os
+
+    from relacc.errors import RelaccError
+    from relacc.validation.robots import compare
+    from relacc.validation.robots.comparison import verdict_line
+
+    done: dict = {}
+    out = {}
+    for side, path in zip("ab", paths):
+        key = os.path.realpath(path)
+        if key not in done:
+            try:
+                r = compare(path, engines=engines or None, n_states=states, seed=seed)
+            except RelaccError as exc:
+                done[key] = {"exit": 2, "agree": False, "compared": [], "line": f"cannot be compared: {exc}"}
+            else:
+                data = r.as_json()
+                done[key] = {"exit": r.exit_code, "agree": data["agree"], "compared": data["compared"],
+                             "line": verdict_line(data)}
+        out[side] = {"file": str(path), **done[key]}
+    return out
 
 
 def answer(result, as_json: bool) -> int:
@@ -56,25 +93,10 @@ def answer(result, as_json: bool) -> int:
 
 
 def text(result) -> list[str]:
-    """The text answer: the verdict first, the notes, then the differences by element, then the dynamics."""
-    pairs = result.matched["parts"]
-    how: dict = {}
-    for pair in pairs:
-        how[pair["how"]] = how.get(pair["how"], 0) + 1
-    matched = f"{len(pairs)} moving parts matched ({', '.join(f'{n} by {k}' for k, n in how.items())})" if pairs \
-        else "no moving part matched"
-    if result.same:
-        lines = [f"relacc diff: the same robot within printing to 6 significant digits (rtol {result.rtol:g}): "
-                 f"{matched}"]
-    else:
-        kinds: dict = {}
-        for d in result.differences:
-            kinds[d.kind] = kinds.get(d.kind, 0) + 1
-        beyond = [row["quantity"] for row in result.dynamics if row["beyond"]]
-        said = ", ".join(f"{n} {k}" for k, n in kinds.items()) or "none in the description"
-        lines = [f"relacc diff: not the same robot: {len(result.differences)} difference"
-                 f"{'s' if len(result.differences) != 1 else ''} ({said})"
-                 + (f"; the {', '.join(beyond)} differ beyond printing" if beyond else "") + f"; {matched}"]
+    """The text answer: the verdict first, the engines' verdicts on each file (when asked), the notes, then the
+    differences by element, then the dynamics."""
+    lines = [f"relacc diff: {result.verdict()}"]
+    lines += [f"  engines on {side.upper()} ({e['file']}): {e['line']}" for side, e in result.engines.items()]
     lines += [f"  note: {note}" for note in result.notes]
     ordered = sorted(result.differences, key=lambda d: (d.element, d.quantity))
     lines += [d.line() for d in ordered[:SHOWN]]

@@ -372,6 +372,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "difference at its file:line in B (docs/ci.md)")
     p.add_argument("--sarif", metavar="FILE.sarif", help="also write SARIF 2.1.0: one result (RELACC010) per "
                    "difference, at its file:line in B (docs/ci.md)")
+    p.add_argument("--engines", nargs="?", const=(), default=None,
+                   type=_choices_list("--engines", ENGINE_NAMES), metavar="ENGINES",
+                   help="also say in one line per file whether the engines (default: every one installed) read it as "
+                        "relacc does: relacc compare's verdict on each file, a few seconds each")
+    p.add_argument("--out", metavar="PAGE.html", help="also write a self-contained HTML page, atomically: the two "
+                   "trees side by side with each difference numbered at its element")
 
     p = _sub(sub, "tradeoff", "work-precision sweeps: accelerations and integrators",
              "What accuracy costs in time: G2's acceleration by the analytic formulas, finite differences, "

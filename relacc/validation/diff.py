@@ -350,16 +350,37 @@ class Diff:
     notes: list
     dynamics: list
     rtol: float
+    trees: dict = field(default_factory=dict)
     engines: dict = field(default_factory=dict)
 
     @property
     def same(self) -> bool:
         return not self.differences and not any(row["beyond"] for row in self.dynamics)
 
+    def verdict(self) -> str:
+        """The answer in one sentence: the same robot, or how many differences of which kinds, the dynamics beyond
+        printing, and how the parts were matched."""
+        pairs = self.matched["parts"]
+        how: dict = {}
+        for pair in pairs:
+            how[pair["how"]] = how.get(pair["how"], 0) + 1
+        matched = f"{len(pairs)} moving parts matched ({', '.join(f'{n} by {k}' for k, n in how.items())})" \
+            if pairs else "no moving part matched"
+        if self.same:
+            return f"the same robot within printing to 6 significant digits (rtol {self.rtol:g}): {matched}"
+        kinds: dict = {}
+        for d in self.differences:
+            kinds[d.kind] = kinds.get(d.kind, 0) + 1
+        beyond = [row["quantity"] for row in self.dynamics if row["beyond"]]
+        said = ", ".join(f"{n} {k}" for k, n in kinds.items()) or "none in the description"
+        n = len(self.differences)
+        return (f"not the same robot: {n} difference{'s' if n != 1 else ''} ({said})"
+                + (f"; the {', '.join(beyond)} differ beyond printing" if beyond else "") + f"; {matched}")
+
     def as_json(self) -> dict:
         return {"same": self.same, "a": self.a, "b": self.b, "rtol": self.rtol, "matched": self.matched,
                 "differences": [d.as_json() for d in self.differences], "notes": self.notes,
-                "dynamics": self.dynamics, "engines": self.engines}
+                "dynamics": self.dynamics, "trees": self.trees, "engines": self.engines}
 
 
 def diff(path_a, path_b, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: int = 0) -> Diff:
@@ -479,7 +500,17 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
     dynamics, why = compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, states, seed)
     if why:
         notes.append(f"dynamics not compared: {why}")
-    return Diff(str(ra.source), str(rb.source), matched, out, notes, dynamics, rtol)
+    trees = {"a": _tree(parts_a, world_a), "b": _tree(parts_b, world_b),
+             "pairs": [[i, k, how] for i, k, how in m.pairs]}
+    return Diff(str(ra.source), str(rb.source), matched, out, notes, dynamics, rtol, trees)
+
+
+def _tree(parts: list[Part], world: Part) -> dict:
+    """One file's parts as plain data: ``{"world": the bodies welded to the world, "parts": [{"name", "parent" (a
+    part's index, -1 the world), "bodies" (its first body first), "joints": [[name, type]]}]}`` in file order."""
+    return {"world": list(world.bodies),
+            "parts": [{"name": p.name, "parent": p.parent, "bodies": list(p.bodies),
+                       "joints": [[j.name, j.type] for j in p.joints]} for p in parts]}
 
 
 def _foot(x: np.ndarray, anchor: np.ndarray, axis: np.ndarray) -> np.ndarray:
