@@ -126,7 +126,8 @@ def streams(paths):
     paths = [Path(p) for p in paths]
     for path in paths:
         check_not_input(path)
-    handles, temps = {}, {}
+    handles: dict = {}
+    temps: dict[Path, Path] = {}
     try:
         for path in paths:
             try:
@@ -146,15 +147,15 @@ def streams(paths):
             fh.close()
         umask = os.umask(0)
         os.umask(umask)
-        for tmp in temps.values():
-            os.chmod(tmp, 0o666 & ~umask)
+        for staged in temps.values():
+            os.chmod(staged, 0o666 & ~umask)
         _rename_all(temps)
     finally:
         for fh in handles.values():
             with contextlib.suppress(OSError):
                 fh.close()
-        for tmp in temps.values():
-            tmp.unlink(missing_ok=True)
+        for staged in temps.values():
+            staged.unlink(missing_ok=True)
 
 
 def _rename_all(temps: dict) -> None:

@@ -22,10 +22,11 @@ def test_mypy_passes(tmp_path):
 def test_mypy_catches_a_planted_error(tmp_path):
     """The check can fail: a planted wrong type in an annotated function is an error."""
     planted = tmp_path / "planted.py"
-    planted.write_text("def f(x: int) -> str:\n    return x\n")
+    planted.write_text("def f(x: int) -> str:\n    return x\n\n\ndef g():\n    y = [1]\n    return y.no_such\n")
     out, _, status = api.run(["--config-file", str(ROOT / "pyproject.toml"), "--cache-dir", str(tmp_path / "c"),
                               str(planted)])
     assert status == 1 and "Incompatible return value type" in out
+    assert '"list[int]" has no attribute "no_such"' in out  # an unannotated body is checked too (check_untyped_defs)
 
 
 def test_the_public_api_is_annotated():

@@ -16,7 +16,7 @@ class RelaccPlugin(WorkerPlugin):
     name = "relacc"
 
     def __init__(self):
-        self.cache = {}
+        self.cache: dict = {}
 
     def setup(self, worker):
         import numpy as np
@@ -37,8 +37,9 @@ def cached(key, make):
     """The worker's cached value for ``key``, made by ``make()`` the first time (in-process: made every time)."""
     try:
         plugin = get_worker().plugins[RelaccPlugin.name]
+        cache = plugin.cache  # type: ignore[attr-defined]  # a RelaccPlugin, registered under its name
     except (ValueError, KeyError):
         return make()
-    if key not in plugin.cache:
-        plugin.cache[key] = make()
-    return plugin.cache[key]
+    if key not in cache:
+        cache[key] = make()
+    return cache[key]

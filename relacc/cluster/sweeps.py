@@ -36,10 +36,10 @@ def _check_task(fixture, engines, n_states, seed, case, first, last, keep_errors
 
     harness = cached(("harness", fixture.digest, engines, n_states, seed),
                      lambda: Harness(fixture, engines=list(engines), n_states=n_states, seed=seed))
-    merged = None
+    merged: list = []
     for k in range(first, last):
         part = harness.check_chunk(case, k)
-        merged = part if merged is None else _merge_lists(merged, part)
+        merged = _merge_lists(merged, part) if merged else part
     if not keep_errors:
         from dataclasses import replace
 

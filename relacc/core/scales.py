@@ -173,7 +173,7 @@ def dynamics_scales(chain, case, q, u, effects=None):
     if effects is not None:
         s2 = q[..., layout(case).s2_p]
         if effects.gravity is not None:
-            g = np.linalg.norm(effects.gravity)
+            g = float(np.linalg.norm(effects.gravity))
         if effects.spring_stiffness is not None:
             extra = extra + n(effects.spring_stiffness) * n(s2 - effects.spring_rest)
         if effects.spring_damping is not None:

@@ -458,7 +458,7 @@ def _kernel():
     return _KERNEL
 
 
-_KERNEL = None
+_KERNEL: Any = None
 
 
 def _plain_row(a, n) -> bool:
@@ -528,8 +528,9 @@ def solve(tree, M, rhs):
             "remove those joints, or give their bodies mass or inertia") from None
     if ill:
         warn_ill_conditioned(ill, len(flatM), stacklevel=3)
-    y = np.linalg.solve(L, rhs[..., None])
-    out = np.linalg.solve(np.swapaxes(L, -1, -2), y)[..., 0]
+    factor: np.ndarray = L  # type: ignore[assignment]  # not None: a failed factorization raised above
+    y = np.linalg.solve(factor, rhs[..., None])
+    out = np.linalg.solve(np.swapaxes(factor, -1, -2), y)[..., 0]
     out.setflags(write=False)
     return out
 

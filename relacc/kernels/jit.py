@@ -66,7 +66,7 @@ def leaf(fn):
     """
     if not HAVE_NUMBA:
         return fn
-    return numba.njit(_nrt=False, cache=True, fastmath={'contract'})(fn)
+    return numba.njit(_nrt=False, cache=True, fastmath={'contract'})(fn)  # type: ignore[call-overload]
 
 
 def inline_twin(fn):

@@ -137,9 +137,10 @@ def _relacc(scene, q0, u0, steps, threads, name):
     _check_done(done, m, steps, scene, "relacc")
     flat_q, flat_u = Q.reshape(n * m, -1), U.reshape(n * m, 12)
     k = g2_kinematics(chain, case, flat_q, flat_u, accelerations(chain, case, flat_q, flat_u, scene.effects))
-    return Ensemble("relacc", steps * scene.dt, Q, U, *(getattr(k, a).reshape(n, m, 3) for a in
-                                                        ("position", "velocity", "acceleration")),
-                    seconds, n * int(steps[-1]), threads)
+    if k.acceleration is None:  # given udot: never
+        raise AssertionError("relacc's G2 kinematics gave no acceleration")
+    return Ensemble("relacc", steps * scene.dt, Q, U, k.position.reshape(n, m, 3), k.velocity.reshape(n, m, 3),
+                    k.acceleration.reshape(n, m, 3), seconds, n * int(steps[-1]), threads)
 
 
 def _relacc_tree(scene, q0, u0, steps, threads, name):

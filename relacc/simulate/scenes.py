@@ -360,7 +360,8 @@ def _tree_effects(tree, eff, checked):
         table = f"effects.bodies.{name}"
         checked(table, "force", lambda: tree.body(name))
         bodies[name] = checked(table, "force", lambda: BodyLoad(
-            b.force if b.force is not None else (0.0, 0.0, 0.0), b.torque if b.torque is not None else (0.0, 0.0, 0.0),
+            np.asarray(b.force if b.force is not None else (0.0, 0.0, 0.0), dtype=float),
+            np.asarray(b.torque if b.torque is not None else (0.0, 0.0, 0.0), dtype=float),
             b.frequency or 0.0, b.phase or 0.0))
     effects = TreeEffects(np.zeros(3) if gravity is None else gravity, joints, bodies)
     checked("effects", "joints", lambda: effects.resolve(tree))

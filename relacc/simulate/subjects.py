@@ -128,10 +128,14 @@ def tree_point(scene, Q, U, Udot, case=None):
     case = scene.case if case is None else case
     kind, name = scene.point
     if kind == "point":
-        k = tree_kinematics(scene.tree, case, Q, U, Udot, points=[name])
-        return k.points.position[:, 0], k.points.velocity[:, 0], k.points.acceleration[:, 0]
+        points = tree_kinematics(scene.tree, case, Q, U, Udot, points=[name]).points
+        if points is None or points.acceleration is None:  # asked for one point with Udot: never
+            raise AssertionError(f"relacc's tree gave no kinematics of point {name!r}")
+        return points.position[:, 0], points.velocity[:, 0], points.acceleration[:, 0]
     k = tree_kinematics(scene.tree, case, Q, U, Udot)
     b = scene.tree.body(name)
+    if k.acceleration is None:  # given Udot: never
+        raise AssertionError("relacc's tree gave no accelerations")
     return k.position[:, b], k.velocity[:, b], k.acceleration[:, b]
 
 

@@ -284,7 +284,7 @@ def _fast(tree, c, q, u, udot, chosen, want_points, batch, out, partials=True):
     if bad:
         check_finite_result([res[k] for k in FIELDS if res[k] is not None], q, u, udot)
     shape = lambda a, k: None if a is None else a.reshape(batch + (a.shape[1],) + a.shape[2:])  # noqa: E731
-    arrays = {k: (buffers[k] if buffers and k in buffers else shape(res[k], k)) for k in FIELDS}
+    arrays: dict[str, Any] = {k: (buffers[k] if buffers and k in buffers else shape(res[k], k)) for k in FIELDS}
     pk = None
     if want_points:
         p = res["points"]

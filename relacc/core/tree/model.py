@@ -95,8 +95,8 @@ class Joint:
             raise InputError(f"{who}: armature must be one number or {nv} numbers, got {self.armature!r:.80}") from None
         if not np.all(np.isfinite(arm)) or np.any(arm < 0):
             raise InputError(f"{who}: armature must be finite and >= 0, got {arm.tolist()}")
+        arm.setflags(write=False)
         object.__setattr__(self, "armature", arm)
-        self.armature.setflags(write=False)
 
     @property
     def nv(self) -> int:

@@ -49,7 +49,7 @@ class DrakeAdapter(Adapter):
         super().__init__(reference, matches, p.num_positions(), p.num_velocities(), self.path, warnings)
         self.context = p.CreateDefaultContext()
         self.gravity0 = np.asarray(p.gravity_field().gravity_vector(), dtype=float).copy()
-        self._ad = None
+        self._ad: tuple | None = None
         self.structure = self._structure()
 
     @property
@@ -243,8 +243,8 @@ class DrakeAdapter(Adapter):
         where = [self._where(s) for s in specs]
         n, P, nv = len(qe), len(specs), self.nv_e
         pos, J, Jdv = np.empty((n, P, 3)), np.empty((n, P, 3, nv)), np.empty((n, P, 3))
-        Jd = np.empty((n, P, 3, nv)) if jdot else None
-        acc = None if ae is None else np.empty((n, P, 3))
+        Jd = np.empty((n, P, 3, nv))  # returned only with jdot
+        acc = np.empty((n, P, 3))  # returned only with ae
         for i in range(n):
             self._set(qe[i], ve[i])
             A = None if ae is None else p.CalcSpatialAccelerationsFromVdot(ctx, ae[i])
@@ -265,7 +265,7 @@ class DrakeAdapter(Adapter):
                     Jad = ad_plant.CalcJacobianTranslationalVelocity(ad_ctx, KV, frame, p_B, ad_plant.world_frame(),
                                                                      ad_plant.world_frame())
                     Jd[i, k] = _derivative(Jad)
-        return Points(pos, J, Jd, Jdv, acc)
+        return Points(pos, J, Jd if jdot else None, Jdv, None if ae is None else acc)
 
     def stepper(self, effects, dt, integrator, accuracy=None):
         return run.stepper(self, effects, dt, integrator, accuracy)

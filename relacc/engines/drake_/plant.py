@@ -42,7 +42,7 @@ NO_MODEL_NAME = "must have a name attribute or a model name must be specified"
 class _Collect(logging.Handler):
     def __init__(self):
         super().__init__(logging.WARNING)
-        self.lines = []
+        self.lines: list[str] = []
 
     def emit(self, record):
         self.lines.append(" ".join(record.getMessage().split()))
@@ -154,9 +154,9 @@ def parse(path):
         log.removeHandler(handler)
         log.propagate = before
     if is_urdf(path):
-        note = dynamics_text(path)[1]
+        dropped = dynamics_text(path)[1]
         handler.lines = [line.replace("<literal-string>.urdf", str(path)) for line in handler.lines]
-        handler.lines += [note] if note else []
+        handler.lines += [dropped] if dropped else []
         handler.lines += [f"relacc welded the URDF's root link {name!r} to the world, as MuJoCo and Pinocchio read "
                           "it (Drake's parser alone leaves it free)" for name in welded]
     return plant, handler.lines

@@ -37,7 +37,7 @@ class _Effects(LeafSystem):
         pydrake turns one into an exit), raised by :func:`stepper` once ``AdvanceTo`` returns."""
 
     def _calc(self, context, output):
-        x = self.state.Eval(context)
+        x = np.asarray(self.state.Eval(context))
         tau = np.full(self.nv, np.nan)
         self.diverged = self.diverged or not np.all(np.isfinite(x))
         if not self.diverged:  # a diverged state has no forces: NaN, and the run is stopped after the step

@@ -262,7 +262,7 @@ class MujocoAdapter(Adapter):
         where = [self._where(s) for s in specs]
         pos, J = np.empty((n, P, 3)), np.empty((n, P, 3, nv))
         Jd = np.empty((n, P, 3, nv))
-        acc = None if ae is None else np.empty((n, P, 3))
+        acc = np.empty((n, P, 3))  # returned only with ae
         with _zero_gravity(m):  # MuJoCo's accelerations are proper ones: at zero gravity, classical
             for i in range(n):
                 self._at(qe[i], ve[i])
@@ -280,7 +280,7 @@ class MujocoAdapter(Adapter):
                     mujoco.mj_jacDot(m, d, Jd[i, k], None, pos[i, k], b)
                     if ae is not None:
                         acc[i, k] = _classical(m, d, b, pos[i, k])
-        return Points(pos, J, Jd if jdot else None, np.einsum("npij,nj->npi", Jd, ve), acc)
+        return Points(pos, J, Jd if jdot else None, np.einsum("npij,nj->npi", Jd, ve), None if ae is None else acc)
 
     def stepper(self, effects, dt, integrator, accuracy=None):
         return run.stepper(self, effects, dt, integrator, accuracy)

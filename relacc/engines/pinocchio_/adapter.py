@@ -319,7 +319,7 @@ class PinocchioAdapter(Adapter):
         frames = [self._frame(s) for s in specs]
         n, P, nv = len(qe), len(specs), m.nv
         pos, J, Jd = np.empty((n, P, 3)), np.empty((n, P, 3, nv)), np.empty((n, P, 3, nv))
-        acc = None if ae is None else np.empty((n, P, 3))
+        acc = np.empty((n, P, 3))  # returned only with ae
         for i in range(n):
             # one pass: forward kinematics with v, joint Jacobians and their time variation
             pin.computeJointJacobiansTimeVariation(m, d, qe[i], ve[i])
@@ -332,7 +332,7 @@ class PinocchioAdapter(Adapter):
                 pin.forwardKinematics(m, d, qe[i], ve[i], ae[i])
                 for k, f in enumerate(frames):
                     acc[i, k] = pin.getFrameClassicalAcceleration(m, d, f, LWA).linear
-        return Points(pos, J, Jd if jdot else None, np.einsum("npij,nj->npi", Jd, ve), acc)
+        return Points(pos, J, Jd if jdot else None, np.einsum("npij,nj->npi", Jd, ve), None if ae is None else acc)
 
     def space(self):
         """Pinocchio's configuration manifold for :mod:`relacc.dynamics.integrate`, batched over rows."""
