@@ -12,7 +12,7 @@ Run:  python scripts/pinocchio_composite_jdot.py
 import numpy as np
 import pinocchio as pin
 
-from relacc.engines.pinocchio_ import LWA, split_composites
+from relacc.engines.pinocchio_.adapter import LWA, split_composites
 from relacc.fixtures import load
 
 

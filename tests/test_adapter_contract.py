@@ -1,8 +1,8 @@
 """One contract over every engine adapter (as mink's ``test_axioms.py`` runs its axioms over every Lie group).
 
 Every adapter is a :class:`relacc.engines.base.Adapter`; every method a caller outside ``engines/`` uses is declared
-there (an engine without it raises :class:`relacc.EngineError` naming itself, never ``AttributeError``); states go
-to the engine and back unchanged; and the engine's forward dynamics solves its own equations of motion.
+there or by a capability (:mod:`relacc.engines.capabilities`), and each capability an adapter declares is run on it;
+states go to the engine and back unchanged; and the engine's forward dynamics solves its own equations of motion.
 """
 
 import ast
@@ -17,7 +17,6 @@ from relacc.core.tree import random_states
 from relacc.core.tree.coordinates import rotations
 from relacc.engines import ENGINES, installed, load
 from relacc.engines.base import Adapter
-from relacc.errors import EngineError
 from relacc.fixtures.shipped import models_dir
 
 PACKAGE = Path(relacc.__file__).parent
@@ -33,12 +32,14 @@ def _engine_only_methods() -> set:
         for cls in vars(adapter_module(engine)).values():
             if isinstance(cls, type) and issubclass(cls, Adapter) and cls is not Adapter:
                 out |= {name for name, value in vars(cls).items() if callable(value) and not name.startswith("_")}
-    return out - set(dir(Adapter))
+    from relacc.engines.capabilities import CAPABILITIES
+
+    return out - set(dir(Adapter)).union(*(set(dir(c)) for c in CAPABILITIES))
 
 
 def test_every_method_callers_use_is_declared_by_the_interface():
-    """The benchmark anchors and batched runs included: no caller outside ``engines/`` calls a method only some
-    adapters define."""
+    """The benchmark anchors and batched runs included: no caller outside ``engines/`` calls a method that neither
+    the interface nor a capability declares."""
     only = _engine_only_methods()
     calls = []
     for path in PACKAGE.rglob("*.py"):
@@ -47,7 +48,7 @@ def test_every_method_callers_use_is_declared_by_the_interface():
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr in only:
                 calls.append(f"{path.relative_to(PACKAGE)}:{node.lineno} {node.func.attr}")
-    assert calls == [], f"called outside engines/ but declared by no relacc.engines.base.Adapter: {calls}"
+    assert calls == [], f"called outside engines/ but declared by neither Adapter nor a capability: {calls}"
 
 
 @pytest.mark.parametrize("engine", [e for e in ENGINES if installed(e)])
@@ -71,17 +72,24 @@ def test_the_contract(engine):
     residual = np.abs(np.einsum("nij,nj->ni", M, a) - f).max(axis=1)
     scale = np.abs(M).max(axis=(1, 2)) * np.abs(a).max(axis=1) * M.shape[1] + np.abs(f).max(axis=1)
     assert np.all(residual <= ROUNDING_FACTOR * EPS * scale), f"{engine}: {np.max(residual / scale) / EPS:.1f} eps"
-    for method, args in (("point_loop", (qe, ve, ae, ("body", tree.body_names[0]), False)),
-                         ("jacobian_loop", (qe, ve, [("body", tree.body_names[0])])),
-                         ("motion_loop", (qe, ve, ae, [("body", tree.body_names[0])])),
-                         ("aba_in_parallel", (1, qe.T, ve.T)), ("work_data", (1,)),
-                         ("step_loop", (qe[0], ve[0], 2)), ("rollout_loop", (qe, ve, 2, 1))):
-        try:
+    from relacc.engines import capabilities as cap
+
+    spec = ("body", tree.body_names[0])
+    calls = {cap.PointLoop: [("point_loop", (qe, ve, ae, spec, False))],
+             cap.KinematicsLoops: [("jacobian_loop", (qe, ve, [spec])), ("motion_loop", (qe, ve, ae, [spec]))],
+             cap.BatchedForward: [("batched_forward", (1, qe.T, ve.T))],
+             cap.Rollout: [("work_data", (1,)), ("step_loop", (qe[0], ve[0], 2)), ("rollout_loop", (qe, ve, 2, 1))],
+             cap.ManifoldRates: [("space", ())], cap.BodyMotion: [("body_motion", (qe, ve, ae))],
+             cap.ThreadedStepper: [], cap.AccelerationRoutine: [("jdot_cause", (tree,))]}
+    assert set(calls) == set(cap.CAPABILITIES)  # every capability is exercised here
+    for capability, methods in calls.items():
+        if not isinstance(adapter, capability):
+            continue
+        for method, args in methods:
             made = getattr(adapter, method)(*args)
-        except EngineError as exc:
-            assert engine in str(exc) and "\n" not in str(exc)
-        else:
             assert made is not None, f"{engine}.{method} returned nothing"
+            if hasattr(made, "close"):
+                made.close()
 
 
 @pytest.mark.parametrize("engine", [e for e in ENGINES if installed(e)])
@@ -92,29 +100,20 @@ def test_each_engine_has_the_traits_it_declares(engine):
     import importlib.util
     import inspect
 
-    from relacc.core.conventions import ENGINE_INTEGRATORS
     from relacc.engines import MESH_ENGINE, adapter_module, traits
+    from relacc.engines.capabilities import CAPABILITIES, KinematicsLoops, PointLoop
     from relacc.simulate.scenes import INTEGRATORS
 
     t = traits(engine)
     module = adapter_module(engine)
-    tree = relacc.Tree.from_file(MODEL)
-    adapter = load(engine, MODEL, tree)
-    st = random_states(tree, 2, 2, 5)
-    states_e = adapter.to_engine(st.q, st.u, st.udot)
-    qe, ve, ae = states_e.q, states_e.v, states_e.a
-    loops = {}
-    for method, args in (("point_loop", (qe, ve, ae, ("body", tree.body_names[0]), False)),
-                         ("jacobian_loop", (qe, ve, [("body", tree.body_names[0])]))):
-        try:
-            loops[method] = getattr(adapter, method)(*args) is not None
-        except EngineError:
-            loops[method] = False
-    assert all(loops.values()) == t.compiled_loops, loops
+    package = f"relacc.engines.{engine}_"
+    adapter = load(engine, MODEL, relacc.Tree.from_file(MODEL))
+    # the capabilities its card declares (chosen by without importing it) are the ones its adapter implements
+    assert t.capabilities == {c.__name__ for c in CAPABILITIES if isinstance(adapter, c)}
+    assert (isinstance(adapter, PointLoop) and isinstance(adapter, KinematicsLoops)) == t.compiled_loops
     assert ("urdf" in inspect.signature(module.load).parameters) == t.own_urdf
     # its own integrators are the ones a scene's [simulate] table does not offer (Drake's error-controlled schemes)
-    assert bool(set(ENGINE_INTEGRATORS[engine]) - set(INTEGRATORS)) == t.error_controlled
+    assert bool(set(t.integrators) - set(INTEGRATORS)) == t.error_controlled
     # an engine that steps itself has a run module driving its integrators (mj_step, Drake's Simulator)
-    assert (importlib.util.find_spec(f"{module.__name__}.run") is not None) == t.own_steppers
-    assert (importlib.util.find_spec(f"{module.__name__}.meshes") is not None) == t.mesh_source == (
-        engine == MESH_ENGINE)
+    assert (importlib.util.find_spec(f"{package}.run") is not None) == t.own_steppers
+    assert (importlib.util.find_spec(f"{package}.meshes") is not None) == t.mesh_source == (engine == MESH_ENGINE)

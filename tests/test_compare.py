@@ -317,7 +317,7 @@ def test_an_engine_failing_to_evaluate_is_that_engine_not_taking_part(tmp_path, 
     """Whatever an engine raises while it evaluates (here a RuntimeError planted in Drake's forward dynamics, as
     Drake raises for constraints) is that engine not taking part, with its message on one line; the others are
     still compared."""
-    from relacc.engines.drake_ import DrakeAdapter
+    from relacc.engines.drake_.adapter import DrakeAdapter
 
     def fails(self, *args, **kwargs):
         raise RuntimeError("Continuous time does not support constraints.\n(planted)")

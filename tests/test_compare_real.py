@@ -758,7 +758,7 @@ def test_a_finding_that_reproduces_the_difference_is_named(tmp_path):
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.plant import MultibodyPlant
 
-    from relacc.validation.robots.causes import water_sphere
+    from relacc.engines.known import water_sphere
 
     massless = ROTOR.format(root="").replace('<mass value="0.5"/>', '<mass value="0"/>').replace(
         '<actuator name="m1"><drake:rotor_inertia value="0.001"/><drake:gear_ratio value="10"/></actuator>',

@@ -5,8 +5,8 @@ from pathlib import Path
 import gymnasium
 import pytest
 
+from relacc.engines.mujoco_.adapter import MUJOCO_JACDOT
 from relacc.validation.robots import compare
-from relacc.validation.robots.mujoco_causes import MUJOCO_JACDOT
 
 ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 

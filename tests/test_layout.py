@@ -297,23 +297,53 @@ def test_the_init_check_catches_planted_logic():
 ENGINE_NAMES = {"mujoco", "pinocchio", "drake"}
 
 
+def _names(node) -> bool:
+    if isinstance(node, ast.Constant) and node.value in ENGINE_NAMES:
+        return True
+    return isinstance(node, (ast.Tuple, ast.List, ast.Set)) and any(_names(e) for e in node.elts)
+
+
 def name_branches(name, source):
     """Comparisons with an engine's name (``engine == "mujoco"``, ``name in ("pinocchio", "mujoco")``) in a module:
     outside ``relacc/engines/`` a caller asks :func:`relacc.engines.traits` what an engine can do instead. An XML
     element's tag (``root.tag != "mujoco"``, MJCF's root element) is not an engine."""
-    def names(node):
-        if isinstance(node, ast.Constant) and node.value in ENGINE_NAMES:
-            return True
-        return isinstance(node, (ast.Tuple, ast.List, ast.Set)) and any(names(e) for e in node.elts)
-
     bad = []
     for node in ast.walk(ast.parse(source)):
         if isinstance(node, ast.Compare):
             operands = [node.left, *node.comparators]
             tags = any(isinstance(o, ast.Attribute) and o.attr == "tag" for o in operands)
-            if any(names(o) for o in operands) and not tags:
+            if any(_names(o) for o in operands) and not tags:
                 bad.append(f"{name}:{node.lineno} {ast.unparse(node)}")
     return bad
+
+
+def name_uses(name, source):
+    """An engine's name as a dict key, a subscript, a call's argument or a parameter's default (``{"mujoco": ...}``,
+    ``by["pinocchio"]``, ``load("mujoco", path)``, ``engine="mujoco"``): engine knowledge, which lives in the engine's
+    package (its card's :class:`relacc.engines.traits.Traits`, its adapter's capabilities), issue 51 item 2."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        hits = []
+        if isinstance(node, ast.Dict):
+            hits = [k for k in node.keys if k is not None and _names(k)]
+        elif isinstance(node, ast.Subscript) and _names(node.slice):
+            hits = [node]
+        elif isinstance(node, ast.Call):
+            hits = [a for a in node.args if _names(a)] + [k.value for k in node.keywords if _names(k.value)]
+        elif isinstance(node, ast.arguments):
+            hits = [d for d in [*node.defaults, *node.kw_defaults] if d is not None and _names(d)]
+        bad += [f"{name}:{h.lineno} {ast.unparse(h)}" for h in hits]
+    return bad
+
+
+STILL_NAMING_ENGINES = {
+    "relacc.fixtures.export": "the note's chain exported per engine route (its coordinates in each engine's order): "
+                              "goes with the chain's routes, issue 51 item 1",
+    "relacc.fixtures.schema": "a scene file's default engines list, part of the file format the guide documents "
+                              "(fixtures sit below engines and cannot ask their traits)",
+}
+"""Modules outside ``engines/`` that still name engines, each with the reason; the test fails on any other, and on an
+entry here that no longer names one (so the list only shrinks)."""
 
 
 def test_no_engine_name_branches_outside_engines():
@@ -323,6 +353,17 @@ def test_no_engine_name_branches_outside_engines():
     assert bad == []
 
 
+def test_no_engine_knowledge_outside_engines():
+    """Nor keys, subscripts, arguments or defaults by an engine's name (issue 51 item 2), but in the modules
+    :data:`STILL_NAMING_ENGINES` lists with their reason."""
+    found = {name: name_uses(name, path.read_text()) for name, path in _modules()
+             if not name.startswith("relacc.engines")}
+    bad = [b for name, hits in found.items() if name not in STILL_NAMING_ENGINES for b in hits]
+    assert bad == []
+    stale = [name for name in STILL_NAMING_ENGINES if not found.get(name)]
+    assert stale == [], f"no longer naming an engine: take them off STILL_NAMING_ENGINES: {stale}"
+
+
 def test_the_branch_check_catches_planted_branches():
     assert name_branches("relacc.simulate.runs", 'if engine == "drake":\n    pass\n') == [
         "relacc.simulate.runs:1 engine == 'drake'"]
@@ -330,6 +371,14 @@ def test_the_branch_check_catches_planted_branches():
         "relacc.simulate.runs:1 n in ('pinocchio', 'mujoco')"]
     assert name_branches("relacc.reading.mjcf", 'if root.tag != "mujoco":\n    pass\n') == []
     assert name_branches("relacc.simulate.runs", 'if name == "relacc":\n    pass\n') == []
+
+
+def test_the_knowledge_check_catches_planted_names():
+    planted = ('COLORS = {"mujoco": "red"}\nx = by["pinocchio"]\nload("drake", path)\n'
+               'def f(engine="mujoco"):\n    pass\nload(name, engine="relacc")\n')
+    assert name_uses("relacc.report.x", planted) == [
+        "relacc.report.x:1 'mujoco'", "relacc.report.x:2 by['pinocchio']", "relacc.report.x:3 'drake'",
+        "relacc.report.x:4 'mujoco'"]
 
 
 def bare_case_comparisons(name, source):

@@ -22,19 +22,26 @@ from relacc.engines.registry import (
     MESH_ENGINE,
     ROUTES,
     TRAITS,
+    TRUTH_ENGINE,
     Adapter,
     ChainEngine,
     Traits,
     adapter_module,
+    anchor,
+    anchors,
     available,
+    file_readings,
     installed,
+    label,
     load,
     load_engine,
     mesh_inertia,
     readings,
     traits,
+    with_capability,
     with_trait,
 )
 
-__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "Adapter", "ChainEngine", "Traits", "adapter_module",
-           "available", "installed", "load", "load_engine", "mesh_inertia", "readings", "traits", "with_trait"]
+__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "TRUTH_ENGINE", "Adapter", "ChainEngine", "Traits",
+           "adapter_module", "anchor", "anchors", "available", "file_readings", "installed", "label", "load",
+           "load_engine", "mesh_inertia", "readings", "traits", "with_capability", "with_trait"]

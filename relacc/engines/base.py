@@ -29,7 +29,7 @@ import abc
 import dataclasses
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -371,59 +371,6 @@ class Adapter(abc.ABC):
         Raises:
             EngineError: an integrator the engine lacks, or an accuracy it cannot honour.
         """
-
-    # --- what some engines offer: benchmark anchors and batched runs (EngineError where an engine has none) -------
-
-    def _lacks(self, what: str) -> NoReturn:
-        raise EngineError(f"{self.engine} offers no {what} in relacc (see relacc.engines.base.Adapter)")
-
-    def point_loop(self, qe: np.ndarray, ve: np.ndarray, ae: np.ndarray, spec: tuple[str, str], full: bool = False
-                   ) -> Loop:
-        """A closure looping over the states as a user would for one point's classical acceleration (and, with
-        ``full``, its position, Jacobian and its rate); the accelerations ``(n, 3)`` in its ``acc`` attribute."""
-        self._lacks("per-state point loop")
-
-    def jacobian_loop(self, qe: np.ndarray, ve: np.ndarray, specs: Sequence[tuple[str, str]]) -> Loop:
-        """A closure looping over the states for every point's Jacobian and its rate, as a user would."""
-        self._lacks("Jacobian loop")
-
-    def motion_loop(self, qe: np.ndarray, ve: np.ndarray, ae: np.ndarray, specs: Sequence[tuple[str, str]]) -> Loop:
-        """A closure looping over the states for every point's position, velocity, classical acceleration, angular
-        velocity and acceleration (no Jacobian); ``(n, P, 3)`` results in its ``pos``, ``vel``, ``acc`` attributes."""
-        self._lacks("kinematics loop")
-
-    def aba_in_parallel(self, threads: int, qe: np.ndarray, ve: np.ndarray, gravity: ArrayLike | None = None) -> Loop:
-        """A closure running the engine's own batched forward dynamics over ``threads`` threads."""
-        self._lacks("batched forward dynamics")
-
-    def work_data(self, threads: int) -> list:
-        """Per-thread working data for :meth:`rollout`."""
-        self._lacks("rollout")
-
-    def rollout(self, qpos: np.ndarray, qvel: np.ndarray, ends: np.ndarray, work: list) -> Any:
-        """Every member's steps in the engine's own loop: ``(Q, V, first bad record, seconds)``."""
-        self._lacks("rollout")
-
-    def step_loop(self, qpos: np.ndarray, qvel: np.ndarray, n_steps: int) -> Callable[[], object]:
-        """A closure stepping one state ``n_steps`` times from Python, the engine's step call by call."""
-        self._lacks("step loop")
-
-    def rollout_loop(self, qpos: np.ndarray, qvel: np.ndarray, n_steps: int, threads: int) -> Loop:
-        """A closure running every state ``n_steps`` steps in the engine's own compiled loop."""
-        self._lacks("rollout loop")
-
-    def space(self) -> Any:
-        """The engine's configuration manifold for :mod:`relacc.dynamics.integrate` (``integrate``, ``dexpinv``)."""
-        self._lacks("configuration space for relacc's integrators")
-
-    def derivs(self, effects: TreeEffects, threads: int = 1) -> Any:
-        """``derivs(x, w, t) -> (w, vdot)`` under ``effects``, for :mod:`relacc.dynamics.integrate` on :meth:`space`."""
-        self._lacks("rates for relacc's integrators")
-
-    def body_motion(self, q: np.ndarray, u: np.ndarray, udot: np.ndarray) -> dict:
-        """The engine's own numbers for every body at engine states: ``position``, ``velocity``, ``omega``,
-        ``acceleration``, ``alpha`` ``(n, nb, 3)``, ``V``, ``Omega`` ``(n, nb, 3, nv)``, fixed-frame components."""
-        self._lacks("per-body motion")
 
     def load_forces(self, qe: np.ndarray, effects: TreeEffects, t: ArrayLike = 0.0) -> np.ndarray:
         """``(n, nv_e)`` the generalized forces of ``effects``' body loads at time ``t`` (s; a scalar or one per state;

@@ -6,61 +6,42 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import os
+import pkgutil
 import sys
 from collections.abc import Iterable
-from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from relacc.engines.base import Adapter
 from relacc.engines.chain import ROUTES, ChainEngine
+from relacc.engines.traits import Traits
 from relacc.errors import EngineError
 
 if TYPE_CHECKING:
     from relacc.core.tree import Tree
     from relacc.fixtures import Fixture
 
-ENGINES = ("pinocchio", "mujoco", "drake")
+def _cards() -> dict[str, Traits]:
+    """Every engine package's :class:`Traits` (``relacc/engines/<name>_/card.py``), in report order: an engine is its
+    package, found here, not a name listed elsewhere."""
+    import relacc.engines as package
+
+    found = [importlib.import_module(f"relacc.engines.{m.name}").TRAITS
+             for m in pkgutil.iter_modules(package.__path__) if m.ispkg and m.name.endswith("_")]
+    return {t.name: t for t in sorted(found, key=lambda t: t.order)}
+
+
+TRAITS = _cards()
+"""Each engine's :class:`Traits`, in report order."""
+
+ENGINES = tuple(TRAITS)
 """Engine names, in report order."""
 
-
-@dataclass(frozen=True)
-class Traits:
-    """What an engine is and can do, declared without importing it: callers outside ``engines/`` ask this instead of
-    branching on an engine's name (the layout test holds them to it).
-
-    Attributes:
-        package: its Python package. pip: its distribution's name.
-        own_urdf: reads a URDF given beside an MJCF with its own parser (``compare --urdf``), and is then compared
-            on that file's reading.
-        compiled_loops: its per-state evaluations (points, Jacobians) run as loops in its own compiled code, so
-            their time is the engine's (the throughput tables time these; a loop through Python per state is not).
-        error_controlled: integrates with error-controlled integrators of its own, named in a scene's
-            ``[simulate.<engine>]`` table with an accuracy, rather than relacc's fixed-step schemes only.
-        own_steppers: steps a model with integrators in its own compiled code (``mj_step``, Drake's ``Simulator``),
-            not relacc's integrators around its dynamics.
-        mesh_source: relacc's reading asks its compiler for a mesh's mass properties (:data:`MESH_ENGINE`), so its
-            terms on those bodies cannot judge it.
-    """
-
-    package: str
-    pip: str
-    own_urdf: bool = False
-    compiled_loops: bool = False
-    error_controlled: bool = False
-    own_steppers: bool = False
-    mesh_source: bool = False
-
-
-TRAITS = {
-    "pinocchio": Traits("pinocchio", "pin", own_urdf=True, compiled_loops=True),
-    "mujoco": Traits("mujoco", "mujoco", compiled_loops=True, own_steppers=True, mesh_source=True),
-    "drake": Traits("pydrake", "drake", error_controlled=True, own_steppers=True),
-}
-"""Each engine's :class:`Traits`, in :data:`ENGINES`' order."""
-
 MESH_ENGINE = next(name for name, t in TRAITS.items() if t.mesh_source)
-"""The engine relacc's reading asks for a mesh's mass properties (:func:`mesh_inertia`)."""
+"""The engine relacc's reading asks for a mesh's mass properties it does not compute itself (:func:`mesh_inertia`)."""
+
+TRUTH_ENGINE = next(name for name, t in TRAITS.items() if t.truth)
+"""The engine the pytest plugin's truth and the tree hard-case search use unless told (:attr:`Traits.truth`)."""
 
 
 def traits(name: str) -> Traits:
@@ -74,9 +55,32 @@ def traits(name: str) -> Traits:
     return TRAITS[name]
 
 
+def label(name: str) -> str:
+    """How an evaluator is written in sentences: an engine's :attr:`Traits.label`; relacc (or any other evaluator) as
+    itself."""
+    return TRAITS[name].label if name in TRAITS else name
+
+
 def with_trait(trait: str, names: Iterable[str] = ENGINES) -> tuple[str, ...]:
     """The engines of ``names`` (default all, in report order) that have ``trait`` (a :class:`Traits` flag)."""
     return tuple(n for n in names if n in TRAITS and getattr(TRAITS[n], trait))
+
+
+def with_capability(capability: type, names: Iterable[str] = ENGINES) -> tuple[str, ...]:
+    """The engines of ``names`` (default all, in report order) whose adapter implements ``capability`` (a class of
+    :mod:`relacc.engines.capabilities`), from their traits: nothing is imported."""
+    return tuple(n for n in names if n in TRAITS and capability.__name__ in TRAITS[n].capabilities)
+
+
+def anchor(name: str, kind: str) -> str:
+    """A benchmark row's name for engine ``name``'s call of a ``kind`` (:attr:`Traits.calls`): ``"pinocchio
+    abaInParallel"``."""
+    return f"{name} {TRAITS[name].calls[kind]}"
+
+
+def anchors(kind: str) -> tuple[str, ...]:
+    """The row names of every engine's call of a ``kind`` (those that have one), in report order."""
+    return tuple(anchor(n, kind) for n, t in TRAITS.items() if kind in t.calls)
 
 
 def installed(name: str) -> bool:
@@ -90,7 +94,7 @@ def available() -> tuple[str, ...]:
 
 
 def adapter_module(name: str) -> ModuleType:
-    """The adapter package of an engine (imports the engine).
+    """The adapter module of an engine, ``relacc.engines.<name>_.adapter`` (imports the engine).
 
     Raises:
         EngineError: an unknown engine, or one not installed here.
@@ -101,10 +105,13 @@ def adapter_module(name: str) -> ModuleType:
     from relacc.files import PENDING
     from relacc.isolate import captured_output
 
-    with captured_output() as lines:  # an engine's C++ logs its failed initialization when an interrupt lands while
-        module = importlib.import_module(f"relacc.engines.{name}_")  # it loads (pydrake: 41 lines): the interrupt
-    if PENDING[0] is None:  # is relacc's one line, also when the engine caught it and loaded anyway (its stack and
-        for line in lines:  # "KeyboardInterrupt" are the interrupt's, not news); what it writes otherwise is passed on
+    # an engine's C++ logs its failed initialization when an interrupt lands while it loads (pydrake: 41 lines): the
+    # interrupt is relacc's one line, also when the engine caught it and loaded anyway (its stack and
+    # "KeyboardInterrupt" are the interrupt's, not news); what it writes otherwise is passed on
+    with captured_output() as lines:
+        module = importlib.import_module(f"relacc.engines.{name}_.adapter")
+    if PENDING[0] is None:
+        for line in lines:
             print(line, file=sys.stderr)
     return module
 
@@ -113,7 +120,15 @@ def readings(name: str) -> tuple:
     """An engine's ``ENGINE_READINGS``: the known differences in its algorithms (rather than its reading of a file,
     which :data:`relacc.validation.robots.causes.READINGS` reproduces), each a
     :class:`relacc.engines.base.KnownBehaviour` whose ``change`` rebuilds the adapter without it; MuJoCo: none."""
-    return importlib.import_module(f"{adapter_module(name).__name__}.readings").ENGINE_READINGS
+    adapter_module(name)
+    return importlib.import_module(f"relacc.engines.{name}_.readings").ENGINE_READINGS
+
+
+def file_readings(name: str) -> tuple:
+    """An engine's ``FILE_READINGS``: how its parsers read a file differently, as changes to relacc's reading
+    (:mod:`relacc.engines.known`), without importing the engine."""
+    traits(name)
+    return importlib.import_module(f"relacc.engines.{name}_.readings").FILE_READINGS
 
 
 def load(name: str, path: str | os.PathLike, reference: Tree | None = None, **options) -> Adapter:
@@ -134,8 +149,8 @@ def mesh_inertia(mesh: Any) -> Any:
     Raises:
         EngineError: MuJoCo is not installed. ModelError: MuJoCo cannot compile the geom alone.
     """
-    module = adapter_module(MESH_ENGINE)
-    return importlib.import_module(f"{module.__name__}.meshes").mesh_inertia(mesh)
+    adapter_module(MESH_ENGINE)
+    return importlib.import_module(f"relacc.engines.{MESH_ENGINE}_.meshes").mesh_inertia(mesh)
 
 
 def _offer_meshes_to_the_reading() -> None:
@@ -164,5 +179,6 @@ def load_engine(name: str, fixture: Fixture | None = None, **options) -> ChainEn
     return chain_engine(name, fixture if fixture is not None else load_fixture(), **options)
 
 
-__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "Adapter", "ChainEngine", "Traits", "adapter_module",
-           "available", "installed", "load", "load_engine", "mesh_inertia", "readings", "traits", "with_trait"]
+__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "TRUTH_ENGINE", "Adapter", "ChainEngine", "Traits",
+           "adapter_module", "anchor", "anchors", "available", "file_readings", "installed", "label", "load",
+           "load_engine", "mesh_inertia", "readings", "traits", "with_capability", "with_trait"]

@@ -15,9 +15,10 @@ import re
 
 import numpy as np
 
-STYLES = {"relacc": ("black", "o", 7), "mujoco": ("tab:green", "d", 6), "pinocchio": ("tab:blue", "x", 6),
-          "drake": ("tab:orange", "+", 8)}
-"""Each reading's colour, marker and size (others: grey dots)."""
+from relacc.engines import TRAITS
+
+STYLES = {"relacc": ("black", "o", 7), **{name: (t.color, t.marker, t.marker_size) for name, t in TRAITS.items()}}
+"""Each reading's colour, marker and size: relacc's, then each engine's traits (others: grey dots)."""
 
 OFFSETS = [(dx, dy) for r in (10, 18, 28) for dx, dy in ((r, r), (r, -r), (-r, r), (-r, -r), (r, 0), (-r, 0),
                                                           (0, r), (0, -r))]

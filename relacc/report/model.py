@@ -15,7 +15,8 @@ from __future__ import annotations
 import os
 
 from relacc import files
-from relacc.core.conventions import CASE_NAMES, MODEL_MEANINGS, TREE_ENGINE_SPEEDS, TREE_JOINTS
+from relacc.core.conventions import CASE_NAMES, MODEL_MEANINGS, TREE_JOINTS
+from relacc.engines import TRAITS
 from relacc.report.build import environment
 from relacc.report.robot import page_data
 
@@ -110,8 +111,7 @@ def _bodies(check) -> list[dict]:
 def _conventions(result) -> dict:
     return {"joints": [{"joint": j, "cells": list(v)} for j, v in TREE_JOINTS.items()],
             "cases": [{"case": c, "name": n} for c, n in CASE_NAMES.items()],
-            "engines": [{"engine": e, "speeds": TREE_ENGINE_SPEEDS[e]} for e in result.engines
-                        if e in TREE_ENGINE_SPEEDS]}
+            "engines": [{"engine": e, "speeds": TRAITS[e].speeds} for e in result.engines if e in TRAITS]}
 
 
 def _simulation(run) -> dict:

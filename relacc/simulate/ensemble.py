@@ -3,12 +3,14 @@
 * ``relacc``: the compiled integrators of :mod:`relacc.kernels.dynamics`, in
   parallel over the members (numba's threads), each member's steps in one
   compiled loop;
-* ``mujoco``: ``mujoco.rollout`` (MuJoCo's own threaded rollouts, one
-  ``MjData`` per thread), the scene's forces as ``xfrc_applied`` controls;
-* ``pinocchio``: RKMK4 on Pinocchio's manifold with every stage's accelerations
-  from ``pin.abaInParallel`` over the members (the manifold steps,
-  ``pin.integrate``/``pin.dIntegrate``, per member);
-* any other engine (Drake): its own stepper, member after member.
+* an engine whose adapter offers :class:`relacc.engines.capabilities.Rollout`
+  (MuJoCo: ``mujoco.rollout``, its own threaded rollouts, one ``MjData`` per
+  thread, the scene's forces as ``xfrc_applied`` controls): that loop;
+* one that offers :class:`relacc.engines.capabilities.ThreadedStepper`
+  (Pinocchio: RKMK4 on its manifold with every stage's accelerations from
+  ``pin.abaInParallel`` over the members): its stepper on every member at once;
+* any other engine (Drake), or an integrator or effect those paths do not take:
+  its own stepper, member after member.
 
 Records follow the one recording rule (:func:`relacc.dynamics.steps.recorded_steps`):
 ``t = 0``, every ``record_every``-th step, ``t = duration``. G2's position,
@@ -96,8 +98,9 @@ def ensemble(scene: Scene, q0: np.ndarray, u0: np.ndarray, *, engine: str = "rel
 
         threads = numba.get_num_threads() if numba is not None else 1
     threads = check_int("threads", threads, minimum=1)
-    runner = {"relacc": _relacc, "mujoco": _mujoco, "pinocchio": _pinocchio}.get(engine, _one_by_one)
-    return runner(scene, q0.astype(float), u0.astype(float), steps, threads, engine)
+    if engine == "relacc":
+        return _relacc(scene, q0.astype(float), u0.astype(float), steps, threads, engine)
+    return _engine(scene, q0.astype(float), u0.astype(float), steps, threads, engine)
 
 
 def _checked(scene, q0, u0):
@@ -209,42 +212,37 @@ def _observed(engine_name, engine, scene, Q, V, steps, seconds, threads):
                     threads)
 
 
-def _mujoco(scene, q0, u0, steps, threads, name):
-    from relacc.simulate.subjects import adapter
-
-    engine = adapter(scene, "mujoco")
-    stepper = engine.stepper(scene.engine_effects, scene.dt, scene.integrator)  # configures the model
-    qpos, qvel = _engine_states(engine, scene, q0, u0)
-    if not stepper.records_blocks:  # sinusoidal loads: MuJoCo's control callback, member after member
-        return _one_by_one(scene, q0, u0, steps, threads, name)
-    try:
-        Q, V, first_bad, seconds = engine.rollout(qpos, qvel, np.asarray(steps), engine.work_data(threads))
-    except IntegrationError as exc:
-        raise IntegrationError(f"mujoco: {exc} (dt = {scene.dt} s)") from None
-    _check_done(first_bad, len(steps), steps, scene, "mujoco")
-    return _observed("mujoco", engine, scene, Q, V, steps, seconds, threads)
-
-
-def _pinocchio(scene, q0, u0, steps, threads, name):
-    """RKMK4 on Pinocchio's manifold for every member at once: the adapter's stepper on a batch of rows, its
-    accelerations from ``pin.abaInParallel`` at every stage."""
-    from relacc.simulate.subjects import adapter
-
-    if scene.integrator != "rk4":  # the batched path is RKMK4 (relacc.dynamics.integrate.rkmk4_step)
-        return _one_by_one(scene, q0, u0, steps, threads, name)
-    engine = adapter(scene, "pinocchio")
-    x, v = _engine_states(engine, scene, q0, u0)
-    stepper = engine.stepper(scene.engine_effects, scene.dt, "rk4", threads=threads)
-    Q, V, seconds = _batched(stepper, x, v, steps, scene, "pinocchio")
-    return _observed("pinocchio", engine, scene, Q, V, steps, seconds, threads)
-
-
-def _one_by_one(scene, q0, u0, steps, threads, name):
-    """Any engine's own stepper, member after member (one thread)."""
-    from relacc.dynamics.steps import blocks
+def _engine(scene, q0, u0, steps, threads, name):
+    """An engine's fastest path its adapter offers (module docstring)."""
+    from relacc.engines.capabilities import Rollout, ThreadedStepper
     from relacc.simulate.subjects import adapter
 
     engine = adapter(scene, name)
+    integrator, accuracy = scene.integrator_for(name)
+    if isinstance(engine, Rollout) and accuracy is None:
+        stepper = engine.stepper(scene.engine_effects, scene.dt, integrator)  # configures the model
+        if stepper.records_blocks:  # not with sinusoidal loads (a control callback): member after member then
+            qpos, qvel = _engine_states(engine, scene, q0, u0)
+            try:
+                Q, V, first_bad, seconds = engine.rollout(qpos, qvel, np.asarray(steps), engine.work_data(threads))
+            except IntegrationError as exc:
+                raise IntegrationError(f"{name}: {exc} (dt = {scene.dt} s)") from None
+            _check_done(first_bad, len(steps), steps, scene, name)
+            return _observed(name, engine, scene, Q, V, steps, seconds, threads)
+    if isinstance(engine, ThreadedStepper) and integrator in engine.THREADED_INTEGRATORS and accuracy is None:
+        x, v = _engine_states(engine, scene, q0, u0)
+        stepper = engine.stepper(scene.engine_effects, scene.dt, integrator, threads=threads)
+        Q, V, seconds = _batched(stepper, x, v, steps, scene, name)
+        return _observed(name, engine, scene, Q, V, steps, seconds, threads)
+    return _one_by_one(scene, q0, u0, steps, threads, name, engine)
+
+
+def _one_by_one(scene, q0, u0, steps, threads, name, engine=None):
+    """Any engine's own stepper, member after member (one thread); ``engine``: its adapter, if loaded already."""
+    from relacc.dynamics.steps import blocks
+    from relacc.simulate.subjects import adapter
+
+    engine = adapter(scene, name) if engine is None else engine
     integrator, accuracy = scene.integrator_for(name)
     x0, v0 = _engine_states(engine, scene, q0, u0)
     n, m = len(q0), len(steps)

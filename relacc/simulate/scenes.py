@@ -38,9 +38,8 @@ import numpy as np
 
 from relacc.core.cases import as_case, check_q, check_u
 from relacc.core.chain import TwoBodyChain
-from relacc.core.conventions import ENGINE_INTEGRATORS, ENGINE_LABELS
 from relacc.dynamics.effects import Effects
-from relacc.engines.registry import ENGINES, with_trait
+from relacc.engines.registry import ENGINES, label, traits, with_trait
 from relacc.errors import InputError, RelaccError
 from relacc.fixtures import Fixture, tomlfile
 from relacc.fixtures import load as load_fixture
@@ -53,7 +52,7 @@ if TYPE_CHECKING:
 SIM_ENGINES = ("relacc",) + ENGINES
 """The names a scene's ``engines`` takes: relacc and every engine, in report order."""
 INTEGRATORS = ("rk4", "euler", "implicit", "implicitfast")
-"""The scene-wide integrators; each engine's own are in :data:`relacc.core.conventions.ENGINE_INTEGRATORS`."""
+"""The scene-wide integrators; each engine's own are in its traits (:func:`integrators_of`)."""
 MAX_STEPS = 1e9
 """Longest run accepted, in steps: memory does not limit it (runs stream), this guards against typos."""
 
@@ -194,6 +193,12 @@ class Scene:
         return Scene(**kw)
 
 
+def integrators_of(engine: str) -> tuple[str, ...]:
+    """The integrators a scene may name for ``engine`` (one of :data:`SIM_ENGINES`): relacc's own
+    (:data:`INTEGRATORS`' fixed-step schemes but ``implicit``, ``implicitfast``: MuJoCo's), or an engine's traits'."""
+    return ("rk4", "euler") if engine == "relacc" else traits(engine).integrators
+
+
 def check_simulate(duration, dt, integrator, engines, record_every, drake_integrator=None, drake_accuracy=None):
     """The first problem with the ``[simulate]`` fields as ``(field, message)``, or None."""
     for key, value in (("duration", duration), ("dt", dt)):
@@ -215,13 +220,13 @@ def check_simulate(duration, dt, integrator, engines, record_every, drake_integr
     for engine in engines:
         controlled = engine in with_trait("error_controlled")
         own = drake_integrator if (controlled and drake_integrator) else integrator
-        if own not in ENGINE_INTEGRATORS[engine]:
+        if own not in integrators_of(engine):
             if controlled:
-                return "integrator", (f"{ENGINE_LABELS[engine]} has no {integrator!r} integrator: name one of "
-                                      f"{ENGINE_LABELS[engine]}'s in [simulate.{engine}] integrator "
-                                      f"({', '.join(ENGINE_INTEGRATORS[engine])})")
-            only = [e for e, names in ENGINE_INTEGRATORS.items() if integrator in names]
-            return "integrator", (f"{integrator!r} exists in {', '.join(ENGINE_LABELS[e] for e in only)} only; "
+                return "integrator", (f"{label(engine)} has no {own!r} integrator: name one of "
+                                      f"{label(engine)}'s in [simulate.{engine}] integrator "
+                                      f"({', '.join(integrators_of(engine))})")
+            only = [e for e in SIM_ENGINES if integrator in integrators_of(e)]
+            return "integrator", (f"{integrator!r} exists in {', '.join(label(e) for e in only)} only; "
                                   f"list engines = {only}")
     if drake_accuracy is not None and not (isinstance(drake_accuracy, float) and 0 < drake_accuracy < 1):
         return "drake.accuracy", f"accuracy must be a number in (0, 1), got {drake_accuracy!r}"

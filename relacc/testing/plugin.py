@@ -84,7 +84,8 @@ def _states_key(s) -> tuple:
 
 @pytest.fixture(scope="session")
 def relacc_truth():
-    """``relacc_truth(states, engine="mujoco", route="quaternion")``: an engine's G2 kinematics, computed once per
+    """``relacc_truth(states, engine=None, route="quaternion")``: an engine's (default
+    :data:`relacc.engines.TRUTH_ENGINE`, MuJoCo) G2 kinematics, computed once per
     session for each batch of states (keyed by their values) and handed out as a copy."""
     import copy
 
@@ -92,7 +93,11 @@ def relacc_truth():
 
     cache = {}
 
-    def make(states, engine="mujoco", route="quaternion"):
+    def make(states, engine=None, route="quaternion"):
+        if engine is None:  # the engine's traits name it (MuJoCo): resolved here, so that loading the plugin is light
+            from relacc.engines import TRUTH_ENGINE
+
+            engine = TRUTH_ENGINE
         key = (_states_key(states), engine, route)
         if key not in cache:
             cache[key] = truth(states, engine, route=route)

@@ -22,6 +22,7 @@ from relacc.core.conventions import QUANTITIES
 from relacc.core.scales import term_scales
 from relacc.core.states import States, random_states
 from relacc.core.tolerances import rounding_tolerance
+from relacc.engines.registry import TRUTH_ENGINE
 from relacc.errors import InputError
 from relacc.testing.expected import Expected, Truth
 
@@ -72,7 +73,7 @@ def states(case: int, n: int = 200, seed: int | Sequence[int] = 0, hard: bool = 
     return States(as_case(c), q, u, udot, ["hard", seed])
 
 
-def truth(s: States, engine: str = "mujoco", *, route: str = "quaternion", chain: TwoBodyChain | None = None
+def truth(s: States, engine: str = TRUTH_ENGINE, *, route: str = "quaternion", chain: TwoBodyChain | None = None
           ) -> Truth:
     """G2's kinematics for the states ``s`` by an engine (or ``"relacc"``: the corrected formulas).
 

@@ -39,7 +39,9 @@ from relacc.core.states import random_states
 from relacc.dynamics import accelerations
 from relacc.dynamics.effects import Effects
 from relacc.dynamics.integrate import stepper
-from relacc.engines import load_engine
+from relacc.engines import anchor, anchors, load_engine, with_capability
+from relacc.engines.capabilities import BatchedForward, Rollout
+from relacc.errors import EngineError
 from relacc.kernels.jit import threads as numba_threads
 from relacc.simulate.ensemble import ensemble
 from relacc.simulate.members import perturbed
@@ -78,7 +80,6 @@ def _row(section, who, threads, seconds, per, unit, **extra):
 def dynamics_rows(fixture, n_states: int, repeats: int, seed: int) -> list[dict]:
     """Forward dynamics, ns per state: relacc per case and ``pin.abaInParallel``, at each thread count."""
     chain, rows = fixture.chain, []
-    pin_engine = load_engine("pinocchio", fixture)
     for case in (1, 2, 3):
         s = random_states(case, n_states, [seed, case])
         out = np.empty((n_states, 12))
@@ -87,11 +88,17 @@ def dynamics_rows(fixture, n_states: int, repeats: int, seed: int) -> list[dict]
                 secs = wall_times(lambda: accelerations(chain, case, s.q, s.u, GRAVITY, out=out), repeats, warmups=3)
             rows.append(_row("dynamics", "relacc", t, secs, n_states * 1e-9, "ns/state", case=case))
     s = random_states(1, n_states, [seed, 1])
-    x = pin_engine.engine_input("quaternion", relacc.Case(1), s.q, s.u, None)
-    for t in thread_counts():
-        loop = pin_engine.adapter.aba_in_parallel(t, x.q.T, x.v.T, gravity=GRAVITY.gravity)
-        secs = wall_times(loop, repeats, warmups=2)
-        rows.append(_row("dynamics", "pinocchio abaInParallel", t, secs, n_states * 1e-9, "ns/state", case=None))
+    for name in with_capability(BatchedForward):  # Pinocchio's abaInParallel
+        engine = load_engine(name, fixture)
+        adapter = engine.adapter
+        if not isinstance(adapter, BatchedForward):  # its traits said so: never
+            raise EngineError(f"{name}'s adapter offers no batched forward dynamics, though its traits say so")
+        x = engine.engine_input("quaternion", relacc.Case(1), s.q, s.u, None)
+        for t in thread_counts():
+            loop = adapter.batched_forward(t, x.q.T, x.v.T, gravity=GRAVITY.gravity)
+            secs = wall_times(loop, repeats, warmups=2)
+            rows.append(_row("dynamics", anchor(name, "batched_forward"), t, secs, n_states * 1e-9, "ns/state",
+                             case=None))
     return rows
 
 
@@ -111,21 +118,33 @@ def step_rows(scene: Scene, n_steps: int, repeats: int) -> list[dict]:
                          "us/step"))
         rows.append(_row("step", "relacc, compiled loop", 1, wall_times(lambda: run.advance(q0, u0, n_steps), repeats),
                          n_steps * 1e-6, "us/step"))
-    engine = load_engine("mujoco", scene.fixture)
-    engine.stepper(scene.chain_effects, scene.dt, scene.integrator)  # configures the model: flags, timestep, integrator
-    qpos, qvel = _mujoco_states(engine, scene, q0[None], u0[None])
-    rows.append(_row("step", "mujoco mj_step per call", 1,
-                     wall_times(engine.adapter.step_loop(qpos[0], qvel[0], n_steps), repeats), n_steps * 1e-6,
-                     "us/step"))
-    loop = engine.adapter.rollout_loop(qpos, qvel, n_steps, 1)
-    try:
-        rows.append(_row("step", "mujoco rollout", 1, wall_times(loop, repeats), n_steps * 1e-6, "us/step"))
-    finally:
-        loop.close()
+    for name in with_capability(Rollout):  # MuJoCo's mj_step and mujoco.rollout
+        engine, adapter = _rollout_engine(name, scene)
+        qpos, qvel = _engine_states(engine, scene, q0[None], u0[None])
+        rows.append(_row("step", anchor(name, "step"), 1,
+                         wall_times(adapter.step_loop(qpos[0], qvel[0], n_steps), repeats), n_steps * 1e-6,
+                         "us/step"))
+        loop = adapter.rollout_loop(qpos, qvel, n_steps, 1)
+        try:
+            rows.append(_row("step", anchor(name, "rollout"), 1, wall_times(loop, repeats), n_steps * 1e-6,
+                             "us/step"))
+        finally:
+            loop.close()
     return rows
 
 
-def _mujoco_states(engine, scene, q0, u0):
+def _rollout_engine(name: str, scene: Scene) -> tuple:
+    """``(chain engine, its adapter)`` of an engine offering :class:`relacc.engines.capabilities.Rollout`, its model
+    configured for the scene (flags, dt, integrator)."""
+    engine = load_engine(name, scene.fixture)
+    adapter = engine.adapter
+    if not isinstance(adapter, Rollout):  # its traits said so: never
+        raise EngineError(f"{name}'s adapter offers no rollout, though its traits say so")
+    engine.stepper(scene.chain_effects, scene.dt, scene.integrator)
+    return engine, adapter
+
+
+def _engine_states(engine, scene, q0, u0):
     x = engine.engine_input("quaternion", relacc.Case(scene.case), q0, u0, None)
     return np.ascontiguousarray(x.q), np.ascontiguousarray(x.v)
 
@@ -141,16 +160,16 @@ def ensemble_rows(scene: Scene, members: int, repeats: int, seed: int) -> list[d
         times = [ensemble(scene, q0, u0, threads=t).seconds for _ in range(repeats)]
         rows.append(_row("ensemble", "relacc", t, (np.median(times), np.min(times)), 1.0, "s", members=members,
                          steps=steps))
-    engine = load_engine("mujoco", scene.fixture)
-    engine.stepper(scene.chain_effects, scene.dt, scene.integrator)
-    qpos, qvel = _mujoco_states(engine, scene, q0, u0)
-    for t in thread_counts():
-        loop = engine.adapter.rollout_loop(qpos, qvel, n_steps, t)
-        try:
-            secs = wall_times(loop, repeats, warmups=1)
-        finally:
-            loop.close()
-        rows.append(_row("ensemble", "mujoco rollout", t, secs, 1.0, "s", members=members, steps=steps))
+    for name in with_capability(Rollout):  # mujoco.rollout
+        engine, adapter = _rollout_engine(name, scene)
+        qpos, qvel = _engine_states(engine, scene, q0, u0)
+        for t in thread_counts():
+            loop = adapter.rollout_loop(qpos, qvel, n_steps, t)
+            try:
+                secs = wall_times(loop, repeats, warmups=1)
+            finally:
+                loop.close()
+            rows.append(_row("ensemble", anchor(name, "rollout"), t, secs, 1.0, "s", members=members, steps=steps))
     for row in rows:  # steps per second from the median and the minimum seconds
         row["value"], row["value_best"], row["unit"] = steps / row["value"], steps / row["value_best"], "steps/s"
     return rows
@@ -204,6 +223,12 @@ def ratios(result: dict) -> dict:
         return [r for r in rows if r["section"] == section and r["who"] == who
                 and (threads is None or r["threads"] == threads)]
 
+    def first(kind, section):
+        """The first engine's anchor row of a kind that the run has (one engine offers each today)."""
+        return next(who for who in anchors(kind) if pick(section, who))
+
+    forward, step, rollout = first("batched_forward", "dynamics"), first("step", "step"), first("rollout", "step")
+
     out = {}
     for key in ("value", "value_best"):
         suffix = "" if key == "value" else "_best"
@@ -212,10 +237,10 @@ def ratios(result: dict) -> dict:
         def over(section, a, b, threads=None):
             return pick(section, a, threads)[0][key] / pick(section, b, threads)[0][key]
 
-        out["dynamics" + suffix] = pick("dynamics", "pinocchio abaInParallel", t)[0][key] / worst
-        out["ensemble" + suffix] = over("ensemble", "relacc", "mujoco rollout", t)
-        out["step" + suffix] = over("step", "mujoco mj_step per call", "relacc, step per call")
-        out["step_loop" + suffix] = over("step", "mujoco rollout", "relacc, compiled loop")
+        out["dynamics" + suffix] = pick("dynamics", forward, t)[0][key] / worst
+        out["ensemble" + suffix] = over("ensemble", "relacc", rollout, t)
+        out["step" + suffix] = over("step", step, "relacc, step per call")
+        out["step_loop" + suffix] = over("step", rollout, "relacc, compiled loop")
     out["threads"] = t
     return out
 

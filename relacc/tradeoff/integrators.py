@@ -21,7 +21,8 @@ from relacc import dynamics
 from relacc.core.cases import Case
 from relacc.core.kinematics import g2_kinematics
 from relacc.dynamics.integrate import CaseSpace, solve_on_space
-from relacc.engines import available, load_engine, with_trait
+from relacc.engines import TRAITS, TRUTH_ENGINE, available, load_engine, with_capability, with_trait
+from relacc.engines.capabilities import ManifoldRates
 from relacc.errors import IntegrationError
 from relacc.kernels.dynamics import Rates
 from relacc.simulate.scenes import Scene
@@ -30,11 +31,18 @@ THEORY = {"rk4": 4, "euler": 1, "implicit": 1, "implicitfast": 1, "runge_kutta2"
           "runge_kutta5": 5}
 """Theoretical order of each fixed-step integrator (MuJoCo's implicit ones are first order)."""
 
-FIXED = {"relacc": ("rk4", "euler"), "pinocchio": ("rk4", "euler"),
-         "mujoco": ("euler", "implicitfast", "implicit", "rk4"),
-         "drake": ("euler", "runge_kutta2", "runge_kutta3", "runge_kutta5")}
-ADAPTIVE = {"relacc": ("RK45", "DOP853"), "pinocchio": ("RK45", "DOP853"), "drake": ("runge_kutta3", "runge_kutta5")}
-"""Error-controlled methods: scipy's ``solve_ivp`` on SO(3) charts (relacc, Pinocchio), Drake's own integrators."""
+SCIPY = ("RK45", "DOP853")
+"""scipy's ``solve_ivp`` methods, run on SO(3) charts (relacc) or on an engine's manifold
+(:class:`relacc.engines.capabilities.ManifoldRates`)."""
+
+FIXED = {"relacc": ("rk4", "euler"),
+         **{name: tuple(i for i in t.integrators if i in THEORY) for name, t in TRAITS.items()}}
+"""Each evaluator's fixed-step integrators the sweep runs: relacc's, and those of each engine's with a known order."""
+
+ADAPTIVE = {"relacc": SCIPY, **{name: SCIPY for name in with_capability(ManifoldRates)},
+            **{name: t.adaptive for name, t in TRAITS.items() if t.adaptive}}
+"""Error-controlled methods: scipy's ``solve_ivp`` on SO(3) charts (relacc) or on an engine's manifold, and an engine's
+own (its traits' ``adaptive``)."""
 
 
 def _final_g2(engine_name, engine, scene, x, v):
@@ -61,6 +69,8 @@ def _adaptive(name, engine, scene, method, rtol):
         _, X, V = engine.simulate(x0, v0, eff, scene.duration, 1, method, accuracy=rtol)
         return X[-1], V[-1], None
     adapter = engine.adapter
+    if not isinstance(adapter, ManifoldRates):
+        raise IntegrationError(f"{name} offers no manifold for scipy's {method}")
     return solve_on_space(adapter.space(), x0, v0, adapter.derivs(eff.for_tree()), scene.duration, method, rtol,
                           rtol * 1e-2, (slice(3, 6), slice(9, 12)))
 
@@ -80,12 +90,13 @@ def _fixed(name, engine, scene, integrator, dt):
 
 
 def reference(scene: Scene, engines):
-    """``(r_G2(T), E(0), agreement)``: DOP853 at 1e-13 on relacc, and its distance from MuJoCo RK4 at dt/16."""
+    """``(r_G2(T), E(0), agreement)``: DOP853 at 1e-13 on relacc, and its distance from an engine's RK4 at dt/16
+    (:data:`relacc.engines.TRUTH_ENGINE`, MuJoCo)."""
     x, v, _ = _adaptive("relacc", None, scene, "DOP853", 1e-13)
     r_ref, _ = _final_g2("relacc", None, scene, x, v)
     E0 = float(dynamics.energy(scene.chain, scene.case, scene.q, scene.u, scene.chain_effects))
-    xm, vm, _ = _fixed("mujoco", engines["mujoco"], scene, "rk4", scene.dt / 16)
-    r_mj, _ = _final_g2("mujoco", engines["mujoco"], scene, xm, vm)
+    xm, vm, _ = _fixed(TRUTH_ENGINE, engines[TRUTH_ENGINE], scene, "rk4", scene.dt / 16)
+    r_mj, _ = _final_g2(TRUTH_ENGINE, engines[TRUTH_ENGINE], scene, xm, vm)
     return r_ref, E0, float(np.linalg.norm(r_mj - r_ref))
 
 
@@ -127,7 +138,7 @@ def sweep(scene: Scene, factors=(16, 8, 4, 2, 1), tolerances=(1e-4, 1e-6, 1e-8, 
                 add(name, method, tol, "adaptive",
                     lambda: _adaptive(name, engines.get(name), scene, method, tol)[:2] + (None,))
     return rows, {"scene": scene.name, "reference": "relacc DOP853 rtol 1e-13",
-                  "check": "mujoco RK4 at dt/16", "agreement_m": agreement}
+                  "check": f"{TRUTH_ENGINE} RK4 at dt/16", "agreement_m": agreement}
 
 
 MIN_FIT_POINTS = 3

@@ -21,9 +21,9 @@ from typing import Any
 
 import numpy as np
 
-from relacc.core.conventions import ENGINE_INTEGRATORS
 from relacc.engines import with_trait
 from relacc.errors import IntegrationError
+from relacc.simulate.scenes import integrators_of
 from relacc.tradeoff.integrators import THEORY, observed_order
 
 FACTORS = {True: (8, 4, 2), False: (16, 8, 4, 2, 1)}
@@ -106,7 +106,7 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None, observe: st
         progress("every engine's acceleration against relacc's along one run")
     differing = simulate.run(base, keep=False).differing
     own = with_trait("own_steppers")
-    chosen = min((e for e in base.engines if e not in differing and "rk4" in ENGINE_INTEGRATORS[e]),
+    chosen = min((e for e in base.engines if e not in differing and "rk4" in integrators_of(e)),
                  key=lambda e: (e == "relacc", e not in own), default="relacc")  # an engine's own RK4 loop first
     if progress:
         progress(f"reference: {chosen} rk4 at dt/{REFERENCE_DIVISOR}, checked by drake runge_kutta5 at "
@@ -122,7 +122,7 @@ def run(model, *, quick: bool = False, seed: int = 0, progress=None, observe: st
                          agreement_m=float(np.linalg.norm(check - ref)))
     rows: list[dict[str, Any]] = []
     for engine in base.engines:
-        for integrator in ENGINE_INTEGRATORS[engine]:
+        for integrator in integrators_of(engine):
             if integrator not in THEORY:
                 continue
             if progress:

@@ -29,6 +29,7 @@ import numpy as np
 
 import relacc
 from relacc.core.tree import random_states
+from relacc.engines import anchors
 from relacc.kernels.jit import threads as numba_threads
 from relacc.kernels.tree_dynamics import optimize
 from relacc.tradeoff.throughput import machine, wall_times
@@ -88,8 +89,9 @@ def _difference(loop, truth) -> float:
 def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
     """The dynamics and kinematics rows of one model file (see the module docstring)."""
     from relacc.core.tree import convert
-    from relacc.engines import load
+    from relacc.engines import anchor, installed, load, with_capability
     from relacc.engines.base import body, com
+    from relacc.engines.capabilities import BatchedForward, KinematicsLoops
 
     tree = relacc.Tree.from_file(path)
     st = random_states(tree, 2, n_states, seed)
@@ -102,14 +104,18 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
                 optimize(tree, case)  # the steady state: the lanes' -O2 code (the same bits as the first, -O0)
                 secs = wall_times(lambda: relacc.tree_accelerations(tree, case, q, u, out=acc), repeats)
             rows.append(_row("dynamics", name, "relacc tree_accelerations", t, secs, n_states, case=case))
+    adapters = {}
     if anchors:
-        reference = load("mujoco", path, tree)  # matched to relacc's reading, body by body
-        robot = load("pinocchio", path, tree)
-        states_e = robot.to_engine(st.q, st.u)
-        qe, ve = states_e.q, states_e.v
-        for t in thread_counts():
-            secs = wall_times(robot.aba_in_parallel(t, qe.T, ve.T), repeats)
-            rows.append(_row("dynamics", name, "pinocchio abaInParallel", t, secs, n_states, case=None))
+        for engine in with_capability(KinematicsLoops) + with_capability(BatchedForward):
+            if engine not in adapters and installed(engine):
+                adapters[engine] = load(engine, path, tree)  # matched to relacc's reading, body by body
+        for engine, adapter in adapters.items():
+            if isinstance(adapter, BatchedForward):
+                states_e = adapter.to_engine(st.q, st.u)
+                for t in thread_counts():
+                    secs = wall_times(adapter.batched_forward(t, states_e.q.T, states_e.v.T), repeats)
+                    rows.append(_row("dynamics", name, anchor(engine, "batched_forward"), t, secs, n_states,
+                                     case=None))
     small = max(200, n_states // 20)  # the loops run from Python: fewer states, the same per-state figure
     out = _outputs(tree, n_states)
     for t in thread_counts():
@@ -138,25 +144,23 @@ def model_rows(name, path, n_states, repeats, seed, anchors=True) -> list:
         fresh.append(time.perf_counter() - start)
     rows.append(_row("kinematics", name, "relacc tree_kinematics (new outputs)", thread_counts()[-1],
                      (float(np.median(fresh)), float(np.min(fresh))), n_states, case=2))
-    if anchors:
-        links = [com(link.name) for link in robot.structure.links]
-        secs = wall_times(robot.jacobian_loop(qe[:small], ve[:small], links), max(3, repeats // 2), warmups=1)
-        rows.append(_row("kinematics", name, "pinocchio jacobians loop", 1, secs, small, case=None))
-        bodies = [body(b.name) for b in tree.bodies]
-        secs = wall_times(reference.jacobian_loop(st.q[:small], st.u[:small], bodies), max(3, repeats // 2),
-                          warmups=1)
-        rows.append(_row("kinematics", name, "mujoco mj_jac/mj_jacDot loop", 1, secs, small, case=None))
-        truth = relacc.tree_kinematics(tree, 2, st.q[:small], st.u[:small], st.udot[:small], partials=False)
-        ae = robot.to_engine(st.q[:small], st.u[:small], st.udot[:small]).rates
-        loop = robot.motion_loop(qe[:small], ve[:small], ae, links)  # its rigid links' mass centres (no more
-        secs = wall_times(loop, max(3, repeats // 2), warmups=1)       # frames than relacc's bodies)
-        rows.append(_row("kinematics", name, "pinocchio forwardKinematics loop", 1, secs, small, case=None,
-                         frames=len(links)))
-        ae = reference.to_engine(st.q[:small], st.u[:small], st.udot[:small]).rates
-        loop = reference.motion_loop(st.q[:small], st.u[:small], ae, bodies)
+    truth = relacc.tree_kinematics(tree, 2, st.q[:small], st.u[:small], st.udot[:small], partials=False) \
+        if adapters else None
+    for engine, adapter in adapters.items():
+        if not isinstance(adapter, KinematicsLoops):
+            continue
+        # on the reference's bodies where they are the engine's, else on its rigid links' mass centres (no more
+        # frames than relacc's bodies)
+        specs = ([body(b.name) for b in tree.bodies] if adapter.LOOPS_ON_BODIES
+                 else [com(link.name) for link in adapter.structure.links])
+        states_e = adapter.to_engine(st.q[:small], st.u[:small], st.udot[:small])
+        secs = wall_times(adapter.jacobian_loop(states_e.q, states_e.v, specs), max(3, repeats // 2), warmups=1)
+        rows.append(_row("kinematics", name, anchor(engine, "jacobians"), 1, secs, small, case=None))
+        loop = adapter.motion_loop(states_e.q, states_e.v, states_e.rates, specs)
         secs = wall_times(loop, max(3, repeats // 2), warmups=1)
-        rows.append(_row("kinematics", name, "mujoco mj_kinematics/mj_comVel loop", 1, secs, small, case=None,
-                         frames=len(bodies), largest_difference=_difference(loop, truth)))
+        same = {"largest_difference": _difference(loop, truth)} if adapter.LOOPS_ON_BODIES else {}
+        rows.append(_row("kinematics", name, anchor(engine, "motion"), 1, secs, small, case=None,
+                         frames=len(specs), **same))
     return rows
 
 
@@ -202,20 +206,22 @@ def ratios(rows) -> dict:
     out = {}
     for model in sorted({r["model"] for r in rows if r["section"] != "scaling"}):
         pick = {(r["who"], r["threads"], r.get("case")): r for r in rows if r["model"] == model}
+
         slowest = max((r for r in rows if r["model"] == model and r["who"] == "relacc tree_accelerations"
                        and r["threads"] == t), key=lambda r: r["value"])
         mine_k = pick[("relacc tree_kinematics out=", t, 2)]
         entry = {}
-        if ("pinocchio abaInParallel", t, None) in pick:
-            aba = pick[("pinocchio abaInParallel", t, None)]
-            entry["dynamics vs abaInParallel"] = (aba["value"] / slowest["value"], aba["value_best"] /
-                                                  slowest["value_best"])
-        for who in ("pinocchio jacobians loop", "mujoco mj_jac/mj_jacDot loop"):
+        for who in anchors("batched_forward"):
+            if (who, t, None) in pick:
+                aba = pick[(who, t, None)]
+                entry[f"dynamics vs {who.split(' ', 1)[1]}"] = (aba["value"] / slowest["value"], aba["value_best"] /
+                                                                slowest["value_best"])
+        for who in anchors("jacobians"):
             if (who, 1, None) in pick:
                 r = pick[(who, 1, None)]
                 entry[f"kinematics vs {who}"] = (r["value"] / mine_k["value"], r["value_best"] / mine_k["value_best"])
         lean = pick.get(("relacc tree_kinematics partials=False out=", t, 2))
-        for who in ("pinocchio forwardKinematics loop", "mujoco mj_kinematics/mj_comVel loop"):
+        for who in anchors("motion"):
             if lean and (who, 1, None) in pick:
                 r = pick[(who, 1, None)]
                 entry[f"partials=False vs {who}"] = (r["value"] / lean["value"], r["value_best"] / lean["value_best"])

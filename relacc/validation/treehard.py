@@ -60,23 +60,24 @@ class HardFinding:
         return dict(self.__dict__)
 
 
-def search(path, reading=None, *, examples: int = 30, seed: int = 0) -> list[HardFinding]:
-    """The worst state of each case (1, 2, 3) over ``examples`` Hypothesis examples each, deterministic for ``seed``.
+def search(path, reading=None, *, examples: int = 30, seed: int = 0, engine: str | None = None) -> list[HardFinding]:
+    """The worst state of each case (1, 2, 3) over ``examples`` Hypothesis examples each, deterministic for ``seed``,
+    against ``engine`` (default :data:`relacc.engines.TRUTH_ENGINE`, MuJoCo).
 
     Raises:
-        ModelError: relacc cannot read the file, or MuJoCo cannot compile it (then nothing is searched).
+        ModelError: relacc cannot read the file, or the engine cannot read it (then nothing is searched).
     """
-    from relacc.engines import load
+    from relacc.engines import TRUTH_ENGINE, load
     from relacc.reading import read_moving
 
     reading = read_moving(path, "there is nothing to search") if reading is None else reading
     tree = reading.tree
-    mujoco = load("mujoco", path, tree)
+    opponent = load(TRUTH_ENGINE if engine is None else engine, path, tree)
     extent = tree_extent(tree)
-    return [_search_case(tree, mujoco, case, extent, examples, seed) for case in (1, 2, 3)]
+    return [_search_case(tree, opponent, case, extent, examples, seed) for case in (1, 2, 3)]
 
 
-def _search_case(tree, mujoco, case, extent, examples, seed) -> HardFinding:
+def _search_case(tree, opponent, case, extent, examples, seed) -> HardFinding:
     import hypothesis
     from hypothesis import HealthCheck, Phase, given, settings, target
     from hypothesis import strategies as st
@@ -92,14 +93,14 @@ def _search_case(tree, mujoco, case, extent, examples, seed) -> HardFinding:
     @given(st.data())
     def probe(data):
         state = _draw(tree, case, data, st)
-        found = _judge(tree, mujoco, case, extent, *state)
+        found = _judge(tree, opponent, case, extent, *state)
         count[0] += 1
         target(found["ratio"], label="error / bound")
         if found["ratio"] > worst["ratio"]:
             worst.update(found)
 
     for state in _corners(tree, case, seed):
-        found = _judge(tree, mujoco, case, extent, *state)
+        found = _judge(tree, opponent, case, extent, *state)
         count[0] += 1
         if found["ratio"] > worst["ratio"]:
             worst.update(found)
@@ -161,7 +162,7 @@ def _state(tree, case, draw_seed, speed, offset, joint, delta):
     return q2, u2, q2, u2, offset, speed, None
 
 
-def _judge(tree, mujoco, case, extent, q2, u2, qc, uc, offset, speed, delta) -> dict:
+def _judge(tree, opponent, case, extent, q2, u2, qc, uc, offset, speed, delta) -> dict:
     import warnings
 
     import relacc
@@ -174,9 +175,9 @@ def _judge(tree, mujoco, case, extent, q2, u2, qc, uc, offset, speed, delta) -> 
         warnings.simplefilter("ignore", AccuracyWarning)  # the search goes there on purpose
         a = relacc.tree_accelerations(tree, case, qc, uc)
     a2 = convert(tree, qc, uc, a, source=case, target=2)[2] if case != Case.BODY_FRAME else np.asarray(a)
-    states_e = mujoco.to_engine(q2, u2, a2)
+    states_e = opponent.to_engine(q2, u2, a2)
     qe, ve, ae = states_e.q, states_e.v, states_e.a
-    engine = mujoco.forward(qe, ve)
+    engine = opponent.forward(qe, ve)
     d = relacc.tree_dynamics(tree, 2, q2, u2)
     M, f = np.asarray(d.M)[0], np.asarray(d.f)[0]
     terms = np.abs(f).max() + float(velocity_terms(tree, q2, u2, extent)[0])

@@ -25,8 +25,11 @@ acceleration from ``CalcSpatialAccelerationsFromVdot`` shifted from the body's o
 Accuracy far from the origin: Drake forms point velocities and Jacobians in the world frame from world positions,
 so they lose about ``eps |p|`` per metre of lever like the other engines (``global_coordinates``); its acceleration
 kinematics, propagated body by body, and its positions keep full accuracy.
+
+The package itself loads only its :mod:`.card` (what the engine is and can do, without importing it); the
+adapter is :mod:`.adapter`, imported when asked for (:func:`relacc.engines.registry.adapter_module`).
 """
 
-from relacc.engines.drake_.adapter import DrakeAdapter, load, version
+from relacc.engines.drake_.card import TRAITS
 
-__all__ = ["DrakeAdapter", "load", "version"]
+__all__ = ["TRAITS"]

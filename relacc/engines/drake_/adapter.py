@@ -14,6 +14,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 from relacc.core.rotations import matrix_from_quaternion, tilde
 from relacc.core.tree.coordinates import reference_q
 from relacc.engines.base import Adapter, BuiltJoint, Link, Loop, Points, Structure, combine, moving_mass
+from relacc.engines.capabilities import PointLoop
 from relacc.engines.drake_ import run
 from relacc.engines.drake_.plant import build_plant, match_parsed, parse, quiet
 from relacc.errors import EngineError
@@ -29,7 +30,7 @@ def version() -> str:
     return getattr(pydrake, "__version__", None) or distribution_version("drake")
 
 
-class DrakeAdapter(Adapter):
+class DrakeAdapter(PointLoop, Adapter):
     """A model in Drake: a file read by Drake's parser, or (``build``) the plant of the reference tree itself."""
 
     engine = "drake"

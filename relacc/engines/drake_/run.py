@@ -10,8 +10,8 @@ import numpy as np
 from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 
-from relacc.core.conventions import DRAKE_SCHEMES
 from relacc.dynamics.steps import Stepper
+from relacc.engines.drake_.card import DRAKE_SCHEMES
 from relacc.engines.drake_.plant import quiet
 from relacc.errors import EngineError, IntegrationError
 

@@ -18,8 +18,11 @@ Accuracy: MuJoCo works in global coordinates; its Jacobians and accelerations us
 differences of world positions, so far from the origin they lose about ``eps |p|`` per metre of lever
 (``global_coordinates``). Its compiler latches a site within about 1e-6 m (``mjEPS``) of its body's frame to the
 frame (``site_sameframe``) and discards ``site_pos``: :meth:`MujocoAdapter.lost_offset` reads that flag.
+
+The package itself loads only its :mod:`.card` (what the engine is and can do, without importing it); the
+adapter is :mod:`.adapter`, imported when asked for (:func:`relacc.engines.registry.adapter_module`).
 """
 
-from relacc.engines.mujoco_.adapter import MujocoAdapter, captured_warnings, load, read_tree, version
+from relacc.engines.mujoco_.card import TRAITS
 
-__all__ = ["MujocoAdapter", "captured_warnings", "load", "read_tree", "version"]
+__all__ = ["TRAITS"]

@@ -21,6 +21,7 @@ from relacc.engines.base import (
     combine,
     moving_mass,
 )
+from relacc.engines.capabilities import AccelerationRoutine, BodyMotion, KinematicsLoops, PointLoop, Rollout
 from relacc.engines.mujoco_ import run
 from relacc.engines.mujoco_.spec import (
     TYPES,
@@ -56,10 +57,27 @@ def full_inertia(m, d, dst):
         mujoco.mj_fullM(m, dst, d.qM)
 
 
-class MujocoAdapter(Adapter):
+MUJOCO_JACDOT = ("MuJoCo's mj_jacDot takes a ball joint's columns from the velocity of its whole body, so a slide "
+                 "after a ball on the same body adds v_slide x omega_ball to J_dot v (relacc's finding): MuJoCo's own "
+                 "acceleration routine (mj_rnePostConstraint) agrees with relacc")
+MUJOCO_JACDOT_OTHER = ("MuJoCo's mj_jacDot differs from its own acceleration routine (mj_rnePostConstraint), which "
+                       "agrees with relacc")
+
+
+def ball_then_slide(tree) -> bool:
+    """Whether a body of the tree has a slide after a ball."""
+    for body in tree.bodies:
+        kinds = [j.type for j in body.joints]
+        if "ball" in kinds and "slide" in kinds[kinds.index("ball") + 1:]:
+            return True
+    return False
+
+
+class MujocoAdapter(PointLoop, KinematicsLoops, Rollout, BodyMotion, AccelerationRoutine, Adapter):
     """A model file in MuJoCo, the reference of every other adapter (see the module docstring)."""
 
     engine = "mujoco"
+    LOOPS_ON_BODIES = True
     global_coordinates = frozenset({"velocity", "acceleration", "V", "Vdot"})
     absolute_velocities = frozenset({"acceleration", "Vdot"})  # measured: tests/test_hardcases.py
 
@@ -296,6 +314,9 @@ class MujocoAdapter(Adapter):
     def applied(self, effects) -> dict:
         """The disable flags :func:`relacc.engines.mujoco_.run.configure` sets for ``effects``."""
         return {"disabled": run.configure(self, effects)}
+
+    def jdot_cause(self, tree) -> str:
+        return MUJOCO_JACDOT if ball_then_slide(tree) else MUJOCO_JACDOT_OTHER
 
     def body_motion(self, q, u, udot) -> dict:
         """MuJoCo's own numbers for every body at states ``q (n, nq)``, ``u``, ``udot (n, nv)`` (its coordinates):

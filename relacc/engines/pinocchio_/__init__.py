@@ -18,8 +18,11 @@ far from the origin they lose about ``eps |p|`` per metre of lever (``global_coo
 acceleration is propagated in local frames and keeps full accuracy. Integration (:meth:`PinocchioAdapter.stepper`):
 Pinocchio has no integrator of its own; RKMK4 or semi-implicit Euler (:mod:`relacc.dynamics.integrate`) on its
 manifold, ``pin.integrate`` and the inverse of ``pin.dIntegrate``.
+
+The package itself loads only its :mod:`.card` (what the engine is and can do, without importing it); the
+adapter is :mod:`.adapter`, imported when asked for (:func:`relacc.engines.registry.adapter_module`).
 """
 
-from relacc.engines.pinocchio_.adapter import LWA, PinocchioAdapter, load, split_composites, version
+from relacc.engines.pinocchio_.card import TRAITS
 
-__all__ = ["LWA", "PinocchioAdapter", "load", "split_composites", "version"]
+__all__ = ["TRAITS"]

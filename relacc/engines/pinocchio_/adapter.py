@@ -16,6 +16,7 @@ from relacc.core.rotations import (
     tilde,
 )
 from relacc.engines.base import Adapter, BuiltJoint, Link, Loop, Points, Structure, fixed_step_only, moving_mass
+from relacc.engines.capabilities import BatchedForward, KinematicsLoops, ManifoldRates, PointLoop, ThreadedStepper
 from relacc.engines.pinocchio_.model import match, parse, split_composites
 from relacc.engines.urdf import dynamics_text, is_urdf
 from relacc.errors import EngineError, ModelError
@@ -52,10 +53,11 @@ def six(J) -> np.ndarray:
     return J.reshape(6, -1) if J.ndim == 1 else J
 
 
-class PinocchioAdapter(Adapter):
+class PinocchioAdapter(PointLoop, KinematicsLoops, BatchedForward, ThreadedStepper, ManifoldRates, Adapter):
     """A model file in Pinocchio (its MJCF parser, or ``urdf`` by its URDF parser), matched to ``reference``."""
 
     engine = "pinocchio"
+    THREADED_INTEGRATORS = ("rk4",)  # RKMK4 on Pinocchio's manifold, pin.abaInParallel at every stage
     global_coordinates = frozenset({"velocity", "V", "Vdot"})
     absolute_velocities = frozenset({"acceleration", "Vdot"})  # measured: tests/test_hardcases.py
 
@@ -365,7 +367,7 @@ class PinocchioAdapter(Adapter):
                               np.asfortranarray(tau.T), out)
         return out.T.copy()
 
-    def aba_in_parallel(self, threads: int, qe, ve, gravity=None):
+    def batched_forward(self, threads: int, qe, ve, gravity=None):
         """The benchmarks' anchor: a closure timing ``pin.abaInParallel`` on a ``pin.ModelPool`` (its fastest use:
         inputs ``(nq_e, n)``, ``(nv_e, n)`` and output prepared in its column-major layout), at ``gravity`` (m/s^2;
         default the model's own); its ``out`` attribute holds the accelerations ``(nv_e, n)``."""

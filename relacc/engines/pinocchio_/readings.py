@@ -9,6 +9,11 @@ says so.
 from __future__ import annotations
 
 from relacc.engines.base import KnownBehaviour
+from relacc.engines.known import (
+    mjcf,
+    reread,
+    springdamper_ignored,
+)
 
 ENGINE_READINGS = (
     KnownBehaviour(
@@ -32,14 +37,94 @@ ENGINE_READINGS = (
 
 
 def _split(robot):
-    from relacc.engines.pinocchio_ import PinocchioAdapter
+    from relacc.engines.pinocchio_.adapter import PinocchioAdapter
 
     path, reference, urdf = robot.args
     return PinocchioAdapter(path, reference, urdf=urdf, split=True, armature_as_case2=robot.armature_as_case2)
 
 
 def _armature_as_case2(robot):
-    from relacc.engines.pinocchio_ import PinocchioAdapter
+    from relacc.engines.pinocchio_.adapter import PinocchioAdapter
 
     path, reference, urdf = robot.args
     return PinocchioAdapter(path, reference, urdf=urdf, split=robot.split, armature_as_case2=True)
+
+FILE_READINGS = (
+    KnownBehaviour(
+        "first_body",
+        "Pinocchio's MJCF parser reads only the first <body> written directly in the main file's "
+        "<worldbody> (it expands no <include>); the others are dropped",
+        lambda r: mjcf(r) and r.facts["world_children"] > 1,
+        reread("first_body_only"),
+    ),
+    KnownBehaviour(
+        "fixed_root",
+        "Pinocchio's MJCF parser drops the pos and orientation of a first <body> that has no joint (it "
+        "puts that body at the world frame)",
+        lambda r: mjcf(r) and r.facts["placed_jointless_first"],
+        reread("first_body_unplaced"),
+    ),
+    KnownBehaviour(
+        "settotalmass",
+        "Pinocchio ignores <compiler settotalmass>, which makes MuJoCo scale every mass",
+        lambda r: mjcf(r) and r.facts["settotalmass"],
+        reread("settotalmass_ignored"),
+    ),
+    KnownBehaviour(
+        "default_mass",
+        "Pinocchio's MJCF parser ignores a geom's mass inherited from a <default> class (it honours "
+        "one written on the geom) and takes the geom's density times its volume",
+        lambda r: mjcf(r) and r.facts["default_geom_masses"] > 0,
+        reread("default_geom_mass_ignored"),
+    ),
+    KnownBehaviour(
+        "visual_geoms",
+        "Pinocchio's MJCF parser takes geoms with contype=0 and conaffinity=0 as visual and leaves "
+        "them out of the inertia; MuJoCo counts every geom in inertiagrouprange",
+        lambda r: mjcf(r) and r.facts["visual_geoms"] > 0,
+        reread("visual_geoms_ignored"),
+    ),
+    KnownBehaviour(
+        "mesh_inertia",
+        "Pinocchio's MJCF parser gives a mesh geom 1 kg and a unit inertia at the geom's frame (it "
+        "reads neither the mesh's volume nor the geom's mass)",
+        lambda r: mjcf(r) and r.facts["mesh_bodies"],
+        reread("mesh_unit_inertia"),
+    ),
+    KnownBehaviour(
+        "unnamed_bodies",
+        "Pinocchio's MJCF parser names an unnamed <body> after its parent (<parent>Bis), so of "
+        "several unnamed children of one body only the first is read; the others and their subtrees are dropped",
+        lambda r: mjcf(r) and r.facts.get("unnamed_dropped", 0) > 0,
+        reread("unnamed_siblings_dropped"),
+    ),
+    KnownBehaviour(
+        "default_joint_pos",
+        "Pinocchio's MJCF parser ignores a joint's pos inherited from a <default> (it honours one written on "
+        "the joint) and puts the joint at its body's origin",
+        lambda r: mjcf(r) and r.facts.get("default_joint_pos", 0) > 0,
+        reread("default_joint_pos_ignored"),
+    ),
+    KnownBehaviour(
+        "default_geom_pose",
+        "Pinocchio's MJCF parser ignores a geom's pos and orientation inherited from a <default> (it honours "
+        "those written on the geom) and puts the geom at its body's frame",
+        lambda r: mjcf(r) and r.facts.get("default_geom_pose", 0) > 0,
+        reread("default_geom_pose_ignored"),
+    ),
+    springdamper_ignored("Pinocchio"),
+    KnownBehaviour(
+        "ball_free_damping",
+        "Pinocchio's MJCF parser drops the damping of a ball or free joint (it keeps a hinge's and a slide's)",
+        lambda r: mjcf(r) and (r.facts.get("damped_free", 0) + r.facts.get("damped_balls", 0)) > 0,
+        reread("free_damping_dropped", "ball_damping_dropped"),
+    ),
+    KnownBehaviour(
+        "gravity",
+        'Pinocchio\'s MJCF parser ignores <option gravity> and <flag gravity="disable"/> and keeps (0, 0, -9.81)',
+        lambda r: mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
+        reread("gravity_default"),
+    ),
+)
+"""How pinocchio's parsers read a file differently, as changes to relacc's reading (:mod:`relacc.engines.known`):
+the audit applies those that apply, whichever engine reads the file."""

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from relacc.core.conventions import CASE_NAMES, COORDINATES, ENGINE_MAPPINGS, MEANINGS, QUANTITIES, SPEEDS
+from relacc.core.conventions import CASE_NAMES, COORDINATES, MEANINGS, QUANTITIES, SPEEDS
 from relacc.core.tolerances import EPS, QUATERNION_NORM_TOLERANCE, ROUNDING_FACTOR
+from relacc.engines import TRAITS
 
 ID = "conventions"
 TITLE = "Conventions"
@@ -20,8 +21,8 @@ def build(ctx) -> dict:
         ],
         "engines": [
             {"engine": engine, "route": route, "mapping": text}
-            for (engine, route), text in ENGINE_MAPPINGS.items()
-            if engine in ctx.harness.engines
+            for engine, traits in TRAITS.items() if engine in ctx.harness.engines
+            for route, text in traits.chain_routes.items()
         ],
         "rounding_factor": ROUNDING_FACTOR,
         "tolerance": ROUNDING_FACTOR * EPS,

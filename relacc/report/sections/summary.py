@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from collections import Counter
 
-from relacc.core.conventions import ENGINE_LABELS
 from relacc.core.tolerances import EPS
+from relacc.engines import label
 
 ID = "summary"
 TITLE = "Verdict"
@@ -17,7 +17,7 @@ def build(ctx) -> dict:
     statuses = Counter(e.status for e in items)
     failures = ctx.failures()
     agree = not failures
-    names = [ENGINE_LABELS[n] for n in ctx.harness.engines]
+    names = [label(n) for n in ctx.harness.engines]
     engines = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]
     return {
         "engines": engines,

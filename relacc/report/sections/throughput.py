@@ -3,9 +3,9 @@ engines' batched APIs, measured on this machine; the recorded runs of both bench
 
 from __future__ import annotations
 
-import numpy as np
 from matplotlib import pyplot as plt
 
+from relacc.engines import TRAITS, anchors, label
 from relacc.report import svg
 from relacc.tradeoff import batched
 from relacc.tradeoff.throughput import recorded_runs
@@ -16,9 +16,10 @@ TITLE = "Throughput"
 RECORDED_COLUMNS = tuple((case, output) for case in (1, 2, 3) for output in ("acceleration", "full"))
 """(case, output) columns of the recorded-runs table."""
 
-WHO = ("relacc", "relacc-1-thread", "relacc-reference", "pinocchio", "mujoco")
-COLORS = {"relacc": "black", "relacc-1-thread": "#555555", "relacc-reference": "#999999", "pinocchio": "#1f77b4",
-          "mujoco": "#d62728"}
+WHO = ("relacc", "relacc-1-thread", "relacc-reference", *TRAITS)
+"""Who the throughput plot shows, in order: relacc's three rows, then each engine timed."""
+COLORS = {"relacc": "black", "relacc-1-thread": "#555555", "relacc-reference": "#999999",
+          **{name: t.color for name, t in TRAITS.items()}}
 
 
 def _plot(rows) -> str:
@@ -44,12 +45,14 @@ def _plot(rows) -> str:
 
 
 BATCHED_LINES = (
-    # (what, unit, relacc's row, the anchor's row, case); rows as named by relacc.tradeoff.batched
-    *((f"forward dynamics, case {c}", "ns/state", "relacc", "pinocchio abaInParallel", c) for c in (1, 2, 3)),
-    ("one scene, a step per call from Python", "µs/step", "relacc, step per call", "mujoco mj_step per call", None),
-    ("one scene, the compiled loop", "µs/step", "relacc, compiled loop", "mujoco rollout", None),
-    ("ensemble", "steps/s", "relacc", "mujoco rollout", None),
+    # (what, unit, relacc's row, the anchors' kind, case); rows as named by relacc.tradeoff.batched
+    *((f"forward dynamics, case {c}", "ns/state", "relacc", "batched_forward", c) for c in (1, 2, 3)),
+    ("one scene, a step per call from Python", "µs/step", "relacc, step per call", "step", None),
+    ("one scene, the compiled loop", "µs/step", "relacc, compiled loop", "rollout", None),
+    ("ensemble", "steps/s", "relacc", "rollout", None),
 )
+"""The lines of the dynamics-and-simulation table: relacc's row against each engine's anchor of a kind
+(:func:`relacc.engines.anchors`)."""
 
 
 def _machine_line(m: dict) -> str:
@@ -66,13 +69,16 @@ def batched_table(result: dict) -> dict:
                 and r.get("case") == case}
 
     lines = []
-    for what, unit, mine, anchor, case in BATCHED_LINES:
+    for what, unit, mine, kind, case in BATCHED_LINES:
         section = "dynamics" if what.startswith("forward") else "ensemble" if what == "ensemble" else "step"
-        a, b = values(section, mine, case), values(section, anchor, None)  # Pinocchio: one model for every case
-        top = max(set(a) & set(b))
-        speedup = a[top] / b[top] if unit == "steps/s" else b[top] / a[top]
-        lines.append({"what": what, "unit": unit, "anchor": anchor, "relacc": [a.get(t) for t in threads],
-                      "engine": [b.get(t) for t in threads], "speedup": speedup, "at": top})
+        for anchor in anchors(kind):
+            a, b = values(section, mine, case), values(section, anchor, None)  # an anchor: one model for every case
+            if not b:
+                continue
+            top = max(set(a) & set(b))
+            speedup = a[top] / b[top] if unit == "steps/s" else b[top] / a[top]
+            lines.append({"what": what, "unit": unit, "anchor": anchor, "relacc": [a.get(t) for t in threads],
+                          "engine": [b.get(t) for t in threads], "speedup": speedup, "at": top})
     memory = [{"who": r["who"], "value": r["value"], "best": r["value_best"]} for r in rows if r["section"] == "memory"]
     return {"threads": threads, "lines": lines, "memory": memory, "n_states": result["n_states"],
             "n_steps": result["n_steps"], "members": result["members"], "ensemble_steps": result["ensemble_steps"],
@@ -83,22 +89,22 @@ def batched_table(result: dict) -> dict:
 def build(ctx) -> dict:
     t = ctx.throughput
     rows = t["rows"]
+    engines = [e for e in TRAITS if any(r["who"] == e for r in rows)]  # the engines' loops that were timed
     table = []
     for case in (1, 2, 3):
         for output in ("acceleration", "full"):
             by = {r["who"]: r for r in rows if r["case"] == case and r["output"] == output}
+            one = by.get("relacc-1-thread")
             table.append({
                 "case": case, "output": output,
                 "relacc": by["relacc"]["states_per_second"],
-                "pinocchio": by["pinocchio"]["states_per_second"],
-                "mujoco": by["mujoco"]["states_per_second"],
-                "vs_pinocchio": by["pinocchio"]["relacc_speedup_over_this"],
-                "vs_pinocchio_best": by["pinocchio"].get("relacc_speedup_over_this_best"),
-                "vs_mujoco": by["mujoco"]["relacc_speedup_over_this"],
+                "engines": [{"states_per_second": by[e]["states_per_second"],
+                             "vs": by[e]["relacc_speedup_over_this"],
+                             "vs_best": by[e].get("relacc_speedup_over_this_best"),
+                             "one_thread_vs": by[e]["seconds"] / one["seconds"] if one else None}
+                            for e in engines],
                 "reference": by.get("relacc-reference", {}).get("states_per_second"),
-                "one_thread": by.get("relacc-1-thread", {}).get("states_per_second"),
-                "one_thread_vs_pinocchio": (by["pinocchio"]["seconds"] / by["relacc-1-thread"]["seconds"]
-                                            if "relacc-1-thread" in by else None),
+                "one_thread": one["states_per_second"] if one else None,
             })
     recorded = [{
         "file": run["file"], "machine_line": _machine_line(run["machine"]), "n_states": run["n_states"],
@@ -110,5 +116,6 @@ def build(ctx) -> dict:
                         for run in batched.recorded_runs()]
     return {"batched": batched_table(ctx.batched), "recorded_batched": recorded_batched,
             "machine": t["machine"], "n_states": t["n_states"], "repeats": t["repeats"], "table": table,
-            "figure": _plot(rows), "min_vs_pinocchio": float(np.min([r["vs_pinocchio"] for r in table])),
+            "figure": _plot(rows), "engines": [{"name": e, "label": label(e)} for e in engines],
+            "goal": {"name": engines[0], "label": label(engines[0])} if engines else None,
             "recorded": recorded, "recorded_columns": RECORDED_COLUMNS}

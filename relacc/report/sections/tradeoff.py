@@ -6,6 +6,7 @@ import numpy as np
 from matplotlib import pyplot as plt
 from matplotlib.ticker import NullFormatter
 
+from relacc.engines import TRAITS
 from relacc.report import svg
 from relacc.tradeoff.derivatives import THEORY as FD_THEORY
 from relacc.tradeoff.derivatives import theory_step
@@ -15,9 +16,11 @@ from relacc.tradeoff.study import pareto
 ID = "tradeoff"
 TITLE = "What accuracy costs"
 
-MARK = {"analytic": ("black", "*"), "analytic-reference": ("#555555", "P"), "pinocchio": ("#1f77b4", "D"),
-        "mujoco": ("#d62728", "s"), "drake": ("#17becf", "X"), "forward": ("#ff7f0e", "."), "central": ("#2ca02c", "."),
-        "central4": ("#9467bd", "."), "richardson": ("#8c564b", "."), "complex-step": ("#e377c2", ".")}
+MARK = {"analytic": ("black", "*"), "analytic-reference": ("#555555", "P"),
+        **{name: (t.color, t.marker) for name, t in TRAITS.items()},
+        "forward": ("#ff7f0e", "."), "central": ("#bcbd22", "."), "central4": ("#9467bd", "."),
+        "richardson": ("#8c564b", "."), "complex-step": ("#e377c2", ".")}
+"""Each method's colour and marker: relacc's analytic formulas, each engine's traits, the finite differences."""
 
 
 def _derivative_plot(rows) -> str:
@@ -63,7 +66,7 @@ def _integrator_plot(rows, scenes) -> str:
     styles = {"rk4": "-", "euler": "--", "implicit": ":", "implicitfast": "-.", "RK45": (0, (1, 1)),
               "DOP853": (0, (3, 1, 1, 1)), "runge_kutta2": (0, (5, 2)), "runge_kutta3": (0, (5, 1, 1, 1)),
               "runge_kutta5": (0, (8, 2))}
-    colors = {"relacc": "black", "pinocchio": "#1f77b4", "mujoco": "#d62728", "drake": "#17becf"}
+    colors = {"relacc": "black", **{name: t.color for name, t in TRAITS.items()}}
     for ax, scene in zip(np.atleast_1d(axes), scenes):
         for engine in colors:
             for integrator in styles:

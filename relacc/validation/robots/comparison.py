@@ -28,7 +28,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from relacc.core.conventions import ENGINE_LABELS
 from relacc.engines import ENGINES, MESH_ENGINE, adapter_module, installed, readings, traits
 from relacc.engines import load as load_adapter
 from relacc.engines.contain import survives
@@ -377,7 +376,7 @@ def _fallback(item: Item, reading, engine: str, unexplained: str | None) -> Caus
     members = _link_bodies(reading, name) if kind == "link" else []
     taken = [b for b in members if b in reading.taken]
     if taken:
-        source = ENGINE_LABELS[MESH_ENGINE]
+        source = traits(MESH_ENGINE).label
         what = f"relacc took the mass properties of {', '.join(taken)} from {source} ({reading.taken[taken[0]]})"
         return Cause("taken", f"{what}: it cannot judge {source} there" if engine == MESH_ENGINE else
                      f"{what}: {engine}'s differ from {source}'s, and relacc, which does not compute meshes, cannot "
@@ -421,7 +420,7 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
     every reading that applies, cumulatively), a known difference in the engine's algorithms (alone, or with those
     readings), MuJoCo's own ``mj_jacDot``, a singular mass matrix, a finding about the file or what relacc took (the
     engine's audit ``items`` all of those kinds); else not explained."""
-    from relacc.validation.robots.mujoco_causes import ALGORITHM_CAUSES
+    from relacc.validation.robots.routines import routine_cause
 
     engine = robot.engine
     current, texts = reading, []
@@ -445,8 +444,7 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
                 return Cause("explained", text)
             if read_as is not None and _explained(compare_dynamics(read_as, fixed, states), quantity, before):
                 return Cause("explained", text + "; and the audit: " + "; ".join(texts))
-    explain = ALGORITHM_CAUSES.get(engine)
-    text = explain(quantity, reference, robot, states) if explain else ""
+    text = routine_cause(quantity, reference, robot, states)
     if text:
         return Cause("explained", text)
     if before.singular:
@@ -463,7 +461,7 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
                                     + ("" if base is reading else " (with its known readings: " + "; ".join(texts)
                                        + ")"), f.place)
     kinds = {i.kind for i in items}
-    source = ENGINE_LABELS[MESH_ENGINE]
+    source = traits(MESH_ENGINE).label
     if reading.taken and (engine == MESH_ENGINE or ("taken" in kinds and kinds <= {"taken", "explained", "finding"})):
         return Cause("taken", f"relacc took the mass properties of {', '.join(reading.taken)} from {source}: "
                      + (f"it cannot judge {source} there" if engine == MESH_ENGINE else
@@ -480,7 +478,7 @@ def findings_as_read(reading, robot):
     nothing). None where a finding body is not a link of its own in both readings, or the engine lacks it."""
     from relacc.core.tree import tree_kinematics
     from relacc.core.tree.coordinates import reference_q
-    from relacc.validation.robots.causes import with_bodies
+    from relacc.engines.known import with_bodies
 
     tree = reading.tree
     theirs = {link.name: link for link in robot.structure.links}

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from relacc.engines import MESH_ENGINE, readings
+from relacc.engines import MESH_ENGINE, label, readings
 from relacc.errors import EngineError, ModelError
 from relacc.validation.referee import Verdict, judge
 from relacc.validation.robots.agreement import compare_dynamics
@@ -66,9 +66,11 @@ def referee(voters_, states, dynamics, reading) -> list[Verdict]:
         pairs = {f"{a}|{b}": rows[quantity].max_ratio for (a, b), rows in pair_rows.items() if quantity in rows}
         weight = {n: 1 for n in names}
         note = ""
-        if joined and pairs.get("relacc|mujoco", pairs.get("mujoco|relacc", np.inf)) <= 1 and "relacc" in weight:
-            weight["mujoco"] = 0  # one vote for the two
-            note = (f"relacc took {', '.join(sorted(reading.taken))} from MuJoCo: the two count as one vote here")
+        together = pairs.get(f"relacc|{MESH_ENGINE}", pairs.get(f"{MESH_ENGINE}|relacc", np.inf))
+        if joined and together <= 1 and "relacc" in weight:
+            weight[MESH_ENGINE] = 0  # one vote for the two
+            note = (f"relacc took {', '.join(sorted(reading.taken))} from {label(MESH_ENGINE)}: the two count as one "
+                    "vote here")
         odd, agreeing, split = judge(names, pairs, weight)
         apart = tuple(e for e, r in dynamics[quantity].items() if not r.passed and e not in names)
         out.append(Verdict(quantity, odd, agreeing, split, pairs, {v.engine: v.why for v in present if v.why}, note,

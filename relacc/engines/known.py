@@ -1,0 +1,97 @@
+"""Engines' known readings of a file as changes to relacc's own reading: the helpers each engine's ``readings``
+module builds its ``FILE_READINGS`` from (:class:`relacc.engines.base.KnownBehaviour` whose ``applies(reading)`` and
+``change(reading) -> Reading`` take :class:`relacc.reading.Reading`). Most read the file again the engine's way
+(:data:`relacc.reading.mjcf.VARIANTS`, :func:`reread`): they need no engine, MuJoCo included, to read the file.
+Imports no engine."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from relacc.core.tree.model import Tree
+from relacc.engines.base import KnownBehaviour
+
+
+def with_bodies(reading, change):
+    """``reading`` with each body replaced by ``change(body)`` (None keeps it)."""
+    bodies = tuple(change(b) or b for b in reading.tree.bodies)
+    t = reading.tree
+    return replace(reading, tree=Tree(t.name, bodies, gravity=t.gravity, points=t.points, source=t.source))
+
+
+def massless_with_inertia(reading) -> bool:
+    return any(b.mass == 0 and np.any(b.inertia != 0) for b in reading.tree.bodies)
+
+
+def drop_massless_inertia(reading):
+    return with_bodies(reading, lambda b: replace(b, inertia=np.zeros((3, 3))) if b.mass == 0 else None)
+
+
+WATER = 1000.0
+"""kg/m^3: the density of the solid sphere Drake's URDF parser puts in place of an inertia it cannot take."""
+
+
+def water_sphere(mass: float) -> np.ndarray:
+    """``(3, 3)`` kg m^2: the inertia about its centre of a solid sphere of water of ``mass`` kg, ``0.4 m r^2`` with
+    ``r = (3 m / (4 pi 1000))^(1/3)``: what Drake's URDF parser gives a link whose inertia is not physical (measured on
+    Drake 1.51: the 25 such bodies of a public URDF dataset to 1.2e-15, and a massless link given 1 kg)."""
+    r = (3.0 * mass / (4.0 * np.pi * WATER)) ** (1.0 / 3.0)
+    return 0.4 * mass * r * r * np.eye(3)
+
+
+def massless_get_a_kilogram(reading):
+    return with_bodies(reading, lambda b: replace(b, mass=1.0, inertia=water_sphere(1.0))
+                       if b.mass == 0 and np.any(b.inertia != 0) else None)
+
+
+def unphysical_inertia(reading) -> bool:
+    return reading.format == "urdf" and any(not b.physical and b.mass > 0 for b in reading.tree.bodies)
+
+
+def water_spheres(reading):
+    return with_bodies(reading, lambda b: replace(b, inertia=water_sphere(b.mass))
+                       if not b.physical and b.mass > 0 else None)
+
+
+def urdf_inertial_turned(reading) -> bool:
+    """A URDF whose inertials are turned (``rpy``): what MuJoCo up to 3.13 misreads (google-deepmind/mujoco#3559;
+    measured on the releases 3.3.1 to 4.0.0: wrong up to 3.13.0, right from 3.14.0)."""
+    return reading.format == "urdf" and bool(reading.turned_inertials)
+
+
+def unturned_inertials(reading):
+    """Each turned inertial as if its ``rpy`` were zero: the inertia as written, in the link's axes."""
+    return with_bodies(
+        reading,
+        lambda b: replace(b, inertia=reading.turned_inertials[b.name]) if b.name in reading.turned_inertials else None,
+    )
+
+
+def reread(*variant):
+    """The change that reads the file again the engine's way (:data:`relacc.reading.mjcf.VARIANTS`), on top of the
+    variants the reading already follows."""
+
+    def change(reading):
+        from relacc.reading import read
+
+        return read(reading.source, variant=reading.variant | frozenset(variant))
+
+    return change
+
+
+def mjcf(reading) -> bool:
+    return reading.format == "mjcf"
+
+
+def springdamper_ignored(engine: str) -> KnownBehaviour:
+    """``engine``'s MJCF parser keeping the written stiffness and damping of a joint with ``springdamper`` (Pinocchio's
+    and Drake's, measured on pin 4.1 and Drake 1.51)."""
+    return KnownBehaviour(
+        "springdamper",
+        f"{engine}'s MJCF parser ignores a joint's springdamper, from which MuJoCo's compiler sets the stiffness and "
+        "damping (it keeps those written)",
+        lambda r: mjcf(r) and bool(r.facts.get("springdamper")),
+        reread("springdamper_ignored"),
+    )

@@ -1,0 +1,23 @@
+"""MuJoCo's :class:`relacc.engines.traits.Traits` (imports nothing of MuJoCo)."""
+
+from relacc.engines.traits import Traits
+
+TRAITS = Traits(
+    name="mujoco", label="MuJoCo", order=2, package="mujoco", pip="mujoco", color="#2ca02c", marker="d",
+    marker_size=6, integrators=("rk4", "euler", "implicit", "implicitfast"),
+    speeds="case 2 as it is: a free joint's v = [p_dot (world), omega (body)], a ball's omega in the child's "
+           "components; quaternions (w, x, y, z)",
+    chain_routes={
+        "quaternion": (
+            "two_body.xml; qpos = [s1, quat_B1 (w first), s2', quat_B2/B1 (w first)]; qvel = [s1_dot (world),"
+            " omega'_B1 (B1), s2'_dot, omega_hat'_B2 (B2)] = Case 2 speeds; G2: mj_jac, mj_jacDot (after "
+            'mj_comVel), mj_objectAcceleration with gravity 0'
+        ),
+        "euler": (
+            'two_body_euler.xml; qpos = case-3 q, qvel = case-3 u (slides, hinges x, y, z); no map'
+        ),
+    },
+    capabilities=frozenset({"PointLoop", "KinematicsLoops", "Rollout", "BodyMotion", "AccelerationRoutine"}),
+    calls={"rollout": "rollout", "step": "mj_step per call", "jacobians": "mj_jac/mj_jacDot loop",
+           "motion": "mj_kinematics/mj_comVel loop"},
+    compiled_loops=True, own_steppers=True, mesh_source=True, truth=True)

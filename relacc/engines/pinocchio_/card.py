@@ -1,0 +1,23 @@
+"""Pinocchio's :class:`relacc.engines.traits.Traits` (imports nothing of Pinocchio)."""
+
+from relacc.engines.traits import Traits
+
+TRAITS = Traits(
+    name="pinocchio", label="Pinocchio", order=1, package="pinocchio", pip="pin", color="#1f77b4", marker="x",
+    marker_size=6, integrators=("rk4", "euler"),
+    speeds="a free joint's v = [R^T p_dot, omega], both in body components (T = diag(R^T, I)); quaternions "
+           "(x, y, z, w); an unbounded revolute q = (cos, sin); ball, hinge and slide speeds as case 2",
+    chain_routes={
+        "quaternion": (
+            "two_body.xml, composite joint split; q = [s1, quat_B1 (x,y,z,w), s2', quat_B2/B1 (x,y,z,w)]; v ="
+            " [[R_B1] s1_dot (B1), omega'_B1, s2'_dot, omega_hat'_B2]; a = [[R_B1] s1_ddot - omega'_B1 x "
+            '[R_B1] s1_dot, ...]; G2: LOCAL_WORLD_ALIGNED frame Jacobian, its time variation, '
+            'getFrameClassicalAcceleration'
+        ),
+        "euler": (
+            'two_body_euler.urdf; q = case-3 q, v = case-3 u (prismatic, revolute x, y, z); no map'
+        ),
+    },
+    capabilities=frozenset({"PointLoop", "KinematicsLoops", "BatchedForward", "ThreadedStepper", "ManifoldRates"}),
+    calls={"batched_forward": "abaInParallel", "jacobians": "jacobians loop", "motion": "forwardKinematics loop"},
+    own_urdf=True, compiled_loops=True)
