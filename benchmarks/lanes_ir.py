@@ -1,5 +1,5 @@
 """Vector lanes without a compiler at install time: llvmlite (installed with numba) compiling LLVM IR written with
-``<4 x double>`` vectors at run time, issue 35's route to the 2x over ``pin.abaInParallel`` (docs/benchmarks.md,
+``<4 x double>`` vectors at run time, issue 35's route to the 2x over ``pin.abaInParallel`` (benchmarks/history.md,
 "Lanes").
 
 A probe, not the kernel: it builds a function ``lanes(a, b, out, n)`` that runs eight fused multiply-adds on four

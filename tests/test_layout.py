@@ -399,3 +399,12 @@ def test_cases_are_named_outside_the_kernels():
     assert bare_case_comparisons("relacc.simulate.runs", "x = 1 if case == 3 else 2\n") == [
         "relacc.simulate.runs:1 case == 3"]
     assert bare_case_comparisons("relacc.simulate.runs", "x = 1 if case == Case.ANGLE_RATES else 2\n") == []
+
+
+def test_the_command_line_finds_the_engines_the_registry_finds():
+    """``relacc --help`` names the engines without importing ``relacc.engines`` (it reads each package's card); the
+    names and their order are the registry's."""
+    from relacc.cli.parser import ENGINE_NAMES
+    from relacc.engines import ENGINES
+
+    assert ENGINE_NAMES == ENGINES and len(ENGINES) >= 3

@@ -74,3 +74,20 @@ def test_every_test_the_guarantees_name_exists():
         if test:
             where = [suite[module]] if module else suite.values()
             assert any(f"def {test}(" in src for src in where), test
+
+
+def test_the_benchmarks_table_is_the_latest_recorded_runs():
+    """docs/benchmarks.md's table is what scripts/benchmarks_table.py writes from benchmarks/results/: one row per
+    benchmark, its latest run (the latest date, then the highest run number), with machine, date and commit."""
+    import runpy
+
+    script = runpy.run_path(str(REPO / "scripts" / "benchmarks_table.py"))
+    text = (REPO / "docs" / "benchmarks.md").read_text()
+    m = re.search(r"<!-- latest-runs -->\n(.*?)\n<!-- /latest-runs -->", text, re.S)
+    assert m and m.group(1) == script["table"](), "docs/benchmarks.md's table is stale: scripts/benchmarks_table.py"
+    rows = m.group(1).splitlines()[2:]
+    assert len(rows) == len(script["BENCHMARKS"]) >= 10
+    # the latest run is the latest date, then the highest run number (run23 after run9, which sorts after it)
+    runs = [(p.name[6:16], int(p.stem.rsplit("run", 1)[1])) for p in (REPO / "benchmarks" / "results").glob("trees-*")]
+    chosen = script["latest"]("trees")
+    assert (chosen.name[6:16], int(chosen.stem.rsplit("run", 1)[1])) == max(runs)

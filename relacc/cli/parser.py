@@ -17,7 +17,25 @@ EXIT_CODES = """exit codes:
   2  a usage or input error (one line on stderr); for grade, a function that cannot be called
   3  an internal error of relacc's (one line on stderr; please report it with the command and its files)"""
 
-ENGINE_NAMES = ("pinocchio", "mujoco", "drake")
+def _engine_names() -> tuple[str, ...]:
+    """The engines relacc has, in report order: each package ``relacc/engines/<name>_/`` with a ``card.py`` (its
+    :class:`relacc.engines.traits.Traits`, ordered by its ``order``), found without importing ``relacc.engines`` so
+    that ``--help`` stays light (the registry loads numpy); ``tests/test_layout.py`` holds it to
+    :data:`relacc.engines.ENGINES`."""
+    import importlib.util
+    import re
+    from pathlib import Path
+
+    spec = importlib.util.find_spec("relacc.engines")
+    found = []
+    for folder in (spec.submodule_search_locations or []) if spec else []:
+        for card in Path(folder).glob("*_/card.py"):
+            order = re.search(r"\border=(\d+)", card.read_text(encoding="utf-8"))
+            found.append((int(order.group(1)) if order else 0, card.parent.name[:-1]))
+    return tuple(name for _, name in sorted(found))
+
+
+ENGINE_NAMES = _engine_names()
 SIM_ENGINE_NAMES = ("relacc",) + ENGINE_NAMES
 INTEGRATOR_NAMES = ("rk4", "euler", "implicit", "implicitfast")
 MAX_STATES = 10**9
@@ -317,7 +335,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a URDF of the same robot: the two files are compared by relacc diff MODEL.urdf MODEL.xml "
                         "(said on stderr); compare reads one file in every engine")
     p.add_argument("--engines", type=_choices_list("--engines", ENGINE_NAMES), metavar="ENGINES",
-                   help="comma-separated subset of pinocchio,mujoco,drake (default: those installed)")
+                   help=f"comma-separated subset of {','.join(ENGINE_NAMES)} (default: those installed)")
     _states(p, 20, "random states besides the reference configuration")
     _seed(p)
     _json(p, "the summary")

@@ -60,7 +60,7 @@ def leaf(fn):
 
     A numba function increfs each array it is handed on entry and decrefs it on return (an atomic operation and a call
     each): a kernel's per-state helpers take 20 to 35 arrays (the tree's, the scratch), so a call cost 0.4-0.5 us
-    whatever the work, 40% of gymnasium's ant's forward dynamics and 70% of a two-body model's (docs/benchmarks.md,
+    whatever the work, 40% of gymnasium's ant's forward dynamics and 70% of a two-body model's (benchmarks/history.md,
     "What a call costs"). A leaf is handed arrays its caller owns for the whole call, so nothing is lost by not
     counting; it must not allocate (numba refuses to compile it if it does) nor keep an array past its return.
     """
@@ -82,7 +82,7 @@ LAUNCH_US = 400.0
 the loop's start and join (130-230 us with the workqueue pool on this project's 2-core machine: gymnasium's ant's
 composite-inertia kernel over 1 state in a parallel loop 139-143 us, called directly 9 us) plus its blocks' own
 scratch and the imbalance of a few blocks over the threads. Set from the break-even measured on ant and humanoid for
-forward dynamics and kinematics with and without partials, 9 to 8192 states (docs/benchmarks.md, "Threads"): at
+forward dynamics and kinematics with and without partials, 9 to 8192 states (benchmarks/history.md, "Threads"): at
 180 us, 128-256 states still ran 10-20% slower on two threads than on one."""
 
 
@@ -106,7 +106,7 @@ def split(fn, args: tuple, n: int, block: int) -> Any:
     relacc's tree kernels (forward dynamics, kinematics, loads) run their batches this way rather than through a
     numba ``prange``: on this project's 2-core VM numba's ``workqueue`` pool ran one call in four to eight 1.4-2x
     slower than the others (its two workers woken for every call while the calling thread waits), where the calling
-    thread working beside one pool thread held every call within a few percent (docs/benchmarks.md, "Less work a
+    thread working beside one pool thread held every call within a few percent (benchmarks/history.md, "Less work a
     state"). A forked child starts without the pool (``os.register_at_fork``) and makes its own when it needs one."""
     t = max(1, min(numba.get_num_threads() if HAVE_NUMBA else 1, -(-n // block)))
     cuts = [min(n, (n * k // t) // block * block) for k in range(t)] + [n]

@@ -2,7 +2,7 @@
 per tree and case into straight-line arithmetic and compiled by LLVM with ``<W x double>`` vectors.
 
 numba's loops run one state at a time: the recursions over bodies are short loops it does not vectorize, so most of
-the arithmetic stays scalar (docs/benchmarks.md, "Lanes"). Here the composite-rigid-body kernel
+the arithmetic stays scalar (benchmarks/history.md, "Lanes"). Here the composite-rigid-body kernel
 (:mod:`relacc.kernels.tree_spatial`'s ``forward``, :mod:`relacc.kernels.tree_crba`'s ``mass_matrix`` and
 ``factor_solve``, case 3's maps to and from case-2 speeds), or the articulated-body one
 (:mod:`relacc.kernels.tree_aba`) for the trees the plan gives it, is run once as Python on symbolic scalars
