@@ -283,6 +283,7 @@ def summary_table(results) -> str:
     """One aligned line per model: exit, the readings that took part, audit differences, dynamics rows outside
     tolerance, how many of those have no known cause, findings; or, for a model that cannot be compared, why."""
     from relacc.errors import RelaccError
+    from relacc.validation.robots.causes import CauseKind
 
     width = max([len(m) for m, _ in results] + [5])
     lines = [f"  {'exit':4s}  {'model':{width}s}  {'audit':>5s}  {'dynamics':>8s}  {'unexplained':>11s}  "
@@ -294,8 +295,8 @@ def summary_table(results) -> str:
             continue
         data = r.as_json()
         bad = [x for q in data["dynamics"].values() for x in q["engines"].values() if not x["ok"]]
-        unexplained = sum(x["cause_kind"] == "not explained" for x in bad) + sum(
-            a["cause_kind"] == "not explained" for a in data["audit"])
+        unexplained = sum(x["cause_kind"] == CauseKind.NOT_EXPLAINED for x in bad) + sum(
+            a["cause_kind"] == CauseKind.NOT_EXPLAINED for a in data["audit"])
         lines.append(f"  {r.exit_code:<4d}  {model:{width}s}  {len(data['audit']):>5d}  {len(bad):>8d}  "
                      f"{unexplained:>11d}  {len(data['findings']):>8d}  {', '.join(data['compared'])}")
     return "\n".join(lines)

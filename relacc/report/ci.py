@@ -19,6 +19,7 @@ from pathlib import Path
 
 from relacc import files
 from relacc.errors import InputError, RelaccError
+from relacc.validation.robots.causes import CauseKind
 
 
 @dataclass(frozen=True)
@@ -117,8 +118,8 @@ def results(model: str, outcome) -> list[Result]:
         out.append(Result("RELACC001", f"body {f['body']}: {f['condition']} ({f['numbers']})", model, f["place"],
                           f"{f['body']}|{f['condition']}"))
     for a in data["audit"]:
-        explained = a["cause_kind"] != "not explained"
-        rule = "RELACC006" if a["cause_kind"] == "taken" else "RELACC002" if explained else "RELACC003"
+        explained = a["cause_kind"] != CauseKind.NOT_EXPLAINED
+        rule = "RELACC006" if a["cause_kind"] == CauseKind.TAKEN else "RELACC002" if explained else "RELACC003"
         out.append(Result(rule, f"{a['item']}: {a['where']}: {a['cause']}", model, a.get("place") or model,
                           f"{a['item']}|{a['where']}"))
     for quantity, row in data["dynamics"].items():
@@ -126,7 +127,7 @@ def results(model: str, outcome) -> list[Result]:
             if r["ok"]:
                 continue
             kind = r.get("cause_kind", "")
-            rule = ("RELACC006" if kind == "taken" else "RELACC005" if kind in ("not explained", "")
+            rule = ("RELACC006" if kind == CauseKind.TAKEN else "RELACC005" if kind in (CauseKind.NOT_EXPLAINED, "")
                     else "RELACC004")
             see = SEE.search(r.get("cause") or "")
             out.append(Result(rule, f"{quantity}, {engine}: {r.get('cause') or 'outside tolerance'}", model,

@@ -13,6 +13,7 @@ from relacc import files
 from relacc.core.tolerances import EPS
 from relacc.errors import RelaccError
 from relacc.report.build import environment
+from relacc.validation.robots.causes import CauseKind
 
 
 def page_data(result) -> dict:
@@ -32,8 +33,8 @@ def page_data(result) -> dict:
     audit = [{"item": a["item"], "where": a["where"], "cells": [_cell(a.get(e)) for e in names],
               "cause": a["cause"], "kind": a["cause_kind"], "place": a["place"]} for a in data["audit"]]
     bad = [c for r in rows for c in r["cells"] if c is not None and not c["ok"]]
-    unexplained = [c for c in bad if c["cause_kind"] == "not explained"]
-    unexplained += [a for a in audit if "not explained" in a["kind"]]
+    unexplained = [c for c in bad if c["cause_kind"] == CauseKind.NOT_EXPLAINED]
+    unexplained += [a for a in audit if CauseKind.NOT_EXPLAINED in a["kind"]]
     from relacc.report.drawing import drawing
 
     return {"n_bad": len(bad), "compared": data["compared"], "digits": SHOWN_DIGITS,

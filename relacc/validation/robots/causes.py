@@ -22,17 +22,33 @@ included, to read the file.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import StrEnum
 
 from relacc.engines import ENGINES, file_readings
 
-KINDS = ("explained", "finding", "taken", "urdf", "singular", "not explained")
+
+class CauseKind(StrEnum):
+    """What kind of reason a :class:`Cause` gives (module docstring), in order from best explained to not explained;
+    each member's value is its text in the JSON (``cause_kind``)."""
+
+    EXPLAINED = "explained"
+    FINDING = "finding"
+    TAKEN = "taken"
+    URDF = "urdf"
+    SINGULAR = "singular"
+    NOT_EXPLAINED = "not explained"
+
+
+KINDS = tuple(CauseKind)
+"""Every :class:`CauseKind`, in order."""
 
 
 @dataclass(frozen=True)
 class Cause:
-    """Why a difference is there: ``kind`` (one of :data:`KINDS`), ``text``, ``place`` (``file:line`` or empty)."""
+    """Why a difference is there: ``kind`` (a :class:`CauseKind`; ``""`` for a row that needs none), ``text``,
+    ``place`` (``file:line`` or empty)."""
 
-    kind: str
+    kind: CauseKind | str
     text: str
     place: str = ""
 
@@ -41,7 +57,7 @@ class Cause:
 
     @property
     def explained(self) -> bool:
-        return self.kind != "not explained"
+        return self.kind != CauseKind.NOT_EXPLAINED
 
 
 READINGS = {name: file_readings(name) for name in ENGINES}

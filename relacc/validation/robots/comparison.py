@@ -38,7 +38,7 @@ from relacc.reading import read_moving
 from relacc.reading.read import format_of
 from relacc.validation.robots.agreement import QUANTITIES, compare_dynamics, random_states
 from relacc.validation.robots.audit import Item, Scales, differences, inertia_slack, merge
-from relacc.validation.robots.causes import READINGS, Cause
+from relacc.validation.robots.causes import READINGS, Cause, CauseKind
 from relacc.validation.robots.reading import structure
 from relacc.validation.robots.referee import referee, voters
 from relacc.validation.robots.tree import TreeRobot
@@ -214,7 +214,8 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
                 cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, robot,
                                                                          states, items)
                 if other_file and from_urdf and items and not cause.explained:
-                    cause = Cause("urdf", "the URDF and the MJCF describe the robot differently (see the audit)")
+                    cause = Cause(CauseKind.URDF,
+                                  "the URDF and the MJCF describe the robot differently (see the audit)")
                 dynamics[quantity][robot.engine] = replace(row, cause=str(cause), cause_kind=cause.kind)
         except (Exception, SystemExit) as exc:  # an engine that fails to evaluate takes no part, and says why
             reports[robot.engine] = EngineReport(robot.engine, False, robot.structure.nq, robot.structure.nv,
@@ -231,7 +232,8 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
         for quantity, row in compare_dynamics(reference, evaluator, states).items():
             cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, evaluator,
                                                                      states) if row.singular else \
-                Cause("not explained", "relacc's case differs from its case 2 on its own reading", reading.source)
+                Cause(CauseKind.NOT_EXPLAINED, "relacc's case differs from its case 2 on its own reading",
+                      reading.source)
             dynamics[quantity][evaluator.engine] = replace(row, case=case, cause=str(cause), cause_kind=cause.kind)
     verdicts = referee(voters(reference, robots, states, reading), states, dynamics, reading)
     geometry = {r.engine: _geometry(r.structure) for r in [reference, *robots]}
@@ -337,7 +339,7 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
         after = {i.key for i in differences(structure(candidate), robot.structure, REFERENCE, engine, sc, slack)}
         gone = left - after
         for k in gone:
-            causes[k] = Cause("explained", text)
+            causes[k] = Cause(CauseKind.EXPLAINED, text)
         if gone:
             current, left = candidate, after
     out = []
@@ -345,15 +347,15 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
         cause = causes.get(item.key) or _fallback(item, reading, engine, unexplained)
         out.append(replace(item, cause=str(cause), kind=cause.kind, place=cause.place or _place(item, reading)))
     masses = [i for i in out if i.subject[0] == "link" and i.item in ("mass (kg)", "body missing")]
-    if masses and all(i.kind != "not explained" for i in masses):  # the total mass follows its links' masses
+    if masses and all(i.kind != CauseKind.NOT_EXPLAINED for i in masses):  # the total mass follows its links' masses
         from relacc.validation.robots.causes import KINDS
 
         kind = max((i.kind for i in masses), key=KINDS.index)  # the least explained of theirs
         first = next(i for i in masses if i.kind == kind)
-        cause = first.cause if kind in ("taken", "urdf") else (
+        cause = first.cause if kind in (CauseKind.TAKEN, CauseKind.URDF) else (
             "the sum of the links' masses, each explained above: " + "; ".join(dict.fromkeys(i.cause for i in masses)))
-        out = [replace(i, cause=cause, kind=kind) if i.item == "total mass (kg)" and i.kind == "not explained" else i
-               for i in out]
+        out = [replace(i, cause=cause, kind=kind)
+               if i.item == "total mass (kg)" and i.kind == CauseKind.NOT_EXPLAINED else i for i in out]
     return out
 
 
@@ -371,24 +373,25 @@ def _fallback(item: Item, reading, engine: str, unexplained: str | None) -> Caus
     """A difference no reading reproduces: a user's URDF, what relacc took, a finding about the file, or not
     explained."""
     if unexplained:
-        return Cause("urdf", unexplained)
+        return Cause(CauseKind.URDF, unexplained)
     kind, name = item.subject
     members = _link_bodies(reading, name) if kind == "link" else []
     taken = [b for b in members if b in reading.taken]
     if taken:
         source = traits(MESH_ENGINE).label
         what = f"relacc took the mass properties of {', '.join(taken)} from {source} ({reading.taken[taken[0]]})"
-        return Cause("taken", f"{what}: it cannot judge {source} there" if engine == MESH_ENGINE else
+        return Cause(CauseKind.TAKEN, f"{what}: it cannot judge {source} there" if engine == MESH_ENGINE else
                      f"{what}: {engine}'s differ from {source}'s, and relacc, which does not compute meshes, cannot "
                      "say which reads the mesh right")
     found = [f for f in reading.findings if f.body in members]
     if found:
-        return Cause("finding", f"the file gives body {found[0].body} {found[0].condition} "
+        return Cause(CauseKind.FINDING, f"the file gives body {found[0].body} {found[0].condition} "
                                 f"({found[0].numbers}): each engine reads that its own way", found[0].place)
     if item.item == "joint type":
-        return Cause("not explained", f"{engine} maps this joint to another type", _place(item, reading))
-    return Cause("not explained", f"not explained by a known difference between {engine}'s reading of the file and "
-                                  "the format's", _place(item, reading))
+        return Cause(CauseKind.NOT_EXPLAINED, f"{engine} maps this joint to another type", _place(item, reading))
+    return Cause(CauseKind.NOT_EXPLAINED,
+                 f"not explained by a known difference between {engine}'s reading of the file and the format's",
+                 _place(item, reading))
 
 
 def _link_bodies(reading, name: str) -> list[str]:
@@ -432,7 +435,7 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
                 continue
     read_as = TreeRobot(current, 2, reading.tree) if texts else None
     if read_as is not None and _explained(compare_dynamics(read_as, robot, states), quantity, before):
-        return Cause("explained", "explained by the audit: " + "; ".join(texts))
+        return Cause(CauseKind.EXPLAINED, "explained by the audit: " + "; ".join(texts))
     for known in readings(engine):
         text = known.text
         if known.applies(robot):
@@ -441,14 +444,14 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
             except (ModelError, EngineError):
                 continue
             if _explained(compare_dynamics(reference, fixed, states), quantity, before):
-                return Cause("explained", text)
+                return Cause(CauseKind.EXPLAINED, text)
             if read_as is not None and _explained(compare_dynamics(read_as, fixed, states), quantity, before):
-                return Cause("explained", text + "; and the audit: " + "; ".join(texts))
+                return Cause(CauseKind.EXPLAINED, text + "; and the audit: " + "; ".join(texts))
     text = routine_cause(quantity, reference, robot, states)
     if text:
-        return Cause("explained", text)
+        return Cause(CauseKind.EXPLAINED, text)
     if before.singular:
-        return Cause("singular", "forward dynamics undefined: " + "; ".join(
+        return Cause(CauseKind.SINGULAR, "forward dynamics undefined: " + "; ".join(
             f"{e}'s mass matrix over the shared speeds is singular (no inertia moves with "
             f"{', '.join(joints) or 'a combination of speeds'})" for e, joints in before.singular.items()))
     for base in ([reading, current] if texts else [reading]) if reading.findings else []:
@@ -456,17 +459,19 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
         if as_engine is not None and _explained(compare_dynamics(TreeRobot(as_engine, 2, reading.tree), robot, states),
                                                 quantity, before):
             f = reading.findings[0]
-            return Cause("finding", f"the file has bodies that are not physical (first: body {f.body}, {f.condition})"
-                                    f": read as {engine} reads them, the dynamics agree"
-                                    + ("" if base is reading else " (with its known readings: " + "; ".join(texts)
-                                       + ")"), f.place)
+            return Cause(CauseKind.FINDING,
+                         f"the file has bodies that are not physical (first: body {f.body}, {f.condition})"
+                         f": read as {engine} reads them, the dynamics agree"
+                         + ("" if base is reading else " (with its known readings: " + "; ".join(texts) + ")"),
+                         f.place)
     kinds = {i.kind for i in items}
     source = traits(MESH_ENGINE).label
-    if reading.taken and (engine == MESH_ENGINE or ("taken" in kinds and kinds <= {"taken", "explained", "finding"})):
-        return Cause("taken", f"relacc took the mass properties of {', '.join(reading.taken)} from {source}: "
+    judged_there = {CauseKind.TAKEN, CauseKind.EXPLAINED, CauseKind.FINDING}
+    if reading.taken and (engine == MESH_ENGINE or (CauseKind.TAKEN in kinds and kinds <= judged_there)):
+        return Cause(CauseKind.TAKEN, f"relacc took the mass properties of {', '.join(reading.taken)} from {source}: "
                      + (f"it cannot judge {source} there" if engine == MESH_ENGINE else
                         f"the audit's differences of {engine} there are the only ones not explained"))
-    return Cause("not explained", f"not explained by a known difference of {engine}"
+    return Cause(CauseKind.NOT_EXPLAINED, f"not explained by a known difference of {engine}"
                  + (f" (its known readings of the file were applied: {'; '.join(texts)})" if texts else ""),
                  reading.source)
 
