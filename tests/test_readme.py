@@ -77,8 +77,9 @@ def test_every_test_the_guarantees_name_exists():
 
 
 def test_the_benchmarks_table_is_the_latest_recorded_runs():
-    """docs/benchmarks.md's table is what scripts/benchmarks_table.py writes from benchmarks/results/: one row per
-    benchmark, its latest run (the latest date, then the highest run number), with machine, date and commit."""
+    """docs/benchmarks.md's table is what scripts/benchmarks_table.py writes from the recorded results (JSON files it
+    reads, no benchmark run here): one row per benchmark, its latest run (the latest date, then the highest run
+    number), with machine, date and commit."""
     import runpy
 
     script = runpy.run_path(str(REPO / "scripts" / "benchmarks_table.py"))
