@@ -34,6 +34,14 @@ def _browser(p):
     return p.chromium.launch(executable_path=chromium, args=CHROMIUM_FLAGS)
 
 
+def _opened(p, path, errors: list):
+    """``path`` opened in Chromium at 1366 x 900, its console errors appended to ``errors``: the page."""
+    page = _browser(p).new_page(viewport={"width": 1366, "height": 900})
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.goto(path.as_uri(), wait_until="load")
+    return page
+
+
 def _overlaps(boxes) -> list:
     return [(a, b) for i, a in enumerate(boxes) for b in boxes[i + 1:]
             if a["x"] < b["x"] + b["width"] and b["x"] < a["x"] + a["width"]
@@ -48,12 +56,9 @@ def test_one_model_page_answers_first_and_draws_without_overlap(tmp_path):
     model.write_text(PLACED)
     page_path = tmp_path / "page.html"
     assert main(["compare", str(model), "--states", "3", "--out", str(page_path), "--engines", "pinocchio,mujoco"]) == 1
-    errors = []
+    errors: list = []
     with sync_playwright() as p:
-        browser = _browser(p)
-        page = browser.new_page(viewport={"width": 1366, "height": 900})
-        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        page.goto(page_path.as_uri(), wait_until="load")
+        page = _opened(p, page_path, errors)
         verdict = page.inner_text("#verdict")
         header = page.evaluate("[...document.querySelectorAll('#dynamics th')].map(t => t.innerText)")
         labels = page.evaluate("[...document.querySelectorAll('figure.drawing svg text')]"
@@ -64,7 +69,7 @@ def test_one_model_page_answers_first_and_draws_without_overlap(tmp_path):
                             " const m = document.querySelector('#drawing').getBoundingClientRect();"
                             " return [s.width, m.width]; })()")
         page.screenshot(path=str(tmp_path / "page.png"), full_page=True)
-        browser.close()
+        page.context.browser.close()
     assert errors == []
     assert "The odd one out: pinocchio" in verdict, verdict
     assert {"pinocchio", "mujoco", "relacc (case 1)", "relacc (case 3)", "tolerance"} <= set(header), header

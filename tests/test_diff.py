@@ -300,7 +300,7 @@ def test_the_page_shows_both_trees_side_by_side_with_every_difference_at_its_ele
     no label overlaps another; an input as --out refused."""
     from playwright.sync_api import sync_playwright
 
-    from tests.test_compare_page import _browser, _overlaps
+    from tests.test_compare_page import _opened, _overlaps
 
     urdf, xml = saved_by_mujoco(tmp_path, URDF)
 
@@ -321,12 +321,9 @@ def test_the_page_shows_both_trees_side_by_side_with_every_difference_at_its_ele
     assert main(["diff", str(urdf), str(changed), "--out", str(changed)]) == 2  # an input is never written over
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    errors: list = []
     with sync_playwright() as p:
-        browser = _browser(p)
-        page = browser.new_page(viewport={"width": 1366, "height": 900})
-        errors = []
-        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        page.goto(page_path.as_uri(), wait_until="load")
+        page = _opened(p, page_path, errors)
         verdict = page.inner_text("#verdict")
         boxes = page.evaluate("[...document.querySelectorAll('#trees .label, #trees a.mark')].map(t => {"
                               " const b = t.getBoundingClientRect(); return {x: b.x, y: b.y, width: b.width,"
@@ -338,7 +335,7 @@ def test_the_page_shows_both_trees_side_by_side_with_every_difference_at_its_ele
                              " marks: [...r.querySelectorAll('a.mark')].map(m => m.textContent) }))")
         listed = page.evaluate("[...document.querySelectorAll('#differences tr[id]')].map(r => [r.id,"
                                " r.children[2].textContent])")
-        browser.close()
+        page.context.browser.close()
     assert errors == []
     assert verdict.startswith("Not the same robot: 3 differences"), verdict
     assert rows[0]["a"] == "world" and [(r["a"], r["b"]) for r in rows[1:]] == [("l1", "l1"), ("l2", "l2"),

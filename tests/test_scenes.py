@@ -189,6 +189,18 @@ def test_cli_simulate_json_and_csv(tmp_path, capsys):
         assert csv[0].startswith("# relacc simulate") and csv[1].startswith("t_s,") and len(csv) == 2 + 11
 
 
+def test_an_integrator_drake_lacks_is_named_at_its_table(tmp_path, capsys):
+    """[simulate.drake]'s integrator is checked against Drake's traits when the scene is read: one line, exit 2, at
+    that table's line, naming Drake's integrators."""
+    text = SCENE + 'engines = ["relacc", "drake"]\n[simulate.drake]\nintegrator = "bogus"\n'
+    path = _scene_file(tmp_path, text)
+    assert main(["simulate", str(path), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    line = 1 + text.splitlines().index('integrator = "bogus"')
+    assert err.count("\n") == 1 and f"line {line}, field [simulate.drake].integrator" in err, err
+    assert "Drake has no 'bogus' integrator" in err and "runge_kutta5" in err
+
+
 def test_the_last_step_is_always_recorded(tmp_path):
     """record_every = 1000 on a 50-step run records t = 0 and t = duration, and the end is the state there."""
     scene = scenes.load(_scene_file(tmp_path, SCENE.replace("dt = 0.001", "dt = 0.0002\nrecord_every = 1000")))

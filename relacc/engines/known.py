@@ -85,6 +85,17 @@ def mjcf(reading) -> bool:
     return reading.format == "mjcf"
 
 
+def settotalmass_ignored(engine: str, said: str = "") -> KnownBehaviour:
+    """``engine`` ignoring ``<compiler settotalmass>`` (Pinocchio's and Drake's; ``said``: what it says of it, as
+    ``" (it warns so)"``)."""
+    return KnownBehaviour(
+        "settotalmass",
+        f"{engine} ignores <compiler settotalmass>{said}, which makes MuJoCo scale every mass",
+        lambda r: mjcf(r) and r.facts["settotalmass"],
+        reread("settotalmass_ignored"),
+    )
+
+
 def springdamper_ignored(engine: str) -> KnownBehaviour:
     """``engine``'s MJCF parser keeping the written stiffness and damping of a joint with ``springdamper`` (Pinocchio's
     and Drake's, measured on pin 4.1 and Drake 1.51)."""

@@ -222,9 +222,9 @@ def check_simulate(duration, dt, integrator, engines, record_every, drake_integr
         own = drake_integrator if (controlled and drake_integrator) else integrator
         if own not in integrators_of(engine):
             if controlled:
-                return "integrator", (f"{label(engine)} has no {own!r} integrator: name one of "
-                                      f"{label(engine)}'s in [simulate.{engine}] integrator "
-                                      f"({', '.join(integrators_of(engine))})")
+                return ("drake.integrator" if drake_integrator else "integrator"), (
+                    f"{label(engine)} has no {own!r} integrator: name one of {label(engine)}'s in "
+                    f"[simulate.{engine}] integrator ({', '.join(integrators_of(engine))})")
             only = [e for e in SIM_ENGINES if integrator in integrators_of(e)]
             return "integrator", (f"{integrator!r} exists in {', '.join(label(e) for e in only)} only; "
                                   f"list engines = {only}")

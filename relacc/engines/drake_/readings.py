@@ -9,6 +9,7 @@ from relacc.engines.known import (
     massless_with_inertia,
     mjcf,
     reread,
+    settotalmass_ignored,
     springdamper_ignored,
     unphysical_inertia,
     water_spheres,
@@ -46,12 +47,7 @@ FILE_READINGS = (
         lambda r: mjcf(r) and r.facts.get("broken_defaults", 0) > 0,
         reread("default_chain_broken"),
     ),
-    KnownBehaviour(
-        "settotalmass",
-        "Drake ignores <compiler settotalmass> (it warns so), which makes MuJoCo scale every mass",
-        lambda r: mjcf(r) and r.facts["settotalmass"],
-        reread("settotalmass_ignored"),
-    ),
+    settotalmass_ignored("Drake", " (it warns so)"),
     springdamper_ignored("Drake"),
     KnownBehaviour(
         "mesh_exact",

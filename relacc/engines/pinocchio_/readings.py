@@ -12,6 +12,7 @@ from relacc.engines.base import KnownBehaviour
 from relacc.engines.known import (
     mjcf,
     reread,
+    settotalmass_ignored,
     springdamper_ignored,
 )
 
@@ -49,6 +50,7 @@ def _armature_as_case2(robot):
     path, reference, urdf = robot.args
     return PinocchioAdapter(path, reference, urdf=urdf, split=robot.split, armature_as_case2=True)
 
+
 FILE_READINGS = (
     KnownBehaviour(
         "first_body",
@@ -64,12 +66,7 @@ FILE_READINGS = (
         lambda r: mjcf(r) and r.facts["placed_jointless_first"],
         reread("first_body_unplaced"),
     ),
-    KnownBehaviour(
-        "settotalmass",
-        "Pinocchio ignores <compiler settotalmass>, which makes MuJoCo scale every mass",
-        lambda r: mjcf(r) and r.facts["settotalmass"],
-        reread("settotalmass_ignored"),
-    ),
+    settotalmass_ignored("Pinocchio"),
     KnownBehaviour(
         "default_mass",
         "Pinocchio's MJCF parser ignores a geom's mass inherited from a <default> class (it honours "
