@@ -21,8 +21,8 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SHOWN = ("numpy", "pin", "mujoco", "drake", "numba", "llvmlite", "scipy", "matplotlib", "jinja2", "hypothesis",
-         "pydantic", "dask", "pytest", "gymnasium")
+SHOWN = ("numpy", "pin", "mujoco", "drake", "pybullet", "idyntree", "numba", "llvmlite", "scipy", "matplotlib",
+         "jinja2", "hypothesis", "pydantic", "dask", "pytest", "gymnasium")
 
 
 def run(*argv, **kw) -> subprocess.CompletedProcess:

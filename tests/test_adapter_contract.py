@@ -21,6 +21,14 @@ from relacc.fixtures.shipped import models_dir
 
 PACKAGE = Path(relacc.__file__).parent
 MODEL = models_dir() / "two_body.xml"
+URDF_MODEL = models_dir() / "two_body_euler.urdf"
+
+
+def model_of(engine: str) -> Path:
+    """The shipped model an engine's loader reads: the chain's MJCF, or (a URDF engine) its URDF."""
+    from relacc.engines import reads
+
+    return MODEL if reads(engine, "mjcf") else URDF_MODEL
 
 
 def _engine_only_methods() -> set:
@@ -53,8 +61,8 @@ def test_every_method_callers_use_is_declared_by_the_interface():
 
 @pytest.mark.parametrize("engine", [e for e in ENGINES if installed(e)])
 def test_the_contract(engine):
-    tree = relacc.Tree.from_file(MODEL)
-    adapter = load(engine, MODEL, tree)
+    tree = relacc.Tree.from_file(model_of(engine))
+    adapter = load(engine, model_of(engine), tree)
     assert isinstance(adapter, Adapter) and adapter.engine == engine
     st = random_states(tree, 2, 16, 3)
     states_e = adapter.to_engine(st.q, st.u, st.udot)
@@ -106,8 +114,8 @@ def test_each_engine_has_the_traits_it_declares(engine):
 
     t = traits(engine)
     module = adapter_module(engine)
-    package = f"relacc.engines.{engine}_"
-    adapter = load(engine, MODEL, relacc.Tree.from_file(MODEL))
+    package = t.package_name
+    adapter = load(engine, model_of(engine), relacc.Tree.from_file(model_of(engine)))
     # the capabilities its card declares (chosen by without importing it) are the ones its adapter implements
     assert t.capabilities == {c.__name__ for c in CAPABILITIES if isinstance(adapter, c)}
     assert (isinstance(adapter, PointLoop) and isinstance(adapter, KinematicsLoops)) == t.compiled_loops

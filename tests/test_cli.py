@@ -10,7 +10,7 @@ import pytest
 
 import relacc
 from relacc.cli import main
-from relacc.engines import ENGINES
+from relacc.engines import CHAIN_ENGINES as ENGINES
 from tests.cli import one_line, run_relacc
 
 SPIN = ["--case", "1", "--q", "0,0,0, 1,0,0,0, 0,0,0, 1,0,0,0", "--u", "0,0,0, 0,0,2.5, 0,0,0, 0,0,0",

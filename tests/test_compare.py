@@ -302,9 +302,14 @@ def test_a_real_style_urdf_with_meshes_mimic_and_a_free_root_link_is_compared(tm
     path = tmp_path / "gripper_arm.urdf"
     path.write_text(ROBOT_URDF)
     result = compare(path, n_states=6, seed=2)
+    # PyBullet refuses a URDF whose mesh files are missing (a visual's too) and says which, in one line
     assert {n: r.loaded for n, r in result.engines.items()} == {"relacc": True, "pinocchio": True, "mujoco": True,
-                                                                 "drake": True}
-    assert {n: r.nv for n, r in result.engines.items()} == {"relacc": 3, "pinocchio": 3, "mujoco": 3, "drake": 3}
+                                                                 "drake": True, "pybullet_file": False,
+                                                                 "idyntree": True}
+    assert "cannot find 'no_such_package/meshes/base.dae'" in result.engines["pybullet_file"].error
+    assert "\n" not in result.engines["pybullet_file"].error
+    assert {n: r.nv for n, r in result.engines.items() if r.loaded} == {"relacc": 3, "pinocchio": 3, "mujoco": 3,
+                                                                         "drake": 3, "idyntree": 3}
     for name in ("mujoco", "pinocchio", "drake"):
         assert any("dropped the URDF's 1 visual and 2 collision elements" in w and "1 mimic element" in w
                    for w in result.engines[name].warnings), result.engines[name].warnings

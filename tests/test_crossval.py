@@ -9,7 +9,7 @@ import pytest
 
 from relacc.core.conventions import QUANTITIES
 from relacc.core.tolerances import EPS
-from relacc.engines import ENGINES
+from relacc.engines import CHAIN_ENGINES as ENGINES
 from relacc.validation.check import Harness
 from relacc.validation.compare import routes_for
 

@@ -10,7 +10,8 @@ from relacc.core.scales import dynamics_scales
 from relacc.core.states import random_states
 from relacc.core.tolerances import EPS, ROUNDING_FACTOR, assert_normalized_error
 from relacc.dynamics.effects import NONE, Effects
-from relacc.engines import ENGINES, load_engine
+from relacc.engines import CHAIN_ENGINES as ENGINES
+from relacc.engines import load_engine
 from relacc.kernels import dynamics as fastdyn
 
 from .conftest import seed_for

@@ -7,7 +7,8 @@ import pytest
 from relacc.core.cases import as_case
 from relacc.core.states import random_states
 from relacc.core.tolerances import EPS, ROUNDING_FACTOR, assert_normalized_error
-from relacc.engines import ENGINES, load_engine
+from relacc.engines import CHAIN_ENGINES as ENGINES
+from relacc.engines import load_engine
 from relacc.engines.pinocchio_.adapter import LWA
 from relacc.errors import EngineError
 from relacc.validation.compare import routes_for

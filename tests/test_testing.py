@@ -13,7 +13,8 @@ import pytest
 
 import relacc
 from relacc.cli import main
-from relacc.engines import ENGINES, load_engine
+from relacc.engines import CHAIN_ENGINES as ENGINES
+from relacc.engines import load_engine
 from relacc.errors import InputError
 from relacc.testing import assert_agrees, check_formula
 from relacc.testing.user import load_function

@@ -29,9 +29,11 @@ def _engine_names() -> tuple[str, ...]:
     spec = importlib.util.find_spec("relacc.engines")
     found = []
     for folder in (spec.submodule_search_locations or []) if spec else []:
-        for card in Path(folder).glob("*_/card.py"):
-            order = re.search(r"\border=(\d+)", card.read_text(encoding="utf-8"))
-            found.append((int(order.group(1)) if order else 0, card.parent.name[:-1]))
+        for card in Path(folder).glob("*_/card.py"):  # each name="..." with its order=N in one call (a package
+            # may declare several loadings of its engine, Traits(...) or replace(...))
+            text = card.read_text(encoding="utf-8")
+            for name, order in re.findall(r'\bname="([^"]+)"[^\n]*?\border=(\d+)', text):
+                found.append((int(order), name))
     return tuple(name for _, name in sorted(found))
 
 

@@ -107,6 +107,13 @@ MUJOCO_EIG_EPS = 1e-12
 (absolute), and the principal moments it keeps drop those entries, so the tensor rebuilt from ``body_inertia`` and
 ``body_iquat`` differs from the file's by up to that much (measured on the chain: 6e-16)."""
 
+BULLET_JACOBI_THRESHOLD = 1e-6
+"""Relative to an inertia's trace: how far from the file's a URDF inertia with products of inertia may come back from
+PyBullet. Its URDF importer (``BulletURDFImporter::getMassAndInertia2``) diagonalizes such a tensor with
+``btMatrix3x3::diagonalize(rot, threshold = 1e-6, 30)``, a Jacobi iteration that makes one more rotation once the
+largest off-diagonal entry is at most ``threshold`` times the trace and then keeps the diagonal, so an off-diagonal
+entry up to that is dropped (measured on a tensor with all three products: 2.5e-11 of its trace, far inside)."""
+
 MJMINVAL = 1e-15
 """MuJoCo's ``mjMINVAL``: the floor of the divisors in its springdamper computation, and the smallest mesh volume or
 area its compiler accepts (relacc's reading follows both, :mod:`relacc.reading.mjcf`, :mod:`relacc.reading.mesh`)."""

@@ -2,7 +2,10 @@
 
 * :mod:`relacc.engines.mujoco_` -- MuJoCo (imports only ``mujoco``);
 * :mod:`relacc.engines.pinocchio_` -- Pinocchio (imports only ``pinocchio``);
-* :mod:`relacc.engines.drake_` -- Drake (imports only ``pydrake``).
+* :mod:`relacc.engines.drake_` -- Drake (imports only ``pydrake``);
+* :mod:`relacc.engines.pybullet_` -- PyBullet (imports only ``pybullet``), as users load a URDF and with
+  ``URDF_USE_INERTIA_FROM_FILE`` (two cards, ``pybullet`` and ``pybullet_file``);
+* :mod:`relacc.engines.idyntree_` -- iDynTree (imports only ``idyntree``).
 
 An adapter is one model in one engine (a model file, or relacc's tree where the engine's parser would read it
 otherwise) and serves the chain and any robot alike: loading, speed maps to relacc's coordinates, batched dynamics
@@ -18,6 +21,7 @@ attributes), so no caller outside ``engines/`` branches on an engine's name.
 """
 
 from relacc.engines.registry import (
+    CHAIN_ENGINES,
     ENGINES,
     MESH_ENGINE,
     ROUTES,
@@ -30,18 +34,23 @@ from relacc.engines.registry import (
     anchor,
     anchors,
     available,
+    chain_engines,
     file_readings,
     installed,
+    judges,
     label,
     load,
     load_engine,
     mesh_inertia,
     readings,
+    reads,
+    steppers,
     traits,
     with_capability,
     with_trait,
 )
 
-__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "TRUTH_ENGINE", "Adapter", "ChainEngine", "Traits",
-           "adapter_module", "anchor", "anchors", "available", "file_readings", "installed", "label", "load",
-           "load_engine", "mesh_inertia", "readings", "traits", "with_capability", "with_trait"]
+__all__ = ["CHAIN_ENGINES", "ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "TRUTH_ENGINE", "Adapter", "ChainEngine",
+           "Traits", "adapter_module", "anchor", "anchors", "available", "chain_engines", "file_readings",
+           "installed", "judges", "label", "load", "load_engine", "mesh_inertia", "reads", "readings", "steppers",
+           "traits", "with_capability", "with_trait"]

@@ -254,6 +254,60 @@ def by_order(reference, matches, engine_joints) -> list[Match]:
     return sorted(list(matches) + extra, key=lambda m: m.joints)
 
 
+def match_by_name(reference, engine_joints) -> list[Match]:
+    """relacc's one-speed joints matched to an engine's by name and type, then by order where names say nothing
+    (:func:`by_order`). ``engine_joints``: ``(name, type, its position index, its speed index)`` in the engine's
+    order, hinges and slides only (a URDF engine's revolute and prismatic joints)."""
+    theirs = {name: (kind, qi, vi) for name, kind, qi, vi in engine_joints}
+    matches = []
+    for k, ((_, j), qa, da) in enumerate(zip(reference.joints, reference.qadr(2), reference.dofadr)):
+        e = theirs.get(j.name)
+        if e is not None and e[0] == j.type:
+            matches.append(Match(j.type, (k,), (qa,), (da,), (e[1],), (e[2],)))
+    return by_order(reference, matches, [(name, kind, (qi,), (vi,)) for name, kind, qi, vi in engine_joints])
+
+
+def fixed_base_only(engine: str, path, reference, why: str) -> None:
+    """Refuse a model whose tree (relacc's reading) has a free or ball joint, for an engine whose adapter relacc
+    builds on a URDF's fixed base with one-speed joints (PyBullet, iDynTree); ``why``: what the engine does with one.
+
+    Raises:
+        ModelError: the tree has such a joint (the message names it and says why).
+    """
+    from relacc.errors import ModelError
+
+    for _, j in reference.joints:
+        if j.type in ("free", "ball"):
+            said = why if j.type == "free" else f"relacc's {engine} adapter matches one-speed joints only"
+            raise ModelError(f"{path}: joint {j.name} is a {'floating' if j.type == 'free' else 'spherical'} joint; "
+                             f"{said}: relacc compares {engine} on URDFs whose joints are revolute, continuous, "
+                             "prismatic or fixed")
+
+
+def heads(reference) -> dict[str, list[str]]:
+    """``{moving body name: [it and the bodies welded to it]}`` of relacc's tree, bodies welded to the world left out:
+    the links an engine that keeps a URDF's links (PyBullet, iDynTree) is compared on, by the URDF's link names."""
+    head: dict[int, int] = {}
+    out: dict[str, list[str]] = {}
+    for b, body in enumerate(reference.bodies):
+        head[b] = b if body.joints else (head[body.parent] if body.parent >= 0 else -1)
+        if head[b] >= 0:
+            out.setdefault(reference.bodies[head[b]].name, []).append(body.name)
+    return out
+
+
+def solved_forward(M: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """``(n, nv)`` ``M^-1 f`` state by state, for an engine whose API offers no forward dynamics outside its stepper
+    (PyBullet, iDynTree); a state whose mass matrix is singular (a joint that moves no inertia) is NaN: undefined."""
+    out = np.full(f.shape, np.nan)
+    for i in range(len(f)):
+        try:
+            out[i] = np.linalg.solve(M[i], f[i])
+        except np.linalg.LinAlgError:
+            pass
+    return out
+
+
 def combine(parts) -> tuple[float, np.ndarray, np.ndarray]:
     """``(mass, com, inertia about com)`` of rigid parts ``(mass, com (3,), inertia about own com (3, 3))``.
 
@@ -300,6 +354,9 @@ class Adapter(abc.ABC):
     """
 
     engine: str = ""
+    point_rates: bool = True
+    """Whether :meth:`points` gives ``J_dot v`` and classical accelerations (an engine that offers neither fills them
+    with NaN and sets this False: the comparison then leaves those two quantities out for it)."""
     global_coordinates: frozenset = frozenset()
     absolute_velocities: frozenset = frozenset()
     structure: Structure

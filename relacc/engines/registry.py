@@ -26,9 +26,14 @@ def _cards() -> dict[str, Traits]:
     package, found here, not a name listed elsewhere."""
     import relacc.engines as package
 
-    found = [importlib.import_module(f"relacc.engines.{m.name}").TRAITS
-             for m in pkgutil.iter_modules(package.__path__) if m.ispkg and m.name.endswith("_")]
+    found = [card for m in pkgutil.iter_modules(package.__path__) if m.ispkg and m.name.endswith("_")
+             for card in _package_cards(importlib.import_module(f"relacc.engines.{m.name}"))]
     return {t.name: t for t in sorted(found, key=lambda t: t.order)}
+
+
+def _package_cards(module: ModuleType) -> tuple[Traits, ...]:
+    """An engine package's cards: its ``CARDS`` (several loadings of one engine), else its one ``TRAITS``."""
+    return tuple(getattr(module, "CARDS", (module.TRAITS,)))
 
 
 TRAITS = _cards()
@@ -36,6 +41,10 @@ TRAITS = _cards()
 
 ENGINES = tuple(TRAITS)
 """Engine names, in report order."""
+
+CHAIN_ENGINES = tuple(name for name, t in TRAITS.items() if t.chain_routes)
+"""The engines that model the note's chain (:attr:`Traits.chain_routes`), in report order: the check's, the chain's
+hard cases', its tradeoff studies' and its scenes'."""
 
 MESH_ENGINE = next(name for name, t in TRAITS.items() if t.mesh_source)
 """The engine relacc's reading asks for a mesh's mass properties it does not compute itself (:func:`mesh_inertia`)."""
@@ -93,6 +102,31 @@ def available() -> tuple[str, ...]:
     return tuple(name for name in ENGINES if installed(name))
 
 
+def chain_engines(names: Iterable[str] | None = None) -> tuple[str, ...]:
+    """The engines of ``names`` (default: those installed) that model the note's chain (:attr:`Traits.chain_routes`):
+    the check, the chain's hard cases, its tradeoff studies and its scenes run on these."""
+    return tuple(n for n in (available() if names is None else names) if n in CHAIN_ENGINES)
+
+
+def steppers(names: Iterable[str] | None = None) -> tuple[str, ...]:
+    """The engines of ``names`` (default: those installed) that step a model (:attr:`Traits.integrators`): a scene's
+    engines unless it names them."""
+    return tuple(n for n in (available() if names is None else names) if n in TRAITS and TRAITS[n].integrators)
+
+
+def judges(fmt: str) -> tuple[str, ...]:
+    """The engines installed here that ``relacc compare`` and ``relacc check --model`` hold a file of format ``fmt`` to
+    unless told (``--engines``): those that read the format and take the file's inertias from it
+    (:attr:`Traits.file_inertias`). PyBullet as users load a URDF computes every link's inertia from its collision
+    shapes, so every URDF would differ there whatever its author wrote: it is compared when named."""
+    return tuple(n for n in available() if reads(n, fmt) and TRAITS[n].file_inertias)
+
+
+def reads(name: str, fmt: str) -> bool:
+    """Whether engine ``name``'s loader reads a description of format ``fmt`` (:attr:`Traits.formats`)."""
+    return fmt in traits(name).formats
+
+
 def adapter_module(name: str) -> ModuleType:
     """The adapter module of an engine, ``relacc.engines.<name>_.adapter`` (imports the engine).
 
@@ -109,7 +143,7 @@ def adapter_module(name: str) -> ModuleType:
     # interrupt is relacc's one line, also when the engine caught it and loaded anyway (its stack and
     # "KeyboardInterrupt" are the interrupt's, not news); what it writes otherwise is passed on
     with captured_output() as lines:
-        module = importlib.import_module(f"relacc.engines.{name}_.adapter")
+        module = importlib.import_module(f"{traits(name).package_name}.adapter")
     if PENDING[0] is None:
         for line in lines:
             print(line, file=sys.stderr)
@@ -121,14 +155,14 @@ def readings(name: str) -> tuple:
     which :data:`relacc.validation.robots.causes.READINGS` reproduces), each a
     :class:`relacc.engines.base.KnownBehaviour` whose ``change`` rebuilds the adapter without it; MuJoCo: none."""
     adapter_module(name)
-    return importlib.import_module(f"relacc.engines.{name}_.readings").ENGINE_READINGS
+    return importlib.import_module(f"{traits(name).package_name}.readings").ENGINE_READINGS
 
 
 def file_readings(name: str) -> tuple:
     """An engine's ``FILE_READINGS``: how its parsers read a file differently, as changes to relacc's reading
     (:mod:`relacc.engines.known`), without importing the engine."""
-    traits(name)
-    return importlib.import_module(f"relacc.engines.{name}_.readings").FILE_READINGS
+    t = traits(name)
+    return getattr(importlib.import_module(f"{t.package_name}.readings"), t.readings)
 
 
 def load(name: str, path: str | os.PathLike, reference: Tree | None = None, **options) -> Adapter:
@@ -139,7 +173,7 @@ def load(name: str, path: str | os.PathLike, reference: Tree | None = None, **op
     Raises:
         EngineError: an unknown or missing engine. ModelError: the engine cannot read the file.
     """
-    return adapter_module(name).load(path, reference, **options)
+    return adapter_module(name).load(path, reference, **{**traits(name).options, **options})
 
 
 def mesh_inertia(mesh: Any) -> Any:
@@ -150,7 +184,7 @@ def mesh_inertia(mesh: Any) -> Any:
         EngineError: MuJoCo is not installed. ModelError: MuJoCo cannot compile the geom alone.
     """
     adapter_module(MESH_ENGINE)
-    return importlib.import_module(f"relacc.engines.{MESH_ENGINE}_.meshes").mesh_inertia(mesh)
+    return importlib.import_module(f"{TRAITS[MESH_ENGINE].package_name}.meshes").mesh_inertia(mesh)
 
 
 def _offer_meshes_to_the_reading() -> None:
@@ -179,6 +213,7 @@ def load_engine(name: str, fixture: Fixture | None = None, **options) -> ChainEn
     return chain_engine(name, fixture if fixture is not None else load_fixture(), **options)
 
 
-__all__ = ["ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "TRUTH_ENGINE", "Adapter", "ChainEngine", "Traits",
-           "adapter_module", "anchor", "anchors", "available", "file_readings", "installed", "label", "load",
-           "load_engine", "mesh_inertia", "readings", "traits", "with_capability", "with_trait"]
+__all__ = ["CHAIN_ENGINES", "ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "TRUTH_ENGINE", "Adapter", "ChainEngine",
+           "Traits", "adapter_module", "anchor", "anchors", "available", "chain_engines", "file_readings",
+           "installed", "judges", "label", "load", "load_engine", "mesh_inertia", "reads", "readings", "steppers",
+           "traits", "with_capability", "with_trait"]

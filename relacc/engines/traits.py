@@ -38,6 +38,16 @@ class Traits:
             MuJoCo, which reads an MJCF natively and gives every body's kinematics).
         mesh_source: relacc's reading may ask its compiler for a mesh's mass properties it does not compute itself
             (a primitive fitted to a mesh), so its terms on those bodies cannot judge it.
+        formats: the description formats its loader reads (``"mjcf"``, ``"urdf"``); a file of another format is not
+            offered to it (said in the comparison, not an error).
+        home: the engine package its adapter lives in, ``relacc/engines/<home>_/`` (default: its name); one package
+            may declare several loadings of one engine (PyBullet as users load it, and with the flag its
+            documentation recommends), each a card of its own.
+        options: what its package's ``load`` is called with for this loading (``{"inertia_from_file": True}``).
+        readings: the attribute of its package's ``readings`` module that holds this loading's ``FILE_READINGS``.
+        file_inertias: this loading takes each body's inertia from the file (PyBullet's default loading computes its
+            own from the collision shapes: ``relacc compare`` names that, but it does not judge relacc's tree in
+            ``relacc check --model``).
     """
 
     name: str
@@ -60,3 +70,13 @@ class Traits:
     own_steppers: bool = False
     mesh_source: bool = False
     truth: bool = False
+    formats: tuple[str, ...] = ("mjcf", "urdf")
+    home: str = ""
+    options: dict = field(default_factory=dict)
+    readings: str = "FILE_READINGS"
+    file_inertias: bool = True
+
+    @property
+    def package_name(self) -> str:
+        """Its engine package's module name, ``relacc.engines.<home>_``."""
+        return f"relacc.engines.{self.home or self.name}_"

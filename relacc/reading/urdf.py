@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -168,6 +169,7 @@ def read(path) -> Reading:
     world = roots[0] == "world"
     index: dict[str, int] = {}
     bodies, places, ranges, damping, findings, turned, friction = [], {}, {}, {}, [], {}, {}
+    geometry = {name: link_geometry(links[name], path, normalized) for name in order}
     unevaluated = []
     mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None and j.get("type") != "fixed"]
     if mimics:
@@ -234,7 +236,69 @@ def read(path) -> Reading:
     tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array([0.0, 0.0, -9.81]), source=str(path))
     notes += normalized.notes("URDF")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
-                   tuple(findings), turned, friction=friction)
+                   tuple(findings), turned, facts={"geometry": geometry}, friction=friction)
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One ``<collision>`` of a link: ``kind`` (``box``, ``sphere``, ``cylinder``, ``capsule``, ``mesh``), its
+    ``<origin>`` in the link's frame (``xyz (3,)`` m, ``R (3, 3)``, ``rpy (3,)`` as written), ``size`` (box: its three
+    edges; sphere: ``(r,)``; cylinder, capsule: ``(r, length)``; m), a mesh's file (None where it is not found) and
+    ``scale (3,)``."""
+
+    kind: str
+    xyz: np.ndarray
+    R: np.ndarray
+    rpy: tuple
+    size: tuple
+    mesh: Path | None = None
+    scale: tuple = (1.0, 1.0, 1.0)
+    place: str = ""
+
+
+@dataclass(frozen=True)
+class LinkGeometry:
+    """What a link's dynamics do not use but an engine may (``Reading.facts["geometry"]``): whether it has an
+    ``<inertial>``, that inertial's origin (``xyz``, ``rpy`` as written, ``R``), and its collision shapes."""
+
+    inertial: bool
+    xyz: np.ndarray
+    rpy: tuple
+    R: np.ndarray
+    shapes: tuple[Shape, ...]
+
+
+def link_geometry(link: Node, path: Path, normalized) -> LinkGeometry:
+    """A link's :class:`LinkGeometry` (its shapes of a kind not listed in :class:`Shape` left out)."""
+    inertial = link.find("inertial")
+    origin = inertial.find("origin") if inertial is not None else None
+    rpy = tuple(numbers(origin, "rpy", 3, [0.0] * 3)) if origin is not None else (0.0, 0.0, 0.0)
+    xyz, R = _origin(inertial, normalized) if inertial is not None else (np.zeros(3), np.eye(3))
+    shapes = []
+    for collision in link.findall("collision"):
+        geometry = collision.find("geometry")
+        if geometry is None or not geometry.children:
+            continue
+        g = geometry.children[0]
+        o = collision.find("origin")
+        c_xyz, c_R = _origin(collision, normalized)
+        c_rpy = tuple(numbers(o, "rpy", 3, [0.0] * 3)) if o is not None else (0.0, 0.0, 0.0)
+        if g.tag == "box":
+            size: tuple = tuple(numbers(g, "size", 3, [0.0] * 3))
+        elif g.tag == "sphere":
+            size = (number(g, "radius", 0.0),)
+        elif g.tag in ("cylinder", "capsule"):
+            size = (number(g, "radius", 0.0), number(g, "length", 0.0))
+        elif g.tag == "mesh":
+            size = ()
+            target = resolve_uri(g.get("filename") or "", path)
+            shapes.append(Shape("mesh", c_xyz, c_R, c_rpy, size, target, tuple(numbers(g, "scale", 3, [1.0] * 3)),
+                                g.place))
+            continue
+        else:
+            continue
+        shapes.append(Shape(g.tag, c_xyz, c_R, c_rpy, size, place=g.place))
+    return LinkGeometry(inertial is not None, xyz, rpy, R, tuple(shapes))
 
 
 def _link_of(joint: Node, end: str) -> str:

@@ -465,12 +465,15 @@ def model_scene(path, *, seed: int = 0, duration: float = 1.0, dt: float = 1e-3,
     from relacc.core.cases import check_int
     from relacc.core.tree import reference_q
     from relacc.dynamics.tree_effects import TreeEffects
-    from relacc.engines import available
+    from relacc.engines import steppers
     from relacc.reading import read_moving
 
     path = Path(path)
     seed = check_int("seed", seed, minimum=0)
-    names = ("relacc",) + available() if engines is None else tuple(engines)
+    # the default scene integrates with RK4: the engines that have it (or their own error-controlled schemes); an
+    # engine with another scheme only (PyBullet's semi-implicit Euler) is named with --engines and --integrator euler
+    names = ("relacc",) + tuple(e for e in steppers() if "rk4" in integrators_of(e) or e in with_trait(
+        "error_controlled")) if engines is None else tuple(engines)
     drake = "runge_kutta5" if with_trait("error_controlled", names) else None
     if path.suffix.lower() == ".toml":
         from relacc.fixtures.shipped import scene_path

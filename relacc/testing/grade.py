@@ -96,12 +96,12 @@ def check_formula(fn: Callable | UserFunction, *, quantity: str, case: int, n: i
         chain = load().chain
     if not (callable(fn) or isinstance(fn, UserFunction)):
         raise CallError(f"{fn!r} is not callable; give a function fn(chain, q, u, udot)")
-    from relacc.engines import available
+    from relacc.engines import chain_engines
 
     s = draw_states(c, n, seed).and_then(draw_states(c, n, seed, hard=True), seed)
     # the truth first, and apart from anything the user's code touches (it runs in a child process, on copies)
     truths = [truth(s, name, chain=chain).of(quantity)
-              for name in ("relacc",) + tuple(available() if engines is None else engines)]
+              for name in ("relacc",) + tuple(chain_engines() if engines is None else engines)]
     blocks = [(name, list(range(sl.start, sl.stop))) for name, sl in zip(SPEED_NAMES[c], U_BLOCKS.values())]
     refs = [(t.source, t.values, t.scale, t.bound) for t in truths]
     references_agree(refs, f"G2's {quantity} in case {c}", "relacc check says which engine reads the chain apart")

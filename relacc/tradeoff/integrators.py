@@ -21,7 +21,7 @@ from relacc import dynamics
 from relacc.core.cases import Case
 from relacc.core.kinematics import g2_kinematics
 from relacc.dynamics.integrate import CaseSpace, solve_on_space
-from relacc.engines import TRAITS, TRUTH_ENGINE, available, load_engine, with_capability, with_trait
+from relacc.engines import TRAITS, TRUTH_ENGINE, chain_engines, load_engine, with_capability, with_trait
 from relacc.engines.capabilities import ManifoldRates
 from relacc.errors import IntegrationError
 from relacc.kernels.dynamics import Rates
@@ -102,7 +102,7 @@ def reference(scene: Scene, engines):
 
 def sweep(scene: Scene, factors=(16, 8, 4, 2, 1), tolerances=(1e-4, 1e-6, 1e-8, 1e-10), euler_factors=None):
     """Every engine x integrator x step (or tolerance) on one scene. Returns ``(rows, reference_info)``."""
-    engines = {n: load_engine(n, scene.fixture) for n in available()}
+    engines = {n: load_engine(n, scene.fixture) for n in chain_engines()}
     r_ref, E0, agreement = reference(scene, engines)
     rows = []
     conserves = scene.effects.conserves_energy

@@ -55,7 +55,7 @@ def pareto(rows: Iterable[dict], error: str = "error", cost: str = "seconds") ->
 def run(quick: bool = False, seed: int = 0, progress: Callable[[str], object] | None = None,
         fixture: Fixture | None = None, profile: dict | None = None) -> Tradeoff:
     """Run both sweeps (``quick``: a small one for tests and CI; ``profile``: QUICK, REPORT or FULL)."""
-    from relacc.engines import available, load_engine
+    from relacc.engines import chain_engines, load_engine
     from relacc.fixtures import load, shipped
     from relacc.simulate import scenes
 
@@ -63,7 +63,7 @@ def run(quick: bool = False, seed: int = 0, progress: Callable[[str], object] | 
     fixture = fixture if fixture is not None else load()
     if progress:
         progress("derivative sweep")
-    engines = {n: load_engine(n, fixture) for n in available()}
+    engines = {n: load_engine(n, fixture) for n in chain_engines()}
     drows = derivatives.sweep(fixture.chain, cfg["states"], seed, cfg["repeats"], engines)
     irows, refs = [], []
     for path in shipped.scene_paths("chain"):

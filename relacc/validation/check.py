@@ -20,7 +20,7 @@ from relacc.core.kinematics import G2Kinematics, resolve_variant
 from relacc.core.scales import term_scales
 from relacc.core.states import States, random_states
 from relacc.core.tolerances import rounding_tolerance
-from relacc.engines import ENGINES, available, installed, load_engine
+from relacc.engines import ENGINES, chain_engines, installed, load_engine
 from relacc.errors import EngineError
 from relacc.fixtures import Fixture, load
 from relacc.validation.compare import Comparison, against_engines, compare_values
@@ -55,7 +55,7 @@ class Harness:
         if isinstance(engines, dict):  # engines already loaded (a test's, or one with a planted fault)
             self.engines = dict(engines)
         else:
-            engines = available() if engines is None else (
+            engines = chain_engines() if engines is None else (
                 tuple(engines) if isinstance(engines, (list, tuple)) else (engines,))
             unknown = [e for e in engines if e not in ENGINES]
             if unknown:

@@ -198,9 +198,9 @@ class Runner:
     """Runs catalogue entries against the core and engines; caches engines per geometry."""
 
     def __init__(self, fixture: Fixture, engines=None, n: int = N_STATES, seed: int = 0):
-        from relacc.engines import available
+        from relacc.engines import chain_engines
 
-        self.engine_names = available() if engines is None else tuple(engines)
+        self.engine_names = chain_engines() if engines is None else tuple(engines)
         self.fixture, self.n, self.seed = fixture, n, seed
         self._engines = {}
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
-from relacc.engines import ENGINES, installed
+from relacc.engines import judges
 from relacc.errors import ModelError
 from relacc.validation.robots.agreement import compare_dynamics, random_states
 from relacc.validation.robots.tree import TreeRobot
@@ -46,7 +46,7 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
     """relacc's tree of ``model`` against each engine in each case (see the module docstring).
 
     Args:
-        engines: among ``mujoco``, ``pinocchio``, ``drake`` (default: those installed).
+        engines: among :data:`relacc.engines.ENGINES` (default: :func:`relacc.engines.judges`).
 
     Raises:
         ModelError: relacc cannot read the file, or nothing in it moves.
@@ -58,7 +58,7 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
     from relacc.limits import require_comparable
 
     require_comparable(reading.tree, n_states, "checking")
-    names = [e for e in ENGINES if installed(e)] if engines is None else list(engines)
+    names = list(judges(reading.format)) if engines is None else list(engines)
     robots, not_loaded = [], {}
     for name in names:
         try:

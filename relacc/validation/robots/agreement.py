@@ -147,6 +147,7 @@ def compare_dynamics(reference, robot, states: States) -> dict:
     singular = {}  # engine -> joints with no inertia, where its M over the shared speeds is exactly singular
 
     sc = Scales.of(reference.structure).larger(Scales.of(robot.structure))
+    rates = getattr(reference, "point_rates", True) and getattr(robot, "point_rates", True)
 
     def _ratio(d, scale):
         if d == 0:
@@ -228,8 +229,9 @@ def compare_dynamics(reference, robot, states: States) -> dict:
                 add(QTY.COM_POSITION, k1.position[i], k0.position[i], max(np.abs(k0.position[i]).max(initial=0),
                                                                         sc.length))
                 add(QTY.COM_JACOBIAN, J1, J0, max(np.abs(J0).max(initial=0), sc.length))
-                add(QTY.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)
-                add(QTY.CLASSICAL_ACCELERATION, k1.acceleration[i], k0.acceleration[i], acc)
+                if rates:  # an engine that offers no J_dot v and no classical acceleration (PyBullet) is not asked
+                    add(QTY.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)
+                    add(QTY.CLASSICAL_ACCELERATION, k1.acceleration[i], k0.acceleration[i], acc)
     out = {}
     tol = robot_tolerance(n_links)
     for k, e in errors.items():

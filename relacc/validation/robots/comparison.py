@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from relacc.engines import ENGINES, MESH_ENGINE, adapter_module, installed, readings, traits
+from relacc.engines import ENGINES, MESH_ENGINE, adapter_module, judges, readings, traits
 from relacc.engines import load as load_adapter
 from relacc.engines.contain import survives
 from relacc.errors import EngineError, ModelError
@@ -178,14 +178,16 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
     Args:
         urdf: a URDF of the same robot for Pinocchio (links named as the MJCF's bodies, joints as its joints);
             when ``model`` itself is a URDF, Pinocchio reads it by its URDF parser.
-        engines: among :data:`relacc.engines.ENGINES` (default: those installed).
+        engines: among :data:`relacc.engines.ENGINES` (default: :func:`relacc.engines.judges`, those installed that
+            read the file's format and take its inertias from it; an engine named that does not read the format is
+            reported as not taking part).
         n_states: random states besides the reference configuration; seed: their seed.
 
     Raises:
         ModelError: relacc cannot read the file, nothing in it moves, or no engine takes part (the messages name the
             file, the element and each engine's reason). EngineError: an unknown or missing engine.
     """
-    names = [e for e in ENGINES if installed(e)] if engines is None else list(engines)
+    names = list(judges(format_of(model) or "")) if engines is None else list(engines)
     for name in names:
         if name not in ENGINES:
             raise EngineError(f"unknown engine {name!r} for compare: accepted are {', '.join(ENGINES)}")

@@ -1,0 +1,42 @@
+"""How iDynTree reads a URDF differently from the specification, as changes to relacc's reading (imports no engine).
+
+* **A massless link on a fixed joint becomes a frame** of the link it is welded to ("additional frame"), so an
+  inertia it carries without a mass is dropped (example-robot-data's bolt: its feet, mass 0 and an inertia; the same
+  thing MuJoCo's fusion does). Measured with idyntree 15.1.0: a root ``world`` link turned into a frame of the robot's
+  first link is handled in the adapter (the base is held so that the frame sits at the world's origin).
+
+No difference in its algorithms is known (:data:`ENGINE_READINGS`). What it was tried on is in docs/compare.md.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from relacc.engines.base import KnownBehaviour
+from relacc.engines.known import with_bodies
+
+
+def _welded_massless_with_inertia(reading) -> bool:
+    return any(b.mass == 0 and not b.joints and np.any(b.inertia != 0) for b in reading.tree.bodies)
+
+
+def _as_frames(reading):
+    return with_bodies(reading, lambda b: replace(b, inertia=np.zeros((3, 3)))
+                       if b.mass == 0 and not b.joints and np.any(b.inertia != 0) else None)
+
+
+FILE_READINGS = (
+    KnownBehaviour(
+        "massless_link_a_frame",
+        "iDynTree's URDF parser makes a massless link on a fixed joint a frame of the link it is welded to, "
+        "dropping the inertia the file gives it without a mass",
+        _welded_massless_with_inertia,
+        _as_frames,
+    ),
+)
+"""iDynTree's known readings of a URDF."""
+
+ENGINE_READINGS: tuple = ()
+"""No known difference in iDynTree's algorithms."""
