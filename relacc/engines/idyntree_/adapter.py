@@ -40,8 +40,9 @@ class IDynTreeAdapter(FixedBaseAdapter):
         loader = idt.ModelLoader()
         with captured_output(stdout=True) as printed:
             ok = loader.loadModelFromString(text, "urdf")
-        if not ok:
-            raise ModelError(f"{path}: iDynTree cannot load it: {'; '.join(printed) or 'its parser says no more'}")
+        if not ok or loader.model().getNrOfLinks() == 0:  # its parser can fail and still say it loaded (no link)
+            said = "; ".join(line.removeprefix("[ERROR] ") for line in printed) or "its parser says no more"
+            raise ModelError(f"{path}: iDynTree cannot load it: {said}")
         self.model = loader.model().copy()
         m = self.model
         joints = []
@@ -63,9 +64,11 @@ class IDynTreeAdapter(FixedBaseAdapter):
                                    [(j["name"], j["kind"], j["dof"], j["dof"]) for j in self.joint_info])
         super().__init__(reference, matches, n, n, Path(path),
                          ([note] if note else []) + [f"iDynTree: {line}" for line in printed])
-        self.base, self.world_H_base = self._base(_root_link(text))
-        self._frames()
-        self.structure = self._structure()
+        with captured_output(stdout=True) as more:  # iDynTree's C++ says what goes wrong on stderr itself
+            self.base, self.world_H_base = self._base(_root_link(text))
+            self._frames()
+            self.structure = self._structure()
+        self.warnings += [f"iDynTree: {line}" for line in more]
 
     @property
     def version(self) -> str:
