@@ -295,7 +295,7 @@ def build_parser() -> argparse.ArgumentParser:
               "relacc simulate ant_tumbling", "relacc simulate --model robot.xml --duration 0.5"])
     p.add_argument("scene", metavar="SCENE", nargs="?", default=None,
                    help="scene TOML file, or a shipped scene's name (tumbling, gravity_spring, forced_damped, "
-                        "gimbal_spin, ant_tumbling); or give --model")
+                        "gimbal_spin, ant_tumbling, kuka_swinging); or give --model")
     _model(p, "an MJCF .xml or URDF .urdf, or a chain TOML: its default scene, tumbling in space from its "
               "reference configuration with speeds from --seed, nothing acting")
     p.add_argument("--out", metavar="DIR", help="a new directory for one CSV per engine")
