@@ -124,11 +124,12 @@ def inertialess(reference, M, dofs) -> list[str]:
     return names
 
 
-def compare_dynamics(reference, robot, states: States) -> dict:
+def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
     """``{quantity: Comparison}`` for ``robot`` against ``reference`` (MuJoCo, or relacc's tree): per state the
     normalized error (state 0: the reference configuration), the tolerance, and ``max_difference``, the largest
     absolute difference over the states in the quantity's units. Quantities a robot cannot give (no shared link)
-    are left out.
+    are left out. ``reading``: relacc's reading of the file, which the evaluators' own inertia allowances are taken
+    on (default: the one either evaluator carries; two engines compared pairwise carry none).
     """
     dofs = np.intersect1d(reference.dofs, robot.dofs)  # the speeds both have
     cols0, cols1 = own_columns(reference, dofs), own_columns(robot, dofs)
@@ -139,7 +140,7 @@ def compare_dynamics(reference, robot, states: States) -> dict:
     errors = {k: [] for k in QUANTITIES}
     allowed = {k: [] for k in QUANTITIES}  # per state, beyond the tolerance: an engine's own numerical tolerance
     diffs = {k: 0.0 for k in QUANTITIES}
-    reading = getattr(reference, "reading", None) or getattr(robot, "reading", None)
+    reading = reading or getattr(reference, "reading", None) or getattr(robot, "reading", None)
     # kg m^2: an engine's inertias may differ from the reading's by its documented tolerance (MuJoCo's mesh inertia);
     # a body inertia's error dI enters M as J_w^T dI J_w, each entry at most 3 |dI| (unit rotation axes)
     slack_M = 3.0 * max(inertia_slack(e, reading) for e in (reference, robot))

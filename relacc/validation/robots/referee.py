@@ -58,7 +58,8 @@ def referee(voters_, states, dynamics, reading) -> list[Verdict]:
         return []
     pair_rows = {}
     for a, b in itertools.combinations(present, 2):
-        pair_rows[(a.engine, b.engine)] = compare_dynamics(a.evaluator, b.evaluator, states)
+        # each pair with the allowances of both engines' own documented tolerances on the file's inertias
+        pair_rows[(a.engine, b.engine)] = compare_dynamics(a.evaluator, b.evaluator, states, reading)
     joined = bool(reading.taken) and any(v.engine == MESH_ENGINE for v in present)
     out = []
     for quantity in disputed:
