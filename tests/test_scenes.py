@@ -32,13 +32,22 @@ def test_four_scenes_are_shipped():
     assert {"tumbling", "gravity_spring", "forced_damped", "gimbal_spin"} <= {p.stem for p in SHIPPED}
 
 
+def implicit_in_damping(scene) -> bool:
+    """Whether MuJoCo's step is another scheme than the others' here: its Euler integrator takes joint damping
+    implicitly (``mj_implicit``'s damping term), so on a scene integrated by ``euler`` with a damper its trajectory
+    differs from the semi-implicit Euler of the others by a first-order term (kuka_swinging: 5.5e-4 m)."""
+    return scene.integrator == "euler" and any(e.damping for e in scene.effects.joints.values())
+
+
 @pytest.mark.slow
 def test_engines_agree_to_a_micrometre(scene_run):
-    """With the scene's own integrator and step, every pair of engines keeps G2 within 1e-6 m."""
+    """With the scene's own integrator and step, every pair of engines that steps the same scheme keeps the
+    observed point within 1e-6 m."""
     scene, result = scene_run
-    pos, vel, pairs = result.differences()
-    assert set(result.trajectories) == set(ENGINES)
-    assert pos <= 1e-6, f"{scene.name}: {pairs}"
+    _, _, pairs = result.differences()
+    assert set(result.trajectories) == set(scene.engines) >= set(ENGINES)
+    same = {k: p for k, p in pairs.items() if not (implicit_in_damping(scene) and "mujoco" in k.split("-"))}
+    assert max(p["position"] for p in same.values()) <= 1e-6, f"{scene.name}: {pairs}"
 
 
 @pytest.mark.slow
@@ -72,20 +81,22 @@ def _coarse(scene, factor):
 @pytest.mark.slow
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
 def test_engine_differences_shrink_at_the_integrators_order(path):
-    """Each engine's successive differences |x(8h) - x(4h)| / |x(4h) - x(2h)| shrink at order >= 3.5 (RK4: 4, RK5: 5).
+    """Each engine's successive differences |x(8h) - x(4h)| / |x(4h) - x(2h)| shrink at its scheme's order: >= 3.5
+    for RK4 (4) and Drake's RK5 (5), >= 0.9 for semi-implicit Euler (1).
 
     Self-convergence needs no reference: a reference run (relacc at h/4, before) was less accurate than Drake's
     fifth-order runs, whose distance to it then measured the reference's own error.
     """
     scene = scenes.load(path)
     runs = {f: simulate.run(_coarse(scene, f)) for f in (8, 4, 2)}
-    for engine in ENGINES:
+    least = 0.9 if scene.integrator == "euler" else 3.5
+    for engine in scene.engines:
         x = {f: runs[f].trajectories[engine].position[-1] for f in (8, 4, 2)}
         d = [np.linalg.norm(x[8] - x[4]), np.linalg.norm(x[4] - x[2])]
         if d[1] < 16 * FLOOR:
             continue  # already at rounding: no order to read
         order = np.log2(d[0] / d[1])
-        assert order >= 3.5, f"{scene.name} {engine}: differences {d}, observed order {order:.2f}"
+        assert order >= least, f"{scene.name} {engine}: differences {d}, observed order {order:.2f}"
 
 
 @pytest.mark.slow
