@@ -7,11 +7,12 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.engines.base import Adapter, fixed_base_only, heads, match_by_name, solved_forward
+from relacc.reading.urdf import GRAVITY as URDF_GRAVITY
 
 __all__ = ["GRAVITY", "FixedBaseAdapter"]
 
-GRAVITY = np.array([0.0, 0.0, -9.81])
-"""m/s^2: the gravity relacc's reading gives a URDF (a URDF has none; MuJoCo, Pinocchio and Drake read it so). A
+GRAVITY = np.array(URDF_GRAVITY)
+"""m/s^2: the gravity relacc's reading gives a URDF (:data:`relacc.reading.urdf.GRAVITY`; a URDF has none). A
 fixed-base adapter's engine is given it (PyBullet's world has none until ``setGravity``; iDynTree takes it with each
 state)."""
 

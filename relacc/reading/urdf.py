@@ -35,6 +35,9 @@ from relacc.reading.model import Reading
 from relacc.reading.xacro import is_xacro
 from relacc.reading.xml import Node, number, numbers, parse_file, parse_text, rounding
 
+GRAVITY = (0.0, 0.0, -9.81)
+"""m/s^2: the gravity relacc gives a URDF, which has none (as MuJoCo, Pinocchio and Drake read one)."""
+
 JOINTS = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide", "floating": "free", "fixed": None,
           "spherical": "ball"}
 """URDF joint types and relacc's joint of each (``fixed``: none, the child is welded; ``spherical``: not the
@@ -233,7 +236,7 @@ def read(path) -> Reading:
                            com=com, inertia=inertia, physical=is_physical, written=digits))
     if not bodies:
         raise ModelError(f"{path}: the URDF has no link besides the world")
-    tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array([0.0, 0.0, -9.81]), source=str(path))
+    tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array(GRAVITY), source=str(path))
     notes += normalized.notes("URDF")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
                    tuple(findings), turned, facts={"geometry": geometry}, friction=friction)

@@ -64,7 +64,8 @@ class PyBulletAdapter(FixedBaseAdapter):
             said = "; ".join(m.removeprefix("PyBullet: ") for m in _messages(printed)
                              if "No inertial data" not in m)  # why it failed, without its notes on the links
             raise ModelError(f"{path}: PyBullet cannot load it: {failure}" + (f" ({said})" if said else ""))
-        self.links, joints = self._joints()
+        self._inertial_frames: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # (p, R) of each link, read once
+        self.links, joints = self._joints(path)
         movable = [j for j in joints if j["kind"] is not None]
         self.order = [j["index"] for j in movable]  # PyBullet's joint index of each of its speeds, in uIndex order
         matches = self._fixed_base("PyBullet", path, reference, "PyBullet's URDF importer reads a floating joint as a "
@@ -116,7 +117,7 @@ class PyBulletAdapter(FixedBaseAdapter):
             if message not in self.warnings:
                 self.warnings.append(message)
 
-    def _joints(self) -> tuple[dict, list[dict]]:
+    def _joints(self, path) -> tuple[dict, list[dict]]:
         """``({link name: PyBullet link index}, [each joint's name, kind, index, child link]`` in index order).
 
         Raises:
@@ -127,7 +128,8 @@ class PyBulletAdapter(FixedBaseAdapter):
             info = pb.getJointInfo(self.body, j, physicsClientId=self.client)
             name, kind, child = info[1].decode(), info[2], info[12].decode()
             if kind not in KINDS:
-                raise ModelError(f"{self.source if hasattr(self, 'source') else 'the URDF'}: PyBullet's joint {name} "
+                pb.disconnect(self.client)
+                raise ModelError(f"{path}: PyBullet's joint {name} "
                                  f"is of its type {kind}, which relacc does not match (revolute, prismatic, fixed)")
             links[child] = j
             joints.append({"name": name, "kind": KINDS[kind], "index": j, "child": child, "damping": info[6]})
@@ -189,10 +191,13 @@ class PyBulletAdapter(FixedBaseAdapter):
         frame and the inertial frame's place in the link (``getDynamicsInfo``): ``getLinkState``'s own
         ``worldLinkFramePosition`` is rounded to single precision (measured: 0.20000001788139343 for 0.2)."""
         c, R_c = self._frame(link)
-        info = pb.getDynamicsInfo(self.body, link, physicsClientId=self.client)
-        R_in = np.array(pb.getMatrixFromQuaternion(info[4])).reshape(3, 3)
+        if link not in self._inertial_frames:  # the inertial frame's place in the link does not move
+            info = pb.getDynamicsInfo(self.body, link, physicsClientId=self.client)
+            turned = np.array(pb.getMatrixFromQuaternion(info[4])).reshape(3, 3)
+            self._inertial_frames[link] = (np.array(info[3]), turned)
+        p_in, R_in = self._inertial_frames[link]
         R = R_c @ R_in.T
-        return c - R @ np.array(info[3]), R
+        return c - R @ p_in, R
 
     def _local(self, link: int, p_W: np.ndarray) -> np.ndarray:
         """A world point fixed on ``link`` as :meth:`_jacobian` takes it, at the state set."""
