@@ -74,6 +74,13 @@ def test_the_contract(engine):
     # a conversion is a few rotations and products: c eps times the states' magnitude
     np.testing.assert_allclose(q, st.q, rtol=0, atol=ROUNDING_FACTOR * EPS * max(1.0, np.abs(st.q).max()))
     np.testing.assert_allclose(v, st.u, rtol=0, atol=ROUNDING_FACTOR * EPS * np.abs(st.u).max())
+    # a match kind the adapter does not declare varying has one speed map at every position (the joint forces of a
+    # stepper invert it once): exactly the same matrix at the random states as at zero positions
+    for m in adapter.matches:
+        if m.kind not in adapter.varying_speed_maps:
+            T, _ = adapter.v_block(m, st.q[:, list(m.ref_q)], st.u[:, list(m.ref_v)])
+            T0, _ = adapter.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, len(m.ref_v))))
+            assert np.array_equal(T, np.broadcast_to(T0[0], T.shape)), f"{engine}: {m.kind}'s speed map varies"
     M, f = adapter.equations(qe, ve)
     a = adapter.forward(qe, ve)
     # the engine's forward dynamics solves its own M a = f: the residual of a solve, c eps (|M| |a| + |f|)

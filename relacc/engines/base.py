@@ -43,10 +43,6 @@ if TYPE_CHECKING:
 JOINT_TYPES = ("free", "ball", "slide", "hinge")
 """Joint types in the common description (MuJoCo's names)."""
 
-ONE = ("hinge", "slide")
-"""Joints of one speed: an engine's speed is a constant multiple of the reference's (its axis' sense), so a match's
-speed map ``T`` is the same at every position."""
-
 NQ = {"free": 7, "ball": 4, "slide": 1, "hinge": 1, "floating": 7}
 NV = {"free": 6, "ball": 3, "slide": 1, "hinge": 1, "floating": 6}
 
@@ -533,37 +529,56 @@ class Adapter(abc.ABC):
         """``(n, nv_e)`` the generalized forces of ``effects``' joint springs and dampers on the engine's speeds.
 
         Only the matches of joints with an effect are mapped back (a match's speeds map on their own: ``T`` is
-        block-diagonal by match), each by its block ``T_m``: ``v = T_m^-1 v_e``, ``tau_e = T_m^-T f``. The matches
-        and the resolved effects are kept per ``effects``: steppers call this at every stage of every step.
+        block-diagonal by match), each by its block ``T_m``: ``v = T_m^-1 v_e``, ``tau_e = T_m^-T f``. Steppers call
+        this at every stage of every step, so the plan is made once per ``effects`` (:meth:`_plan_joint_forces`): each
+        match's indices as slices where contiguous, and ``T_m^-1`` itself where ``T_m`` is the same at every position
+        (:attr:`varying_speed_maps`).
         """
         from relacc.dynamics.tree import joint_forces
 
         cached = self._joint_plan
         if cached is None or cached[0] is not effects:
-            _, resolved, _ = effects.resolve(self.reference)
-            joints = {k for k, _, _ in resolved}
-            plan = [m for m in self.matches if joints & set(m.joints)]
-            if len(set().union(*(m.joints for m in plan))) < len(joints):
-                raise EngineError(f"{self.engine} lacks a joint the effects name: its forces do not map")
-            planned = [(m, np.array(m.q), np.array(m.v), np.array(m.ref_q), np.array(m.ref_v),
-                        self.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, 1)))[0] if m.kind in ONE else None)
-                       for m in plan]
-            cached = self._joint_plan = (effects, resolved, planned)
+            cached = self._joint_plan = (effects, *self._plan_joint_forces(effects))
         _, resolved, plan = cached
         n = len(qe)
         q, v = np.zeros((n, self.reference.nq_in(2))), np.zeros((n, self.reference.nv))
         blocks = []
-        for m, iq, iv, ref_q, ref_v, T in plan:
+        for m, iq, iv, ref_q, ref_v, T_inv in plan:
             x = self.q_back(m, qe[:, iq])
-            if T is None:  # T does not depend on the speeds
-                T, _ = self.v_block(m, x, np.zeros((n, len(ref_v))))
-            q[:, ref_q], v[:, ref_v] = x, _solve(T, ve[:, iv])
-            blocks.append(T)
+            q[:, ref_q] = x
+            if T_inv is None:  # T depends on the position: inverted once for both directions
+                T_inv = np.linalg.inv(self.v_block(m, x, np.zeros((n, v[:, ref_v].shape[1])))[0])
+            blocks.append(T_inv)
+            v[:, ref_v] = ve[:, iv] * T_inv if np.ndim(T_inv) == 0 else (T_inv @ ve[:, iv, None])[..., 0]
         f = joint_forces(self.reference, q, v, effects, resolved)
         tau = np.zeros((n, self.nv_e))
-        for (_, _, iv, _, ref_v, _), T in zip(plan, blocks):
-            tau[:, iv] = _solve(np.swapaxes(T, 1, 2), f[:, ref_v])
+        for (_, _, iv, _, ref_v, _), T_inv in zip(plan, blocks):
+            tau[:, iv] = f[:, ref_v] * T_inv if np.ndim(T_inv) == 0 else (f[:, None, ref_v] @ T_inv)[:, 0]
         return tau
+
+    varying_speed_maps: tuple[str, ...] = ()
+    """The match kinds whose speed map ``T`` (:meth:`v_block`) depends on the position; every other kind's is the same
+    at every position (``tests/test_engine_contract.py`` holds each engine to its declaration)."""
+
+    def _plan_joint_forces(self, effects) -> tuple[list, list]:
+        """``(resolved, plan)`` for :meth:`_joint_forces`: ``effects``' resolved joint effects, and per match of a joint
+        with an effect ``(match, engine q, engine v, reference q, reference v, T^-1 or None)`` (``T^-1`` of one speed
+        a float), indices as slices
+        where contiguous."""
+        _, resolved, _ = effects.resolve(self.reference)
+        joints = {k for k, _, _ in resolved}
+        matches = [m for m in self.matches if joints & set(m.joints)]
+        if len(set().union(*(m.joints for m in matches))) < len(joints):
+            raise EngineError(f"{self.engine} lacks a joint the effects name: its forces do not map")
+        plan = []
+        for m in matches:
+            T_inv = None
+            if m.kind not in self.varying_speed_maps:
+                T, _ = self.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, len(m.ref_v))))
+                T_inv = np.linalg.inv(np.asarray(T[0], dtype=float))
+                T_inv = float(T_inv[0, 0]) if T_inv.shape == (1, 1) else T_inv  # one speed: a factor, its sense
+            plan.append((m, *(_index(i) for i in (m.q, m.v, m.ref_q, m.ref_v)), T_inv))
+        return resolved, plan
 
     def dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
         """:class:`Dynamics` at reference states ``q (n, nq)``, ``v (n, nv)`` (or one state, ``(nq,)``, ``(nv,)``:
@@ -608,6 +623,14 @@ def first(result, one: bool):
         return result
     values = (getattr(result, f.name) for f in dataclasses.fields(result))
     return type(result)(*(None if x is None else x[0] for x in values))
+
+
+def _index(indices: tuple) -> slice | np.ndarray:
+    """``indices`` as a slice where they are contiguous and increasing (a view, not a copy), else as an array."""
+    i = np.asarray(indices, dtype=int)
+    if len(i) and np.array_equal(i, np.arange(i[0], i[0] + len(i))):
+        return slice(int(i[0]), int(i[0]) + len(i))
+    return i
 
 
 def _solve(T, b) -> np.ndarray:

@@ -49,6 +49,7 @@ class DrakeAdapter(PointLoop, Adapter):
         p = self.plant
         super().__init__(reference, matches, p.num_positions(), p.num_velocities(), self.path, warnings)
         self.context = p.CreateDefaultContext()
+        self._load_plan: tuple | None = None  # (effects, [(frame, point, wrench, load)]): see load_forces
         self.gravity0 = np.asarray(p.gravity_field().gravity_vector(), dtype=float).copy()
         self._ad: tuple | None = None
         self.structure = self._structure()
@@ -79,6 +80,10 @@ class DrakeAdapter(PointLoop, Adapter):
         if mt.kind == "ball":
             return np.array([RollPitchYaw(r).ToQuaternion().wxyz() for r in xe])
         return xe
+
+    varying_speed_maps = ("free", "floating", "ball")
+    """A free or ball joint's angular speeds are Drake's in its parent's frame (``R w``); its translations' of a free
+    joint in the world's."""
 
     def v_block(self, mt, x, w):
         n = len(x)
@@ -180,18 +185,21 @@ class DrakeAdapter(PointLoop, Adapter):
         return frame.body(), frame.GetFixedPoseInBodyFrame().translation()
 
     def load_forces(self, qe, effects, t=0.0) -> np.ndarray:
-        """Body loads through ``CalcJacobianTranslationalVelocity`` at the bodies' mass centres and
-        ``CalcJacobianAngularVelocity``: ``J^T F``, ``J_w^T T``."""
+        """Body loads through ``CalcJacobianSpatialVelocity`` at the bodies' mass centres (world components): ``J^T``
+        of the wrench ``(T, F)``. Steppers call this at every stage: each body's frame and point are found once per
+        ``effects``."""
         p, ctx, W = self.plant, self.context, self.plant.world_frame()
         tau = np.zeros((len(qe), self.nv_e))
-        where = {name: self._where(("body", name)) for name in effects.bodies}
+        if self._load_plan is None or self._load_plan[0] is not effects:
+            self._load_plan = (effects, [(self._where(("body", name))[0].body_frame(),
+                                          self._where(("body", name))[1], np.r_[load.torque, load.force], load)
+                                         for name, load in effects.bodies.items()])
         for i in range(len(qe)):
             p.SetPositions(ctx, qe[i])
-            for name, load in effects.bodies.items():
-                body, p_B = where[name]
-                Jv = p.CalcJacobianTranslationalVelocity(ctx, KV, body.body_frame(), p_B, W, W)
-                Jw = p.CalcJacobianAngularVelocity(ctx, KV, body.body_frame(), W, W)
-                tau[i] += float(load.factor(t[i] if np.ndim(t) else t)) * (Jv.T @ load.force + Jw.T @ load.torque)
+            ti = t[i] if np.ndim(t) else t
+            for frame, p_B, wrench, load in self._load_plan[1]:
+                J = p.CalcJacobianSpatialVelocity(ctx, KV, frame, p_B, W, W)
+                tau[i] += (wrench if load.frequency == 0 else float(load.factor(ti)) * wrench) @ J
         return tau
 
     def equations(self, qe, ve, effects=None, t=0.0):

@@ -205,6 +205,9 @@ class PinocchioAdapter(PointLoop, KinematicsLoops, BatchedForward, ThreadedStepp
             return np.arctan2(xe[:, 1:2], xe[:, 0:1])
         return xe
 
+    varying_speed_maps = ("free",)
+    """A free joint's linear speeds are Pinocchio's in the body's frame (``R^T v``)."""
+
     def v_block(self, mt, x, w):
         if mt.kind != "free":
             return super().v_block(mt, x, w)
