@@ -572,11 +572,11 @@ class Adapter(abc.ABC):
             raise EngineError(f"{self.engine} lacks a joint the effects name: its forces do not map")
         plan = []
         for m in matches:
-            T_inv = None
+            T_inv: float | np.ndarray | None = None
             if m.kind not in self.varying_speed_maps:
                 T, _ = self.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, len(m.ref_v))))
-                T_inv = np.linalg.inv(np.asarray(T[0], dtype=float))
-                T_inv = float(T_inv[0, 0]) if T_inv.shape == (1, 1) else T_inv  # one speed: a factor, its sense
+                inverse = np.linalg.inv(np.asarray(T[0], dtype=float))
+                T_inv = float(inverse[0, 0]) if inverse.shape == (1, 1) else inverse  # one speed: a factor, its sense
             plan.append((m, *(_index(i) for i in (m.q, m.v, m.ref_q, m.ref_v)), T_inv))
         return resolved, plan
 
