@@ -209,12 +209,13 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
         audits.append(_audit(reading, reference, robot, scales, URDF_CAUSE))
     for robot in list(robots):
         from_urdf = traits(robot.engine).own_urdf and urdf is not None
+        memo: dict = {}  # the causes' readings and comparisons, made once for all of this engine's rows
         try:
             items = _audit(reading, reference, robot, scales, URDF_CAUSE if other_file and from_urdf else None)
             rows = compare_dynamics(reference, robot, states)
             for quantity, row in rows.items():
                 cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, robot,
-                                                                         states, items)
+                                                                         states, items, memo)
                 if other_file and from_urdf and items and not cause.explained:
                     cause = Cause(CauseKind.URDF,
                                   "the URDF and the MJCF describe the robot differently (see the audit)")
@@ -230,10 +231,10 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
         audits.append(items)
     _at_least_one(model, reports, robots)
     for case in (1, 3):  # relacc's own evaluation in the other cases, against its case 2
-        evaluator = TreeRobot(reading, case)
+        evaluator, memo = TreeRobot(reading, case), {}
         for quantity, row in compare_dynamics(reference, evaluator, states).items():
             cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, evaluator,
-                                                                     states) if row.singular else \
+                                                                     states, memo=memo) if row.singular else \
                 Cause(CauseKind.NOT_EXPLAINED, "relacc's case differs from its case 2 on its own reading",
                       reading.source)
             dynamics[quantity][evaluator.engine] = replace(row, case=case, cause=str(cause), cause_kind=cause.kind)
@@ -420,35 +421,41 @@ def _explained(again: dict, quantity: str, before) -> bool:
                           and row.max_difference <= EXPLAINED * before.max_difference)
 
 
-def _dynamics_cause(quantity, before, reading, reference, robot, states, items=()) -> Cause:
+def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(), memo: dict | None = None) -> Cause:
     """Why ``quantity`` disagrees: the engine's readings of the file (relacc's reader reading it the engine's way,
     every reading that applies, cumulatively), a known difference in the engine's algorithms (alone, or with those
     readings), MuJoCo's own ``mj_jacDot``, a singular mass matrix, a finding about the file or what relacc took (the
-    engine's audit ``items`` all of those kinds); else not explained."""
+    engine's audit ``items`` all of those kinds); else not explained.
+
+    ``memo``: one dict per evaluator for all its rows: each reading and each comparison under it is made once and
+    judged for every quantity that disagrees (a comparison gives every quantity at once)."""
     from relacc.validation.robots.routines import routine_cause
 
+    memo = {} if memo is None else memo
+
+    def once(key, make):
+        if key not in memo:
+            memo[key] = make()
+        return memo[key]
+
     engine = robot.engine
-    current, texts = reading, []
-    for known in READINGS.get(engine, ()):
-        if known.applies(current):
-            try:
-                current, texts = known.change(current), texts + [known.text]
-            except ModelError:
-                continue
-    read_as = TreeRobot(current, 2, reading.tree) if texts else None
-    if read_as is not None and _explained(compare_dynamics(read_as, robot, states), quantity, before):
+    current, texts = once("read", lambda: _read_as_engine(reading, engine))
+    read_as = once("read_as", lambda: TreeRobot(current, 2, reading.tree)) if texts else None
+    if read_as is not None and _explained(once("read_as rows", lambda: compare_dynamics(read_as, robot, states)),
+                                          quantity, before):
         return Cause(CauseKind.EXPLAINED, "explained by the audit: " + "; ".join(texts))
-    for known in readings(engine):
+    for k, known in enumerate(readings(engine)):
         text = known.text
-        if known.applies(robot):
-            try:
-                fixed = known.change(robot)
-            except (ModelError, EngineError):
-                continue
-            if _explained(compare_dynamics(reference, fixed, states), quantity, before):
-                return Cause(CauseKind.EXPLAINED, text)
-            if read_as is not None and _explained(compare_dynamics(read_as, fixed, states), quantity, before):
-                return Cause(CauseKind.EXPLAINED, text + "; and the audit: " + "; ".join(texts))
+        fixed = once(("fixed", k), lambda: _changed(known, robot))  # noqa: B023 - called at once
+        if fixed is None:
+            continue
+        if _explained(once(("fixed rows", k), lambda: compare_dynamics(reference, fixed, states)),  # noqa: B023
+                      quantity, before):
+            return Cause(CauseKind.EXPLAINED, text)
+        if read_as is not None and _explained(
+                once(("fixed read_as rows", k), lambda: compare_dynamics(read_as, fixed, states)),  # noqa: B023
+                quantity, before):
+            return Cause(CauseKind.EXPLAINED, text + "; and the audit: " + "; ".join(texts))
     text = routine_cause(quantity, reference, robot, states)
     if text:
         return Cause(CauseKind.EXPLAINED, text)
@@ -456,10 +463,10 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
         return Cause(CauseKind.SINGULAR, "forward dynamics undefined: " + "; ".join(
             f"{e}'s mass matrix over the shared speeds is singular (no inertia moves with "
             f"{', '.join(joints) or 'a combination of speeds'})" for e, joints in before.singular.items()))
-    for base in ([reading, current] if texts else [reading]) if reading.findings else []:
-        as_engine = findings_as_read(base, robot)
-        if as_engine is not None and _explained(compare_dynamics(TreeRobot(as_engine, 2, reading.tree), robot, states),
-                                                quantity, before):
+    for b, base in enumerate(([reading, current] if texts else [reading]) if reading.findings else []):
+        as_engine = once(("findings", b), lambda: findings_as_read(base, robot))  # noqa: B023 - called at once
+        if as_engine is not None and _explained(once(("findings rows", b), lambda: compare_dynamics(  # noqa: B023
+                TreeRobot(as_engine, 2, reading.tree), robot, states)), quantity, before):
             f = reading.findings[0]
             return Cause(CauseKind.FINDING,
                          f"the file has bodies that are not physical (first: body {f.body}, {f.condition})"
@@ -476,6 +483,29 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
     return Cause(CauseKind.NOT_EXPLAINED, f"not explained by a known difference of {engine}"
                  + (f" (its known readings of the file were applied: {'; '.join(texts)})" if texts else ""),
                  reading.source)
+
+
+def _read_as_engine(reading, engine: str) -> tuple:
+    """``(reading, texts)``: the file read as ``engine`` reads it (every known reading of
+    :data:`relacc.validation.robots.causes.READINGS` that applies, one after the other) and those readings' texts."""
+    current, texts = reading, []
+    for known in READINGS.get(engine, ()):
+        if known.applies(current):
+            try:
+                current, texts = known.change(current), texts + [known.text]
+            except ModelError:
+                continue
+    return current, texts
+
+
+def _changed(known, robot):
+    """``robot`` with a known difference of its engine's algorithms applied, or None where it does not apply."""
+    if not known.applies(robot):
+        return None
+    try:
+        return known.change(robot)
+    except (ModelError, EngineError):
+        return None
 
 
 def findings_as_read(reading, robot):
