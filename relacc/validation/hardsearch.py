@@ -133,6 +133,41 @@ def _no_local_constants():
             cache.cache.clear()
 
 
+def search_worst(judge, *, examples: int, seed: int, tried=()) -> tuple[dict, int]:
+    """``(worst, count)``: the largest ``"ratio"`` of the states ``tried`` (judged results, e.g. a search's corners,
+    an iterable judged lazily) and of ``examples`` Hypothesis examples, each ``judge(data, strategies)`` (a dict with a
+    ``"ratio"``, error / bound), ``hypothesis.target`` steering toward the largest ratio; deterministic for ``seed``
+    (no example database, Hypothesis's storage private: :func:`private_storage`). The one search scaffold of the
+    chain's search (:func:`hypothesis_search`) and any tree's (:func:`relacc.validation.treehard.search`)."""
+    import hypothesis
+    from hypothesis import HealthCheck, Phase, given, settings, target
+    from hypothesis import strategies as st
+
+    worst: dict = {"ratio": -1.0}
+    count = [0]
+
+    def keep(found: dict) -> None:
+        count[0] += 1
+        if found["ratio"] > worst["ratio"]:
+            worst.update(found)
+
+    for found in tried:
+        keep(found)
+
+    @hypothesis.seed(seed)
+    @settings(max_examples=examples, database=None, deadline=None, derandomize=False,
+              phases=[Phase.generate, Phase.target], suppress_health_check=list(HealthCheck))
+    @given(st.data())
+    def probe(data):
+        found = judge(data, st)
+        target(found["ratio"], label="error / bound")
+        keep(found)
+
+    with private_storage():
+        probe()
+    return worst, count[0]
+
+
 def hypothesis_search(fixture: Fixture, max_examples: int = 100, seed: int = 0,
                       engines=None) -> Worst:
     """Let Hypothesis push toward the largest error / bound over random states; return the worst.
@@ -142,33 +177,18 @@ def hypothesis_search(fixture: Fixture, max_examples: int = 100, seed: int = 0,
     complex-step derivatives; ``hypothesis.target`` steers toward the largest
     ratio. Deterministic for a given ``seed`` (no example database).
     """
-    import hypothesis
-    from hypothesis import HealthCheck, Phase, given, settings, target
-    from hypothesis import strategies as st
-
     runner = Runner(fixture, engines)
     chain = fixture.chain
-    worst: dict = {"ratio": -1.0}
-    count = [0]
 
-    @hypothesis.seed(seed)
-    @settings(max_examples=max_examples, database=None, deadline=None, derandomize=False,
-              phases=[Phase.generate, Phase.target], suppress_health_check=list(HealthCheck))
-    @given(st.data())
-    def probe(data):
+    def judge(data, st) -> dict:
         case, q, u, udot, desc = _draw_state(data, st)
-        count[0] += 1
         core = relacc.g2_kinematics(chain, case, q, u, udot)
         sc = term_scales(chain, case, q, u, udot)
         comps = (against_derivatives(chain, case, q, u, udot, core, sc, quantities=("acceleration",))
                  + against_engines(runner.engines_for(FIXTURE_GEOMETRY), chain, case, q, u, udot, core, sc))
         c = max(comps, key=lambda c: c.max_ratio)
-        best = (c.max_ratio, c.evaluator, c.quantity, c.max_error, c.max_bound)
-        target(best[0], label="error / bound")
-        if best[0] > worst["ratio"]:
-            worst.update(ratio=best[0], evaluator=best[1], quantity=best[2], case=case, error=best[3],
-                         bound=best[4], description=desc, q=q.tolist(), u=u.tolist(), udot=udot.tolist())
+        return dict(ratio=c.max_ratio, evaluator=c.evaluator, quantity=c.quantity, case=case, error=c.max_error,
+                    bound=c.max_bound, description=desc, q=q.tolist(), u=u.tolist(), udot=udot.tolist())
 
-    with private_storage():
-        probe()
-    return Worst(examples=count[0], **worst)
+    worst, count = search_worst(judge, examples=max_examples, seed=seed)
+    return Worst(examples=count, **worst)

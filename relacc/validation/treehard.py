@@ -78,35 +78,12 @@ def search(path, reading=None, *, examples: int = 30, seed: int = 0, engine: str
 
 
 def _search_case(tree, opponent, case, extent, examples, seed) -> HardFinding:
-    import hypothesis
-    from hypothesis import HealthCheck, Phase, given, settings, target
-    from hypothesis import strategies as st
+    from relacc.validation.hardsearch import search_worst
 
-    from relacc.validation.hardsearch import private_storage
-
-    worst: dict = {"ratio": -1.0}
-    count = [0]
-
-    @hypothesis.seed(seed * 3 + case)
-    @settings(max_examples=examples, database=None, deadline=None, derandomize=False,
-              phases=[Phase.generate, Phase.target], suppress_health_check=list(HealthCheck))
-    @given(st.data())
-    def probe(data):
-        state = _draw(tree, case, data, st)
-        found = _judge(tree, opponent, case, extent, *state)
-        count[0] += 1
-        target(found["ratio"], label="error / bound")
-        if found["ratio"] > worst["ratio"]:
-            worst.update(found)
-
-    for state in _corners(tree, case, seed):
-        found = _judge(tree, opponent, case, extent, *state)
-        count[0] += 1
-        if found["ratio"] > worst["ratio"]:
-            worst.update(found)
-    with private_storage():
-        probe()
-    return HardFinding(case=case, examples=count[0], **worst)
+    corners = (_judge(tree, opponent, case, extent, *state) for state in _corners(tree, case, seed))
+    worst, count = search_worst(lambda data, st: _judge(tree, opponent, case, extent, *_draw(tree, case, data, st)),
+                                examples=examples, seed=seed * 3 + case, tried=corners)
+    return HardFinding(case=case, examples=count, **worst)
 
 
 def _draw(tree, case, data, st):
