@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from relacc.cli import main
-from relacc.core.conventions import ModelQuantity
+from relacc.core.conventions import Quantity
 from relacc.core.tolerances import EPS, robot_tolerance
 from relacc.errors import ModelError
 from relacc.validation.robots import compare
@@ -685,7 +685,7 @@ def test_a_scene_including_a_robot_beside_its_own_free_body_is_refereed(tmp_path
     (tmp_path / "scene.xml").write_text(SCENE_WITH_A_BALL)
     result = compare(tmp_path / "scene.xml", n_states=3)
     verdicts = {v.quantity: v for v in result.referee}
-    mass = verdicts[ModelQuantity.MASS_MATRIX]
+    mass = verdicts[Quantity.MASS_MATRIX]
     assert mass.odd_ones_out == ("drake",) and set(mass.agreeing) == {"relacc", "pinocchio", "mujoco"}, mass
     # Pinocchio against MuJoCo over the 6 speeds they share: within the tolerance
     assert mass.pairs["pinocchio|mujoco"] <= 1.0, mass.pairs
@@ -746,7 +746,7 @@ def test_a_finding_is_a_dynamics_cause_only_where_it_reproduces_the_difference(t
     path.write_text(ROTOR.format(root=root))
     result = compare(path, engines=["drake"], n_states=3, seed=4)
     assert [f.body for f in result.findings] == (["base"] if root else [])
-    rows = result.dynamics[ModelQuantity.MASS_MATRIX]
+    rows = result.dynamics[Quantity.MASS_MATRIX]
     assert not rows["drake"].passed and rows["drake"].cause_kind == "not explained", rows["drake"].cause
 
 

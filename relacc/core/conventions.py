@@ -8,8 +8,32 @@ from __future__ import annotations
 
 from enum import StrEnum
 
-QUANTITIES = ("position", "velocity", "acceleration", "V", "Vdot")
-"""The outputs of :func:`relacc.g2_kinematics` that are cross-validated."""
+
+class Quantity(StrEnum):
+    """Every quantity relacc compares between evaluators, one vocabulary for the chain and for models: each member's
+    value is its display name (and its key in the JSON). The chain's G2 (:data:`QUANTITIES`, meanings in
+    :data:`MEANINGS`) and a model file's (:data:`MODEL_QUANTITIES`, meanings in :data:`MODEL_MEANINGS`)."""
+
+    POSITION = "position"
+    VELOCITY = "velocity"
+    ACCELERATION = "acceleration"
+    V = "V"
+    VDOT = "Vdot"
+    MASS_MATRIX = "mass matrix"
+    BIAS_FORCES = "bias forces"
+    GRAVITY_FORCES = "gravity forces"
+    FORWARD_DYNAMICS = "forward dynamics"
+    COM_POSITION = "COM position"
+    COM_JACOBIAN = "COM Jacobian"
+    JDOT_V = "J_dot v"
+    CLASSICAL_ACCELERATION = "classical acceleration"
+
+
+QUANTITIES = (Quantity.POSITION, Quantity.VELOCITY, Quantity.ACCELERATION, Quantity.V, Quantity.VDOT)
+"""The outputs of :func:`relacc.g2_kinematics` that are cross-validated, in report order."""
+MODEL_QUANTITIES = (Quantity.MASS_MATRIX, Quantity.BIAS_FORCES, Quantity.GRAVITY_FORCES, Quantity.FORWARD_DYNAMICS,
+                    Quantity.COM_POSITION, Quantity.COM_JACOBIAN, Quantity.JDOT_V, Quantity.CLASSICAL_ACCELERATION)
+"""What ``relacc compare`` compares between evaluators of a model file, in report order."""
 
 SYMBOLS = {
     "position": "r_G2",
@@ -35,7 +59,7 @@ def _sentence(q: str) -> str:
     return f"{point} {what}; {comps} components" + (f"; {kind}" if kind else "") + f"; {units}"
 
 
-CONVENTIONS = {q: _sentence(q) for q in QUANTITIES}
+CONVENTIONS: dict[str, str] = {q: _sentence(q) for q in QUANTITIES}
 """One line per quantity, printed beside every number."""
 
 CASE_NAMES = {
@@ -70,29 +94,15 @@ TREE_JOINTS = {
 ``quat`` (``Rx Ry Rz``). Case 2 is MuJoCo's ``qpos``/``qvel`` as they are (``docs/trees.md``)."""
 
 
-class ModelQuantity(StrEnum):
-    """What ``relacc compare`` compares between evaluators of a model file, in report order; each member's value is
-    its display name (and its key in the JSON), its meaning in :data:`MODEL_MEANINGS`."""
-
-    MASS_MATRIX = "mass matrix"
-    BIAS_FORCES = "bias forces"
-    GRAVITY_FORCES = "gravity forces"
-    FORWARD_DYNAMICS = "forward dynamics"
-    COM_POSITION = "COM position"
-    COM_JACOBIAN = "COM Jacobian"
-    JDOT_V = "J_dot v"
-    CLASSICAL_ACCELERATION = "classical acceleration"
-
-
-MODEL_MEANINGS = {
-    ModelQuantity.MASS_MATRIX: "M (nv x nv) over the shared speeds, in case c's speeds",
-    ModelQuantity.BIAS_FORCES: "Coriolis, centrifugal and gravity generalized forces, M a + bias = tau",
-    ModelQuantity.GRAVITY_FORCES: "bias at zero speeds",
-    ModelQuantity.FORWARD_DYNAMICS: "a = M^-1 (-bias): no passive force, actuator or contact",
-    ModelQuantity.COM_POSITION: "each link's mass centre, fixed components, m",
-    ModelQuantity.COM_JACOBIAN: "d v_G / d u per link, fixed components",
-    ModelQuantity.JDOT_V: "each link's mass centre, fixed components, m/s^2 (classical: a = J u_dot + J_dot u)",
-    ModelQuantity.CLASSICAL_ACCELERATION: "each link's mass centre at random speed rates, fixed components, m/s^2 "
+MODEL_MEANINGS: dict[str, str] = {
+    Quantity.MASS_MATRIX: "M (nv x nv) over the shared speeds, in case c's speeds",
+    Quantity.BIAS_FORCES: "Coriolis, centrifugal and gravity generalized forces, M a + bias = tau",
+    Quantity.GRAVITY_FORCES: "bias at zero speeds",
+    Quantity.FORWARD_DYNAMICS: "a = M^-1 (-bias): no passive force, actuator or contact",
+    Quantity.COM_POSITION: "each link's mass centre, fixed components, m",
+    Quantity.COM_JACOBIAN: "d v_G / d u per link, fixed components",
+    Quantity.JDOT_V: "each link's mass centre, fixed components, m/s^2 (classical: a = J u_dot + J_dot u)",
+    Quantity.CLASSICAL_ACCELERATION: "each link's mass centre at random speed rates, fixed components, m/s^2 "
                                           "(classical)",
 }
 """What each of a model's compared quantities is: which point, which components, classical or spatial."""

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.core.cases import Case
-from relacc.core.conventions import ModelQuantity
+from relacc.core.conventions import MODEL_QUANTITIES, Quantity
 from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
 from relacc.core.tree.coordinates import reference_q
@@ -38,9 +38,7 @@ from relacc.limits import CHUNK_STATES
 from relacc.validation.compare import Comparison
 from relacc.validation.robots.audit import Scales, inertia_slack
 
-QTY = ModelQuantity
-"""A short name for the quantities in the comparison's arithmetic below."""
-QUANTITIES = tuple(ModelQuantity)
+QUANTITIES = MODEL_QUANTITIES
 """What is compared, in report order."""
 KINEMATIC = QUANTITIES[4:]
 """The quantities of each link's mass centre, which are also measured link by link (``Comparison.per_link``)."""
@@ -206,33 +204,33 @@ def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
                     singular.setdefault(name, [])
                     singular[name] += [j for j in inertialess(reference, M, dofs) if j not in singular[name]]
             m_scale = max(np.abs(np.diag(M0)).max(initial=0), np.abs(np.diag(M1)).max(initial=0))
-            add(QTY.MASS_MATRIX, M1, M0, m_scale if m_scale > 0 else sc.inertia, slack_M)
-            add(QTY.BIAS_FORCES, b1, b0, bias_scale, slack_M * max(vs, 1.0) ** 2)
+            add(Quantity.MASS_MATRIX, M1, M0, m_scale if m_scale > 0 else sc.inertia, slack_M)
+            add(Quantity.BIAS_FORCES, b1, b0, bias_scale, slack_M * max(vs, 1.0) ** 2)
             g_scale = G[i] + np.abs(g0).max(initial=0) + np.abs(g1).max(initial=0)
-            add(QTY.GRAVITY_FORCES, g1, g0, max(g_scale, sc.mass * sc.length * gravity))
+            add(Quantity.GRAVITY_FORCES, g1, g0, max(g_scale, sc.mass * sc.length * gravity))
             f_terms = np.linalg.norm(M0, 2) * np.abs(f0).max(initial=0) + bias_scale
-            same_M = errors[QTY.MASS_MATRIX][-1] <= robot_tolerance(n_links) + allowed[QTY.MASS_MATRIX][-1]
+            same_M = errors[Quantity.MASS_MATRIX][-1] <= robot_tolerance(n_links) + allowed[Quantity.MASS_MATRIX][-1]
             undefined0 = np.isnan(f0).any() or (np.isnan(f1).any() and same_M)
             undefined1 = np.isnan(f1).any() or (np.isnan(f0).any() and same_M)
             if undefined0 and undefined1:  # both undefined: they agree there is no answer
                 # (one evaluator refusing a mass matrix singular to working precision, the other answering the same
                 # matrix, which is no answer either: iCub's arm at its reference configuration, kappa 1.7e17)
-                errors[QTY.FORWARD_DYNAMICS].append(0.0)
-                allowed[QTY.FORWARD_DYNAMICS].append(0.0)
+                errors[Quantity.FORWARD_DYNAMICS].append(0.0)
+                allowed[Quantity.FORWARD_DYNAMICS].append(0.0)
             else:
                 # dM moves udot by at most ||M^-1|| |dM| |udot|
-                add(QTY.FORWARD_DYNAMICS, f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
+                add(Quantity.FORWARD_DYNAMICS, f1, f0, inv * f_terms if np.isfinite(inv) else np.inf,
                     inv * slack_M * np.abs(f0).max(initial=0) if np.isfinite(inv) else 0.0)
             if links:
                 J0, J1 = k0.J[i][:, :, cols0], k1.J[i][:, :, cols1]
                 jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length, paths)
                 # positions and Jacobians: at least the model's size (a lever arm is a difference of positions)
-                add(QTY.COM_POSITION, k1.position[i], k0.position[i], max(np.abs(k0.position[i]).max(initial=0),
+                add(Quantity.COM_POSITION, k1.position[i], k0.position[i], max(np.abs(k0.position[i]).max(initial=0),
                                                                         sc.length))
-                add(QTY.COM_JACOBIAN, J1, J0, max(np.abs(J0).max(initial=0), sc.length))
+                add(Quantity.COM_JACOBIAN, J1, J0, max(np.abs(J0).max(initial=0), sc.length))
                 if rates:  # an engine that offers no J_dot v and no classical acceleration (PyBullet) is not asked
-                    add(QTY.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)
-                    add(QTY.CLASSICAL_ACCELERATION, k1.acceleration[i], k0.acceleration[i], acc)
+                    add(Quantity.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)
+                    add(Quantity.CLASSICAL_ACCELERATION, k1.acceleration[i], k0.acceleration[i], acc)
     out = {}
     tol = robot_tolerance(n_links)
     for k, e in errors.items():
@@ -241,7 +239,7 @@ def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
         errors_k = np.asarray(e, dtype=float)
         tolerances = tol + np.asarray(allowed[k], dtype=float)
         out[k] = Comparison(2, robot.engine, "model", k, errors_k, tolerances, True, float(tolerances.max()), diffs[k],
-                            singular=singular if k == QTY.FORWARD_DYNAMICS else {}, per_link=per_link.get(k, {}))
+                            singular=singular if k == Quantity.FORWARD_DYNAMICS else {}, per_link=per_link.get(k, {}))
     return out
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.conventions import ModelQuantity
+from relacc.core.conventions import Quantity
 from relacc.core.tolerances import robot_tolerance
 from relacc.engines.base import com
 
@@ -23,7 +23,7 @@ def routine_cause(quantity: str, reference, engine, states) -> str:
 
     if not isinstance(engine, AccelerationRoutine):
         return ""
-    if quantity not in (ModelQuantity.JDOT_V, ModelQuantity.CLASSICAL_ACCELERATION):
+    if quantity not in (Quantity.JDOT_V, Quantity.CLASSICAL_ACCELERATION):
         return ""
     from relacc.validation.robots.agreement import CHUNK, point_terms, shared_links
 
