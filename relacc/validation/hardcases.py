@@ -29,6 +29,7 @@ Families:
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from enum import StrEnum
 
 import numpy as np
 
@@ -45,6 +46,35 @@ N_STATES = 12
 """States per entry and case."""
 
 
+class EditKind(StrEnum):
+    """How a catalogue entry changes its seeded states (:func:`states_for`)."""
+
+    GIMBAL = "gimbal"                # a middle 1-2-3 angle at sign (pi/2 - value)
+    IDENTITY = "identity"            # both quaternions (1, 0, 0, 0)
+    HALF_TURN = "half_turn"          # both quaternions with w = 0
+    ANTIPODAL = "antipodal"          # both quaternions with w < 0
+    NEAR_IDENTITY = "near_identity"  # B2's relative rotation by value rad
+    SPIN = "spin"                    # angular speeds and their rates of norm value
+    FAR = "far"                      # |s1| = value m
+    S2 = "s2"                        # |s2'| = value m
+
+
+@dataclass(frozen=True)
+class Edit:
+    """A catalogue entry's change to its seeded states.
+
+    Attributes:
+        kind: what changes. value: its knob (rad for ``GIMBAL``'s delta and ``NEAR_IDENTITY``'s angle, rad/s for
+            ``SPIN``, m for ``FAR`` and ``S2``; unused otherwise). body: ``B1`` or ``B2`` (``GIMBAL``). sign: the
+            middle angle's sign (``GIMBAL``).
+    """
+
+    kind: EditKind
+    value: float = 0.0
+    body: str = ""
+    sign: int = 1
+
+
 @dataclass(frozen=True)
 class HardCase:
     """One entry of the catalogue.
@@ -58,7 +88,7 @@ class HardCase:
         description: one line.
         model: the accuracy model, in words.
         geometry: overrides of the chain (``q2``, ``r2``), or empty.
-        edit: the state edit, see :func:`states_for`.
+        edit: the state edit (:class:`Edit`, :func:`states_for`), or None.
     """
 
     name: str
@@ -68,7 +98,7 @@ class HardCase:
     description: str
     model: str
     geometry: dict = field(default_factory=dict)
-    edit: tuple = ()
+    edit: Edit | None = None
 
 
 _COND1 = "error <= c eps: the forward formulas and the engines' maps are well conditioned here"
@@ -86,22 +116,22 @@ def catalogue() -> tuple[HardCase, ...]:
                     f"gimbal-{body}{'+' if sign > 0 else '-'}{delta:.0e}", "gimbal", delta, (3,),
                     f"theta_{body} middle angle = {'+' if sign > 0 else '-'}(pi/2 - {delta:g})",
                     _COND1 + " (only the inverse map, rates from angular velocity, is singular)",
-                    edit=("gimbal", body, sign, delta)))
+                    edit=Edit(EditKind.GIMBAL, delta, body, sign)))
     for name, desc, edit in (
-        ("quat-identity", "both quaternions (1, 0, 0, 0)", ("identity",)),
-        ("quat-half-turn", "both quaternions with w = 0 (half turns about random axes)", ("half_turn",)),
-        ("quat-antipodal", "both quaternions with w < 0 (the antipodal sign)", ("antipodal",)),
-        ("quat-near-identity-1e-08", "relative rotation B2/B1 by 1e-8 rad", ("near_identity", 1e-8)),
-        ("quat-near-identity-1e-15", "relative rotation B2/B1 by 1e-15 rad", ("near_identity", 1e-15)),
+        ("quat-identity", "both quaternions (1, 0, 0, 0)", Edit(EditKind.IDENTITY)),
+        ("quat-half-turn", "both quaternions with w = 0 (half turns about random axes)", Edit(EditKind.HALF_TURN)),
+        ("quat-antipodal", "both quaternions with w < 0 (the antipodal sign)", Edit(EditKind.ANTIPODAL)),
+        ("quat-near-identity-1e-08", "relative rotation B2/B1 by 1e-8 rad", Edit(EditKind.NEAR_IDENTITY, 1e-8)),
+        ("quat-near-identity-1e-15", "relative rotation B2/B1 by 1e-15 rad", Edit(EditKind.NEAR_IDENTITY, 1e-15)),
     ):
         out.append(HardCase(name, "quaternion", 0.0, (1, 2), desc, _COND1, edit=edit))
     for rate in (1e0, 1e2, 1e4, 1e6):
         out.append(HardCase(f"spin-{rate:.0e}", "spin", rate, (1, 2, 3),
                             f"angular speeds (and accelerations) of norm {rate:g} rad/s", _COND1,
-                            edit=("spin", rate)))
+                            edit=Edit(EditKind.SPIN, rate)))
     for dist in (1e0, 1e2, 1e4, 1e6, 1e8):
         out.append(HardCase(f"far-{dist:.0e}", "far", dist, (1, 2, 3), f"|s1| = {dist:g} m", GLOBAL_MODEL,
-                            edit=("far", dist)))
+                            edit=Edit(EditKind.FAR, dist)))
     for length in (0.0, 1e-12, 1e-6, 1e3):
         out.append(HardCase(f"geometry-r2-{length:.0e}", "geometry", length, (1, 2, 3), f"|r2'| = {length:g} m",
                             _COND1 + "; MuJoCo: plus the offset its compiler drops for sites within ~1e-6 m of "
@@ -109,7 +139,7 @@ def catalogue() -> tuple[HardCase, ...]:
         out.append(HardCase(f"geometry-q2-{length:.0e}", "geometry", length, (1, 2, 3), f"|q2'| = {length:g} m",
                             _COND1, geometry={"q2": length}))
     out.append(HardCase("geometry-s2-1e+03", "geometry", 1e3, (1, 2, 3), "|s2'| = 1000 m (large prismatic offset)",
-                        _COND1, edit=("s2", 1e3)))
+                        _COND1, edit=Edit(EditKind.S2, 1e3)))
     return tuple(out)
 
 
@@ -129,34 +159,36 @@ def states_for(hc: HardCase, case: int, n: int = N_STATES, seed: int = 0):
     s = random_states(case, n, [seed, case, k])
     q, u, udot = s.q.copy(), s.u.copy(), s.udot.copy()
     rng = np.random.default_rng([seed, case, k, 1])
-    kind = hc.edit[0] if hc.edit else None
-    if kind == "gimbal":
-        _, body, sign, delta = hc.edit
-        q[:, 4 if body == "B1" else 10] = sign * (np.pi / 2 - delta)
-    elif kind == "identity":
+    edit = hc.edit
+    if edit is None:
+        return q, u, udot
+    kind = edit.kind
+    if kind == EditKind.GIMBAL:
+        q[:, 4 if edit.body == "B1" else 10] = edit.sign * (np.pi / 2 - edit.value)
+    elif kind == EditKind.IDENTITY:
         q[:, 3:7] = q[:, 10:14] = (1.0, 0.0, 0.0, 0.0)
-    elif kind == "half_turn":
+    elif kind == EditKind.HALF_TURN:
         for sl in (slice(3, 7), slice(10, 14)):
             axis = rng.normal(size=(n, 3))
             q[:, sl] = np.c_[np.zeros(n), axis / np.linalg.norm(axis, axis=1, keepdims=True)]
-    elif kind == "antipodal":
+    elif kind == EditKind.ANTIPODAL:
         for sl in (slice(3, 7), slice(10, 14)):
             quat = random_unit_quaternions(rng, n)
             q[:, sl] = -quat * np.sign(quat[:, :1])
-    elif kind == "near_identity":
-        angle = hc.edit[1]
+    elif kind == EditKind.NEAR_IDENTITY:
+        angle = edit.value
         axis = rng.normal(size=(n, 3))
         q[:, 10:14] = relacc.quaternion_exp(angle * axis / np.linalg.norm(axis, axis=1, keepdims=True))
-    elif kind == "spin":
-        rate = hc.edit[1]
+    elif kind == EditKind.SPIN:
+        rate = edit.value
         for sl in (slice(3, 6), slice(9, 12)):
             u[:, sl] *= rate / np.linalg.norm(u[:, sl], axis=1, keepdims=True)
             udot[:, sl] *= rate / np.linalg.norm(udot[:, sl], axis=1, keepdims=True)
-    elif kind == "far":
-        q[:, 0:3] *= hc.edit[1] / np.linalg.norm(q[:, 0:3], axis=1, keepdims=True)
-    elif kind == "s2":
+    elif kind == EditKind.FAR:
+        q[:, 0:3] *= edit.value / np.linalg.norm(q[:, 0:3], axis=1, keepdims=True)
+    elif kind == EditKind.S2:
         sl = slice(7, 10) if case != Case.ANGLE_RATES else slice(6, 9)
-        q[:, sl] *= hc.edit[1] / np.linalg.norm(q[:, sl], axis=1, keepdims=True)
+        q[:, sl] *= edit.value / np.linalg.norm(q[:, sl], axis=1, keepdims=True)
     return q, u, udot
 
 
@@ -236,4 +268,5 @@ def run_catalogue(fixture: Fixture, engines=None, n=N_STATES, seed=0) -> list[Re
     return [r for hc in catalogue() for r in runner.run(hc)]
 
 
-__all__ = ["GLOBAL_MODEL", "HardCase", "Result", "Runner", "catalogue", "chain_for", "run_catalogue", "states_for"]
+__all__ = ["GLOBAL_MODEL", "Edit", "EditKind", "HardCase", "Result", "Runner", "catalogue", "chain_for",
+           "run_catalogue", "states_for"]
