@@ -29,6 +29,15 @@ class Quantity(StrEnum):
     CLASSICAL_ACCELERATION = "classical acceleration"
 
 
+class Route(StrEnum):
+    """How an engine models the note's chain (each engine's card says what each route is): ``QUATERNION``, cases 1 to
+    3 through unit quaternions (``two_body.xml``); ``EULER``, case 3 only, through the 1-2-3 angles as three hinges
+    each (``two_body_euler.xml``, ``.urdf``)."""
+
+    QUATERNION = "quaternion"
+    EULER = "euler"
+
+
 QUANTITIES = (Quantity.POSITION, Quantity.VELOCITY, Quantity.ACCELERATION, Quantity.V, Quantity.VDOT)
 """The outputs of :func:`relacc.g2_kinematics` that are cross-validated, in report order."""
 MODEL_QUANTITIES = (Quantity.MASS_MATRIX, Quantity.BIAS_FORCES, Quantity.GRAVITY_FORCES, Quantity.FORWARD_DYNAMICS,

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from relacc.core.cases import Case, as_case, check_q, check_u
+from relacc.core.conventions import Route
 from relacc.core.kinematics import G2Kinematics, check_finite_result
 from relacc.core.note.common import mv
 from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion
@@ -41,7 +42,7 @@ if TYPE_CHECKING:
     from relacc.dynamics.effects import Effects
     from relacc.fixtures import Fixture
 
-ROUTES = ("quaternion", "euler")
+ROUTES = (Route.QUATERNION, Route.EULER)
 G2 = point("G2")
 
 
@@ -70,16 +71,16 @@ class EngineG2:
 
 
 class ChainEngine:
-    """The chain in one engine: ``routes`` ``{"quaternion": adapter, "euler": adapter}`` (module docstring)."""
+    """The chain in one engine: ``routes`` ``{Route.QUATERNION: adapter, Route.EULER: adapter}`` (module docstring)."""
 
     def __init__(self, name: str, routes: dict):
         self.name, self.routes = name, routes
-        self.global_coordinates = routes["quaternion"].global_coordinates
-        self.absolute_velocities = routes["quaternion"].absolute_velocities
+        self.global_coordinates = routes[Route.QUATERNION].global_coordinates
+        self.absolute_velocities = routes[Route.QUATERNION].absolute_velocities
 
     @property
     def version(self) -> str:
-        return self.routes["quaternion"].version
+        return self.routes[Route.QUATERNION].version
 
     def lost_offset(self, route: str) -> float:
         """Metres by which the engine's model misplaces G2 (0 unless an engine rounds the model)."""
@@ -101,7 +102,7 @@ class ChainEngine:
         """A batch of a case's states ``(n, .)`` in the engine's coordinates, with ``[E]`` and ``[E_dot]``."""
         c, adapter = as_case(case), self.routes[route]
         n = q.shape[0]
-        if route == "euler":
+        if route == Route.EULER:
             eye = np.broadcast_to(np.eye(12), (n, 12, 12))
             states_e = adapter.to_engine(q, u, udot)
             qe, ve, ae, T, Td = states_e.q, states_e.v, states_e.a, states_e.T, states_e.T_dot
@@ -118,7 +119,7 @@ class ChainEngine:
         """Engine positions ``(n, nq_e)`` back to the case's ``q`` (1-2-3 angles for case 3 on the quaternion
         route, through :func:`relacc.core.rotations.angles_123_from_matrix`)."""
         q, _ = self.routes[route].from_engine(q_e, np.zeros((len(q_e), self.routes[route].nv_e)))
-        if route == "euler" or as_case(case) is not Case.ANGLE_RATES:
+        if route == Route.EULER or as_case(case) is not Case.ANGLE_RATES:
             return q
         return np.concatenate([q[:, 0:3], angles_123_from_matrix(matrix_from_quaternion(q[:, 3:7])), q[:, 7:10],
                                angles_123_from_matrix(matrix_from_quaternion(q[:, 10:14]))], 1)
@@ -147,7 +148,7 @@ class ChainEngine:
                                None if p.acceleration is None else p.acceleration[:, 0])
 
     def g2_kinematics(self, case: int, q: np.ndarray, u: np.ndarray, udot: np.ndarray | None = None, *,
-                      route: str = "quaternion") -> G2Kinematics:
+                      route: str = Route.QUATERNION) -> G2Kinematics:
         """G2's kinematics by this engine, in the core's conventions (fixed-frame components, classical
         acceleration); ``variant`` names the engine and route.
 
@@ -157,7 +158,7 @@ class ChainEngine:
         c = as_case(case)
         if route not in ROUTES:
             raise EngineError(f"unknown route {route!r}: accepted are {', '.join(ROUTES)}")
-        if route == "euler" and c is not Case.ANGLE_RATES:
+        if route == Route.EULER and c is not Case.ANGLE_RATES:
             raise EngineError(f"the euler route takes case 3 states only, got case {int(c)}")
         q = check_q(c, q)
         u = check_u(f"u for case {int(c)}", u)
@@ -181,7 +182,7 @@ class ChainEngine:
     @property
     def adapter(self) -> Adapter:
         """The quaternion route's adapter, which every dynamics and simulation uses."""
-        return self.routes["quaternion"]
+        return self.routes[Route.QUATERNION]
 
     def dynamics(self, q: np.ndarray, v: np.ndarray, effects: Effects) -> tuple[np.ndarray, np.ndarray]:
         """Engine equations ``M_e vdot_e = f_e`` ``((n, nv_e, nv_e), (n, nv_e))`` under exactly the chain's
@@ -197,7 +198,7 @@ class ChainEngine:
         """The engine's ``(M, f)`` mapped to a case's speeds: ``E^T M_e E`` and ``E^T (f_e - M_e E_dot u)``."""
         c = as_case(case)
         q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
-        x = self.engine_input("quaternion", c, np.atleast_2d(q), np.atleast_2d(u), None)
+        x = self.engine_input(Route.QUATERNION, c, np.atleast_2d(q), np.atleast_2d(u), None)
         Me, fe = self.dynamics(np.ascontiguousarray(x.q), np.ascontiguousarray(x.v), effects)
         M = np.swapaxes(x.E, -1, -2) @ Me @ x.E
         f = np.einsum("nji,nj->ni", x.E, fe - np.einsum("nij,njk,nk->ni", Me, x.E_dot, np.atleast_2d(u)))
@@ -222,7 +223,7 @@ class ChainEngine:
 
     def initial_state(self, case: int, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates ``(q_e (nq_e,), v_e (nv_e,))``."""
-        x = self.engine_input("quaternion", as_case(case), np.asarray(q)[None], np.asarray(u)[None], None)
+        x = self.engine_input(Route.QUATERNION, as_case(case), np.asarray(q)[None], np.asarray(u)[None], None)
         return x.q[0], x.v[0]
 
     def energy_terms(self, chain: TwoBodyChain, q: np.ndarray, v: np.ndarray, effects: Effects
@@ -251,10 +252,10 @@ def chain_engine(name: str, fixture: Fixture, split: bool = True) -> ChainEngine
         # every engine, MuJoCo too, is matched to relacc's own reading of the generated files: no engine is the judge
         quaternion, euler = read_tree(xml), read_tree(euler_xml)
         if name == "mujoco":
-            routes = {"quaternion": load(name, xml, quaternion), "euler": load(name, euler_xml, euler)}
+            routes = {Route.QUATERNION: load(name, xml, quaternion), Route.EULER: load(name, euler_xml, euler)}
         elif name == "pinocchio":
-            routes = {"quaternion": load(name, xml, quaternion, split=split),
-                      "euler": load(name, urdf, euler, urdf=urdf)}
+            routes = {Route.QUATERNION: load(name, xml, quaternion, split=split),
+                      Route.EULER: load(name, urdf, euler, urdf=urdf)}
         else:
-            routes = {"quaternion": load(name, xml, quaternion, build=True), "euler": load(name, urdf, euler)}
+            routes = {Route.QUATERNION: load(name, xml, quaternion, build=True), Route.EULER: load(name, urdf, euler)}
         return ChainEngine(name, routes)

@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import pytest
 
+from relacc.core.conventions import Route
+
 
 @pytest.fixture(scope="session")
 def relacc_chain():
@@ -93,7 +95,7 @@ def relacc_truth():
 
     cache = {}
 
-    def make(states, engine=None, route="quaternion"):
+    def make(states, engine=None, route=Route.QUATERNION):
         if engine is None:  # the engine's traits name it (MuJoCo): resolved here, so that loading the plugin is light
             from relacc.engines import TRUTH_ENGINE
 

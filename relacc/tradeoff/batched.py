@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 import relacc
+from relacc.core.conventions import Route
 from relacc.core.states import random_states
 from relacc.dynamics import accelerations
 from relacc.dynamics.effects import Effects
@@ -93,7 +94,7 @@ def dynamics_rows(fixture, n_states: int, repeats: int, seed: int) -> list[dict]
         adapter = engine.adapter
         if not isinstance(adapter, BatchedForward):  # its traits said so: never
             raise EngineError(f"{name}'s adapter offers no batched forward dynamics, though its traits say so")
-        x = engine.engine_input("quaternion", relacc.Case(1), s.q, s.u, None)
+        x = engine.engine_input(Route.QUATERNION, relacc.Case(1), s.q, s.u, None)
         for t in thread_counts():
             loop = adapter.batched_forward(t, x.q.T, x.v.T, gravity=GRAVITY.gravity)
             secs = wall_times(loop, repeats, warmups=2)
@@ -145,7 +146,7 @@ def _rollout_engine(name: str, scene: Scene) -> tuple:
 
 
 def _engine_states(engine, scene, q0, u0):
-    x = engine.engine_input("quaternion", relacc.Case(scene.case), q0, u0, None)
+    x = engine.engine_input(Route.QUATERNION, relacc.Case(scene.case), q0, u0, None)
     return np.ascontiguousarray(x.q), np.ascontiguousarray(x.v)
 
 

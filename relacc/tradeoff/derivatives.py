@@ -15,6 +15,7 @@ import numpy as np
 
 import relacc
 from relacc.core.cases import Case
+from relacc.core.conventions import Route
 from relacc.core.derivatives import advance, along_motion
 from relacc.core.scales import term_scales
 from relacc.core.states import random_states
@@ -91,7 +92,7 @@ def sweep(chain, n_states: int = 200, seed: int = 0, repeats: int = 3, engines=N
                 method="complex", h=h), n, repeats)
             row("complex-step", h, value, sec)
         for name, engine in (engines or {}).items():
-            route = "euler" if case == Case.ANGLE_RATES else "quaternion"
+            route = Route.EULER if case == Case.ANGLE_RATES else Route.QUATERNION
             x = engine.engine_input(route, relacc.Case(case), s.q, s.u, s.udot)
             loop = engine.routes[route].point_loop(x.q, x.v, x.a, G2, False)
             _, sec = _timed(loop, n, repeats)

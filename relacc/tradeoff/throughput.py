@@ -41,6 +41,7 @@ import numpy as np
 
 import relacc
 from relacc.core.cases import Case
+from relacc.core.conventions import Route
 from relacc.core.states import random_states
 from relacc.engines import adapter_module, load_engine, with_trait
 from relacc.engines.chain import G2
@@ -140,7 +141,7 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
         timings[(case, "relacc-reference", "full")] = tuple(
             x * n_states / len(s.q[small]) for x in timings[(case, "relacc-reference", "full")])
     for case, s in states.items():
-        route = "euler" if case == Case.ANGLE_RATES else "quaternion"
+        route = Route.EULER if case == Case.ANGLE_RATES else Route.QUATERNION
         c = relacc.Case(case)
         for name in TIMED:
             e = engines[name]
@@ -152,7 +153,7 @@ def run(n_states: int, repeats: int, seed: int = 0, fixture=None) -> dict:
     rows: list[dict[str, Any]] = [
         {"case": case, "who": who, "output": output, "seconds": median, "seconds_min": best,
          "states_per_second": n_states / median, "states_per_second_best": n_states / best,
-         "engine_route": ("euler" if case == Case.ANGLE_RATES else "quaternion") if who in TIMED else None}
+         "engine_route": (Route.EULER if case == Case.ANGLE_RATES else Route.QUATERNION) if who in TIMED else None}
         for (case, who, output), (median, best) in sorted(timings.items())
     ]
     for row in rows:

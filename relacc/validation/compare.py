@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.core.conventions import CONVENTIONS, QUANTITIES
+from relacc.core.conventions import CONVENTIONS, QUANTITIES, Route
 from relacc.core.derivatives import along_motion
 from relacc.core.kinematics import g2_kinematics
 from relacc.core.tolerances import EPS, normalized_error, rounding_tolerance
@@ -32,7 +32,7 @@ DERIVED = ("velocity", "V", "acceleration", "Vdot")
 
 def routes_for(case) -> tuple[str, ...]:
     """Engine routes that apply to a case: quaternion always, euler for case 3."""
-    return ("quaternion", "euler") if int(case) == 3 else ("quaternion",)
+    return (Route.QUATERNION, Route.EULER) if int(case) == 3 else (Route.QUATERNION,)
 
 
 @dataclass(frozen=True, eq=False)

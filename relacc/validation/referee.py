@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from relacc.core.conventions import Route
 from relacc.core.derivatives import along_motion
 from relacc.core.kinematics import g2_kinematics
 from relacc.core.scales import term_scales
@@ -144,7 +145,7 @@ def pair_ratios(values: dict, bounds: dict, scale) -> dict:
     return pairs
 
 
-def referee(harness, case, quantity, route: str = "quaternion", k: int = 0) -> Verdict:
+def referee(harness, case, quantity, route: str = Route.QUATERNION, k: int = 0) -> Verdict:
     """Every evaluator on chunk ``k`` of a case's states, for one quantity and route, judged.
 
     Args:

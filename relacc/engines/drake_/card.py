@@ -1,5 +1,6 @@
 """Drake's :class:`relacc.engines.traits.Traits` and integration schemes (imports nothing of Drake)."""
 
+from relacc.core.conventions import Route
 from relacc.engines.traits import Traits
 
 DRAKE_SCHEMES = ("semi_explicit_euler", "explicit_euler", "runge_kutta2", "runge_kutta3", "runge_kutta5",
@@ -13,14 +14,14 @@ TRAITS = Traits(
            "BallRpyJoint (roll-pitch-yaw q, omega in the parent's components); several joints on one body a chain "
            "of massless bodies",
     chain_routes={
-        "quaternion": (
+        Route.QUATERNION: (
             "plant built from the TOML: two QuaternionFloatingJoints (world->B1, B1 at q2'->B2); q = [quat_B1"
             " (w first), s1, quat_B2/B1 (w first), s2']; v = [omega_B1 (fixed), s1_dot (fixed), omega_hat_B2 "
             "(B1), s2'_dot (B1)] = Case 1 speeds reordered; G2: CalcJacobianTranslationalVelocity, J_dot by "
             'AutoDiffXd along q_dot = N(q) v, acceleration from CalcSpatialAccelerationsFromVdot shifted to '
             'G2'
         ),
-        "euler": (
+        Route.EULER: (
             "two_body_euler.urdf through Drake's URDF parser; q = case-3 q, v = case-3 u; no map"
         ),
     },

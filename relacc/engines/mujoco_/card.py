@@ -1,5 +1,6 @@
 """MuJoCo's :class:`relacc.engines.traits.Traits` (imports nothing of MuJoCo)."""
 
+from relacc.core.conventions import Route
 from relacc.engines.traits import Traits
 
 TRAITS = Traits(
@@ -8,12 +9,12 @@ TRAITS = Traits(
     speeds="case 2 as it is: a free joint's v = [p_dot (world), omega (body)], a ball's omega in the child's "
            "components; quaternions (w, x, y, z)",
     chain_routes={
-        "quaternion": (
+        Route.QUATERNION: (
             "two_body.xml; qpos = [s1, quat_B1 (w first), s2', quat_B2/B1 (w first)]; qvel = [s1_dot (world),"
             " omega'_B1 (B1), s2'_dot, omega_hat'_B2 (B2)] = Case 2 speeds; G2: mj_jac, mj_jacDot (after "
             'mj_comVel), mj_objectAcceleration with gravity 0'
         ),
-        "euler": (
+        Route.EULER: (
             'two_body_euler.xml; qpos = case-3 q, qvel = case-3 u (slides, hinges x, y, z); no map'
         ),
     },

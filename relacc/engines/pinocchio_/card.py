@@ -1,5 +1,6 @@
 """Pinocchio's :class:`relacc.engines.traits.Traits` (imports nothing of Pinocchio)."""
 
+from relacc.core.conventions import Route
 from relacc.engines.traits import Traits
 
 TRAITS = Traits(
@@ -8,13 +9,13 @@ TRAITS = Traits(
     speeds="a free joint's v = [R^T p_dot, omega], both in body components (T = diag(R^T, I)); quaternions "
            "(x, y, z, w); an unbounded revolute q = (cos, sin); ball, hinge and slide speeds as case 2",
     chain_routes={
-        "quaternion": (
+        Route.QUATERNION: (
             "two_body.xml, composite joint split; q = [s1, quat_B1 (x,y,z,w), s2', quat_B2/B1 (x,y,z,w)]; v ="
             " [[R_B1] s1_dot (B1), omega'_B1, s2'_dot, omega_hat'_B2]; a = [[R_B1] s1_ddot - omega'_B1 x "
             '[R_B1] s1_dot, ...]; G2: LOCAL_WORLD_ALIGNED frame Jacobian, its time variation, '
             'getFrameClassicalAcceleration'
         ),
-        "euler": (
+        Route.EULER: (
             'two_body_euler.urdf; q = case-3 q, v = case-3 u (prismatic, revolute x, y, z); no map'
         ),
     },
