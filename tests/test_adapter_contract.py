@@ -81,6 +81,11 @@ def test_the_contract(engine):
             T, _ = adapter.v_block(m, st.q[:, list(m.ref_q)], st.u[:, list(m.ref_v)])
             T0, _ = adapter.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, len(m.ref_v))))
             assert np.array_equal(T, np.broadcast_to(T0[0], T.shape)), f"{engine}: {m.kind}'s speed map varies"
+        # its inverse (closed-form where the adapter gives one) inverts it: a product of rotations, c eps
+        T, _ = adapter.v_block(m, st.q[:, list(m.ref_q)], st.u[:, list(m.ref_v)])
+        eye = np.broadcast_to(np.eye(len(m.ref_v)), (len(st.q), len(m.ref_v), len(m.ref_v)))
+        np.testing.assert_allclose(adapter.v_block_inverse(m, st.q[:, list(m.ref_q)]) @ T, eye, rtol=0,
+                                   atol=ROUNDING_FACTOR * EPS, err_msg=f"{engine}: {m.kind}'s inverse speed map")
     M, f = adapter.equations(qe, ve)
     a = adapter.forward(qe, ve)
     # the engine's forward dynamics solves its own M a = f: the residual of a solve, c eps (|M| |a| + |f|)

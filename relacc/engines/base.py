@@ -398,6 +398,11 @@ class Adapter(abc.ABC):
         n, k = len(x), len(match.ref_v)
         return np.broadcast_to(np.eye(k), (n, k, k)), np.zeros((n, k, k))
 
+    def v_block_inverse(self, match: Match, x: np.ndarray) -> np.ndarray:
+        """``(n, len(ref_v), len(match.v))``: the inverse of :meth:`v_block`'s ``T`` at the reference's positions ``x``
+        (an adapter whose ``T`` has a closed-form inverse gives it; default: LAPACK's)."""
+        return np.linalg.inv(self.v_block(match, x, np.zeros((len(x), len(match.ref_v))))[0])
+
     @abc.abstractmethod
     def equations(self, qe: np.ndarray, ve: np.ndarray, effects: TreeEffects | None = None, t: ArrayLike = 0.0
                   ) -> tuple[np.ndarray, np.ndarray]:
@@ -547,7 +552,7 @@ class Adapter(abc.ABC):
             x = self.q_back(m, qe[:, iq])
             q[:, ref_q] = x
             if T_inv is None:  # T depends on the position: inverted once for both directions
-                T_inv = np.linalg.inv(self.v_block(m, x, np.zeros((n, v[:, ref_v].shape[1])))[0])
+                T_inv = self.v_block_inverse(m, x)
             blocks.append(T_inv)
             v[:, ref_v] = ve[:, iv] * T_inv if np.ndim(T_inv) == 0 else (T_inv @ ve[:, iv, None])[..., 0]
         f = joint_forces(self.reference, q, v, effects, resolved)

@@ -98,6 +98,17 @@ class DrakeAdapter(PointLoop, Adapter):
             return R, R @ tilde(w)
         return super().v_block(mt, x, w)
 
+    def v_block_inverse(self, mt, x):
+        """:meth:`v_block`'s ``T^-1`` in closed form: ``R^T`` for a ball; a free joint's ``[[0, I], [R^T, 0]]``."""
+        if mt.kind in ("free", "floating"):
+            R = matrix_from_quaternion(x[:, 3:7])
+            T_inv = np.zeros((len(x), 6, 6))
+            T_inv[:, :3, 3:], T_inv[:, 3:, :3] = np.eye(3), np.swapaxes(R, 1, 2)
+            return T_inv
+        if mt.kind == "ball":
+            return np.swapaxes(matrix_from_quaternion(x / np.linalg.norm(x, axis=1, keepdims=True)), 1, 2)
+        return super().v_block_inverse(mt, x)
+
     # --- the reading ----------------------------------------------------------------------------------------
 
     def _group(self, head):
