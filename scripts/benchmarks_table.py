@@ -97,12 +97,19 @@ def _first_run(d) -> str:
     return ", ".join(f"{k} {v:.0f} s" for k, v in d["seconds"].items())
 
 
+def _waits(d) -> str:
+    calls = ", ".join(f"{r['model'].split()[-1]} {r['median_s']:.1f} s" for r in d["compare"])
+    slow = max(d["simulate"], key=lambda r: r["best_s"])
+    return (f"relacc compare as a command: {calls} (median); slowest engine run of a chain scene: {slow['engine']} "
+            f"{slow['scene']} {slow['best_s']:.1f} s ({slow['steps']} steps)")
+
+
 BENCHMARKS = {"throughput": ("benchmarks/throughput.py", _throughput), "batched": ("benchmarks/batched.py", _batched),
               "trees": ("benchmarks/trees.py", _trees), "gym-models": ("benchmarks/gym_models.py", _gym_models),
               "single": ("benchmarks/single.py", _single), "threads": ("benchmarks/threads.py", _threads),
               "lanes": ("benchmarks/lanes.py", _lanes), "chain-form": ("benchmarks/chain_form.py", _chain_form),
               "cluster": ("benchmarks/cluster.py", _cluster), "ensembles": ("benchmarks/ensembles.py", _ensembles),
-              "first-run": ("benchmarks/first_run.py", _first_run)}
+              "first-run": ("benchmarks/first_run.py", _first_run), "waits": ("benchmarks/waits.py", _waits)}
 """Each benchmark's result prefix, its script and its headline."""
 
 
