@@ -112,6 +112,6 @@ MODEL_MEANINGS: dict[str, str] = {
     Quantity.COM_JACOBIAN: "d v_G / d u per link, fixed components",
     Quantity.JDOT_V: "each link's mass centre, fixed components, m/s^2 (classical: a = J u_dot + J_dot u)",
     Quantity.CLASSICAL_ACCELERATION: "each link's mass centre at random speed rates, fixed components, m/s^2 "
-                                          "(classical)",
+                                     "(classical)",
 }
 """What each of a model's compared quantities is: which point, which components, classical or spatial."""

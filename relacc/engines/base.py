@@ -353,6 +353,9 @@ class Adapter(abc.ABC):
     point_rates: bool = True
     """Whether :meth:`points` gives ``J_dot v`` and classical accelerations (an engine that offers neither fills them
     with NaN and sets this False: the comparison then leaves those two quantities out for it)."""
+    varying_speed_maps: tuple[str, ...] = ()
+    """The match kinds whose speed map ``T`` (:meth:`v_block`) depends on the position; every other kind's is the same
+    at every position (``tests/test_adapter_contract.py`` holds each engine to its declaration)."""
     global_coordinates: frozenset = frozenset()
     absolute_velocities: frozenset = frozenset()
     structure: Structure
@@ -561,15 +564,10 @@ class Adapter(abc.ABC):
             tau[:, iv] = f[:, ref_v] * T_inv if np.ndim(T_inv) == 0 else (f[:, None, ref_v] @ T_inv)[:, 0]
         return tau
 
-    varying_speed_maps: tuple[str, ...] = ()
-    """The match kinds whose speed map ``T`` (:meth:`v_block`) depends on the position; every other kind's is the same
-    at every position (``tests/test_engine_contract.py`` holds each engine to its declaration)."""
-
     def _plan_joint_forces(self, effects) -> tuple[list, list]:
         """``(resolved, plan)`` for :meth:`_joint_forces`: ``effects``' resolved joint effects, and per match of a joint
         with an effect ``(match, engine q, engine v, reference q, reference v, T^-1 or None)`` (``T^-1`` of one speed
-        a float), indices as slices
-        where contiguous."""
+        a float), indices as slices where contiguous."""
         _, resolved, _ = effects.resolve(self.reference)
         joints = {k for k, _, _ in resolved}
         matches = [m for m in self.matches if joints & set(m.joints)]

@@ -47,7 +47,7 @@ class Comparison:
         route: ``quaternion`` or ``euler`` for the chain's engines, ``complex-step`` for the core,
             ``model`` for a model file's.
         quantity: one of :data:`relacc.core.conventions.QUANTITIES`, or of a model's
-            (:data:`relacc.validation.robots.agreement.QUANTITIES`).
+            (:data:`relacc.core.conventions.MODEL_QUANTITIES`).
         errors: ``(n,)`` normalized error per state (dimensionless; inf where a value is undefined).
         bounds: ``(n,)`` the evaluator's accuracy model per state (``c eps``
             times a condition, plus any offset the engine's model loses).

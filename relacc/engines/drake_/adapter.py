@@ -202,15 +202,15 @@ class DrakeAdapter(PointLoop, Adapter):
         p, ctx, W = self.plant, self.context, self.plant.world_frame()
         tau = np.zeros((len(qe), self.nv_e))
         if self._load_plan is None or self._load_plan[0] is not effects:
-            self._load_plan = (effects, [(self._where(("body", name))[0].body_frame(),
-                                          self._where(("body", name))[1], np.r_[load.torque, load.force], load)
-                                         for name, load in effects.bodies.items()])
+            where = {name: self._where(("body", name)) for name in effects.bodies}
+            self._load_plan = (effects, [(where[name][0].body_frame(), where[name][1], np.r_[load.torque, load.force],
+                                          load) for name, load in effects.bodies.items()])
         for i in range(len(qe)):
             p.SetPositions(ctx, qe[i])
             ti = t[i] if np.ndim(t) else t
             for frame, p_B, wrench, load in self._load_plan[1]:
                 J = p.CalcJacobianSpatialVelocity(ctx, KV, frame, p_B, W, W)
-                tau[i] += (wrench if load.frequency == 0 else float(load.factor(ti)) * wrench) @ J
+                tau[i] += float(load.factor(ti)) * wrench @ J
         return tau
 
     def equations(self, qe, ve, effects=None, t=0.0):

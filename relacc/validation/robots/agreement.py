@@ -38,9 +38,7 @@ from relacc.limits import CHUNK_STATES
 from relacc.validation.compare import Comparison
 from relacc.validation.robots.audit import Scales, inertia_slack
 
-QUANTITIES = MODEL_QUANTITIES
-"""What is compared, in report order."""
-KINEMATIC = QUANTITIES[4:]
+KINEMATIC = MODEL_QUANTITIES[4:]
 """The quantities of each link's mass centre, which are also measured link by link (``Comparison.per_link``)."""
 CHUNK = CHUNK_STATES
 """States evaluated in one batched call of each evaluator (bounds the memory of Jacobians on a large model)."""
@@ -135,9 +133,9 @@ def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
     n_links = len(reference.structure.links)
     gravity = max(np.linalg.norm(reference.structure.gravity), np.linalg.norm(robot.structure.gravity))
     links = shared_links(reference.structure, robot.structure, robot_tolerance(n_links))
-    errors = {k: [] for k in QUANTITIES}
-    allowed = {k: [] for k in QUANTITIES}  # per state, beyond the tolerance: an engine's own numerical tolerance
-    diffs = {k: 0.0 for k in QUANTITIES}
+    errors = {k: [] for k in MODEL_QUANTITIES}
+    allowed = {k: [] for k in MODEL_QUANTITIES}  # per state, beyond the tolerance: an engine's own numerical tolerance
+    diffs = {k: 0.0 for k in MODEL_QUANTITIES}
     reading = reading or getattr(reference, "reading", None) or getattr(robot, "reading", None)
     # kg m^2: an engine's inertias may differ from the reading's by its documented tolerance (MuJoCo's mesh inertia);
     # a body inertia's error dI enters M as J_w^T dI J_w, each entry at most 3 |dI| (unit rotation axes)
@@ -225,8 +223,8 @@ def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
                 J0, J1 = k0.J[i][:, :, cols0], k1.J[i][:, :, cols1]
                 jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length, paths)
                 # positions and Jacobians: at least the model's size (a lever arm is a difference of positions)
-                add(Quantity.COM_POSITION, k1.position[i], k0.position[i], max(np.abs(k0.position[i]).max(initial=0),
-                                                                        sc.length))
+                add(Quantity.COM_POSITION, k1.position[i], k0.position[i],
+                    max(np.abs(k0.position[i]).max(initial=0), sc.length))
                 add(Quantity.COM_JACOBIAN, J1, J0, max(np.abs(J0).max(initial=0), sc.length))
                 if rates:  # an engine that offers no J_dot v and no classical acceleration (PyBullet) is not asked
                     add(Quantity.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from relacc.core.conventions import MODEL_QUANTITIES
 from relacc.engines import ENGINES, MESH_ENGINE, adapter_module, judges, readings, traits
 from relacc.engines import load as load_adapter
 from relacc.engines.contain import survives
@@ -36,7 +37,7 @@ from relacc.files import regular_file
 from relacc.limits import require_comparable
 from relacc.reading import read_moving
 from relacc.reading.read import format_of
-from relacc.validation.robots.agreement import QUANTITIES, compare_dynamics, random_states
+from relacc.validation.robots.agreement import compare_dynamics, random_states
 from relacc.validation.robots.audit import Item, Scales, differences, inertia_slack, merge
 from relacc.validation.robots.causes import READINGS, Cause, CauseKind
 from relacc.validation.robots.reading import structure
@@ -204,7 +205,7 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
     other_file = urdf is not None and Path(urdf).resolve() != Path(model).resolve()
     states = random_states(reference, n_states, seed)
     scales = Scales.of(reference.structure)
-    audits, dynamics = [], {q: {} for q in QUANTITIES}
+    audits, dynamics = [], {q: {} for q in MODEL_QUANTITIES}
     for robot in unshared:  # the user's URDF describes another robot: what differs, element by element
         audits.append(_audit(reading, reference, robot, scales, URDF_CAUSE))
     for robot in list(robots):
@@ -429,7 +430,7 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
 
     ``memo``: one dict per evaluator for all its rows: each reading and each comparison under it is made once and
     judged for every quantity that disagrees (a comparison gives every quantity at once)."""
-    from relacc.validation.robots.routines import routine_cause
+    from relacc.validation.robots.routines import EXPLAINS, routine_cause
 
     memo = {} if memo is None else memo
 
@@ -456,7 +457,7 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
                 once(("fixed read_as rows", k), lambda: compare_dynamics(read_as, fixed, states)),  # noqa: B023
                 quantity, before):
             return Cause(CauseKind.EXPLAINED, text + "; and the audit: " + "; ".join(texts))
-    text = routine_cause(quantity, reference, robot, states)
+    text = once("routine", lambda: routine_cause(reference, robot, states)) if quantity in EXPLAINS else ""
     if text:
         return Cause(CauseKind.EXPLAINED, text)
     if before.singular:

@@ -13,17 +13,18 @@ from relacc.core.conventions import Quantity
 from relacc.core.tolerances import robot_tolerance
 from relacc.engines.base import com
 
+EXPLAINS = (Quantity.JDOT_V, Quantity.CLASSICAL_ACCELERATION)
+"""The quantities a second acceleration routine can explain (both carry the engine's ``J_dot v``)."""
 
-def routine_cause(quantity: str, reference, engine, states) -> str:
-    """The cause text when the engine's acceleration routine at zero rates agrees with relacc's ``J_dot v`` on every
-    link (normalized as :func:`relacc.validation.robots.agreement.point_terms`), else empty. ``reference``: relacc's
-    reading as an evaluator; ``engine``: an adapter matched to it (empty unless it offers
-    :class:`relacc.engines.capabilities.AccelerationRoutine`)."""
+
+def routine_cause(reference, engine, states) -> str:
+    """The cause text, for a row of :data:`EXPLAINS`, when the engine's acceleration routine at zero rates agrees with
+    relacc's ``J_dot v`` on every link (normalized as :func:`relacc.validation.robots.agreement.point_terms`), else
+    empty. ``reference``: relacc's reading as an evaluator; ``engine``: an adapter matched to it (empty unless it
+    offers :class:`relacc.engines.capabilities.AccelerationRoutine`)."""
     from relacc.engines.capabilities import AccelerationRoutine
 
     if not isinstance(engine, AccelerationRoutine):
-        return ""
-    if quantity not in (Quantity.JDOT_V, Quantity.CLASSICAL_ACCELERATION):
         return ""
     from relacc.validation.robots.agreement import CHUNK, point_terms, shared_links
 
