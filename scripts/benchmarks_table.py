@@ -104,12 +104,20 @@ def _waits(d) -> str:
             f"{slow['scene']} {slow['best_s']:.1f} s ({slow['steps']} steps)")
 
 
+def _flops(d) -> str:
+    rows = ", ".join(f"{r['model']} {r['flops']:,} flops a state at {r['gflops']:.1f} GFlop/s "
+                     f"({r['fraction_of_peak']:.2f} of peak), one state {r['one_state_ratio']:.2f}x pin.aba"
+                     for r in d["rows"])
+    return f"the lanes kernel on one thread against the {d['peak_gflops']:.0f} GFlop/s FMA peak: {rows}"
+
+
 BENCHMARKS = {"throughput": ("benchmarks/throughput.py", _throughput), "batched": ("benchmarks/batched.py", _batched),
               "trees": ("benchmarks/trees.py", _trees), "gym-models": ("benchmarks/gym_models.py", _gym_models),
               "single": ("benchmarks/single.py", _single), "threads": ("benchmarks/threads.py", _threads),
               "lanes": ("benchmarks/lanes.py", _lanes), "chain-form": ("benchmarks/chain_form.py", _chain_form),
               "cluster": ("benchmarks/cluster.py", _cluster), "ensembles": ("benchmarks/ensembles.py", _ensembles),
-              "first-run": ("benchmarks/first_run.py", _first_run), "waits": ("benchmarks/waits.py", _waits)}
+              "first-run": ("benchmarks/first_run.py", _first_run), "waits": ("benchmarks/waits.py", _waits),
+              "flops": ("benchmarks/flops.py", _flops)}
 """Each benchmark's result prefix, its script and its headline."""
 
 

@@ -34,28 +34,32 @@ def test_a_states_answer_does_not_depend_on_its_lane_or_its_batch(tmp_path, case
     np.testing.assert_array_equal(back[::-1], batch, err_msg=f"seed {seed}")
     if case < 3:
         for i in range(13):
-            one = kernel.one_state(tree, case, s.q[i], s.u[i], tree.gravity)[0]
+            one = kernel.one_state(tree, case, s.q[i], s.u[i], tree.gravity)
+            assert one is not None, f"state {i}, seed {seed}: a plain state refused by the single-state lane"
             alone = kernel.accelerations(tree, case, s.q[i:i + 1], s.u[i:i + 1], np.zeros((1, tree.nv)),
                                          tree.gravity, algorithm="lanes")[0][0]
             np.testing.assert_array_equal(one, alone, err_msg=f"state {i}, seed {seed}")
 
 
 def test_the_lane_width_changes_no_number(tmp_path):
-    """The same trace compiled over 4 lanes (AVX2) and over 8 (AVX-512, or two AVX2 registers where the CPU has no
-    AVX-512): the same instructions on each state, so the same bits."""
+    """The same trace compiled over 1 lane (the single-state lane of :func:`relacc.tree_accelerations`), 4 (AVX2)
+    and 8 (AVX-512, or two AVX2 registers where the CPU has no AVX-512): the same instructions on each state, so the
+    same bits. Each width's object code is cached under its trace's key, so a cache left by an older emitter is not
+    what runs."""
     tree = _random_tree(tmp_path, 9)
     tr = lanes.trace(tree, 2)
     s = random_states(tree, 2, 21, 9)
     tau, g = np.zeros((21, tree.nv)), np.asarray(tree.gravity, dtype=float)
     outs = []
-    for width in (4, 8):
-        name = f"width_test_{width}"
-        fn, engine = lanes.compile_cached(lambda: lanes.emit(tr, width, name), name)
-        k = lanes.Kernel(fn, engine, 2, width, 0, tr.nq, tr.nv)
+    for width in (1, 4, 8):
+        name = f"width_test_{lanes._key(tr, width)[:16]}"
+        fns, engine = lanes.compile_cached(lambda: lanes.emit(tr, width, name), name)
+        k = lanes.Kernel(fns, engine, 2, width, 0, tr.nq, tr.nv)
         out = np.empty((21, tree.nv))
         assert k.block(s.q, s.u, tau, g, out, 0, 21) == (0, 0, 0)
         outs.append(out)
-    np.testing.assert_array_equal(outs[0], outs[1])
+    np.testing.assert_array_equal(outs[1], outs[0])
+    np.testing.assert_array_equal(outs[1], outs[2])
 
 
 def test_bad_inputs_are_counted_per_state(tmp_path):
@@ -76,6 +80,68 @@ def test_bad_inputs_are_counted_per_state(tmp_path):
     np.testing.assert_array_equal(out[good], ref)
     with pytest.raises(relacc.InputError, match="non-finite"):
         relacc.tree_accelerations(tree, 2, q, u)
+
+
+def test_the_single_state_entry_point_flags_what_the_general_path_refuses(tmp_path):
+    """The single-state entry point (``name_one``) on one state at a time: 0 for a plain state (its answer the batch
+    row's bits); the bad-input flag for a NaN speed and for a quaternion 1.1 long; the not-finite flag alone for
+    speeds of 1e200 (finite inputs whose answer overflows). ``tree_accelerations`` then takes the general path and
+    refuses each in its words."""
+    tree = _random_tree(tmp_path, 4)
+    s = random_states(tree, 2, 1, 4)
+    k = lanes.kernel(tree, 2, kernel.plan(tree).method, width=1)
+    one = kernel.single(tree, 2, tree.gravity)
+
+    def flags(q, u):
+        one.q[...], one.u[...] = q, u
+        return k.one(one.at)
+
+    assert flags(s.q[0], s.u[0]) == 0
+    row = kernel.accelerations(tree, 2, s.q, s.u, np.zeros_like(s.u), tree.gravity, algorithm="lanes")[0][0]
+    np.testing.assert_array_equal(one(s.q[0], s.u[0]), row)
+    nan_u, long_q, huge_u = s.u[0].copy(), s.q[0].copy(), np.full(tree.nv, 1e200)
+    nan_u[1] = np.nan
+    long_q[3:7] *= 1.1  # the free root's quaternion
+    assert flags(s.q[0], nan_u) & lanes.ONE_BAD_INPUT
+    assert flags(long_q, s.u[0]) & lanes.ONE_BAD_INPUT
+    assert flags(s.q[0], huge_u) == lanes.ONE_NOT_FINITE
+    for q, u, words in ((s.q[0], nan_u, "non-finite"), (long_q, s.u[0], "off unit"), (s.q[0], huge_u, "overflow")):
+        assert one(q, u) is None
+        with pytest.raises(relacc.InputError, match=words):
+            relacc.tree_accelerations(tree, 2, q, u)
+
+
+def test_angles_beyond_the_sincos_range_take_libms_in_their_own_lanes(tmp_path):
+    """Hinge angles of about 1e7 rad (beyond ``trig.LIMIT``, where the lanes' fdlibm sine and cosine give way to libm's)
+    in 5 of 21 states, the others ordinary: every row has the bits of the same state alone (its neighbours change
+    nothing), and they are numba's kernel's (libm's sine and cosine everywhere) within the bound of a solve. (Kane's
+    equations differ from both kernels by up to 7e-8 on these rows, 2x that bound, as before the lanes had their own
+    sine: the paths round ``theta`` times a constant differently, and at 1e7 rad an ulp of the angle is 2e-9.)"""
+    from relacc.kernels.trig import LIMIT
+    from tests.test_tree_kernels import _dynamics_scale
+
+    seed = 12
+    tree = _random_tree(tmp_path, seed, 7)
+    s = random_states(tree, 2, 21, seed)
+    hinges = [tree.qadr(2)[k] for k, (_, j) in enumerate(tree.joints) if j.type == "hinge"]
+    assert hinges, f"seed {seed}: the random tree has no hinge"
+    q = s.q.copy()
+    big = [0, 4, 5, 13, 20]
+    q[np.ix_(big, hinges)] += 1.6e6 * np.pi * 2  # a multiple of 2 pi, rounded: the angle's own double
+    assert np.abs(q[big][:, hinges]).min() > LIMIT
+    tau = np.zeros_like(s.u)
+    batch, bad, singular, _ = kernel.accelerations(tree, 2, q, s.u, tau, tree.gravity, algorithm="lanes")
+    assert bad == singular == 0, f"seed {seed}"
+    for i in range(21):
+        alone = kernel.accelerations(tree, 2, q[i:i + 1], s.u[i:i + 1], tau[i:i + 1], tree.gravity,
+                                     algorithm="lanes")[0][0]
+        np.testing.assert_array_equal(batch[i], alone, err_msg=f"state {i}, seed {seed}")
+        np.testing.assert_array_equal(kernel.one_state(tree, 2, q[i], s.u[i], tree.gravity), alone,
+                                      err_msg=f"state {i}, seed {seed}")
+    ref = kernel.accelerations(tree, 2, q, s.u, tau, tree.gravity, algorithm="crba")[0]  # numba's, libm's trig
+    bound = _dynamics_scale(tree, 2, q, s.u, ref) * 64 * 2.2e-16 * max(tree.depth)
+    err = np.abs(batch - ref).max(axis=1)
+    assert np.all(err <= bound), f"worst {np.max(err / bound):.3g} of the bound (seed {seed})"
 
 
 def test_the_object_code_is_cached_and_loaded_by_the_next_tree(tmp_path, monkeypatch):

@@ -1,5 +1,7 @@
 """relacc.kernels.trig.sincos against libm, and the case-3 kernels at block edges and beyond its range."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -86,3 +88,76 @@ def test_angles_beyond_the_sincos_range_fall_back_to_libm(chain, offset):
     assert np.array_equal(acc, k.acceleration)
     acc_np, _, _ = fast.acceleration(3, q, s.u, s.udot, chain.q2, chain.r2, backend="numpy")
     assert np.array_equal(acc, acc_np)
+
+
+def _lanes_sincos(width: int):
+    """The lanes kernel's sine and cosine (``relacc.kernels.lanes._trig``, the IR a traced tree's angles get) compiled
+    alone over ``width`` lanes: ``f(x) -> (sin x, cos x)`` on a float64 array whose length is a multiple of it."""
+    import ctypes
+
+    import llvmlite.binding as llvm
+
+    from relacc.kernels import lanes
+
+    vt, W = f"<{width} x double>", width
+    consts: dict = {}
+
+    def const(c):
+        if c not in consts:
+            bits = np.array(c).view(np.uint64)
+            consts[c] = f"<{', '.join([f'double 0x{int(bits):016X}'] * W)}>"
+        return consts[c]
+
+    def vector(ptr, name):
+        body = [f"  %{name}p = getelementptr double, double* %{ptr}, i64 %i",
+                f"  %{name}vp = bitcast double* %{name}p to {vt}*", f"  %{name} = load {vt}, {vt}* %{name}vp, align 8"]
+        return body
+
+    body = ["define void @f(double* %x, double* %s, double* %c, i64 %n) {", "entry:", "  br label %loop", "loop:",
+            "  %i = phi i64 [0, %entry], [%next, %trig_join]"]
+    body += vector("x", "xv")
+    body += lanes._trig(vt, const, [("%xv", ("%sv", "%cv"))])
+    for ptr, v in (("s", "%sv"), ("c", "%cv")):
+        body += [f"  %{ptr}p = getelementptr double, double* %{ptr}, i64 %i",
+                 f"  %{ptr}vp = bitcast double* %{ptr}p to {vt}*", f"  store {vt} {v}, {vt}* %{ptr}vp, align 8"]
+    body += [f"  %next = add i64 %i, {W}", "  %more = icmp slt i64 %next, %n",
+             "  br i1 %more, label %loop, label %done", "done:", "  ret void", "}"]
+    decl = [f"declare {vt} @llvm.{f}.v{W}f64({vt})" for f in ("sin", "cos", "fabs", "floor")]
+    decl.append(f"declare i1 @llvm.vector.reduce.or.v{W}i1(<{W} x i1>)")
+    machine = lanes._machine(2)
+    engine = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
+    engine.add_module(lanes._parsed("\n".join(decl + body) + "\n", machine))
+    engine.finalize_object()
+    fn = ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * 3), ctypes.c_int64)(engine.get_function_address("f"))
+
+    def run(x):
+        x = np.ascontiguousarray(x, dtype=float)
+        s, c = np.empty_like(x), np.empty_like(x)
+        fn(x.ctypes.data, s.ctypes.data, c.ctypes.data, len(x))
+        return s, c
+
+    run.engine = engine  # the code lives as long as the function
+    return run
+
+
+@pytest.mark.parametrize("width", [1, 4])
+def test_the_lanes_sincos_is_fdlibms_and_libms_beyond_its_range(width):
+    """The sine and cosine written into the lanes' IR give the bits of trig.sincos (the same fdlibm algorithm compiled
+    by numba) on 2.4 million hard angles within trig.LIMIT, so within TRIG_ULPS of libm; beyond LIMIT, libm's own
+    bits. Big and ordinary angles share vectors: each lane's bits are its own angle's, whatever its neighbours."""
+    seed = 3 + width
+    rng = np.random.default_rng(seed)
+    x = _angles(seed)
+    big = rng.choice([-1.0, 1.0], 4096) * 10.0 ** rng.uniform(np.log10(trig.LIMIT) + 1e-9, 300.0, 4096)
+    x = np.concatenate([x, big, [np.inf, -np.inf, np.nan]])
+    x = rng.permutation(np.concatenate([x, np.zeros((-len(x)) % 4)]))
+    s, c = _lanes_sincos(width)(x)
+    inside = np.abs(x) <= trig.LIMIT
+    ref_s, ref_c = trig.sincos_array(x[inside])
+    np.testing.assert_array_equal(s[inside], ref_s, err_msg=f"seed {seed}")
+    np.testing.assert_array_equal(c[inside], ref_c, err_msg=f"seed {seed}")
+    worst = max(_ulps(s[inside], np.sin(x[inside])).max(), _ulps(c[inside], np.cos(x[inside])).max())
+    assert worst <= TRIG_ULPS, f"seed {seed}: {worst} ulps"
+    libm = [(math.sin(v), math.cos(v)) if math.isfinite(v) else (math.nan, math.nan) for v in x[~inside]]
+    np.testing.assert_array_equal(s[~inside], [a for a, _ in libm], err_msg=f"seed {seed}")  # Python's math: libm
+    np.testing.assert_array_equal(c[~inside], [b for _, b in libm], err_msg=f"seed {seed}")

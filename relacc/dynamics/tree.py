@@ -20,6 +20,8 @@ distance ``delta`` from the 1-2-3 gimbal lock; mapped, the error grows as that n
 from __future__ import annotations
 
 import math
+import threading
+import weakref
 from dataclasses import dataclass
 from typing import Any
 
@@ -259,11 +261,12 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
         AccuracyWarning: case 3 near the lock (above :data:`relacc.core.tolerances.CONDITION_WARNING`), naming the
             joint, its ``theta2``, the distance to the lock and the relative error to expect.
     """
-    if (tau is None and effects is None and out is None and backend == "auto" and type(case) is int
-            and (case == Case.FIXED_FRAME or case == Case.BODY_FRAME) and type(tree) is Tree):  # the single-state lane
-        one = _one_state(tree, case, q, u, None)
-        if one is not None:
-            return one
+    if tau is None and effects is None and out is None and backend == "auto" and type(case) is int:
+        ones = _ONES.get(tree) if type(tree) is Tree else None  # the single-state lane, found in two lookups
+        one = None if ones is None else ones.get((case, threading.get_ident()))
+        res = one(q, u) if one is not None else _one_state(tree, case, q, u, None)
+        if res is not None:
+            return res
     if backend not in ("auto", "fast", "reference"):
         raise InputError(f"unknown backend {backend!r}: accepted are auto, fast, reference")
     if any(x is not None and np.iscomplexobj(x) for x in (q, u, tau)):  # complex steps: Kane's equations carry them
@@ -434,18 +437,20 @@ def _fast(tree, case, q, u, tau, effects, out):
 
 
 def _one_state(tree, case, q, u, effects):
-    """One state's answer by the kernel's single-state lane (:func:`relacc.kernels.tree_dynamics.one_state`), or None
+    """One state's answer by the kernel's single-state lane (:func:`relacc.kernels.tree_dynamics.single`), or None
     for anything but one plain, valid state in case 1 or 2 whose equations are regular (the general path then decides,
-    and says what is wrong)."""
-    if not (isinstance(tree, Tree) and type(case) is int and case in (1, 2) and _plain_row(q, tree.nq_in(case))
-            and _plain_row(u, tree.nv)):
+    and says what is wrong). The lane of the tree's own gravity is kept per tree, case and thread in :data:`_ONES`
+    for :func:`tree_accelerations` to find first."""
+    if not (isinstance(tree, Tree) and type(case) is int and case in (1, 2)):
         return None
-    gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
-    res, bad_in, singular, ill = _kernel().one_state(tree, case, q, u, gravity)
-    if bad_in or singular or ill or not math.isfinite(res.sum()):  # the long way says what is wrong, and warns
-        return None
-    res.setflags(write=False)
-    return res
+    own = effects is None or effects.gravity is None
+    one = _kernel().single(tree, case, tree.gravity if own else effects.gravity)
+    if own:
+        _ONES.setdefault(tree, {})[(case, threading.get_ident())] = one
+    return one(q, u)
+
+
+_ONES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _kernel():
@@ -459,10 +464,6 @@ def _kernel():
 
 
 _KERNEL: Any = None
-
-
-def _plain_row(a, n) -> bool:
-    return type(a) is np.ndarray and a.dtype == np.float64 and a.shape == (n,)
 
 
 def warn_ill_conditioned(n_ill: int, n: int, stacklevel: int = 2) -> None:

@@ -17,6 +17,12 @@ beside numba's (:func:`compile_cached`). The same operations in the same order a
 rounding but for the multiply-adds: a product used only by one sum is fused with it (:func:`_fused`, ``llvm.fma``:
 one rounding), where numba's kernels let LLVM fuse what it chooses (``fastmath={'contract'}``).
 
+Each angle's sine and cosine are written into the IR as vector code (:func:`_trig`: fdlibm's algorithm, the bits of
+:func:`relacc.kernels.trig.sincos`, within :data:`relacc.core.tolerances.TRIG_ULPS` of libm), not left to LLVM's
+``llvm.sin``/``llvm.cos``, which it lowers to one libm call per lane (about 40% of the kernel's time); an angle beyond
+:data:`relacc.kernels.trig.LIMIT` takes libm's in its own lane. Each kernel also has a single-state entry point
+(:func:`_one`) that :func:`relacc.tree_accelerations` calls for one state, compiled over one lane.
+
 A pivot of the factorization not above :data:`relacc.core.tolerances.PIVOT_FLOOR` times its diagonal entry makes that
 state's row NaN and is counted, as the numba kernel does; non-finite inputs and non-unit quaternions are counted per
 state. CppADCodeGen does the same for Pinocchio with a C compiler at run time; LLVM is already in the process.
@@ -334,6 +340,106 @@ def lanes() -> int:
     return 8 if feats.get("avx512f", False) else 4
 
 
+def _sincos(x: str, tag: str, vt: str, const) -> tuple[list, str, str]:
+    """IR lines of ``(sin x, cos x)`` of the ``vt`` vector ``x`` by :func:`relacc.kernels.trig.sincos`'s algorithm
+    (fdlibm's reduction in three Cody-Waite rounds and its minimax polynomials), the same operations in the same
+    order, no fused multiply-add; the quadrant picks and signs the pair by ``select`` (so ``sin(-0.0)`` is ``-0.0``, as
+    libm's). Valid for ``|x| <= LIMIT``: the caller replaces the lanes beyond (:func:`_trig`). Returns
+    ``(lines, sin's name, cos's name)``; every name starts with ``%{tag}``."""
+    from relacc.kernels import trig
+
+    lines: list = []
+    count = [0]
+
+    def op(kind, a, b):
+        name = f"%{tag}_{count[0]}"
+        count[0] += 1
+        a = const(a) if isinstance(a, float) else a
+        b = const(b) if isinstance(b, float) else b
+        lines.append(f"  {name} = f{kind} {vt} {a}, {b}")
+        return name
+
+    t = op("add", op("mul", x, trig.INVPIO2), 0.5)
+    n = f"%{tag}_n"
+    lines.append(f"  {n} = call {vt} @llvm.floor.{vt_suffix(vt)}({vt} {t})")
+    r = op("sub", x, op("mul", n, trig.PIO2_1))  # exact
+    w = op("mul", n, trig.PIO2_2)
+    r2 = op("sub", r, w)
+    w = op("sub", op("mul", n, trig.PIO2_2T), op("sub", op("sub", r, r2), w))  # superseded below, as in fdlibm
+    w = op("mul", n, trig.PIO2_3)
+    r3 = op("sub", r2, w)
+    w = op("sub", op("mul", n, trig.PIO2_3T), op("sub", op("sub", r2, r3), w))
+    y0 = op("sub", r3, w)
+    y1 = op("sub", op("sub", r3, y0), w)
+    z = op("mul", y0, y0)
+    ww = op("mul", z, z)
+    rs = op("add", op("add", trig.S2, op("mul", z, op("add", trig.S3, op("mul", z, trig.S4)))),
+            op("mul", op("mul", z, ww), op("add", trig.S5, op("mul", z, trig.S6))))
+    v = op("mul", z, y0)
+    sn = op("sub", y0, op("sub", op("sub", op("mul", z, op("sub", op("mul", 0.5, y1), op("mul", v, rs))), y1),
+                          op("mul", v, trig.S1)))
+    rc = op("add", op("mul", z, op("add", trig.C1, op("mul", z, op("add", trig.C2, op("mul", z, trig.C3))))),
+            op("mul", op("mul", ww, ww), op("add", trig.C4, op("mul", z, op("add", trig.C5, op("mul", z, trig.C6))))))
+    hz = op("mul", 0.5, z)
+    w1 = op("sub", 1.0, hz)
+    cs = op("add", w1, op("add", op("sub", op("sub", 1.0, w1), hz), op("sub", op("mul", z, rc), op("mul", y0, y1))))
+    q = f"%{tag}_q"
+    lines.append(f"  {q}f = call {vt} @llvm.floor.{vt_suffix(vt)}({vt} {op('mul', n, 0.25)})")
+    k = op("sub", n, op("mul", 4.0, f"{q}f"))  # the quadrant: 0, 1, 2, 3
+    mt = vt.replace("double", "i1")
+    for j in (1, 2, 3):
+        lines.append(f"  %{tag}_k{j} = fcmp oeq {vt} {k}, {const(float(j))}")
+    lines += [f"  %{tag}_odd = or {mt} %{tag}_k1, %{tag}_k3", f"  %{tag}_ns = or {mt} %{tag}_k2, %{tag}_k3",
+              f"  %{tag}_nc = or {mt} %{tag}_k1, %{tag}_k2",
+              f"  %{tag}_ps = select {mt} %{tag}_odd, {vt} {cs}, {vt} {sn}",
+              f"  %{tag}_pc = select {mt} %{tag}_odd, {vt} {sn}, {vt} {cs}",
+              f"  %{tag}_ms = fneg {vt} %{tag}_ps", f"  %{tag}_mc = fneg {vt} %{tag}_pc",
+              f"  %{tag}_sin = select {mt} %{tag}_ns, {vt} %{tag}_ms, {vt} %{tag}_ps",
+              f"  %{tag}_cos = select {mt} %{tag}_nc, {vt} %{tag}_mc, {vt} %{tag}_pc"]
+    return lines, f"%{tag}_sin", f"%{tag}_cos"
+
+
+def _trig(vt: str, const, angles: list) -> list:
+    """IR of every angle's ``(sin x, cos x)``, ``angles`` a list of ``(x, (sin's name, cos's name))``: :func:`_sincos`
+    in every lane, and libm's ``sin`` and ``cos`` in the lanes where ``|x| > LIMIT`` (fdlibm's Payne-Hanek reduction,
+    which the three rounds do not replace), called only when some lane of some angle needs them: one branch for all
+    the angles, so that the rest of the body stays one block for the code generator to schedule (a branch per angle
+    cost a quarter of the kernel's time). A lane's bits depend on its own angle alone, never on its neighbours'.
+    The code after these lines is in block ``trig_join``."""
+    from relacc.kernels.trig import LIMIT
+
+    if not angles:
+        return []
+    mt, sfx = vt.replace("double", "i1"), vt_suffix(vt)
+    width = vt.strip("<>").split(" x ")[0]
+    lines, fast, anyb = [], [], "false"
+    for j, (x, _) in enumerate(angles):
+        body, sn, cs = _sincos(x, f"t{j}", vt, const)
+        fast.append((sn, cs))
+        lines += body + [f"  %t{j}_ax = call {vt} @llvm.fabs.{sfx}({vt} {x})",
+                         f"  %t{j}_big = fcmp ogt {vt} %t{j}_ax, {const(LIMIT)}",
+                         f"  %t{j}_any = call i1 @llvm.vector.reduce.or.v{width}i1({mt} %t{j}_big)",
+                         f"  %t{j}_acc = or i1 {anyb}, %t{j}_any"]
+        anyb = f"%t{j}_acc"
+    lines += [f"  br i1 {anyb}, label %trig_libm, label %trig_join", "trig_libm:"]
+    for j, (x, _) in enumerate(angles):
+        lines += [f"  %t{j}_ls = call {vt} @llvm.sin.{sfx}({vt} {x})",
+                  f"  %t{j}_lc = call {vt} @llvm.cos.{sfx}({vt} {x})"]
+    lines += ["  br label %trig_join", "trig_join:"]
+    for j, (sn, cs) in enumerate(fast):  # a block's phis come first
+        lines += [f"  %t{j}_bs = phi {vt} [{sn}, %loop], [%t{j}_ls, %trig_libm]",
+                  f"  %t{j}_bc = phi {vt} [{cs}, %loop], [%t{j}_lc, %trig_libm]"]
+    for j, ((_, (s_name, c_name)), (sn, cs)) in enumerate(zip(angles, fast)):
+        lines += [f"  {s_name} = select {mt} %t{j}_big, {vt} %t{j}_bs, {vt} {sn}",
+                  f"  {c_name} = select {mt} %t{j}_big, {vt} %t{j}_bc, {vt} {cs}"]
+    return lines
+
+
+def vt_suffix(vt: str) -> str:
+    """LLVM's intrinsic suffix of a vector type: ``<4 x double>`` -> ``v4f64``."""
+    return "v" + vt.strip("<>").split(" x ")[0] + "f64"
+
+
 def emit(tr: Trace, width: int, name: str = "lanes") -> str:
     """LLVM IR (text) of ``i64 name(double* q, double* u, double* tau, double* g, double* out, i64* bad, i64 start,
     i64 stop)``: rows ``start .. stop - 1`` of C-contiguous ``q (n, nq)``, ``u``, ``tau (n, nv)`` to ``out (n, nv)``,
@@ -347,8 +453,8 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
     lines = [f"define i64 @{name}(double* %q, double* %u, double* %tau, double* %g, double* %out, i64* %bad, "
              "i64 %start, i64 %stop) {", "entry:", "  %empty = icmp sge i64 %start, %stop",
              "  br i1 %empty, label %done, label %loop", "loop:",
-             "  %i = phi i64 [%start, %entry], [%next, %loop]", "  %ns = phi i64 [0, %entry], [%cs, %loop]",
-             "  %nb = phi i64 [0, %entry], [%cb, %loop]", "  %nw = phi i64 [0, %entry], [%cw, %loop]",
+             "  %i = phi i64 [%start, %entry], [%next, %LATCH]", "  %ns = phi i64 [0, %entry], [%cs, %LATCH]",
+             "  %nb = phi i64 [0, %entry], [%cb, %LATCH]", "  %nw = phi i64 [0, %entry], [%cw, %LATCH]",
              "  %last = sub i64 %stop, 1"]
     add = lines.append
     for lane in range(W):
@@ -389,11 +495,25 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
     fused = _fused(tr, need)
     products = set(fused.values())
     fma = f"@llvm.fma.v{W}f64"
+    trig: dict = {}  # an angle's op -> {"sin": op, "cos": op}
     for k, (opn, a, b) in enumerate(tr.ops):
-        if not need[k] or k in products:
-            continue
+        if need[k] and opn in ("sin", "cos"):
+            trig.setdefault(a, {}).setdefault(opn, k)
+    early: set = set()  # the angles and what they are made of (a coordinate, half of it): emitted first
+    stack = list(trig)
+    while stack:
+        k = stack.pop()
+        if k not in early:
+            early.add(k)
+            stack += [r for r in tr.ops[k][1:] if isinstance(r, int) and tr.ops[k][0] != "in"]
+
+    def op(k):
+        opn, a, b = tr.ops[k]
         m = fused.get(k)
-        if m is not None:  # a product used only here, rounded once with the sum: a b + c, a b - c, c - a b
+        if opn in ("sin", "cos"):
+            if trig[a][opn] != k:  # a repeated sine or cosine of one angle: the first's bits
+                add(f"  %v{k} = fmul {vt} %v{trig[a][opn]}, {const(1.0)}")
+        elif m is not None:  # a product used only here, rounded once with the sum: a b + c, a b - c, c - a b
             x, y = val(tr.ops[m][1]), val(tr.ops[m][2])
             if opn == "add":
                 c3 = val(b if m == a else a)
@@ -412,6 +532,17 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
             add(f"  %v{k} = fneg {vt} {val(a)}")
         else:
             add(f"  %v{k} = call {vt} @llvm.{opn}.v{W}f64({vt} {val(a)})")
+
+    for k in sorted(early):
+        if need[k] and k not in products:
+            op(k)
+    lines.extend(_trig(vt, const, [(val(a), tuple(f"%v{pair[f]}" if f in pair else f"%t{a}_{f}"
+                                                  for f in ("sin", "cos"))) for a, pair in trig.items()]))
+    latch = "trig_join" if trig else "loop"  # the block the loop's body ends in
+    lines[:9] = [line.replace("%LATCH]", f"%{latch}]") for line in lines[:9]]
+    for k in range(len(tr.ops)):
+        if need[k] and k not in products and k not in early:
+            op(k)
     ok = f"<{', '.join(['i1 true'] * W)}>"
     for n, (a, b) in enumerate(tr.pivots):
         add(f"  %pc{n} = fcmp ogt {vt} {val(a)}, {val(b)}")
@@ -475,15 +606,52 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
     lines += [f"  %cs = add i64 {cs}, 0", f"  %cb = add i64 {cb}, 0", f"  %cw = add i64 {cw}, 0",
               f"  %next = add i64 %i, {W}",
               "  %more = icmp slt i64 %next, %stop", "  br i1 %more, label %loop, label %done", "done:",
-              "  %rs = phi i64 [0, %entry], [%cs, %loop]", "  %rb = phi i64 [0, %entry], [%cb, %loop]",
-              "  %rw = phi i64 [0, %entry], [%cw, %loop]",
+              f"  %rs = phi i64 [0, %entry], [%cs, %{latch}]", f"  %rb = phi i64 [0, %entry], [%cb, %{latch}]",
+              f"  %rw = phi i64 [0, %entry], [%cw, %{latch}]",
               "  %b0 = load i64, i64* %bad", "  %b1 = add i64 %b0, %rb", "  store i64 %b1, i64* %bad",
               "  %bw = getelementptr i64, i64* %bad, i64 1", "  %w0 = load i64, i64* %bw",
               "  %w1 = add i64 %w0, %rw", "  store i64 %w1, i64* %bw",
               "  ret i64 %rs", "}"]
-    decl = [f"declare {vt} @llvm.{f}.v{W}f64({vt})" for f in ("sqrt", "sin", "cos", "fabs")]
+    decl = [f"declare {vt} @llvm.{f}.v{W}f64({vt})" for f in ("sqrt", "sin", "cos", "fabs", "floor")]
+    decl.append(f"declare i1 @llvm.vector.reduce.or.v{W}i1({mt})")
     decl.append(f"declare {vt} @llvm.fma.v{W}f64({vt}, {vt}, {vt})")
-    return "\n".join(decl + lines) + "\n"
+    return "\n".join(decl + lines + _one(name, tr.nq, tr.nv)) + "\n"
+
+
+ONE_SINGULAR, ONE_BAD_INPUT, ONE_ILL, ONE_NOT_FINITE = 1, 2, 4, 8
+"""The flags :func:`emit`'s single-state entry point ``name_one`` returns (or-ed; 0: a plain answer)."""
+
+
+def _one(name: str, nq: int, nv: int) -> list:
+    """IR of ``i64 name_one(double* buf)``: the kernel on the one state laid out in ``buf`` as ``q (nq) | u (nv) |
+    tau (nv) | g (3) | out (nv)``, returning :data:`ONE_SINGULAR` and the other flags or-ed, with
+    :data:`ONE_NOT_FINITE` where an output is not finite. One pointer rather than eight arguments: ctypes converts
+    each argument, and eight cost 2.2 us of a call against 0.55 for one (measured on this project's AMD VM), more
+    than the kernel's own work on one state."""
+    at = {"u": nq, "tau": nq + nv, "g": nq + 2 * nv, "out": nq + 2 * nv + 3}
+    body = [f"define i64 @{name}_one(double* %buf) {{", "entry:", "  %bad = alloca [2 x i64]",
+            "  %b0p = getelementptr [2 x i64], [2 x i64]* %bad, i64 0, i64 0",
+            "  %b1p = getelementptr [2 x i64], [2 x i64]* %bad, i64 0, i64 1",
+            "  store i64 0, i64* %b0p", "  store i64 0, i64* %b1p"]
+    for arr, off in at.items():
+        body.append(f"  %{arr} = getelementptr double, double* %buf, i64 {off}")
+    body += [f"  %s = call i64 @{name}(double* %buf, double* %u, double* %tau, double* %g, double* %out, "
+             "i64* %b0p, i64 0, i64 1)",
+             "  %b0 = load i64, i64* %b0p", "  %b1 = load i64, i64* %b1p",
+             "  %fs = icmp ne i64 %s, 0", "  %fb = icmp ne i64 %b0, 0", "  %fi = icmp ne i64 %b1, 0"]
+    fin = "true"
+    for c in range(nv):  # x - x is 0 for a finite x and NaN for an infinite or NaN one
+        body += [f"  %op{c} = getelementptr double, double* %out, i64 {c}", f"  %ov{c} = load double, double* %op{c}",
+                 f"  %od{c} = fsub double %ov{c}, %ov{c}", f"  %oq{c} = fcmp oeq double %od{c}, 0.0",
+                 f"  %of{c} = and i1 {fin}, %oq{c}"]
+        fin = f"%of{c}"
+    body += [f"  %fn = xor i1 {fin}, true"]
+    acc = "0"
+    for k, (flag, bit) in enumerate((("fs", ONE_SINGULAR), ("fb", ONE_BAD_INPUT), ("fi", ONE_ILL),
+                                     ("fn", ONE_NOT_FINITE))):
+        body += [f"  %z{k} = select i1 %{flag}, i64 {bit}, i64 0", f"  %a{k} = or i64 {acc}, %z{k}"]
+        acc = f"%a{k}"
+    return body + [f"  ret i64 {acc}", "}"]
 
 
 def _fused(tr: Trace, need: list) -> dict:
@@ -563,12 +731,14 @@ class Kernel:
 
     Attributes:
         fn: the compiled function (:func:`emit`'s signature), at the optimization ``level`` (0 or 2) reached so far.
+        one: its single-state entry point (``name_one``, :func:`_one`), at the same level.
         width: states a vector. ops: the traced operations (the arithmetic a state costs). nq, nv: the state's sizes.
         states: the states run so far in this process (what :meth:`will_run` weighs).
     """
 
-    def __init__(self, fn, engine, level: int, width: int, ops: int, nq: int, nv: int, upgrade=None):
-        self.fn: Callable[..., int] = fn
+    def __init__(self, fns, engine, level: int, width: int, ops: int, nq: int, nv: int, upgrade=None):
+        self.fn: Callable[..., int] = fns[0]
+        self.one: Callable[[int], int] = fns[1]
         self.level, self.width, self.ops, self.nq, self.nv = level, width, ops, nq, nv
         self.states = 0  # counted without a lock: threads may lose a few, and the count only times the switch
         self._engines = [engine]  # every engine whose code may still run on another thread: kept with the kernel
@@ -586,9 +756,9 @@ class Kernel:
         """Compile the ``-O2`` code now (or load it from the cache) and run it from now on."""
         with self._lock:
             if self._upgrade is not None:
-                fn, engine = self._upgrade()
+                (fn, one), engine = self._upgrade()
                 self._engines.append(engine)
-                self.fn, self.level, self._upgrade = fn, 2, None
+                self.fn, self.one, self.level, self._upgrade = fn, one, 2, None
 
     def block(self, q, u, tau, g, out, start: int, stop: int) -> tuple:
         """Rows ``start .. stop - 1`` of C-contiguous float64 ``q (n, nq)`` and ``u (n, nv)`` (the case's
@@ -602,23 +772,37 @@ class Kernel:
                            bad.ctypes.data, start, stop)
         return int(bad[0]), int(singular), int(bad[1])
 
+    def run_one(self, at: int) -> int:
+        """The state in the buffer at address ``at`` (:func:`_one`'s layout): its flags, 0 for a plain answer."""
+        self.states += 1
+        if self._upgrade is not None and self.states >= UPGRADE_STATES:
+            self.optimize()
+        return self.one(at)
+
 
 _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
-def kernel(tree, case: int, algorithm: str = "crba"):
-    """The tree's :class:`Kernel` in ``case`` by ``algorithm`` (``"crba"`` or ``"aba"``; traced, compiled or loaded
-    from the cache once per tree, case and algorithm in a process), or None where the lanes are not available: no
-    llvmlite, a tree over :data:`MAX_OPS`, or one whose code branches on a state's value."""
+def kernel(tree, case: int, algorithm: str = "crba", width: int | None = None):
+    """The tree's :class:`Kernel` in ``case`` by ``algorithm`` (``"crba"`` or ``"aba"``) over ``width`` states a step
+    (default :func:`lanes`; 1 for the single-state lane: one state in a vector of four or eight costs the vector's
+    scalar ``sin`` and ``cos`` calls four or eight times), traced once per tree, case and algorithm and compiled or
+    loaded from the cache once per width, in a process; or None where the lanes are not available: no llvmlite, a
+    tree over :data:`MAX_OPS`, or one whose code branches on a state's value."""
     per = _KERNELS.get(tree)
     if per is None:
         per = _KERNELS[tree] = {}
     if (case, algorithm) not in per:
-        per[(case, algorithm)] = _build(tree, case, algorithm)
-    return per[(case, algorithm)]
+        per[(case, algorithm)] = _traced(tree, case, algorithm)
+    tr = per[(case, algorithm)]
+    key = (case, algorithm, width or lanes())
+    if key not in per:
+        per[key] = None if tr is None else _build(tr, key[2])
+    return per[key]
 
 
-def _build(tree, case, algorithm):
+def _traced(tree, case, algorithm):
+    """The tree's :class:`Trace`, or None where it is not to be compiled (no llvmlite, too large, untraceable)."""
     try:
         import llvmlite.binding  # noqa: F401
     except ImportError:  # pragma: no cover - llvmlite comes with numba
@@ -629,9 +813,10 @@ def _build(tree, case, algorithm):
         tr = trace(tree, case, algorithm)
     except Untraceable:
         return None
-    if sum(_needed(tr)) > MAX_OPS:
-        return None
-    width = lanes()
+    return None if sum(_needed(tr)) > MAX_OPS else tr
+
+
+def _build(tr, width):
     name = "lanes_" + _key(tr, width)[:32]
 
     def make_ir():
@@ -710,6 +895,7 @@ def _machine(level: int = 2):
 
 
 _PROTO = ctypes.CFUNCTYPE(ctypes.c_int64, *([ctypes.c_void_p] * 6), ctypes.c_int64, ctypes.c_int64)
+_ONE_PROTO = ctypes.CFUNCTYPE(ctypes.c_int64, ctypes.c_void_p)
 
 
 CACHE_MAGIC = b"relacc-lanes-object 1\n"
@@ -717,11 +903,11 @@ CACHE_MAGIC = b"relacc-lanes-object 1\n"
 
 
 def compile_cached(make_ir, name: str, level: int = 2, cached_only: bool = False):
-    """``(the compiled function name, a ctypes function; its engine, which holds the code: keep it while the function
-    is called)``, code generated at ``-O<level>`` for this CPU: the object code from the cache directory
-    (``name_O<level>.lobj``) where an earlier process left it whole, else ``make_ir()`` compiled and its object code
-    left there (:func:`_write_object`; a cache that cannot be written is skipped); None with ``cached_only`` and
-    nothing cached.
+    """``((the compiled function name, its single-state entry point name_one), as ctypes functions; their engine,
+    which holds the code: keep it while the functions are called)``, code generated at ``-O<level>`` for this CPU:
+    the object code from the cache directory (``name_O<level>.lobj``) where an earlier process left it whole, else
+    ``make_ir()`` compiled and its object code left there (:func:`_write_object`; a cache that cannot be written is
+    skipped); None with ``cached_only`` and nothing cached.
 
     What is loaded is verified before it runs (:func:`_read_object`): a cached file that is truncated, empty, edited
     or another kernel's, or whose code lacks the function, is compiled again and written anew, and said once on
@@ -745,9 +931,9 @@ def compile_cached(make_ir, name: str, level: int = 2, cached_only: bool = False
         engine = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
         engine.add_object_file(llvm.ObjectFileRef.from_data(data))
         engine.finalize_object()
-        address = engine.get_function_address(name)
-        if address:
-            return _PROTO(address), engine
+        address, one = engine.get_function_address(name), engine.get_function_address(f"{name}_one")
+        if address and one:
+            return (_PROTO(address), _ONE_PROTO(one)), engine
         if attempt:  # pragma: no cover - freshly compiled code always has its function
             raise RuntimeError(f"the compiled lanes kernel {name} lacks its function")
         _damaged(path, "its code lacks the kernel's function")

@@ -110,15 +110,16 @@ LANES_US_PER_SPEED = 0.025
 for 23: ``trees-2026-11-25-run18``), what :func:`relacc.kernels.jit.parallel_pays` weighs for them."""
 
 
-def _lanes(tree, case, algorithm):
-    """The tree's :class:`relacc.kernels.lanes.Kernel` for ``case`` when ``algorithm`` asks for it or leaves the choice
-    (None where it is not available and not asked for by name)."""
+def _lanes(tree, case, algorithm, width=None):
+    """The tree's :class:`relacc.kernels.lanes.Kernel` for ``case`` over ``width`` states a step (default the CPU's
+    vector) when ``algorithm`` asks for it or leaves the choice (None where it is not available and not asked for by
+    name)."""
     if algorithm not in (None, "lanes"):
         return None
     from relacc.kernels import lanes
 
     folded = welded_folded(tree)
-    lane = lanes.kernel(folded, int(case), plan(folded).method)
+    lane = lanes.kernel(folded, int(case), plan(folded).method, width)
     if lane is None and algorithm == "lanes":
         raise ValueError(f"the lanes kernel is not available for tree {tree.name!r} (llvmlite, its size)")
     return lane
@@ -128,9 +129,10 @@ def optimize(tree, case: int) -> None:
     """The tree's lanes kernel for ``case`` at its fastest now (LLVM's ``-O2``, :data:`relacc.kernels.lanes.
     UPGRADE_STATES`) rather than after 100,000 states: the same bits. What a benchmark of the steady state calls
     before timing; nothing where the lanes do not run the tree."""
-    lane = _lanes(tree, case, None)
-    if lane is not None:
-        lane.optimize()
+    for width in (None, 1):
+        lane = _lanes(tree, case, None, width)
+        if lane is not None:
+            lane.optimize()
 
 
 def algorithm_used(tree, case: int) -> str:
@@ -156,57 +158,89 @@ def _block_call(tree, case, algorithm, q, u, tau, gravity, out):
 
 
 def one_state(tree, case: int, q, u, gravity):
-    """``(udot (nv,), bad input, singular, ill-conditioned)`` of one state ``q (nq,)``, ``u (nv,)`` (float64, shapes
-    checked by the caller), no applied forces: the single-state lane of :func:`relacc.tree_accelerations`, on the
-    calling thread with the kernel's arguments gathered once per tree, case, gravity and thread (:func:`_single`), so
-    that a call costs the kernel and little else."""
-    fn, args, Q, U, out = _single(tree, case, gravity)
-    Q[0], U[0] = q, u
-    bad_in, singular, ill = fn(*args)
-    return out[0].copy(), bad_in, singular, ill
+    """``udot (nv,)`` (m/s^2, rad/s^2) of one state ``q (nq,)``, ``u (nv,)`` in case 1 or 2, no applied forces, gravity
+    ``(3,)`` m/s^2 in world components; or None where the state is not plain (not a float64 row of the case's size,
+    a bad input, singular or ill-conditioned equations, a non-finite answer: the general path then says what is
+    wrong). The single-state lane of :func:`relacc.tree_accelerations`, on the calling thread (:func:`single`)."""
+    return single(tree, case, gravity)(q, u)
 
 
-def _single(tree, case, gravity):
-    """``(block function, its arguments, q (1, nq), u (1, nv), out (1, nv))``: buffers and arguments of the block
-    function for one state, cached per tree, case, gravity and thread (each thread writes its own buffers); the
-    tree's own gravity is keyed without reading it (a call's fixed cost is what this lane is for)."""
+def single(tree, case: int, gravity):
+    """The callable ``(q, u) -> udot or None`` of :func:`one_state` for this tree, case (1 or 2) and gravity on the
+    calling thread, with its buffers and arguments gathered once (each thread writes its own), cached; the tree's own
+    gravity is keyed without reading it (a call's fixed cost is what this lane is for)."""
     grav = None if gravity is tree.gravity else bytes(np.asarray(gravity, dtype=float))
     key = (case, grav, threading.get_ident())
     cache = _SINGLE.get(tree)
     if cache is None:
         cache = _SINGLE[tree] = {}
-    if key not in cache:
-        Q, U, tau, out = np.zeros((1, tree.nq_in(case))), np.zeros((1, tree.nv)), np.zeros((1, tree.nv)), \
-            np.zeros((1, tree.nv))
-        lane = _lanes(tree, case, None)
-        if lane is not None:  # the compiled function on the buffers' addresses: a call is the kernel and ctypes
-            g, bad = np.array(gravity, dtype=float), np.zeros(2, np.int64)
-            keep = (Q, U, tau, g, out, bad)
-            fn = _ZeroingCall(lane, bad, keep)
-            cache[key] = (fn, tuple(a.ctypes.data for a in keep[:5]) + (bad, 0, 1), Q, U, out)
-            return cache[key]
-        fn, args = _block_call(tree, case, None, Q, U, tau, np.array(gravity, dtype=float), out)
-        args = args + (0, 1)
-        cache[key] = (_entry_point(fn, args), args, Q, U, out)
-    return cache[key]
+    one = cache.get(key)
+    if one is None:
+        lane = _lanes(tree, case, None, width=1)
+        one = cache[key] = (_OneLane(lane, tree.nq_in(case), tree.nv, gravity) if lane is not None
+                            else _OneBlock(tree, case, gravity))
+    return one
 
 
-class _ZeroingCall:
-    """The lanes kernel's compiled function for one state on fixed buffers: counts the state
-    (:meth:`relacc.kernels.lanes.Kernel.will_run`), zeroes the bad-input and ill-conditioned counts, passes their
-    address (the arguments' sixth is the counts' array), keeps the buffers alive as long as the call is cached, and
-    returns ``(bad inputs, singular, ill-conditioned)`` as the numba block function does."""
+class _OneLane:
+    """One state through the lanes kernel's single-state entry point (:meth:`relacc.kernels.lanes.Kernel.run_one`):
+    the state copied into a buffer laid out as that entry point reads it, one ctypes argument, the answer copied
+    out."""
 
-    __slots__ = ("lane", "bad", "at", "keep")
+    __slots__ = ("kernel", "buf", "q", "u", "out", "at", "shapes")
 
-    def __init__(self, lane, bad, keep):
-        self.lane, self.bad, self.at, self.keep = lane, bad, bad.ctypes.data, keep
+    def __init__(self, kernel, nq: int, nv: int, gravity):
+        self.kernel, self.buf, self.shapes = kernel, np.zeros(nq + 3 * nv + 3), ((nq,), (nv,))
+        self.q, self.u, self.out = self.buf[:nq], self.buf[nq:nq + nv], self.buf[nq + 2 * nv + 3:]
+        self.buf[nq + 2 * nv:nq + 2 * nv + 3] = gravity
+        self.at = self.buf.ctypes.data
 
-    def __call__(self, q, u, tau, g, out, _bad, start, stop):
-        self.lane.will_run(1)
-        self.bad[0] = self.bad[1] = 0
-        singular = self.lane.fn(q, u, tau, g, out, self.at, start, stop)
-        return int(self.bad[0]), singular, int(self.bad[1])
+    def __call__(self, q, u):
+        if not (type(q) is np.ndarray and type(u) is np.ndarray and q.dtype is _F64 and u.dtype is _F64
+                and (q.shape, u.shape) == self.shapes):  # _plain, inlined: this call is the lane's fixed cost
+            return None
+        self.q[...] = q
+        self.u[...] = u
+        if self.kernel.run_one(self.at):
+            return None
+        res = self.out.copy()
+        res.setflags(write=False)
+        return res
+
+
+class _OneBlock:
+    """One state through the numba block function (a tree beyond the lanes), its compiled function called without
+    dispatch (:func:`_entry_point`)."""
+
+    __slots__ = ("fn", "args", "Q", "U", "out", "shapes")
+
+    def __init__(self, tree, case, gravity):
+        self.shapes = ((tree.nq_in(case),), (tree.nv,))
+        self.Q, self.U, tau, self.out = (np.zeros((1, tree.nq_in(case))), np.zeros((1, tree.nv)),
+                                         np.zeros((1, tree.nv)), np.zeros((1, tree.nv)))
+        fn, args = _block_call(tree, case, None, self.Q, self.U, tau, np.array(gravity, dtype=float), self.out)
+        self.args = args + (0, 1)
+        self.fn = _entry_point(fn, self.args)
+
+    def __call__(self, q, u):
+        if not _plain(q, u, self.shapes):
+            return None
+        self.Q[0], self.U[0] = q, u
+        bad_in, singular, ill = self.fn(*self.args)
+        res = self.out[0].copy()
+        if bad_in or singular or ill or not np.isfinite(res).all():
+            return None
+        res.setflags(write=False)
+        return res
+
+
+def _plain(q, u, shapes) -> bool:
+    """``q`` and ``u`` are float64 arrays of exactly ``shapes``: one state the single-state lane takes as it is."""
+    return (type(q) is np.ndarray and type(u) is np.ndarray and q.dtype is _F64 and u.dtype is _F64
+            and (q.shape, u.shape) == shapes)
+
+
+_F64 = np.dtype(np.float64)
 
 
 def _entry_point(fn, args):
@@ -223,4 +257,4 @@ def _entry_point(fn, args):
 _SINGLE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
-__all__ = ["ABA_FROM", "accelerations", "algorithm_used", "method", "one_state", "optimize", "plan"]
+__all__ = ["ABA_FROM", "accelerations", "algorithm_used", "method", "one_state", "optimize", "plan", "single"]
