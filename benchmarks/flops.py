@@ -8,12 +8,12 @@
   ``-O2`` code, :func:`relacc.kernels.tree_dynamics.optimize`; median of ``--repeats``).
 * **Peak**: a probe compiled the same way (llvmlite, this CPU, ``-O2``): ``--chains`` independent ``llvm.fma`` chains
   on the kernel's vector width, 2 flops a lane each; what one core can reach with that vector width.
-* **One state**: :func:`relacc.tree_accelerations` on one state (the single-state lane) and ``pin.aba`` from Python
-  on Pinocchio's model of the same file, median and best of ``--repeats`` timings of ``--calls`` calls.
+
+One state at a time (against ``pin.aba``) is ``benchmarks/single.py``'s.
 
 Models: gymnasium's ant and humanoid. Run it in a fresh process, on a quiet machine.
 
-Run:  python benchmarks/flops.py [--states 8192] [--repeats 7] [--calls 20000] [--json PATH]
+Run:  python benchmarks/flops.py [--states 8192] [--repeats 7] [--json PATH]
 """
 
 import argparse
@@ -104,22 +104,9 @@ def peak(width: int, chains: int = 12, n: int = 20_000_000) -> float:
     return 2.0 * width * chains * n / best / 1e9
 
 
-def _timed(fn, calls: int, repeats: int) -> dict:
-    runs = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        runs.append((time.perf_counter() - start) / calls * 1e6)
-    return {"median_us": statistics.median(runs), "best_us": min(runs)}
-
-
-def model_row(name: str, states: int, repeats: int, calls: int, width: int) -> dict:
-    import pinocchio as pin
-
+def model_row(name: str, states: int, repeats: int, width: int) -> dict:
     import relacc
-    from relacc.core.tree import random_states, reference_q
-    from relacc.engines import load
+    from relacc.core.tree import random_states
     from relacc.kernels.jit import threads
     from relacc.kernels.tree_dynamics import accelerations, optimize
 
@@ -139,15 +126,6 @@ def model_row(name: str, states: int, repeats: int, calls: int, width: int) -> d
     row = {"model": name, "nv": tree.nv, **kernel_flops(tree), "us_per_state": statistics.median(per),
            "us_per_state_best": min(per), "width": width}
     row["gflops"] = row["flops"] / (row["us_per_state"] * 1e-6) / 1e9
-    q1, u1 = reference_q(tree, 2), np.random.default_rng(0).standard_normal(tree.nv)
-    relacc.tree_accelerations(tree, 2, q1, u1)
-    row["one_state"] = _timed(lambda: relacc.tree_accelerations(tree, 2, q1, u1), calls, repeats)
-    robot = load("pinocchio", path, tree=tree)
-    st = robot.to_engine(q1[None], u1[None])
-    model, data = robot.model, robot.model.createData()
-    qp, vp, tz = np.ascontiguousarray(st.q[0]), np.ascontiguousarray(st.v[0]), np.zeros(model.nv)
-    row["pinocchio_aba"] = _timed(lambda: pin.aba(model, data, qp, vp, tz), calls, repeats)
-    row["one_state_ratio"] = row["pinocchio_aba"]["median_us"] / row["one_state"]["median_us"]
     return row
 
 
@@ -158,19 +136,17 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description="the lanes kernel's flops, GFlop/s and the FMA peak")
     parser.add_argument("--states", type=int, default=8192)
     parser.add_argument("--repeats", type=int, default=7)
-    parser.add_argument("--calls", type=int, default=20000)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     width = lanes()
     top = peak(width)
-    rows = [model_row(name, args.states, args.repeats, args.calls, width) for name in MODELS]
+    rows = [model_row(name, args.states, args.repeats, width) for name in MODELS]
     for r in rows:
         r["fraction_of_peak"] = r["gflops"] / top
         print(f"{r['model']}: {r['flops']} flops a state ({r['angles']} angles, {r['divisions']} divisions), "
               f"{r['us_per_state']:.3f} us a state, {r['gflops']:.1f} GFlop/s = {r['fraction_of_peak']:.2f} of the "
-              f"{top:.1f} GFlop/s FMA peak; one state {r['one_state']['median_us']:.2f} us against pin.aba's "
-              f"{r['pinocchio_aba']['median_us']:.2f} ({r['one_state_ratio']:.2f}x)")
-    result = {"machine": machine(), "states": args.states, "repeats": args.repeats, "calls": args.calls,
+              f"{top:.1f} GFlop/s FMA peak")
+    result = {"machine": machine(), "states": args.states, "repeats": args.repeats,
               "width": width, "peak_gflops": top, "trig_flops_per_angle": trig_flops(), "rows": rows}
     if args.json:
         write_text(args.json, json.dumps(result, indent=1))

@@ -3,7 +3,8 @@
 * **One call.** ``relacc.tree_accelerations(tree, 2, q, u)`` with ``q (nq,)``, ``u (nv,)`` against ``pin.aba`` on
   Pinocchio's model of the same file (what a user calls for one state), microseconds per call: the first call in the
   process (numba's cache already on disk: ``benchmarks/first_run.py`` measures compilation) and the median and best
-  of ``--repeats`` timings of ``--calls`` calls.
+  of ``--repeats`` timings of ``--calls`` calls, relacc's and Pinocchio's repeats interleaved (this VM's speed drifts
+  by up to 2x over seconds), and pin.aba's median over relacc's.
 * **One trajectory.** The shipped ``ant_tumbling`` scene and a humanoid scene built here (springs and dampers on every
   hinge, a damper on the free root, a sinusoidal force on the torso and a constant one on a hand; no gravity; RK4 at
   1 ms, 1 s, a record every 10 steps): relacc's compiled stepper (:func:`relacc.simulate.subjects.tree_stepper`,
@@ -36,20 +37,6 @@ def _assets() -> Path:
     return Path(find_spec("gymnasium").origin).parent / "envs" / "mujoco" / "assets"
 
 
-def _timed(fn, calls: int, repeats: int) -> dict:
-    """us per call: the first call, then the median and best of ``repeats`` timings of ``calls`` calls."""
-    start = time.perf_counter()
-    fn()
-    first = (time.perf_counter() - start) * 1e6
-    runs = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        runs.append((time.perf_counter() - start) / calls * 1e6)
-    return {"first_us": first, "median_us": statistics.median(runs), "best_us": min(runs)}
-
-
 def one_call(name: str, calls: int, repeats: int) -> dict:
     import pinocchio as pin
 
@@ -63,15 +50,35 @@ def one_call(name: str, calls: int, repeats: int) -> dict:
     optimize(tree, 2)  # the steady state: the lanes' -O2 code (the same bits as the first, -O0)
     q = reference_q(tree, 2)
     u = np.random.default_rng(0).standard_normal(tree.nv)
-    row = {"model": name, "nv": tree.nv,
-           "relacc": _timed(lambda: relacc.tree_accelerations(tree, 2, q, u), calls, repeats)}
     robot = load("pinocchio", path, tree=tree)
     states_e = robot.to_engine(q[None], u[None])
     qe, ve = states_e.q, states_e.v
     model, data = robot.model, robot.model.createData()
     qp, vp, tau = np.ascontiguousarray(qe[0]), np.ascontiguousarray(ve[0]), np.zeros(model.nv)
-    row["pinocchio_aba"] = _timed(lambda: pin.aba(model, data, qp, vp, tau), calls, repeats)
-    return row
+    ours, theirs = _paired(lambda: relacc.tree_accelerations(tree, 2, q, u), lambda: pin.aba(model, data, qp, vp, tau),
+                           calls, repeats)
+    return {"model": name, "nv": tree.nv, "relacc": ours, "pinocchio_aba": theirs,
+            "ratio": theirs["median_us"] / ours["median_us"]}
+
+
+def _paired(fa, fb, calls: int, repeats: int) -> tuple[dict, dict]:
+    """us per call of two calls: each one's first call, then the median and best of ``repeats`` timings of ``calls``
+    calls, the repeats interleaved (a, b, a, b, ...): this VM's speed drifts by up to 2x over seconds, and
+    interleaving puts both under the same drift."""
+    first = []
+    for fn in (fa, fb):
+        start = time.perf_counter()
+        fn()
+        first.append((time.perf_counter() - start) * 1e6)
+    runs: tuple[list, list] = ([], [])
+    for _ in range(repeats):
+        for fn, out in zip((fa, fb), runs):
+            start = time.perf_counter()
+            for _ in range(calls):
+                fn()
+            out.append((time.perf_counter() - start) / calls * 1e6)
+    return tuple({"first_us": f, "median_us": statistics.median(r), "best_us": min(r)}  # type: ignore[return-value]
+                 for f, r in zip(first, runs))
 
 
 def humanoid_scene():
@@ -147,7 +154,7 @@ def main(argv=None) -> int:
     for r in calls:
         print(f"  {r['model']:9s} relacc {r['relacc']['first_us']:9.1f} {r['relacc']['median_us']:7.2f} "
               f"{r['relacc']['best_us']:7.2f}   pin.aba {r['pinocchio_aba']['median_us']:7.2f} "
-              f"{r['pinocchio_aba']['best_us']:7.2f}")
+              f"{r['pinocchio_aba']['best_us']:7.2f}   pin.aba's median over relacc's {r['ratio']:.2f}")
     runs = [one_trajectory(load(scenes_dir() / "ant_tumbling.toml"), args.repeats),
             one_trajectory(humanoid_scene(), args.repeats)]
     print("one trajectory (s): first, median, best; ratios of medians")

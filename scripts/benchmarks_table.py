@@ -62,7 +62,8 @@ def _gym_models(d) -> str:
 
 def _single(d) -> str:
     calls = ", ".join(f"{r['model']} {r['relacc']['median_us']:.1f} us against pin.aba's "
-                      f"{r['pinocchio_aba']['median_us']:.1f}" for r in d["one_call"])
+                      f"{r['pinocchio_aba']['median_us']:.1f}" + (f" ({r['ratio']:.2f}x)" if "ratio" in r else "")
+                      for r in d["one_call"])
     runs = ", ".join(f"{r['scene']} {r['ratio_to_mujoco']:.1f}x mujoco.rollout" for r in d["one_trajectory"])
     return f"one state's forward dynamics: {calls}; one trajectory: {runs}"
 
@@ -106,7 +107,7 @@ def _waits(d) -> str:
 
 def _flops(d) -> str:
     rows = ", ".join(f"{r['model']} {r['flops']:,} flops a state at {r['gflops']:.1f} GFlop/s "
-                     f"({r['fraction_of_peak']:.2f} of peak), one state {r['one_state_ratio']:.2f}x pin.aba"
+                     f"({r['fraction_of_peak']:.2f} of peak)"
                      for r in d["rows"])
     return f"the lanes kernel on one thread against the {d['peak_gflops']:.0f} GFlop/s FMA peak: {rows}"
 
