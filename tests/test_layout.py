@@ -294,7 +294,8 @@ def test_the_init_check_catches_planted_logic():
     assert init_logic("relacc", "def __getattr__(name):\n    pass\n__all__ = []\n") == []
 
 
-ENGINE_NAMES = {"mujoco", "pinocchio", "drake"}
+ENGINE_NAMES = set(__import__("relacc.engines", fromlist=["ENGINES"]).ENGINES)
+"""Every engine's name (its card's), the two of issue 51's round included: the checks below look for each."""
 
 
 def _names(node) -> bool:
@@ -329,7 +330,8 @@ def name_uses(name, source):
         elif isinstance(node, ast.Subscript) and _names(node.slice):
             hits = [node]
         elif isinstance(node, ast.Call):
-            hits = [a for a in node.args if _names(a)] + [k.value for k in node.keywords if _names(k.value)]
+            args = [a.body if isinstance(a, ast.IfExp) else a for a in node.args]  # f(("mujoco",) if x else y)
+            hits = [a for a in args if _names(a)] + [k.value for k in node.keywords if _names(k.value)]
         elif isinstance(node, ast.arguments):
             hits = [d for d in [*node.defaults, *node.kw_defaults] if d is not None and _names(d)]
         bad += [f"{name}:{h.lineno} {ast.unparse(h)}" for h in hits]
@@ -337,8 +339,6 @@ def name_uses(name, source):
 
 
 STILL_NAMING_ENGINES = {
-    "relacc.fixtures.export": "the note's chain exported per engine route (its coordinates in each engine's order): "
-                              "goes with the chain's routes, issue 51 item 1",
     "relacc.fixtures.schema": "a scene file's default engines list, part of the file format the guide documents "
                               "(fixtures sit below engines and cannot ask their traits)",
 }

@@ -273,7 +273,9 @@ def cmd_fixtures(args) -> int:
         values[key] = numbers[0] if key in ("m1", "m2") and len(numbers) == 1 else (
             np.reshape(numbers, (3, 3)) if key in ("I1", "I2") and len(numbers) == 9 else numbers)
     chain = TwoBodyChain(**values)
-    written = export(Fixture(changes.get("name", fixture.name), chain, None), args.out)
+    from relacc.engines import chain_exports
+
+    written = export(Fixture(changes.get("name", fixture.name), chain, None), args.out, chain_exports())
     print("wrote " + ", ".join(str(p) for p in written))
     return 0
 

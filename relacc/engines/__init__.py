@@ -35,6 +35,7 @@ from relacc.engines.registry import (
     anchors,
     available,
     chain_engines,
+    chain_exports,
     file_readings,
     installed,
     judges,
@@ -51,6 +52,6 @@ from relacc.engines.registry import (
 )
 
 __all__ = ["CHAIN_ENGINES", "ENGINES", "MESH_ENGINE", "ROUTES", "TRAITS", "TRUTH_ENGINE", "Adapter", "ChainEngine",
-           "Traits", "adapter_module", "anchor", "anchors", "available", "chain_engines", "file_readings",
-           "installed", "judges", "label", "load", "load_engine", "mesh_inertia", "reads", "readings", "steppers",
-           "traits", "with_capability", "with_trait"]
+           "Traits", "adapter_module", "anchor", "anchors", "available", "chain_engines", "chain_exports",
+           "file_readings", "installed", "judges", "label", "load", "load_engine", "mesh_inertia", "reads",
+           "readings", "steppers", "traits", "with_capability", "with_trait"]

@@ -102,6 +102,14 @@ def available() -> tuple[str, ...]:
     return tuple(name for name in ENGINES if installed(name))
 
 
+def chain_exports() -> dict[str, dict]:
+    """Each chain engine's entry of the chain's exported ``conventions.json`` (:func:`relacc.fixtures.export.
+    conventions`), written by its card's ``chain_export`` (``relacc/engines/<name>_/card.py``), in report order;
+    imports no engine."""
+    return {name: importlib.import_module(f"{TRAITS[name].package_name}.card").chain_export()
+            for name in CHAIN_ENGINES}
+
+
 def chain_engines(names: Iterable[str] | None = None) -> tuple[str, ...]:
     """The engines of ``names`` (default: those installed) that model the note's chain (:attr:`Traits.chain_routes`):
     the check, the chain's hard cases, its tradeoff studies and its scenes run on these."""

@@ -112,7 +112,8 @@ def check_formula(fn: Callable | UserFunction, *, quantity: str, case: int, n: i
 def grade_body(fn: Callable | UserFunction, *, model: str | os.PathLike | Tree, body: str, quantity: str, case: int,
                n: int = 200, seed: int = 0, engines: Sequence[str] | None = None,
                timeout: float = CALL_TIMEOUT) -> Grade:
-    """Grade ``fn(tree, q, u, udot)`` for one body's quantity in one case (module docstring).
+    """Grade ``fn(tree, q, u, udot)`` for one body's quantity in one case (module docstring), judged against relacc
+    and ``engines`` (default the plugin's truth engine, :data:`relacc.engines.TRUTH_ENGINE`).
 
     Returns:
         :class:`relacc.testing.grading.Grade` (``matches`` is empty: the note's printed slips are the chain's).
@@ -141,7 +142,9 @@ def grade_body(fn: Callable | UserFunction, *, model: str | os.PathLike | Tree, 
     s = model_states(tree, c, n, seed).and_then(model_states(tree, c, n, seed, hard=True), seed)
     # the truth first, and apart from anything the user's code touches (it runs in a child process, on copies)
     truths = []
-    for engine in ("relacc",) + tuple(("mujoco",) if engines is None else engines):
+    from relacc.engines import TRUTH_ENGINE
+
+    for engine in ("relacc",) + tuple((TRUTH_ENGINE,) if engines is None else engines):
         t = model_truth(s, engine, (quantity,))
         if quantity in t:  # an evaluator may lack the quantity in this case (MuJoCo's V of case 1, say)
             e = t[quantity]

@@ -27,3 +27,26 @@ TRAITS = Traits(
     },
     capabilities=frozenset({"PointLoop"}), adaptive=("runge_kutta3", "runge_kutta5"),
     error_controlled=True, own_steppers=True)
+
+
+def chain_export() -> dict:
+    """The note's chain in Drake, as ``relacc fixtures --out`` writes it in ``conventions.json``
+    (:func:`relacc.fixtures.export.conventions`): each route's model, coordinates and speeds, and every case's
+    map to them."""
+    from relacc.fixtures.export import Q12, Q14, U, route_maps
+
+    return {
+        "quaternion_route": {"model": "built from the TOML: QuaternionFloatingJoint world -> B1, "
+                                      "QuaternionFloatingJoint (frame Q2 on B1 at q2') -> B2, frame G2 on B2 "
+                                      "at r2'",
+                             "q": [Q14[i] for i in (3, 4, 5, 6, 0, 1, 2, 10, 11, 12, 13, 7, 8, 9)],
+                             "q_from_quaternion_coordinates": [3, 4, 5, 6, 0, 1, 2, 10, 11, 12, 13, 7, 8, 9],
+                             "v": [U[1][i] for i in (3, 4, 5, 0, 1, 2, 9, 10, 11, 6, 7, 8)],
+                             "v_from_case_1_speeds": [3, 4, 5, 0, 1, 2, 9, 10, 11, 6, 7, 8],
+                             "maps": route_maps("q = [quat_B1, s1, quat_B2B1, s2'] (quaternion first, then "
+                                                "translation, per joint)",
+                                           "v = [omega_B1 (fixed), s1_dot, omega_hat_B2 (B1), s2'_dot]: "
+                                           "case-1 speeds reordered")},
+        "euler_route": {"model": "two_body_euler.urdf (Drake's URDF parser)", "q": Q12, "v": U[3],
+                        "frame": "G2", "maps": {"3": "q = q, v = u (case 3 only)"}},
+    }

@@ -22,3 +22,20 @@ TRAITS = Traits(
     calls={"rollout": "rollout", "step": "mj_step per call", "jacobians": "mj_jac/mj_jacDot loop",
            "motion": "mj_kinematics/mj_comVel loop"},
     compiled_loops=True, own_steppers=True, mesh_source=True, truth=True)
+
+
+def chain_export() -> dict:
+    """The note's chain in MuJoCo, as ``relacc fixtures --out`` writes it in ``conventions.json``
+    (:func:`relacc.fixtures.export.conventions`): each route's model, coordinates and speeds, and every case's
+    map to them."""
+    from relacc.fixtures.export import Q12, Q14, U, route_maps
+
+    return {
+        "quaternion_route": {"model": "two_body.xml", "qpos": Q14, "qpos_from_quaternion_coordinates": list(range(14)),
+                             "qvel": U[2], "site": "G2",
+                             "maps": route_maps("qpos = quaternion coordinates as they are",
+                                                "qvel = case-2 body speeds as they are (linear: world; angular: "
+                                                "body)")},
+        "euler_route": {"model": "two_body_euler.xml", "qpos": Q12, "qvel": U[3], "site": "G2",
+                        "maps": {"3": "qpos = q, qvel = u (case 3 only)"}},
+    }

@@ -22,3 +22,23 @@ TRAITS = Traits(
     capabilities=frozenset({"PointLoop", "KinematicsLoops", "BatchedForward", "ThreadedStepper", "ManifoldRates"}),
     calls={"batched_forward": "abaInParallel", "jacobians": "jacobians loop", "motion": "forwardKinematics loop"},
     own_urdf=True, compiled_loops=True)
+
+
+def chain_export() -> dict:
+    """The note's chain in Pinocchio, as ``relacc fixtures --out`` writes it in ``conventions.json``
+    (:func:`relacc.fixtures.export.conventions`): each route's model, coordinates and speeds, and every case's
+    map to them."""
+    from relacc.fixtures.export import Q12, Q14, R1, U, route_maps
+
+    return {
+        "quaternion_route": {"model": "two_body.xml (split the composite joint of B2: Pinocchio 4.1.0's "
+                                      "Jacobian time variation of a JointModelComposite is wrong)",
+                             "q": [Q14[i] for i in (0, 1, 2, 4, 5, 6, 3, 7, 8, 9, 11, 12, 13, 10)],
+                             "q_from_quaternion_coordinates": [0, 1, 2, 4, 5, 6, 3, 7, 8, 9, 11, 12, 13, 10],
+                             "v": ["v_B1_local_x", "v_B1_local_y", "v_B1_local_z"] + U[2][3:], "frame": "G2",
+                             "maps": route_maps("q = quaternion coordinates with both quaternions scalar last "
+                                                "(x, y, z, w)", f"v = case-2 body speeds with the first block "
+                                                f"replaced by {R1} s1_dot (free-flyer linear velocity in B1)")},
+        "euler_route": {"model": "two_body_euler.urdf", "q": Q12, "v": U[3], "frame": "G2",
+                        "maps": {"3": "q = q, v = u (case 3 only)"}},
+    }
