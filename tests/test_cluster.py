@@ -169,7 +169,7 @@ def test_ensemble_on_the_cluster(cluster, capsys):
             "--json", "--quiet"]
     _, local = run_json(args, capsys)
     _, remote = run_json(args + ["--scheduler", cluster["address"]], capsys)
-    assert remote["largest_g2_position_difference"] == local["largest_g2_position_difference"]
+    assert remote["largest_point_position_difference"] == local["largest_point_position_difference"]
     assert remote["members"] == local["members"] == 1100
 
 

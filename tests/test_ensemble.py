@@ -67,5 +67,5 @@ def test_cli_ensemble_reports_rates_and_differences(capsys):
                  "--json", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out["engines"]) == {"relacc", "mujoco"} and out["members"] == 3
-    assert out["largest_g2_position_difference"]["relacc-mujoco"]["max"] < 1e-9
+    assert out["largest_point_position_difference"]["relacc-mujoco"]["max"] < 1e-9
     assert main(["simulate", "tumbling", "--ensemble", "3", "--out", "x"]) == 2

@@ -79,7 +79,7 @@ def test_check_simulate_and_report_run_from_an_empty_directory(installed):
     for name, (proc, _, err) in done.items():
         assert proc.returncode == 0, f"{name}: {err}"
     assert json.loads(done["check"][1])["passed"]
-    assert json.loads(done["simulate"][1])["max_g2_position_difference"] < 1e-9
+    assert json.loads(done["simulate"][1])["max_point_position_difference"] < 1e-9
     html = (installed["cwd"] / "X.html").read_text()
     assert "relacc agreement report" in html and 'id="recorded-runs"' in html
     assert sorted(p.name for p in installed["cwd"].iterdir()) == ["X.html"]  # nothing else left behind

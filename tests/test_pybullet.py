@@ -223,7 +223,7 @@ def test_the_shipped_kuka_scene_runs_pybullet_with_the_others(tmp_path, monkeypa
     monkeypatch.chdir(tmp_path)
     assert main(["simulate", "kuka_swinging", "--json", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["agree"] is True and "pybullet_file" in out["relacc_acceleration_vs_engines"]
+    assert out["agree"] is True and "pybullet_file" in out["reference_acceleration_vs_engines"]
     rounding = out["steps"] * ROUNDING_FACTOR * EPS * 1.0  # m: c eps per step of a motion under 1 m (measured 4.2e-15)
     for other in ("pybullet_file", "pinocchio", "drake"):
         assert out["pairs"][f"relacc-{other}"]["position"] <= rounding, out["pairs"]

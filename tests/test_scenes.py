@@ -193,9 +193,10 @@ def test_cli_simulate_json_and_csv(tmp_path, capsys):
                                          '[simulate.drake]\nintegrator = "runge_kutta5"\n')
     assert main(["simulate", str(path), "--json", "--quiet", "--out", str(tmp_path / "out")]) == 0
     summary = json.loads(capsys.readouterr().out)
-    assert {"engines", "max_g2_position_difference", "max_g2_velocity_difference"} <= set(summary)
+    assert {"engines", "max_point_position_difference", "max_point_velocity_difference"} <= set(summary)
+    assert (summary["point"], summary["reference"]) == ("G2", "the note's")  # the same keys as a model's scene
     for name in ENGINES:
-        assert set(summary["engines"][name]) >= {"g2_position_final", "energy_drift", "seconds"}
+        assert set(summary["engines"][name]) >= {"point_position_final", "energy_drift", "seconds"}
         csv = Path(tmp_path / "out" / f"s-{name}.csv").read_text().splitlines()
         assert csv[0].startswith("# relacc simulate") and csv[1].startswith("t_s,") and len(csv) == 2 + 11
 

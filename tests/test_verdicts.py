@@ -38,7 +38,7 @@ def _run(capsys, argv) -> tuple[int, dict]:
 def test_simulate_agrees_on_a_model_every_engine_reads_alike(files_, capsys):
     code, out = _run(capsys, ["simulate", "--model", str(files_["pendulum"]), "--duration", "0.05"])
     assert code == 0 and out["agree"] is True, out["verdict"]
-    assert set(out["relacc_acceleration_vs_engines"]) == {"pinocchio", "mujoco", "drake"}
+    assert set(out["reference_acceleration_vs_engines"]) == {"pinocchio", "mujoco", "drake"}
 
 
 @pytest.mark.parametrize("engines", [None, "mujoco,drake"])
@@ -48,7 +48,7 @@ def test_simulate_exits_1_when_drake_misreads_a_ball_then_a_slide(files_, capsys
     relacc's acceleration is checked at the first engine's states)."""
     argv = ["simulate", "--model", str(files_["ball_slide"]), "--duration", "0.05"]
     code, out = _run(capsys, argv + (["--engines", engines] if engines else []))
-    checks = out["relacc_acceleration_vs_engines"]
+    checks = out["reference_acceleration_vs_engines"]
     assert code == 1 and out["agree"] is False and "DISAGREE" in out["verdict"], out["verdict"]
     assert checks["drake"]["error"] > 1e6 * checks["drake"]["bound"]
     assert all(c["error"] <= c["bound"] for e, c in checks.items() if e != "drake")

@@ -383,8 +383,8 @@ def _ensemble(scene, args) -> int:
           "workers; member 0: the scene's own state)")
     for n, r in summary["engines"].items():
         print(f"{n:10s} {r['steps_per_second']:12.4g} {r['seconds']:9.3f} {r['threads']:7d}")
-    print(f"largest {'G2' if scene.is_chain else scene.observe} position difference over the run, per member (m):")
-    for k, v in summary[f"largest_{'g2' if scene.is_chain else 'point'}_position_difference"].items():
+    print(f"largest {scene.observe} position difference over the run, per member (m):")
+    for k, v in summary["largest_point_position_difference"].items():
         print(f"  {k:20s} max {v['max']:.3e} (member {v['worst_member']}), median {v['median']:.3e}")
     for line in simulate.scene_notes(scene):
         print(line)

@@ -123,7 +123,7 @@ class Part:
                                 else float("inf"), "seconds": self.seconds[k], "threads": self.threads[k]}
                             for k in self.steps},
                 "point": scene.observe,
-                f"largest_{'g2' if scene.is_chain else 'point'}_position_difference": {
+                "largest_point_position_difference": {
                     k: {"max": float(v.max()), "median": float(np.median(v)), "worst_member": int(np.argmax(v))}
                     for k, v in self.differences.items()}}
 

@@ -87,7 +87,7 @@ class SimulationResult:
 
     def verdict(self) -> str:
         """One sentence: whether every engine's acceleration is relacc's at the same states."""
-        who = "the note's" if self.scene.is_chain else "relacc's"
+        who = self.scene.reference
         if not self.note_check:
             return "nothing to judge: only one evaluator ran"
         if self.agree:
@@ -108,15 +108,15 @@ class SimulationResult:
         return pos, vel, self.pairs
 
     def summary(self) -> dict:
-        """The ``relacc simulate --json`` object. The observed point's keys say which: ``g2_...`` for the chain,
-        ``point_...`` for a model (``point`` names it)."""
+        """The ``relacc simulate --json`` object, the same keys for the chain and a model: ``point`` names the observed
+        point (``G2`` for the chain), ``reference`` whose acceleration the engines' are judged against."""
         pos, vel, pairs = self.differences()
-        eff, p = self.scene.effects, "g2" if self.scene.is_chain else "point"
+        eff = self.scene.effects
         engines = {}
         for name, tr in self.tracks.items():
             p_drift, h_drift = tr.momentum_drift()
             engines[name] = {
-                f"{p}_position_final": tr.last["position"].tolist(),
+                "point_position_final": tr.last["position"].tolist(),
                 "t_final": float(tr.last["t"]),
                 "energy_drift": tr.energy_drift() if eff.conserves_energy else None,
                 "momentum_drift": p_drift if self.scene.conserves_momentum else None,
@@ -128,8 +128,8 @@ class SimulationResult:
             "scene": self.scene.name, "case": self.scene.case, "integrator": self.scene.integrator,
             "dt": self.scene.dt, "duration": self.scene.duration, "steps": self.scene.n_steps,
             "record_every": self.scene.record_every, "effects": eff.describe(), "point": self.scene.observe,
-            "engines": engines, f"max_{p}_position_difference": pos, f"max_{p}_velocity_difference": vel,
-            "pairs": pairs, ("note" if self.scene.is_chain else "relacc") + "_acceleration_vs_engines": self.note_check,
+            "reference": self.scene.reference, "engines": engines, "max_point_position_difference": pos,
+            "max_point_velocity_difference": vel, "pairs": pairs, "reference_acceleration_vs_engines": self.note_check,
             "agree": self.agree, "verdict": self.verdict(), "csv": [str(c) for c in self.csv],
             "left_out": dict(self.scene.left_out), "not_evaluated": list(self.scene.unevaluated),
         }
@@ -306,22 +306,21 @@ def _csv_writer(handle, scene: Scene, track: Track):
 def format_text(result: SimulationResult) -> str:
     """The human-readable summary printed by ``relacc simulate``."""
     scene, summary, eff = result.scene, result.summary(), result.scene.effects
-    p = "g2" if scene.is_chain else "point"
-    label = "G2" if scene.is_chain else scene.observe
+    label = scene.observe
     out = [f"{scene.title} ({scene.name}): case {scene.case}, {scene.integrator}, dt = {scene.dt} s, "
            f"{scene.duration} s ({scene.n_steps} steps), effects: {', '.join(eff.active()) or 'none'}",
            f"{'engine':10s} {label + ' position at t = ' + format(scene.duration, 'g') + ' s (fixed comps, m)':44s} "
            f"{'energy drift':>12s} {'momentum drift':>15s} {'seconds':>8s}"]
     for name, e in summary["engines"].items():
-        pos = ", ".join(f"{x:.9f}" for x in e[f"{p}_position_final"])
+        pos = ", ".join(f"{x:.9f}" for x in e["point_position_final"])
         ed = "-" if e["energy_drift"] is None else f"{e['energy_drift']:.2e}"
         md = "-" if e["momentum_drift"] is None else f"{e['momentum_drift']:.2e}"
         out.append(f"{name:10s} [{pos:42s}] {ed:>12s} {md:>15s} {e['seconds']:8.3f}")
     out.append(f"largest {label} difference between engines over the run: position "
-               f"{summary[f'max_{p}_position_difference']:.3e} m, "
-               f"velocity {summary[f'max_{p}_velocity_difference']:.3e} m/s")
-    who = "note's" if scene.is_chain else "relacc's"
-    for name, c in summary[("note" if scene.is_chain else "relacc") + "_acceleration_vs_engines"].items():
+               f"{summary['max_point_position_difference']:.3e} m, "
+               f"velocity {summary['max_point_velocity_difference']:.3e} m/s")
+    who = scene.reference.removeprefix("the ")
+    for name, c in summary["reference_acceleration_vs_engines"].items():
         out.append(f"{who} acceleration along {c.get('along', 'relacc')}'s trajectory vs {name}: {c['error']:.2e} "
                    f"(normalized, {c['error'] / EPS:.1f} eps; bound c eps kappa(M) = {c['bound']:.1e})"
                    + (f"; at its states' quaternions normalized (off unit by up to {c['quaternions_normalized']:.1e}"

@@ -106,6 +106,12 @@ class Scene:
             raise InputError(f"scene {self.name}: {problem[0]}: {problem[1]}")
 
     @property
+    def reference(self) -> str:
+        """Whose acceleration the engines' are judged against, in words: ``"the note's"`` (its formulas, the chain),
+        ``"relacc's"`` (its tree, a model); ``relacc simulate --json``'s ``reference``."""
+        return "the note's" if self.is_chain else "relacc's"
+
+    @property
     def is_chain(self) -> bool:
         """The note's chain (its compiled kernels, G2), rather than a model file's tree."""
         return self.model_path is None

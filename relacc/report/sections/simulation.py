@@ -84,12 +84,12 @@ def build(ctx) -> dict:
             "name": r.scene.name, "title": r.scene.title, "description": r.scene.description,
             "case": r.scene.case, "dt": r.scene.dt, "duration": r.scene.duration, "integrator": r.scene.integrator,
             "effects": readable(eff.describe()),
-            "position": summary["max_g2_position_difference"], "velocity": summary["max_g2_velocity_difference"],
+            "position": summary["max_point_position_difference"], "velocity": summary["max_point_velocity_difference"],
             "engines": [{"name": n, "energy_drift": v["energy_drift"], "momentum_drift": v["momentum_drift"],
                          "seconds": v["seconds"],
                          "applied": "; ".join(f"{k}: {_words(x)}" for k, x in v["applied"].items())}
                         for n, v in summary["engines"].items()],
-            "note": summary["note_acceleration_vs_engines"],
+            "note": summary["reference_acceleration_vs_engines"],
             "sweep": e["sweep"], "order": _order(e["sweep"]),
         })
     return {"rows": rows, "differences": _differences_plot(entries), "sweep": _sweep_plot(entries),
