@@ -100,13 +100,9 @@ def _lanes_sincos(width: int):
     from relacc.kernels import lanes
 
     vt, W = f"<{width} x double>", width
-    consts: dict = {}
 
     def const(c):
-        if c not in consts:
-            bits = np.array(c).view(np.uint64)
-            consts[c] = f"<{', '.join([f'double 0x{int(bits):016X}'] * W)}>"
-        return consts[c]
+        return lanes.splat(c, W)
 
     def vector(ptr, name):
         body = [f"  %{name}p = getelementptr double, double* %{ptr}, i64 %i",

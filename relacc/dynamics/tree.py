@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import math
 import threading
-import weakref
 from dataclasses import dataclass
 from typing import Any
 
@@ -262,8 +261,8 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
             joint, its ``theta2``, the distance to the lock and the relative error to expect.
     """
     if tau is None and effects is None and out is None and backend == "auto" and type(case) is int:
-        ones = _ONES.get(tree) if type(tree) is Tree else None  # the single-state lane, found in two lookups
-        one = None if ones is None else ones.get((case, threading.get_ident()))
+        ones = _KERNEL.SINGLE.get(tree) if _KERNEL is not None and type(tree) is Tree else None  # the single-state
+        one = None if ones is None else ones.get((case, None, threading.get_ident()))  # lane, in two lookups
         res = one(q, u) if one is not None else _one_state(tree, case, q, u, None)
         if res is not None:
             return res
@@ -439,18 +438,12 @@ def _fast(tree, case, q, u, tau, effects, out):
 def _one_state(tree, case, q, u, effects):
     """One state's answer by the kernel's single-state lane (:func:`relacc.kernels.tree_dynamics.single`), or None
     for anything but one plain, valid state in case 1 or 2 whose equations are regular (the general path then decides,
-    and says what is wrong). The lane of the tree's own gravity is kept per tree, case and thread in :data:`_ONES`
-    for :func:`tree_accelerations` to find first."""
+    and says what is wrong). The lane of the tree's own gravity is kept in
+    :data:`relacc.kernels.tree_dynamics.SINGLE`, where :func:`tree_accelerations` finds it first."""
     if not (isinstance(tree, Tree) and type(case) is int and case in (1, 2)):
         return None
-    own = effects is None or effects.gravity is None
-    one = _kernel().single(tree, case, tree.gravity if own else effects.gravity)
-    if own:
-        _ONES.setdefault(tree, {})[(case, threading.get_ident())] = one
-    return one(q, u)
-
-
-_ONES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+    gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
+    return _kernel().single(tree, case, gravity)(q, u)
 
 
 def _kernel():

@@ -31,6 +31,7 @@ state. CppADCodeGen does the same for Pinocchio with a C compiler at run time; L
 from __future__ import annotations
 
 import ctypes
+import functools
 import math
 import struct
 import threading
@@ -332,8 +333,10 @@ def trace(tree, case: int, algorithm: str = "crba") -> Trace:
                  tuple(g.warns))
 
 
+@functools.cache
 def lanes() -> int:
-    """States per vector: 8 where the CPU has AVX-512 (one ``zmm`` register), else 4 (``ymm``)."""
+    """States per vector: 8 where the CPU has AVX-512 (one ``zmm`` register), else 4 (``ymm``). Read once per process:
+    asking LLVM for the CPU's features takes about 180 us, and :func:`kernel` is asked at every batch."""
     import llvmlite.binding as llvm
 
     feats = llvm.get_host_cpu_features()
@@ -411,7 +414,7 @@ def _trig(vt: str, const, angles: list) -> list:
     if not angles:
         return []
     mt, sfx = vt.replace("double", "i1"), vt_suffix(vt)
-    width = vt.strip("<>").split(" x ")[0]
+    width = sfx[1:-3]
     lines, fast, anyb = [], [], "false"
     for j, (x, _) in enumerate(angles):
         body, sn, cs = _sincos(x, f"t{j}", vt, const)
@@ -438,6 +441,12 @@ def _trig(vt: str, const, angles: list) -> list:
 def vt_suffix(vt: str) -> str:
     """LLVM's intrinsic suffix of a vector type: ``<4 x double>`` -> ``v4f64``."""
     return "v" + vt.strip("<>").split(" x ")[0] + "f64"
+
+
+def splat(c: float, width: int) -> str:
+    """The IR constant of ``width`` lanes all ``c``, written by its bits (exact, ``-0.0`` and NaN included)."""
+    bits = struct.unpack("<Q", struct.pack("<d", c))[0]
+    return f"<{', '.join([f'double 0x{bits:016X}'] * width)}>"
 
 
 def emit(tr: Trace, width: int, name: str = "lanes") -> str:
@@ -467,8 +476,7 @@ def emit(tr: Trace, width: int, name: str = "lanes") -> str:
     def const(c):
         name_ = consts.get(c)
         if name_ is None:
-            bits = struct.unpack("<Q", struct.pack("<d", c))[0]
-            name_ = consts[c] = f"<{', '.join([f'double 0x{bits:016X}'] * W)}>"
+            name_ = consts[c] = splat(c, W)
         return name_
 
     def load(var, arr, c):
@@ -774,9 +782,7 @@ class Kernel:
 
     def run_one(self, at: int) -> int:
         """The state in the buffer at address ``at`` (:func:`_one`'s layout): its flags, 0 for a plain answer."""
-        self.states += 1
-        if self._upgrade is not None and self.states >= UPGRADE_STATES:
-            self.optimize()
+        self.will_run(1)
         return self.one(at)
 
 

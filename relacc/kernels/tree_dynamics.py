@@ -128,7 +128,8 @@ def _lanes(tree, case, algorithm, width=None):
 def optimize(tree, case: int) -> None:
     """The tree's lanes kernel for ``case`` at its fastest now (LLVM's ``-O2``, :data:`relacc.kernels.lanes.
     UPGRADE_STATES`) rather than after 100,000 states: the same bits. What a benchmark of the steady state calls
-    before timing; nothing where the lanes do not run the tree."""
+    before timing: the batch's kernel and the single-state lane's (one lane); nothing where the lanes do not run the
+    tree."""
     for width in (None, 1):
         lane = _lanes(tree, case, None, width)
         if lane is not None:
@@ -171,9 +172,9 @@ def single(tree, case: int, gravity):
     gravity is keyed without reading it (a call's fixed cost is what this lane is for)."""
     grav = None if gravity is tree.gravity else bytes(np.asarray(gravity, dtype=float))
     key = (case, grav, threading.get_ident())
-    cache = _SINGLE.get(tree)
+    cache = SINGLE.get(tree)
     if cache is None:
-        cache = _SINGLE[tree] = {}
+        cache = SINGLE[tree] = {}
     one = cache.get(key)
     if one is None:
         lane = _lanes(tree, case, None, width=1)
@@ -196,8 +197,7 @@ class _OneLane:
         self.at = self.buf.ctypes.data
 
     def __call__(self, q, u):
-        if not (type(q) is np.ndarray and type(u) is np.ndarray and q.dtype is _F64 and u.dtype is _F64
-                and (q.shape, u.shape) == self.shapes):  # _plain, inlined: this call is the lane's fixed cost
+        if not _plain(q, u, self.shapes):
             return None
         self.q[...] = q
         self.u[...] = u
@@ -254,7 +254,10 @@ def _entry_point(fn, args):
     return getattr(compiled, "entry_point", fn)
 
 
-_SINGLE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+SINGLE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+"""Per tree, ``{(case, gravity's key, thread): the single-state callable}`` (:func:`single`; the key of the tree's own
+gravity is None): where :func:`relacc.tree_accelerations` finds a lane in two lookups."""
 
 
-__all__ = ["ABA_FROM", "accelerations", "algorithm_used", "method", "one_state", "optimize", "plan", "single"]
+__all__ = ["ABA_FROM", "SINGLE", "accelerations", "algorithm_used", "method", "one_state", "optimize", "plan",
+           "single"]
