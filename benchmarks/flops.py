@@ -68,8 +68,6 @@ def kernel_flops(tree, case: int = 2) -> dict:
 
 def peak(width: int, chains: int = 12, n: int = 20_000_000) -> float:
     """GFlop/s of ``chains`` independent ``llvm.fma`` chains over ``width`` lanes on one core (-O2, this CPU)."""
-    import llvmlite.binding as llvm
-
     from relacc.kernels import lanes
 
     vt = f"<{width} x double>"
@@ -89,10 +87,7 @@ def peak(width: int, chains: int = 12, n: int = 20_000_000) -> float:
         body.append(f"  %s{c} = fadd {vt} {acc}, %b{c}")
         acc = f"%s{c}"
     body += [f"  store {vt} {acc}, {vt}* %out, align 8", "  ret void", "}"]
-    machine = lanes._machine(2)
-    engine = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
-    engine.add_module(lanes._parsed("\n".join(body) + "\n", machine))
-    engine.finalize_object()
+    engine = lanes.jit("\n".join(body) + "\n")
     fn = ctypes.CFUNCTYPE(None, ctypes.c_int64, ctypes.c_void_p)(engine.get_function_address("probe"))
     out = np.zeros(width)
     fn(1000, out.ctypes.data)

@@ -91,10 +91,12 @@ def test_the_single_state_entry_point_flags_what_the_general_path_refuses(tmp_pa
     s = random_states(tree, 2, 1, 4)
     k = lanes.kernel(tree, 2, kernel.plan(tree).method, width=1)
     one = kernel.single(tree, 2, tree.gravity)
+    buf = np.zeros(tree.nq + 3 * tree.nv + 3)  # q | u | tau | g | out
+    buf[tree.nq + 2 * tree.nv:tree.nq + 2 * tree.nv + 3] = tree.gravity
 
     def flags(q, u):
-        one.q[...], one.u[...] = q, u
-        return k.one(one.at)
+        buf[:tree.nq], buf[tree.nq:tree.nq + tree.nv] = q, u
+        return k.one(buf.ctypes.data)
 
     assert flags(s.q[0], s.u[0]) == 0
     row = kernel.accelerations(tree, 2, s.q, s.u, np.zeros_like(s.u), tree.gravity, algorithm="lanes")[0][0]
@@ -109,6 +111,53 @@ def test_the_single_state_entry_point_flags_what_the_general_path_refuses(tmp_pa
         assert one(q, u) is None
         with pytest.raises(relacc.InputError, match=words):
             relacc.tree_accelerations(tree, 2, q, u)
+
+
+def test_the_builtin_single_state_call_checks_its_arguments_and_owns_nothing_it_should_not(tmp_path):
+    """Once the lane runs its -O2 code, one state goes from CPython straight into compiled code
+    (:func:`relacc.kernels.direct.builtin`): the answer is the batch row's bits, a new read-only array each call;
+    every argument the compiled checks do not take (a count other than two, a list, float32, a big-endian float64, a
+    subclass, a wrong length, two dimensions, a strided view) and every flagged state gives None, and
+    ``tree_accelerations`` then answers or refuses through its general path as before; the arguments' and None's
+    reference counts are what they were after 2,000 calls (the compiled code takes no reference it does not give
+    back)."""
+    import sys
+
+    from relacc.kernels.direct import _layout_ok
+
+    tree = _random_tree(tmp_path, 9)
+    s = random_states(tree, 2, 3, 9)
+    kernel.optimize(tree, 2)
+    assert _layout_ok(), "this CPython's PyArrayObject layout is the one the IR reads"
+    one = kernel.single(tree, 2, tree.gravity)
+    assert type(one).__name__ == "builtin_function_or_method"
+    q, u = np.array(s.q[0]), np.array(s.u[0])
+    batch = kernel.accelerations(tree, 2, s.q, s.u, np.zeros_like(s.u), tree.gravity, algorithm="lanes")[0]
+    a, b = one(q, u), one(np.array(s.q[1]), np.array(s.u[1]))
+    np.testing.assert_array_equal(a, batch[0])
+    np.testing.assert_array_equal(b, batch[1])  # a second call leaves the first answer as it was
+    refs = sys.getrefcount(a)  # the name a and getrefcount's argument: nothing else holds the answer
+    assert refs == 2 and a is not b and not a.flags.writeable and a.flags.owndata
+
+    class Sub(np.ndarray):
+        pass
+
+    strided = np.repeat(q, 2)[::2]
+    refused = [(q,), (q, u, u), (list(q), u), (q.astype(np.float32), u), (q.astype(">f8"), u), (q.view(Sub), u),
+               (q[:-1], u), (q[None], u), (strided, u), (q, u[:-1])]
+    for args in refused:
+        assert one(*args) is None, [getattr(x, "dtype", type(x)) for x in args]
+    np.testing.assert_array_equal(relacc.tree_accelerations(tree, 2, strided, u), batch[0])  # the general path
+    nan_u = u.copy()
+    nan_u[0] = np.nan
+    assert one(q, nan_u) is None
+    with pytest.raises(relacc.InputError, match="non-finite"):
+        relacc.tree_accelerations(tree, 2, q, nan_u)
+    counts = sys.getrefcount(q), sys.getrefcount(u), sys.getrefcount(None)
+    for _ in range(1000):
+        one(q, u)
+        one(q, nan_u)
+    assert (sys.getrefcount(q), sys.getrefcount(u), sys.getrefcount(None)) == counts
 
 
 def test_angles_beyond_the_sincos_range_take_libms_in_their_own_lanes(tmp_path):

@@ -95,8 +95,6 @@ def _lanes_sincos(width: int):
     alone over ``width`` lanes: ``f(x) -> (sin x, cos x)`` on a float64 array whose length is a multiple of it."""
     import ctypes
 
-    import llvmlite.binding as llvm
-
     from relacc.kernels import lanes
 
     vt, W = f"<{width} x double>", width
@@ -120,10 +118,7 @@ def _lanes_sincos(width: int):
              "  br i1 %more, label %loop, label %done", "done:", "  ret void", "}"]
     decl = [f"declare {vt} @llvm.{f}.v{W}f64({vt})" for f in ("sin", "cos", "fabs", "floor")]
     decl.append(f"declare i1 @llvm.vector.reduce.or.v{W}i1(<{W} x i1>)")
-    machine = lanes._machine(2)
-    engine = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
-    engine.add_module(lanes._parsed("\n".join(decl + body) + "\n", machine))
-    engine.finalize_object()
+    engine = lanes.jit("\n".join(decl + body) + "\n")
     fn = ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * 3), ctypes.c_int64)(engine.get_function_address("f"))
 
     def run(x):

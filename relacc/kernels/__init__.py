@@ -12,6 +12,7 @@ imported by ``import relacc``: :mod:`relacc.core.kinematics` and
 * :mod:`~relacc.kernels.tree_dynamics` and its ``tree_*`` modules: a tree's forward dynamics, kinematics and loads.
 * :mod:`~relacc.kernels.lanes`: the tree's forward dynamics code traced once per tree and compiled over several
   states at once in vector lanes.
+* :mod:`~relacc.kernels.direct`: one state's call from CPython straight into a lanes kernel (a builtin in LLVM IR).
 """
 
 __all__: list[str] = []

@@ -21,7 +21,8 @@ Each angle's sine and cosine are written into the IR as vector code (:func:`_tri
 :func:`relacc.kernels.trig.sincos`, within :data:`relacc.core.tolerances.TRIG_ULPS` of libm), not left to LLVM's
 ``llvm.sin``/``llvm.cos``, which it lowers to one libm call per lane (about 40% of the kernel's time); an angle beyond
 :data:`relacc.kernels.trig.LIMIT` takes libm's in its own lane. Each kernel also has a single-state entry point
-(:func:`_one`) that :func:`relacc.tree_accelerations` calls for one state, compiled over one lane.
+(:func:`_one`) that :func:`relacc.tree_accelerations` calls for one state, compiled over one lane, from CPython
+directly once at ``-O2`` (:mod:`relacc.kernels.direct`).
 
 A pivot of the factorization not above :data:`relacc.core.tolerances.PIVOT_FLOOR` times its diagonal entry makes that
 state's row NaN and is counted, as the numba kernel does; non-finite inputs and non-unit quaternions are counted per
@@ -898,6 +899,18 @@ def _machine(level: int = 2):
             _INITIALIZED.append(True)
     return llvm.Target.from_default_triple().create_target_machine(
         cpu=llvm.get_host_cpu_name(), features=llvm.get_host_cpu_features().flatten(), opt=level)
+
+
+def jit(ir_text: str, level: int = 2):
+    """An LLVM execution engine holding ``ir_text`` compiled for this CPU at ``-O<level>`` (not cached: for small
+    modules; the kernels go through :func:`compile_cached`). Keep the engine while its functions are called."""
+    import llvmlite.binding as llvm
+
+    machine = _machine(level)
+    engine = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
+    engine.add_module(_parsed(ir_text, machine))
+    engine.finalize_object()
+    return engine
 
 
 _PROTO = ctypes.CFUNCTYPE(ctypes.c_int64, *([ctypes.c_void_p] * 6), ctypes.c_int64, ctypes.c_int64)

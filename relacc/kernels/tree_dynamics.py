@@ -11,6 +11,7 @@ rounding (``tests/test_tree_kernels.py``).
 
 from __future__ import annotations
 
+import ctypes
 import threading
 import weakref
 from dataclasses import dataclass
@@ -169,7 +170,8 @@ def one_state(tree, case: int, q, u, gravity):
 def single(tree, case: int, gravity):
     """The callable ``(q, u) -> udot or None`` of :func:`one_state` for this tree, case (1 or 2) and gravity on the
     calling thread, with its buffers and arguments gathered once (each thread writes its own), cached; the tree's own
-    gravity is keyed without reading it (a call's fixed cost is what this lane is for)."""
+    gravity is keyed without reading it (a call's fixed cost is what this lane is for). Once the lanes kernel runs its
+    ``-O2`` code, the callable is a builtin whose checks, copies and call are compiled (:func:`_direct`)."""
     grav = None if gravity is tree.gravity else bytes(np.asarray(gravity, dtype=float))
     key = (case, grav, threading.get_ident())
     cache = SINGLE.get(tree)
@@ -178,20 +180,35 @@ def single(tree, case: int, gravity):
     one = cache.get(key)
     if one is None:
         lane = _lanes(tree, case, None, width=1)
-        one = cache[key] = (_OneLane(lane, tree.nq_in(case), tree.nv, gravity) if lane is not None
-                            else _OneBlock(tree, case, gravity))
+        one = cache[key] = (_OneBlock(tree, case, gravity) if lane is None
+                            else _direct(lane, tree.nq_in(case), tree.nv, gravity)
+                            or _OneLane(lane, tree.nq_in(case), tree.nv, gravity, (cache, key)))
     return one
+
+
+def _direct(lane, nq: int, nv: int, gravity):
+    """The lane's compiled single-state entry point called from CPython directly (:func:`relacc.kernels.direct.builtin`:
+    checks, copies and call compiled), once the lane runs its ``-O2`` code (before that, :class:`_OneLane` counts the
+    states that decide the upgrade); None before, or where the builtin cannot be made."""
+    if lane.level != 2:
+        return None
+    from relacc.kernels.direct import builtin
+
+    address = ctypes.cast(lane.one, ctypes.c_void_p).value
+    return None if address is None else builtin(address, nq, nv, gravity, lane)
 
 
 class _OneLane:
     """One state through the lanes kernel's single-state entry point (:meth:`relacc.kernels.lanes.Kernel.run_one`):
     the state copied into a buffer laid out as that entry point reads it, one ctypes argument, the answer copied
-    out."""
+    out. Once the kernel runs its ``-O2`` code, it puts :func:`_direct`'s builtin in its place in the cache
+    (``slot``: the cache and key)."""
 
-    __slots__ = ("kernel", "buf", "q", "u", "out", "at", "shapes")
+    __slots__ = ("kernel", "buf", "q", "u", "out", "at", "shapes", "slot", "gravity")
 
-    def __init__(self, kernel, nq: int, nv: int, gravity):
-        self.kernel, self.buf, self.shapes = kernel, np.zeros(nq + 3 * nv + 3), ((nq,), (nv,))
+    def __init__(self, kernel, nq: int, nv: int, gravity, slot=None):
+        self.kernel, self.buf, self.shapes, self.slot = kernel, np.zeros(nq + 3 * nv + 3), ((nq,), (nv,)), slot
+        self.gravity = gravity
         self.q, self.u, self.out = self.buf[:nq], self.buf[nq:nq + nv], self.buf[nq + 2 * nv + 3:]
         self.buf[nq + 2 * nv:nq + 2 * nv + 3] = gravity
         self.at = self.buf.ctypes.data
@@ -201,7 +218,11 @@ class _OneLane:
             return None
         self.q[...] = q
         self.u[...] = u
-        if self.kernel.run_one(self.at):
+        flags = self.kernel.run_one(self.at)
+        if self.slot is not None and self.kernel.level == 2:
+            cache, key = self.slot
+            cache[key], self.slot = _direct(self.kernel, len(self.q), len(self.u), self.gravity) or self, None
+        if flags:
             return None
         res = self.out.copy()
         res.setflags(write=False)
