@@ -44,22 +44,30 @@ def test_a_states_answer_does_not_depend_on_its_lane_or_its_batch(tmp_path, case
 def test_the_lane_width_changes_no_number(tmp_path):
     """The same trace compiled over 1 lane (the single-state lane of :func:`relacc.tree_accelerations`), 4 (AVX2)
     and 8 (AVX-512, or two AVX2 registers where the CPU has no AVX-512): the same instructions on each state, so the
-    same bits. Each width's object code is cached under its trace's key, so a cache left by an older emitter is not
-    what runs."""
+    same bits. Each width's object code is cached under its own key, which also changes with the case, the algorithm
+    and any mass of the tree (what the trace would fold into the code), so another tree's code is never what runs."""
+    import dataclasses
+
     tree = _random_tree(tmp_path, 9)
     tr = lanes.trace(tree, 2)
     s = random_states(tree, 2, 21, 9)
     tau, g = np.zeros((21, tree.nv)), np.asarray(tree.gravity, dtype=float)
     outs = []
     for width in (1, 4, 8):
-        name = f"width_test_{lanes._key(tr, width)[:16]}"
+        name = f"width_test_{lanes._key(tree, 2, 'crba', width)[:16]}"
         fns, engine = lanes.compile_cached(lambda: lanes.emit(tr, width, name), name)
-        k = lanes.Kernel(fns, engine, 2, width, 0, tr.nq, tr.nv)
+        k = lanes.Kernel(fns, engine, 2, width, tr.nq, tr.nv)
         out = np.empty((21, tree.nv))
         assert k.block(s.q, s.u, tau, g, out, 0, 21) == (0, 0, 0)
         outs.append(out)
     np.testing.assert_array_equal(outs[1], outs[0])
     np.testing.assert_array_equal(outs[1], outs[2])
+    bodies = list(tree.bodies)
+    bodies[-1] = dataclasses.replace(bodies[-1], mass=bodies[-1].mass * (1 + 2**-40))
+    heavier = dataclasses.replace(tree, bodies=tuple(bodies))
+    keys = {lanes._key(t, c, a, w) for t, c, a, w in ((tree, 2, "crba", 4), (tree, 2, "crba", 1), (tree, 3, "crba", 4),
+                                                      (tree, 2, "aba", 4), (heavier, 2, "crba", 4))}
+    assert len(keys) == 5 and lanes._key(_random_tree(tmp_path, 9), 2, "crba", 4) in keys
 
 
 def test_bad_inputs_are_counted_per_state(tmp_path):
@@ -195,8 +203,8 @@ def test_angles_beyond_the_sincos_range_take_libms_in_their_own_lanes(tmp_path):
 
 def test_the_object_code_is_cached_and_loaded_by_the_next_tree(tmp_path, monkeypatch):
     """The first tree's kernel leaves its object code in the cache directory; an equal tree read again (another
-    object: another process sees the same) loads it without emitting IR, and computes the same bits. A cache that
-    cannot be written is skipped."""
+    object: another process sees the same) loads it without tracing the kernel or emitting IR, and computes the same
+    bits. A cache that cannot be written is skipped."""
     cache = tmp_path / "cache"
     monkeypatch.setattr(lanes, "_cache_dir", lambda: str(cache))
     path = _tree_file(tmp_path, 6, 5)
@@ -210,6 +218,7 @@ def test_the_object_code_is_cached_and_loaded_by_the_next_tree(tmp_path, monkeyp
         raise AssertionError("IR emitted although the object code was cached")
 
     monkeypatch.setattr(lanes, "emit", no_ir)
+    monkeypatch.setattr(lanes, "trace", no_ir)
     again = read_tree(path)
     b = kernel.accelerations(again, 2, s.q, s.u, np.zeros_like(s.u), again.gravity, algorithm="lanes")[0]
     np.testing.assert_array_equal(a, b)

@@ -741,14 +741,14 @@ class Kernel:
     Attributes:
         fn: the compiled function (:func:`emit`'s signature), at the optimization ``level`` (0 or 2) reached so far.
         one: its single-state entry point (``name_one``, :func:`_one`), at the same level.
-        width: states a vector. ops: the traced operations (the arithmetic a state costs). nq, nv: the state's sizes.
+        width: states a vector. nq, nv: the state's sizes.
         states: the states run so far in this process (what :meth:`will_run` weighs).
     """
 
-    def __init__(self, fns, engine, level: int, width: int, ops: int, nq: int, nv: int, upgrade=None):
+    def __init__(self, fns, engine, level: int, width: int, nq: int, nv: int, upgrade=None):
         self.fn: Callable[..., int] = fns[0]
         self.one: Callable[[int], int] = fns[1]
-        self.level, self.width, self.ops, self.nq, self.nv = level, width, ops, nq, nv
+        self.level, self.width, self.nq, self.nv = level, width, nq, nv
         self.states = 0  # counted without a lock: threads may lose a few, and the count only times the switch
         self._engines = [engine]  # every engine whose code may still run on another thread: kept with the kernel
         self._upgrade = upgrade  # () -> (fn, engine): the -O2 code; None once at -O2
@@ -793,27 +793,20 @@ _KERNELS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 def kernel(tree, case: int, algorithm: str = "crba", width: int | None = None):
     """The tree's :class:`Kernel` in ``case`` by ``algorithm`` (``"crba"`` or ``"aba"``) over ``width`` states a step
     (default :func:`lanes`; 1 for the single-state lane: one state in a vector of four or eight costs the vector's
-    scalar ``sin`` and ``cos`` calls four or eight times), traced once per tree, case and algorithm and compiled or
-    loaded from the cache once per width, in a process; or None where the lanes are not available: no llvmlite, a
-    tree over :data:`MAX_OPS`, or one whose code branches on a state's value."""
+    scalar ``sin`` and ``cos`` calls four or eight times), loaded from the cache or traced and compiled once per
+    width, in a process; or None where the lanes are not available: no llvmlite, a tree over :data:`MAX_OPS`, or one
+    whose code branches on a state's value."""
     per = _KERNELS.get(tree)
     if per is None:
         per = _KERNELS[tree] = {}
-    if (case, algorithm) not in per:
-        per[(case, algorithm)] = _traced(tree, case, algorithm)
-    tr = per[(case, algorithm)]
     key = (case, algorithm, width or lanes())
     if key not in per:
-        per[key] = None if tr is None else _build(tr, key[2])
+        per[key] = _build(tree, case, algorithm, key[2], per)
     return per[key]
 
 
 def _traced(tree, case, algorithm):
-    """The tree's :class:`Trace`, or None where it is not to be compiled (no llvmlite, too large, untraceable)."""
-    try:
-        import llvmlite.binding  # noqa: F401
-    except ImportError:  # pragma: no cover - llvmlite comes with numba
-        return None
+    """The tree's :class:`Trace`, or None where it is not to be compiled (too large, untraceable)."""
     if estimate(tree, algorithm) > 2 * MAX_OPS:  # not even traced: the trace of a long chain's CRBA is itself slow
         return None
     try:
@@ -823,47 +816,75 @@ def _traced(tree, case, algorithm):
     return None if sum(_needed(tr)) > MAX_OPS else tr
 
 
-def _build(tr, width):
-    name = "lanes_" + _key(tr, width)[:32]
+def _build(tree, case, algorithm, width, per):
+    """The :class:`Kernel` of :func:`kernel`: the cached ``-O2`` code, else the cached ``-O0`` code, else the trace
+    (kept in ``per``, once per case and algorithm) compiled at ``-O0``; the trace is made only where code is
+    compiled (tracing gymnasium's humanoid takes about half a second)."""
+    try:
+        import llvmlite.binding  # noqa: F401
+    except ImportError:  # pragma: no cover - llvmlite comes with numba
+        return None
+    from relacc.core.tree.model import welded_folded
+
+    folded = welded_folded(tree)
+    name = "lanes_" + _key(folded, case, algorithm, width)[:32]
+    sizes = (folded.nq_in(case), folded.nv)
+
+    def traced():
+        if (case, algorithm) not in per:
+            per[(case, algorithm)] = _traced(tree, case, algorithm)
+        return per[(case, algorithm)]
 
     def make_ir():
-        return emit(tr, width, name)
+        return emit(traced(), width, name)
 
-    ops = sum(_needed(tr))
     best = compile_cached(make_ir, name, 2, cached_only=True)
     if best is not None:
-        return Kernel(*best, 2, width, ops, tr.nq, tr.nv)
-    return Kernel(*compile_cached(make_ir, name, 0), 0, width, ops, tr.nq, tr.nv,
-                  upgrade=lambda: compile_cached(make_ir, name, 2))
+        return Kernel(*best, 2, width, *sizes)
+    start = compile_cached(make_ir, name, 0, cached_only=True)
+    if start is None:
+        if traced() is None:
+            return None
+        start = compile_cached(make_ir, name, 0)
+    return Kernel(*start, 0, width, *sizes, upgrade=lambda: compile_cached(make_ir, name, 2))
 
 
-def _key(tr: Trace, width: int) -> str:
-    """A hash of everything the compiled code depends on: the trace, the lane width, this module's source, llvmlite's
-    version and the CPU."""
+def _key(folded, case: int, algorithm: str, width: int) -> str:
+    """A hash of everything the compiled code depends on, without tracing: the folded tree's arrays that
+    :func:`trace` reads (:func:`relacc.kernels.tree.arrays_of`, ``dof_paths``, ``inertia_arrays``), the case,
+    algorithm and lane width, the source of every module the trace runs or the code is emitted by
+    (:func:`_sources`), and NumPy's, llvmlite's and the CPU's identities."""
     import hashlib
 
     import llvmlite
     import llvmlite.binding as llvm
 
+    from relacc.kernels.tree import arrays_of
+    from relacc.kernels.tree_crba import dof_paths
+    from relacc.kernels.tree_spatial import inertia_arrays
+
     h = hashlib.sha256()
-    for part in (repr((tr.ops, tr.nq, tr.nv, sorted(tr.inputs.items()), tr.outputs, tr.pivots, tr.quats, tr.warns,
-                       width)),
-                 _source(), llvmlite.__version__,
-                 llvm.get_host_cpu_name(), llvm.get_host_cpu_features().flatten()):
+    for part in (*arrays_of(folded), *dof_paths(folded), *inertia_arrays(folded)):
+        a = np.ascontiguousarray(part)
+        if a.dtype.hasobject:  # pragma: no cover - its bytes would be addresses: a key that never matches
+            raise TypeError("the lanes' cache key takes numeric arrays only")
+        h.update(repr((a.dtype.str, a.shape)).encode())
+        h.update(a.tobytes())
+    for part in (repr((case, algorithm, width, folded.nq_in(case), folded.nv)), _sources(), np.__version__,
+                 llvmlite.__version__, llvm.get_host_cpu_name(), llvm.get_host_cpu_features().flatten()):
         h.update(part.encode())
     return h.hexdigest()
 
 
-def _source() -> str:
-    """This module's source (the emitter is part of what the object code depends on), read once."""
-    if not _SOURCE:
-        from pathlib import Path
+@functools.cache
+def _sources() -> str:
+    """The source of this package's modules (the emitter and every kernel the trace runs) and of
+    :mod:`relacc.core.tolerances` (the pivot floor, the quaternion tolerance), read once."""
+    from pathlib import Path
 
-        _SOURCE.append(Path(__file__).read_text(encoding="utf-8"))
-    return _SOURCE[0]
-
-
-_SOURCE: list = []
+    here = Path(__file__).parent
+    files = sorted(here.glob("*.py")) + [here.parent / "core" / "tolerances.py"]
+    return "".join(f"{f.name}\n{f.read_text(encoding='utf-8')}" for f in files)
 
 
 def _cache_dir():
