@@ -43,6 +43,25 @@ def test_antipodal_quaternions_give_the_same_matrix(gen):
     assert np.array_equal(rot.matrix_from_quaternion(quat), rot.matrix_from_quaternion(-quat))
 
 
+def test_quaternion_from_matrix_matches_scipy_and_inverts_the_matrix(gen):
+    """quaternion_from_matrix (w first, w >= 0) equals scipy's ``from_matrix`` with the same sign choice on random
+    rotations and on the half turns and near-half turns about each axis (where the trace is -1 and Shepperd's choice
+    matters), and its matrix is the input. Tolerances: a quaternion's unit components formed by one division and a
+    normalization (8 eps); the matrix from it, as in the test above (8 eps)."""
+    quat = gen.normal(size=(N, 4))
+    quat /= np.linalg.norm(quat, axis=-1, keepdims=True)
+    turns = [axis * angle for axis in np.eye(3) for angle in (np.pi, np.pi - 1e-9, 1e-9, np.pi / 2)]
+    R = np.concatenate([rot.matrix_from_quaternion(quat), Rotation.from_rotvec(turns).as_matrix(), np.eye(3)[None]])
+    ref = rot.quaternion_from_xyzw(Rotation.from_matrix(R).as_quat())
+    ref = np.where(ref[:, :1] < 0, -ref, ref)
+    got = rot.quaternion_from_matrix(R)
+    assert np.all(got[:, 0] >= 0)
+    exact = np.abs(ref[:, 0]) > 1e-6  # a half turn's w is 0 to rounding: its sign, and so q's, is either
+    assert_normalized_error(got[exact], ref[exact], np.ones(exact.sum()), what="matrix->quat", seed=SEED + 7, factor=8)
+    assert_normalized_error(rot.matrix_from_quaternion(got), R, np.ones(len(R)), what="quat->matrix->quat",
+                            seed=SEED + 7, factor=8)
+
+
 def test_123_matrix_matches_scipy_intrinsic_xyz(gen):
     """Rx(t1) Ry(t2) Rz(t3) equals scipy's intrinsic 'XYZ' Euler rotation."""
     theta = gen.uniform(-np.pi, np.pi, (N, 3))

@@ -172,6 +172,31 @@ def angles_123_from_matrix(R):
     return np.stack([theta1, theta2, theta3], -1)
 
 
+def quaternion_from_matrix(R):
+    """The unit quaternion ``(w, x, y, z)``, ``w >= 0``, of rotation matrices ``R (..., 3, 3)`` (real, orthogonal to
+    rounding): the inverse of :func:`matrix_from_quaternion` up to the sign it leaves free.
+
+    Shepperd's method: of ``4 w^2 - 1 = trace`` and ``4 x^2 - 1 = 2 R_xx - trace`` (and y, z), the largest gives
+    the component divided by (at least 1/2 before normalization), so no square root of a small difference is taken
+    and every rotation, the half turns included, is within a few ulps; the result is normalized.
+    """
+    R = np.asarray(R, dtype=float)
+    d = np.stack([R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]], -1)
+    t = d.sum(-1)
+    q = np.stack([1 + t, R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1)
+    for i in range(3):
+        j, k = (i + 1) % 3, (i + 2) % 3
+        v = np.empty_like(q)
+        v[..., 0] = R[..., k, j] - R[..., j, k]
+        v[..., 1 + i] = 1 - t + 2 * R[..., i, i]
+        v[..., 1 + j] = R[..., j, i] + R[..., i, j]
+        v[..., 1 + k] = R[..., k, i] + R[..., i, k]
+        pick = (d[..., i] > t) & np.all(d[..., i:i + 1] >= d, axis=-1)
+        q = np.where(pick[..., None], v, q)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    return np.where(q[..., :1] < 0, -q, q)
+
+
 def quaternion_multiply(p, q):
     """Hamilton product ``p (x) q`` of scalar-first quaternions, shape ``(..., 4)``.
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.core.rotations import matrix_from_quaternion
+from relacc.core.rotations import matrix_from_quaternion, quaternion_from_matrix
 from relacc.core.tolerances import QUATERNION_NORM_TOLERANCE
 from relacc.errors import ModelError
 
@@ -114,9 +114,7 @@ def quaternion(values, normalized: Normalized, place: str) -> np.ndarray:
 
 
 def quaternion_of(R) -> np.ndarray:
-    """A unit quaternion ``(w, x, y, z)``, ``w >= 0``, of a rotation matrix (child to parent), by scipy."""
-    from scipy.spatial.transform import Rotation
-
-    x, y, z, w = Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat()
-    q = np.array([w, x, y, z])
-    return -q if w < 0 else q
+    """A unit quaternion ``(w, x, y, z)``, ``w >= 0``, of a rotation matrix (child to parent): the core's
+    (:func:`relacc.core.rotations.quaternion_from_matrix`; scipy's ``Rotation`` gives the same within an ulp, but
+    importing ``scipy.spatial`` took 0.47 s of every reading, about a tenth of a ``compare``)."""
+    return quaternion_from_matrix(R)
