@@ -111,6 +111,7 @@ XACRO = """<?xml version="1.0"?>
 """
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("izz,verdict", [("m*(x*x+y*y)/12", 0), ("m*(x*x+y*y)", 1)])
 def test_a_xacro_is_read_directly_with_its_expansions_verdict(repo, capsys, izz, verdict):
     """Issue 53 item 5: relacc compare robot.urdf.xacro expands it with the xacro package (properties, macros, an

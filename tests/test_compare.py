@@ -338,6 +338,7 @@ def test_an_engine_failing_to_evaluate_is_that_engine_not_taking_part(tmp_path, 
     assert all(rows["pinocchio"].passed for rows in result.dynamics.values())
 
 
+@pytest.mark.slow
 def test_a_singular_mass_matrix_is_named_not_a_traceback(tmp_path, capsys):
     """MuJoCo's testdata/model.xml: Drake's M over the shared speeds is singular; its forward dynamics is undefined,
     written null in strict JSON and said on the page, with the joint named, and the run exits 1."""

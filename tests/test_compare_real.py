@@ -321,6 +321,7 @@ def test_a_directory_is_every_model_in_it(tmp_path, capsys):
     assert "no .xml or .urdf file" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_several_models_make_one_page_with_a_row_each_linked_to_its_sections(tmp_path, capsys):
     """``relacc compare DIR --out page.html``: one page; a summary row per model (a file that cannot be compared says
     why on its row), each compared model's row linking to its own sections, every id on the page unique."""

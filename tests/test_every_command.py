@@ -66,6 +66,7 @@ def test_an_equality_constraint_is_named_in_every_json_result(tmp_path, capsys, 
     assert any("equality constraint" in line for line in out["not_evaluated"]), out
 
 
+@pytest.mark.slow
 def test_an_equality_constraint_is_named_by_report_and_grade(tmp_path, capsys):
     path = _model(tmp_path, "coupled.xml", COUPLED)
     main(_argv("report", path, tmp_path) + ["--quiet"])
@@ -77,6 +78,7 @@ def test_an_equality_constraint_is_named_by_report_and_grade(tmp_path, capsys):
     assert any("equality constraint" in line for line in out["not_evaluated"]), out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["simulate", "tradeoff", "report"])
 def test_a_urdf_with_a_welded_base_runs_observed_at_its_first_moving_link(tmp_path, capsys, command):
     """The base link moves with nothing (MuJoCo fuses it into the world): the default scene observes l1."""
@@ -218,7 +220,8 @@ def test_tree_states_are_estimated_from_the_tree():
         states(2, 10**9, model=tree)
 
 
-@pytest.mark.parametrize("n", [2000, 20000, 100000])
+@pytest.mark.parametrize("n", [2000, pytest.param(20000, marks=pytest.mark.slow),
+                               pytest.param(100000, marks=pytest.mark.slow)])  # 4-19 s under tracemalloc
 @pytest.mark.parametrize("case", [1, 2, 3])
 def test_the_state_estimate_covers_what_is_measured(case, n):
     """tracemalloc's peak while drawing humanoid states (numpy reports its allocations to it) is at most the

@@ -130,6 +130,7 @@ ARGV = st.lists(st.one_of(
     st.text(max_size=6)), max_size=8)
 
 
+@pytest.mark.slow
 @given(ARGV)
 def test_cli_never_raises(argv):
     """The command line exits 0, 1 or 2 (argparse usage errors: 2) and never shows a traceback."""
@@ -228,6 +229,7 @@ COMMANDS = {
 """Each command: valid, cheap arguments, and the arguments fuzzed one at a time."""
 
 
+@pytest.mark.slow
 @given(st.sampled_from(sorted(COMMANDS)), st.data())
 def test_every_command_turns_malformed_input_into_one_line_and_exit_2(tmp_path_factory, command, data):
     """Every command with one argument malformed (bad values, junk files, bad paths): exit 2, one line."""

@@ -218,6 +218,7 @@ def test_tree_at_the_lock_refuses_accelerations_and_warns_of_its_mass_matrix(tmp
     assert np.linalg.cond(np.asarray(d.M)) > 1 / EPS  # singular to working precision, as the warning says
 
 
+@pytest.mark.slow
 def test_a_models_hard_cases_stay_within_the_conditioning_bound(tmp_path):
     """The model search (relacc.validation.treehard) on a random tree with a free root, balls and stacked joints:
     in every case, speeds up to 1e3 times, the root up to 1e3 m out and (case 3) 1e-7 rad from the lock, relacc's

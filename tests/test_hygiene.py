@@ -64,6 +64,7 @@ def unmarked_heavy_tests(source: str, name: str = "<source>") -> list[str]:
     return bad
 
 
+@pytest.mark.slow
 def test_the_slow_marker_follows_its_rule():
     """Every test that starts a subprocess, a browser, a cluster or a benchmark is marked slow (issue 37)."""
     bad = [b for path in sorted((ROOT / "tests").glob("test_*.py"))

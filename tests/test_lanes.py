@@ -345,6 +345,7 @@ def test_a_branch_on_a_states_value_stops_the_trace():
     assert g.pivots == [(g.ops.index(("mul", 0, ("c", 2.0))), ("c", 1e-12))]
 
 
+@pytest.mark.slow
 def test_the_optimized_code_takes_over_with_the_same_bits(tmp_path, monkeypatch):
     """A kernel starts at ``-O0`` and is compiled at ``-O2`` once it has run ``UPGRADE_STATES`` states; the fused
     multiply-adds are in the IR and no fast-math flag is set, so the two give the same bits; the ``-O2`` object code

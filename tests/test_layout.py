@@ -1,6 +1,7 @@
 """The package's architecture: layers import downward only, no cycles, nothing heavy on import, help that helps."""
 
 import ast
+import functools
 import subprocess
 import sys
 from pathlib import Path
@@ -46,6 +47,12 @@ a function (issue 53): relacc computes meshes itself, and an engine offers what 
 (:data:`relacc.reading.read.MESH_ENGINES`)."""
 
 
+@functools.cache
+def _parse(source: str) -> ast.Module:
+    """``ast.parse``, once per source text: the rules below walk the same modules, and only read the trees."""
+    return ast.parse(source)
+
+
 def _modules():
     for path in sorted(PACKAGE.rglob("*.py")):
         rel = path.relative_to(PACKAGE.parent).with_suffix("")
@@ -57,7 +64,7 @@ def _modules():
 
 def _imports(name, path):
     """``(imported relacc module, at module level?)`` for every import statement of a module."""
-    tree = ast.parse(path.read_text())
+    tree = _parse(path.read_text())
     top = set(id(n) for n in tree.body)
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("relacc"):
@@ -197,7 +204,7 @@ def engine_imports(name: str, source: str) -> list[str]:
     """Imports of an engine package (``import mujoco``, ``from pydrake.x import y``, anywhere in the module) outside
     that engine's own adapter package, and imports of an adapter's modules from outside ``relacc.engines``."""
     bad = []
-    for node in ast.walk(ast.parse(source)):
+    for node in ast.walk(_parse(source)):
         targets = []
         if isinstance(node, ast.Import):
             targets = [a.name for a in node.names]
@@ -216,7 +223,7 @@ def engine_imports(name: str, source: str) -> list[str]:
 def private_imports(name: str, source: str) -> list[str]:
     """``from relacc.x import _y`` across modules (dunder names like ``__version__`` are public)."""
     bad = []
-    for node in ast.walk(ast.parse(source)):
+    for node in ast.walk(_parse(source)):
         if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("relacc"):
             for alias in node.names:
                 if alias.name.startswith("_") and not alias.name.startswith("__") and node.module != name:
@@ -224,6 +231,7 @@ def private_imports(name: str, source: str) -> list[str]:
     return bad
 
 
+@pytest.mark.slow
 def test_engine_packages_are_imported_only_by_their_adapter():
     """``mujoco``, ``pinocchio`` and ``pydrake`` appear only in their own adapter package under relacc/engines/, and
     nothing outside relacc/engines/ reaches an adapter but through the registry (``relacc.engines.load``)."""
@@ -258,7 +266,7 @@ LAZY_ROOT = {"__version__", "_SUBPACKAGES", "_NAMES", "__getattr__", "__dir__"}
 def init_logic(name, source):
     """Statements of a package's ``__init__.py`` that are not its docstring, an import, ``__all__`` or a constant
     string (an attribute's docstring); and a missing ``__all__``."""
-    tree, bad, declared = ast.parse(source), [], False
+    tree, bad, declared = _parse(source), [], False
     for node in tree.body:
         if isinstance(node, (ast.Import, ast.ImportFrom)):
             continue
@@ -309,7 +317,7 @@ def name_branches(name, source):
     outside ``relacc/engines/`` a caller asks :func:`relacc.engines.traits` what an engine can do instead. An XML
     element's tag (``root.tag != "mujoco"``, MJCF's root element) is not an engine."""
     bad = []
-    for node in ast.walk(ast.parse(source)):
+    for node in ast.walk(_parse(source)):
         if isinstance(node, ast.Compare):
             operands = [node.left, *node.comparators]
             tags = any(isinstance(o, ast.Attribute) and o.attr == "tag" for o in operands)
@@ -323,7 +331,7 @@ def name_uses(name, source):
     ``by["pinocchio"]``, ``load("mujoco", path)``, ``engine="mujoco"``): engine knowledge, which lives in the engine's
     package (its card's :class:`relacc.engines.traits.Traits`, its adapter's capabilities), issue 51 item 2."""
     bad = []
-    for node in ast.walk(ast.parse(source)):
+    for node in ast.walk(_parse(source)):
         hits = []
         if isinstance(node, ast.Dict):
             hits = [k for k in node.keys if k is not None and _names(k)]
@@ -385,7 +393,7 @@ def bare_case_comparisons(name, source):
     """``case == 3``-style comparisons: outside the compiled kernels (which take the case as a plain int) a case is
     named by :class:`relacc.Case` (``case == Case.ANGLE_RATES``), issue 37 #3."""
     bad = []
-    for node in ast.walk(ast.parse(source)):
+    for node in ast.walk(_parse(source)):
         if isinstance(node, ast.Compare) and isinstance(node.left, ast.Name) and node.left.id in ("case", "c"):
             if any(isinstance(o, ast.Constant) and o.value in (1, 2, 3) for o in node.comparators):
                 bad.append(f"{name}:{node.lineno} {ast.unparse(node)}")

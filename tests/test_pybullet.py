@@ -116,6 +116,7 @@ def test_pybullets_default_inertia_is_reproduced_shape_by_shape(name, tmp_path):
         assert np.abs(reading.tree.bodies[reading.tree.body(link)].inertia).max() != pytest.approx(scale, rel=1e-3)
 
 
+@pytest.mark.slow
 @NEEDS_IDYNTREE
 @pytest.mark.parametrize("shapes", ["", collision('<box size="0.1 0.1 0.1"/>', "0.05 0.01 0")],
                          ids=["no collision shapes", "a collision box that disagrees with the inertia"])

@@ -70,6 +70,7 @@ def test_assert_agrees_on_plain_arrays_and_shapes():
         assert_agrees(np.ones((4, 2)), x)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("spec,quantity,ok,columns,matches", [
     ("student_correct.py:position", "position", True, (), ()),
     ("student_correct.py:velocity", "velocity", True, (), ()),
@@ -88,6 +89,7 @@ def test_examples_are_diagnosed_as_documented(spec, quantity, ok, columns, match
     assert set(grade.sources) == {"relacc"} | {f"{e}/quaternion" for e in ENGINES}
 
 
+@pytest.mark.slow
 def test_a_batched_formula_is_graded_in_both_forms(relacc_chain):
     """A function that takes whole batches is graded one state at a time and on the batch: right both ways is
     right; right on batches and wrong for one state (or the reverse) is wrong, and the grade says how it was

@@ -45,6 +45,7 @@ def test_check_on_ant_agrees_in_every_case(tmp_path):
     assert "all 48 comparisons agree" in out.stdout
 
 
+@pytest.mark.slow
 def test_grade_a_students_arm():
     """The example's correct formulas pass; its slip is wrong, with the two joints whose speeds show it."""
     from relacc.testing.user import load_function

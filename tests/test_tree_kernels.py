@@ -143,7 +143,8 @@ def _dynamics_scale(tree, case, q, u, acc):
 
 
 @pytest.mark.parametrize("algorithm", ["lanes", "crba", "aba"])
-@pytest.mark.parametrize("seed", [0, 3, 7, 11])
+@pytest.mark.parametrize("seed", [0, 3, pytest.param(7, marks=pytest.mark.slow),
+                                  pytest.param(11, marks=pytest.mark.slow)])  # the larger random trees: 2-5 s
 def test_the_dynamics_kernel_is_kanes_equations(tmp_path, seed, algorithm):
     """Forward dynamics by composite inertias and L^T D L (numba's, and its code traced into vector lanes), and by the
     articulated-body algorithm, against Kane's
@@ -210,6 +211,7 @@ def test_welded_bodies_fold_into_their_parents_with_the_same_dynamics():
     assert welded_folded(plain) is plain
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [2, 5, 9])
 def test_effects_through_the_kernel_are_kanes_equations(tmp_path, seed):
     """``auto`` forward dynamics with joint springs and dampers and sinusoidal body loads (the kernel, with the
