@@ -346,10 +346,7 @@ def name_uses(name, source):
     return bad
 
 
-STILL_NAMING_ENGINES = {
-    "relacc.fixtures.schema": "a scene file's default engines list, part of the file format the guide documents "
-                              "(fixtures sit below engines and cannot ask their traits)",
-}
+STILL_NAMING_ENGINES: dict[str, str] = {}
 """Modules outside ``engines/`` that still name engines, each with the reason; the test fails on any other, and on an
 entry here that no longer names one (so the list only shrinks)."""
 

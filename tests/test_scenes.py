@@ -187,6 +187,14 @@ def test_scene_overrides_are_validated():
         scene.replace(engines=("bullet",))
 
 
+def test_a_scene_that_lists_no_engines_runs_relacc_pinocchio_and_mujoco(tmp_path):
+    """The file format's default, as the guide's table says it: an absent ``[simulate] engines`` is relacc, Pinocchio
+    and MuJoCo (the engines whose traits say ``in_scenes``), in report order; a listed one is taken as written."""
+    assert scenes.load(_scene_file(tmp_path, SCENE)).engines == ("relacc", "pinocchio", "mujoco")
+    listed = _scene_file(tmp_path / "b", SCENE + 'engines = ["mujoco", "relacc"]\n')
+    assert scenes.load(listed).engines == ("mujoco", "relacc")
+
+
 def test_cli_simulate_json_and_csv(tmp_path, capsys):
     """relacc simulate --json prints the documented keys; --out writes one CSV per engine, Drake's included."""
     path = _scene_file(tmp_path, SCENE + 'engines = ["relacc", "pinocchio", "mujoco", "drake"]\n'

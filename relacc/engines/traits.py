@@ -45,6 +45,8 @@ class Traits:
             documentation recommends), each a card of its own.
         options: what its package's ``load`` is called with for this loading (``{"inertia_from_file": True}``).
         readings: the attribute of its package's ``readings`` module that holds this loading's ``FILE_READINGS``.
+        in_scenes: a scene file that does not list its engines runs this one, beside relacc
+            (:data:`relacc.simulate.scenes.DEFAULT_ENGINES`).
         file_inertias: this loading takes each body's inertia from the file (PyBullet's default loading computes its
             own from the collision shapes: ``relacc compare`` names that, but it does not judge relacc's tree in
             ``relacc check --model``).
@@ -75,6 +77,7 @@ class Traits:
     options: dict = field(default_factory=dict)
     readings: str = "FILE_READINGS"
     file_inertias: bool = True
+    in_scenes: bool = False
 
     @property
     def package_name(self) -> str:

@@ -51,6 +51,9 @@ if TYPE_CHECKING:
 
 SIM_ENGINES = ("relacc",) + ENGINES
 """The names a scene's ``engines`` takes: relacc and every engine, in report order."""
+DEFAULT_ENGINES = ("relacc",) + with_trait("in_scenes")
+"""What a scene file that does not list its engines runs: relacc and the engines whose traits say so
+(:attr:`relacc.engines.traits.Traits.in_scenes`)."""
 INTEGRATORS = ("rk4", "euler", "implicit", "implicitfast")
 """The scene-wide integrators; each engine's own are in its traits (:func:`integrators_of`)."""
 MAX_STEPS = 1e9
@@ -282,15 +285,20 @@ def load(path) -> Scene:
     drake_integrator, drake_accuracy = _simulate_table(path, text, sim)
     return Scene(name=path.stem, title=doc.title or path.stem, description=doc.description, fixture=fixture,
                  case=case, q=q, u=u, effects=effects, duration=float(sim.duration), dt=float(sim.dt),
-                 integrator=sim.integrator, engines=tuple(sim.engines), record_every=sim.record_every, source=path,
+                 integrator=sim.integrator, engines=_engines(sim), record_every=sim.record_every, source=path,
                  drake_integrator=drake_integrator, drake_accuracy=drake_accuracy)
+
+
+def _engines(sim) -> tuple[str, ...]:
+    """A ``[simulate]`` table's engines, :data:`DEFAULT_ENGINES` where it lists none."""
+    return DEFAULT_ENGINES if sim.engines is None else tuple(sim.engines)
 
 
 def _simulate_table(path, text, sim):
     """``(drake_integrator, drake_accuracy)`` of a checked ``[simulate]`` table (the first problem raises)."""
     drake_integrator = sim.drake.integrator if sim.drake else None
     drake_accuracy = sim.drake.accuracy if sim.drake else None
-    problem = check_simulate(sim.duration, sim.dt, sim.integrator, sim.engines, sim.record_every, drake_integrator,
+    problem = check_simulate(sim.duration, sim.dt, sim.integrator, _engines(sim), sim.record_every, drake_integrator,
                              drake_accuracy)
     if problem:
         table, key = f"simulate.{problem[0]}".rsplit(".", 1)
@@ -352,7 +360,7 @@ def _model_scene(path, text, doc, model_path, checked) -> Scene:
     return Scene(name=path.stem, title=doc.title or path.stem, description=doc.description, fixture=None,
                  case=case, q=np.asarray(q, dtype=float), u=np.asarray(u, dtype=float), effects=effects,
                  duration=float(sim.duration), dt=float(sim.dt), integrator=sim.integrator,
-                 engines=tuple(sim.engines), record_every=sim.record_every, source=path,
+                 engines=_engines(sim), record_every=sim.record_every, source=path,
                  drake_integrator=drake_integrator, drake_accuracy=drake_accuracy, model_path=model_path, tree=tree,
                  observe=observe, unevaluated=tuple(reading.unevaluated))
 

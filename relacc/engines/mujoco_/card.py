@@ -21,7 +21,7 @@ TRAITS = Traits(
     capabilities=frozenset({"PointLoop", "KinematicsLoops", "Rollout", "BodyMotion", "AccelerationRoutine"}),
     calls={"rollout": "rollout", "step": "mj_step per call", "jacobians": "mj_jac/mj_jacDot loop",
            "motion": "mj_kinematics/mj_comVel loop"},
-    compiled_loops=True, own_steppers=True, mesh_source=True, truth=True)
+    compiled_loops=True, own_steppers=True, mesh_source=True, truth=True, in_scenes=True)
 
 
 def chain_export() -> dict:

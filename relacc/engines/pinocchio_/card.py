@@ -21,7 +21,7 @@ TRAITS = Traits(
     },
     capabilities=frozenset({"PointLoop", "KinematicsLoops", "BatchedForward", "ThreadedStepper", "ManifoldRates"}),
     calls={"batched_forward": "abaInParallel", "jacobians": "jacobians loop", "motion": "forwardKinematics loop"},
-    own_urdf=True, compiled_loops=True)
+    own_urdf=True, compiled_loops=True, in_scenes=True)
 
 
 def chain_export() -> dict:
