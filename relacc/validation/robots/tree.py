@@ -43,6 +43,7 @@ class TreeRobot:
         self.extra_dofs = 0
         self.warnings: list[str] = list(reading.notes)
         self.links = {self.tree.bodies[b].name: members for b, members in groups(self.tree).items()}
+        self._mapped: tuple | None = None  # the last states' map: dynamics and kinematics take the same states
 
     def _match(self, reference) -> tuple[np.ndarray, np.ndarray]:
         """``(dofs, qdofs)``: the reference's speeds and positions of this tree's joints (by name, in order): a reading
@@ -80,21 +81,33 @@ class TreeRobot:
     def _map(self, q, v):
         """``(q_c, u_c, T (n, nv, nv), T_dot v (n, nv))``: states ``(n, nq)``, ``(n, nv)`` in the case's coordinates
         and their speed maps."""
+        key = (q.shape, v.shape, q.tobytes(), v.tobytes())
+        if self._mapped is not None and self._mapped[0] == key:
+            return self._mapped[1]
         nv, c, n = self.tree.nv, self.case, len(q)
         # u_c = T u_2 and, at zero u_2 rates, udot_c = T_dot u_2
         q_c, u_c, Tdv = convert(self.tree, q, v, np.zeros_like(v), source=2, target=c)
         if c == Case.BODY_FRAME:
-            return q_c, u_c, np.broadcast_to(np.eye(nv), (n, nv, nv)), np.zeros((n, nv))
-        # T is the identity but for each ball's and free joint's 3 x 3 block of angular speeds (convert maps a
-        # joint's own speeds alone): column i of every block at once, from unit speed i in every block
-        T = np.repeat(np.eye(nv)[None], n, axis=0)
-        starts = [d for _, _, _, d in rotations(self.tree, c)]
-        for i in range(3 if starts else 0):
-            unit = np.zeros((n, nv))
-            unit[:, [d + i for d in starts]] = 1.0
-            _, cols, _ = convert(self.tree, q, unit, source=2, target=c)
-            for d in starts:
-                T[:, d:d + 3, d + i] = cols[:, d:d + 3]
+            T = np.broadcast_to(np.eye(nv), (n, nv, nv))
+            Tdv = np.zeros((n, nv))
+        else:
+            # T is the identity but for each ball's and free joint's 3 x 3 block of angular speeds (convert maps a
+            # joint's own speeds alone): column i of every block, from unit speed i in every block, the three
+            # columns' states converted in one batch
+            T = np.repeat(np.eye(nv)[None], n, axis=0)
+            starts = [d for _, _, _, d in rotations(self.tree, c)]
+            if starts:
+                unit = np.zeros((3, n, nv))
+                for i in range(3):
+                    unit[i][:, [d + i for d in starts]] = 1.0
+                _, cols, _ = convert(self.tree, np.concatenate([q] * 3), unit.reshape(3 * n, nv), source=2, target=c)
+                cols = cols.reshape(3, n, nv)
+                for i in range(3):
+                    for d in starts:
+                        T[:, d:d + 3, d + i] = cols[i][:, d:d + 3]
+        for a in (q_c, u_c, T, Tdv):
+            a.flags.writeable = False  # kept for the next call on the same states
+        self._mapped = (key, (q_c, u_c, T, Tdv))
         return q_c, u_c, T, Tdv
 
     def dynamics(self, q, v) -> Dynamics:
