@@ -152,6 +152,10 @@ def builtin(one: int, nq: int, nv: int, gravity, keep: object):
                     nq, nv], dtype=np.int64).view(_Context)
     method = _MethodDef(b"relacc_one_state", address, _METH_FASTCALL, None)
     ctx.keep = (buf, copy, keep, method, engine)
-    new = api.PyCFunction_NewEx
-    new.restype, new.argtypes = ctypes.py_object, [ctypes.c_void_p, ctypes.py_object, ctypes.c_void_p]
-    return new(ctypes.addressof(method), ctx, None)
+    return _NEW(ctypes.addressof(method), ctx, None)
+
+
+_NEW = ctypes.PYFUNCTYPE(ctypes.py_object, ctypes.c_void_p, ctypes.py_object, ctypes.c_void_p)(
+    ("PyCFunction_NewEx", ctypes.pythonapi))
+"""``PyCFunction_NewEx(PyMethodDef*, self, module)`` with its own prototype, leaving ``ctypes.pythonapi``'s shared
+function object as other code finds it."""
