@@ -375,3 +375,40 @@ def test_the_reports_verdict_is_every_check_it_shows():
     within = dataclasses.replace(worst, ratio=0.2, error=13 * EPS)
     fine = ReportContext(harness, check, [], [], within, {}, {}, [], None, True, dt.datetime.now(dt.timezone.utc), "m")
     assert fine.agrees and summary.build(fine)["agree"] is True
+
+
+def test_a_scene_whose_engine_disagrees_fails_the_report():
+    """A scene run in the report where an engine's acceleration is not relacc's at the same states (at the scene's
+    own step or a coarser one of the sweep), or whose engines' G2 positions differ by more than the page says they
+    agree to, was shown on the page with a green verdict and exit 0: ReportContext.failures left the simulations
+    out. Each is now a named failure."""
+    import datetime as dt
+    from types import SimpleNamespace
+
+    from relacc.report.build import ReportContext
+    from relacc.report.sections.simulation import AGREEMENT_M
+    from relacc.validation.hardsearch import Worst
+
+    worst = Worst(0.2, "mujoco/quaternion", "V", 1, 13 * EPS, 66 * EPS, "case 1", [0.0] * 14, [0.0] * 12,
+                  [0.0] * 12, 300)
+    check = SimpleNamespace(failures=[])
+    harness = SimpleNamespace(engines=("mujoco",))
+
+    def scene(position, own, coarse):
+        result = SimpleNamespace(scene=SimpleNamespace(name="spin", dt=1e-3), differing=own,
+                                 differences=lambda: (position, 0.0, {}))
+        return {"result": result, "sweep": [{"dt": 1e-3, "position": position, "differing": own},
+                                            {"dt": 2e-3, "position": position, "differing": coarse}]}
+
+    def ctx(*simulations):
+        return ReportContext(harness, check, [], [], worst, {}, {}, list(simulations), None, True,
+                             dt.datetime.now(dt.timezone.utc), "m")
+
+    off = {"drake": {"error": 3.0e-9, "bound": 1.0e-12}}
+    assert ctx(scene(1e-11, {}, {})).agrees
+    (line,) = ctx(scene(1e-11, off, {})).failures()
+    assert "spin" in line and "drake" in line and "3.00e-09" in line and "dt = 0.001" in line
+    (line,) = ctx(scene(1e-11, {}, off)).failures()
+    assert "dt = 0.002" in line
+    (line,) = ctx(scene(2 * AGREEMENT_M, {}, {})).failures()
+    assert "G2 positions differ by 2.00e-06 m" in line

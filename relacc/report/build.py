@@ -48,9 +48,13 @@ class ReportContext:
 
     def failures(self) -> list[str]:
         """One line per failed check the page shows: a cross-validation comparison, an erratum's corrected form, a
-        hard case outside its accuracy model or not finite, and the Hypothesis search's worst state when its error
-        exceeds its bound (ratio above 1). The page's verdict and the command's exit code are this list's."""
+        hard case outside its accuracy model or not finite, the Hypothesis search's worst state when its error
+        exceeds its bound (ratio above 1), a scene run (at its own step or a coarser one) where an engine's
+        acceleration is not relacc's at the same states, and a scene whose engines' G2 positions at its own step
+        differ by more than the page says they agree to. The page's verdict and the command's exit code are this
+        list's."""
         from relacc.core.tolerances import EPS
+        from relacc.report.sections.simulation import AGREEMENT_M
 
         out = [f"case {c.case} {c.engine}/{c.route} {c.quantity}: {c.max_error / EPS:.1f} eps"
                for c in self.check.failures]
@@ -62,6 +66,15 @@ class ReportContext:
         if not w.ratio <= 1.0:
             out.append(f"Hypothesis search: case {w.case}, {w.evaluator} {w.quantity}, error / bound {w.ratio:.3g} "
                        f"({w.error / EPS:.3g} eps against {w.bound / EPS:.3g} eps)")
+        for e in self.simulations:
+            r = e["result"]
+            runs = [(r.scene.dt, r.differing)] + [(s["dt"], s["differing"]) for s in e["sweep"][1:]]
+            out += [f"scene {r.scene.name} at dt = {dt:.3g} s: {name}'s acceleration off relacc's by {c['error']:.2e} "
+                    f"(bound {c['bound']:.1e})" for dt, differing in runs for name, c in differing.items()]
+            pos, _, _ = r.differences()
+            if not pos <= AGREEMENT_M:
+                out.append(f"scene {r.scene.name}: the engines' G2 positions differ by {pos:.2e} m at its own step "
+                           f"(the page's claim: within {AGREEMENT_M:.0e} m)")
         return out
 
     @property
@@ -153,7 +166,7 @@ def run_scenes(quick: bool, progress: Callable[[str], object] | None = None) -> 
             coarse = result if factor == 1 else simulate.run(scene.replace(
                 dt=dt, duration=max(round(scene.duration / dt), 1) * dt))
             pos, vel, _ = coarse.differences()
-            sweep.append({"dt": dt, "position": pos, "velocity": vel})
+            sweep.append({"dt": dt, "position": pos, "velocity": vel, "differing": coarse.differing})
         out.append({"result": result, "sweep": sweep})
     return out
 
