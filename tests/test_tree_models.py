@@ -158,6 +158,41 @@ def test_effects_agree_with_mujoco(tmp_path):
                                    atol=64 * EPS * max(tree.depth) * terms)
 
 
+def test_joint_forces_are_mujocos_passive_forces(tmp_path):
+    """relacc's springs and dampers alone (:func:`relacc.dynamics.tree.joint_forces`, the forces every engine's
+    stepper is given at every stage) against MuJoCo's ``qfrc_passive`` of the same stiffness, rest and damping on a
+    hinge, a slide, a ball and a damped free joint; the hinge and the slide are computed together (one index
+    operation), the ball on its own. Tolerance: each force is a product of at most three terms, ``64 eps`` times the
+    sum of the terms' magnitudes."""
+    from relacc.dynamics.tree import joint_forces
+
+    xml = """<mujoco><compiler angle="radian"/><option gravity="0 0 0"/><worldbody>
+      <body name="a" pos="0 0 1"><freejoint name="root"/><inertial pos="0.1 0 0" mass="2" diaginertia=".1 .2 .25"/>
+        <body name="b" pos="0.3 0 0"><joint name="h" type="hinge" axis="0 0.6 0.8" stiffness="3" springref="0.2"
+          damping="0.4"/><inertial pos="0.2 0.05 0" mass="1" diaginertia=".05 .06 .07"/>
+          <body name="c" pos="0.4 0 0"><joint name="d" type="hinge" axis="1 0 0" damping="0.25"/>
+            <joint name="s" type="slide" axis="1 0 0" stiffness="20" springref="-0.1" damping="0.7"/>
+            <joint name="ball" type="ball" stiffness="1.5" damping="0.3"/>
+            <inertial pos="0.1 0.1 0" mass="0.5" diaginertia=".01 .02 .025"/></body></body></body>
+    </worldbody></mujoco>"""
+    path = tmp_path / "springs.xml"
+    path.write_text(xml)
+    tree, model = read_tree(path), mujoco.MjModel.from_xml_path(str(path))
+    model.dof_damping[:6] = 0.15  # the free joint's damper (MuJoCo's <freejoint> takes no damping attribute)
+    data = mujoco.MjData(model)
+    effects = relacc.TreeEffects(joints={"root": relacc.JointEffect(0, 0.15), "h": relacc.JointEffect(3, 0.4, 0.2),
+                                         "s": relacc.JointEffect(20, 0.7, -0.1), "ball": relacc.JointEffect(1.5, 0.3),
+                                         "d": relacc.JointEffect(0, 0.25)})
+    seed = 12
+    st = random_states(tree, 2, 7, seed)
+    f = joint_forces(tree, st.q, st.u, effects)
+    for i in range(7):
+        data.qpos[:], data.qvel[:] = st.q[i], st.u[i]
+        mujoco.mj_forward(model, data)
+        scale = 20 * (np.abs(st.q[i]).max() + 1) + np.abs(st.u[i]).max()  # the largest stiffness and damping: 20, 0.7
+        np.testing.assert_allclose(f[i], data.qfrc_passive, rtol=0, atol=64 * EPS * scale, err_msg=f"seed {seed}")
+
+
 def test_a_three_link_arm_built_in_python():
     """A planar three-link arm with hinges about z, against its closed form: mass centre i at
     ``sum_{j<i} l_j e(phi_j) + c_i e(phi_i)`` with ``phi_i = q_1 + ... + q_i``, ``e(phi) = (cos phi, sin phi, 0)``."""

@@ -157,16 +157,63 @@ def joint_forces(tree, q, v, effects, joint_effects=None, case: int = 2) -> np.n
     """``(n, nv)`` the generalized forces of ``effects``' joint springs and dampers alone at case-2 states
     ``q (n, nq)``, ``v (n, nv)`` (MuJoCo's ``qpos``, ``qvel``): what MuJoCo's passive force gives for them (N, N m
     per speed). Only the positions and speeds of joints with an effect are read. ``joint_effects``: the second
-    item of ``effects.resolve(tree)`` when the caller has it already (a stepper calls this at every stage).
-    ``case`` 1 or 3: states of that case, the effects on hinges and slides only (their speeds are every case's)."""
+    item of ``effects.resolve(tree)`` when the caller has it already (a stepper calls this at every stage: it keeps
+    :func:`joint_force_plan` instead). ``case`` 1 or 3: states of that case, the effects on hinges and slides only
+    (their speeds are every case's)."""
     if joint_effects is None:
         _, joint_effects, _ = effects.resolve(tree)
-    f = np.zeros((q.shape[0], tree.nv))
+    return joint_force_plan(tree, joint_effects, case)(q, v)
+
+
+@dataclass(frozen=True)
+class JointForcePlan:
+    """:func:`joint_forces` for one tree, one list of resolved joint effects and one case, its indices found once:
+    the hinges' and slides' dampers and springs as index arrays (one operation each for all of them, in
+    :func:`_passive`'s order of operations, so the same bits), balls and free joints one by one. ``nq``, ``nv``: the
+    tree's in the plan's case."""
+
+    nq: int
+    nv: int
+    damped_v: np.ndarray
+    damping: np.ndarray
+    sprung_v: np.ndarray
+    sprung_q: np.ndarray
+    stiffness: np.ndarray
+    rest: np.ndarray
+    others: tuple
+
+    def __call__(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """``(n, nv)`` the forces at states ``q (n, nq)``, ``v (n, nv)`` of the plan's case."""
+        f = np.zeros((q.shape[0], self.nv))
+        if self.damped_v.size:
+            f[:, self.damped_v] = -self.damping * v[:, self.damped_v]
+        if self.sprung_v.size:
+            f[:, self.sprung_v] -= self.stiffness * (q[:, self.sprung_q] - self.rest)
+        for kind, eff, rest, qs, vs in self.others:
+            f[:, vs] = _passive(kind, eff, rest, q[:, qs], v[:, vs])
+        return f
+
+
+def joint_force_plan(tree, joint_effects, case: int = 2) -> JointForcePlan:
+    """The :class:`JointForcePlan` of ``joint_effects`` (the second item of ``effects.resolve(tree)``) on ``tree`` in
+    ``case``'s coordinates."""
     qadr, nq = tree.qadr(case), NQ_ANGLES if int(case) == 3 else NQ
+    lin: list[tuple[int, int, float, float, Any]] = []
+    others = []
     for k, eff, rest in joint_effects:
         kind, a, d = tree.joints[k][1].type, qadr[k], tree.dofadr[k]
-        f[:, d:d + NV[kind]] = _passive(kind, eff, rest, q[:, a:a + nq[kind]], v[:, d:d + NV[kind]])
-    return f
+        if kind in ("hinge", "slide"):
+            lin.append((a, d, eff.damping, eff.stiffness, rest))
+        else:
+            others.append((kind, eff, rest, slice(a, a + nq[kind]), slice(d, d + NV[kind])))
+    sprung = [x for x in lin if x[3]]
+
+    def column(rows, i, dtype=float):
+        return np.array([x[i] for x in rows], dtype=dtype)
+
+    return JointForcePlan(tree.nq_in(case), tree.nv, column(lin, 1, np.intp), column(lin, 2),
+                          column(sprung, 1, np.intp), column(sprung, 0, np.intp), column(sprung, 3),
+                          column(sprung, 4), tuple(others))
 
 
 def tree_dynamics(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, effects: TreeEffects | None = None,

@@ -538,50 +538,66 @@ class Adapter(abc.ABC):
 
         Only the matches of joints with an effect are mapped back (a match's speeds map on their own: ``T`` is
         block-diagonal by match), each by its block ``T_m``: ``v = T_m^-1 v_e``, ``tau_e = T_m^-T f``. Steppers call
-        this at every stage of every step, so the plan is made once per ``effects`` (:meth:`_plan_joint_forces`): each
-        match's indices as slices where contiguous, and ``T_m^-1`` itself where ``T_m`` is the same at every position
-        (:attr:`varying_speed_maps`).
+        this at every stage of every step, so the plan is made once per ``effects`` (:meth:`_plan_joint_forces`): the
+        positions mapped back only where a spring or a varying ``T_m`` reads them, the matches whose ``T_m^-1`` is a
+        constant factor (one speed, or a multiple of the identity) mapped in one operation, the others one by one.
         """
-        from relacc.dynamics.tree import joint_forces
-
         cached = self._joint_plan
         if cached is None or cached[0] is not effects:
             cached = self._joint_plan = (effects, *self._plan_joint_forces(effects))
-        _, resolved, plan = cached
+        _, forces, positions, (iv_s, ref_v_s, factors), matrices = cached
         n = len(qe)
-        q, v = np.zeros((n, self.reference.nq_in(2))), np.zeros((n, self.reference.nv))
+        q, v = np.zeros((n, forces.nq)), np.zeros((n, forces.nv))
+        x_of = {}
+        for m, iq, ref_q in positions:
+            x_of[m] = q[:, ref_q] = self.q_back(m, qe[:, iq])
+        if len(factors):
+            v[:, ref_v_s] = ve[:, iv_s] * factors
         blocks = []
-        for m, iq, iv, ref_q, ref_v, T_inv in plan:
-            x = self.q_back(m, qe[:, iq])
-            q[:, ref_q] = x
+        for m, iv, ref_v, T_inv in matrices:
             if T_inv is None:  # T depends on the position: inverted once for both directions
-                T_inv = self.v_block_inverse(m, x)
+                T_inv = self.v_block_inverse(m, x_of[m])
             blocks.append(T_inv)
-            v[:, ref_v] = ve[:, iv] * T_inv if np.ndim(T_inv) == 0 else (T_inv @ ve[:, iv, None])[..., 0]
-        f = joint_forces(self.reference, q, v, effects, resolved)
+            v[:, ref_v] = (T_inv @ ve[:, iv, None])[..., 0]
+        f = forces(q, v)
         tau = np.zeros((n, self.nv_e))
-        for (_, _, iv, _, ref_v, _), T_inv in zip(plan, blocks):
-            tau[:, iv] = f[:, ref_v] * T_inv if np.ndim(T_inv) == 0 else (f[:, None, ref_v] @ T_inv)[:, 0]
+        if len(factors):
+            tau[:, iv_s] = f[:, ref_v_s] * factors
+        for (_, iv, ref_v, _), T_inv in zip(matrices, blocks):
+            tau[:, iv] = (f[:, None, ref_v] @ T_inv)[:, 0]
         return tau
 
-    def _plan_joint_forces(self, effects) -> tuple[list, list]:
-        """``(resolved, plan)`` for :meth:`_joint_forces`: ``effects``' resolved joint effects, and per match of a joint
-        with an effect ``(match, engine q, engine v, reference q, reference v, T^-1 or None)`` (``T^-1`` of one speed
-        a float), indices as slices where contiguous."""
+    def _plan_joint_forces(self, effects) -> tuple:
+        """``(forces, positions, factors, matrices)`` for :meth:`_joint_forces`: the reference's
+        :class:`relacc.dynamics.tree.JointForcePlan` of ``effects``' joints (case 2); ``(match, engine q, reference
+        q)`` of the matches whose positions are read; ``(engine v, reference v, factor)`` arrays of the speeds whose
+        ``T^-1`` is a constant factor (its sense; a product by it is the matrix product's bits); and
+        ``(match, engine v, reference v, T^-1 or None)`` of the others (None: it varies with the position). Indices
+        as slices where contiguous."""
+        from relacc.dynamics.tree import joint_force_plan
+
         _, resolved, _ = effects.resolve(self.reference)
+        sprung = {k for k, eff, _ in resolved if eff.stiffness}
         joints = {k for k, _, _ in resolved}
         matches = [m for m in self.matches if joints & set(m.joints)]
         if len(set().union(*(m.joints for m in matches))) < len(joints):
             raise EngineError(f"{self.engine} lacks a joint the effects name: its forces do not map")
-        plan = []
+        positions, scaled, matrices = [], [], []
         for m in matches:
             T_inv: float | np.ndarray | None = None
             if m.kind not in self.varying_speed_maps:
                 T, _ = self.v_block(m, np.zeros((1, len(m.ref_q))), np.zeros((1, len(m.ref_v))))
-                inverse = np.linalg.inv(np.asarray(T[0], dtype=float))
-                T_inv = float(inverse[0, 0]) if inverse.shape == (1, 1) else inverse  # one speed: a factor, its sense
-            plan.append((m, *(_index(i) for i in (m.q, m.v, m.ref_q, m.ref_v)), T_inv))
-        return resolved, plan
+                T_inv = np.linalg.inv(np.asarray(T[0], dtype=float))
+                if np.array_equal(T_inv, T_inv[0, 0] * np.eye(len(T_inv))):
+                    scaled += [(e, r, float(T_inv[0, 0])) for e, r in zip(m.v, m.ref_v)]
+                    T_inv = float(T_inv[0, 0])
+            if T_inv is None or sprung & set(m.joints):
+                positions.append((m, _index(m.q), _index(m.ref_q)))
+            if not isinstance(T_inv, float):
+                matrices.append((m, _index(m.v), _index(m.ref_v), T_inv))
+        factors = (_index(tuple(e for e, _, _ in scaled)), _index(tuple(r for _, r, _ in scaled)),
+                   np.array([c for _, _, c in scaled]))
+        return joint_force_plan(self.reference, resolved), positions, factors, matrices
 
     def dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
         """:class:`Dynamics` at reference states ``q (n, nq)``, ``v (n, nv)`` (or one state, ``(nq,)``, ``(nv,)``:

@@ -25,9 +25,9 @@ from relacc.report.build import (
     build_report,
     environment,
     render,
-    run_scenes,
+    scene_entry,
 )
 
 __all__ = ["DEFAULT_BATCHED", "DEFAULT_BENCH", "DEFAULT_EXAMPLES", "DEFAULT_STATES", "QUICK_BATCHED", "QUICK_BENCH",
            "QUICK_EXAMPLES", "QUICK_STATES", "SWEEP", "ReportContext", "build_context", "build_report", "environment",
-           "render", "run_scenes"]
+           "render", "scene_entry"]

@@ -12,9 +12,12 @@ from pathlib import Path
 from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
 from relacc import files, fixtures
+from relacc.fixtures import shipped
 from relacc.report.sections import SECTIONS
+from relacc.report.sections import errata as errata_section
 from relacc.validation.check import CheckReport, Harness
 from relacc.validation.errata import Erratum, errata
+from relacc.validation.hardcases import N_STATES as N_HARD
 from relacc.validation.hardcases import Result, run_catalogue
 from relacc.validation.hardsearch import Worst, hypothesis_search
 
@@ -90,39 +93,54 @@ def _machine() -> str:
 
 
 def build_context(n_states: int | None = None, seed: int = 0, quick: bool = False,
-                  model: str | os.PathLike | None = None, progress: Callable[[str], object] | None = None
-                  ) -> ReportContext:
-    """Run the cross-validation and the errata that the report shows."""
+                  model: str | os.PathLike | None = None, progress: Callable[[str], object] | None = None,
+                  second: bool | None = None) -> ReportContext:
+    """Run the cross-validation, the errata and every study the report shows.
+
+    The throughput and batched benchmarks run first, alone on the machine. The rest runs on this process and, with
+    ``second`` (default: a full report on a machine with two cores or more), a second one
+    (:mod:`relacc.report.pool`): the scenes, the integrator sweeps, the hard-case catalogue and the Hypothesis search
+    as jobs, the cross-validation, the errata and the derivative sweep here. Every result is the same either way;
+    the trade-off section's times are then taken beside the other process (measured: 1-5% slower than alone).
+    """
+    from relacc import tradeoff as tradeoff_mod
+    from relacc.report import pool
+    from relacc.tradeoff import batched
+    from relacc.tradeoff.throughput import run as run_benchmark
+
     n = n_states if n_states is not None else (QUICK_STATES if quick else DEFAULT_STATES)
     fixture = fixtures.load(model)
     harness = Harness(fixture, n_states=n, seed=seed, progress=progress)
-    check, items = harness.check(), errata(harness)
-    if progress:
-        progress("hard-case catalogue")
-    hard = run_catalogue(fixture, seed=seed)
-    examples = QUICK_EXAMPLES if quick else DEFAULT_EXAMPLES
-    if progress:
-        progress(f"Hypothesis search, {examples} examples")
-    worst = hypothesis_search(fixture, max_examples=examples, seed=seed)
+    say = progress or (lambda _: None)
     n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
-    if progress:
-        progress(f"throughput, {n_bench} states per case")
-    from relacc.tradeoff.throughput import run as run_benchmark
-
+    say(f"throughput, {n_bench} states per case")
     throughput = run_benchmark(n_bench, repeats, seed, fixture)
     sizes = dict(QUICK_BATCHED if quick else DEFAULT_BATCHED)
-    if progress:
-        progress(f"dynamics and simulation against the engines' batched APIs, {sizes['n_states']} states")
-    from relacc.tradeoff import batched
-
+    say(f"dynamics and simulation against the engines' batched APIs, {sizes['n_states']} states")
     batched_result = batched.run(fixture, batched.tumbling(sizes["duration"], fixture), seed=seed,
                                  n_states=int(sizes["n_states"]), n_steps=int(sizes["n_steps"]),
                                  members=int(sizes["members"]), repeats=int(sizes["repeats"]))
-    simulations = run_scenes(quick, progress)
-    from relacc import tradeoff as tradeoff_mod
-
-    tradeoff = tradeoff_mod.run(seed=seed, progress=progress, fixture=fixture,
-                                profile=tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT)
+    profile = tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT
+    examples = QUICK_EXAMPLES if quick else DEFAULT_EXAMPLES
+    scene_files = shipped.scene_paths("chain")
+    sweep_files = tradeoff_mod.scene_paths(profile)
+    # expected seconds on this project's 2-core machine (the order the second process takes them in)
+    scene_cost = {"gimbal_spin": 3.7, "gravity_spring": 2.3, "forced_damped": 2.2, "tumbling": 1.9}
+    sweep_cost = {"gravity_spring": 3.6, "gimbal_spin": 3.1, "forced_damped": 2.6, "tumbling": 0.8}
+    jobs = [pool.Job(f"scene {p.stem}", scene_entry, (p, quick), scene_cost.get(p.stem, 2.0)) for p in scene_files]
+    jobs += [pool.Job(f"integrator sweep: {p.stem}", tradeoff_mod.scene_sweep, (p, profile),
+                      sweep_cost.get(p.stem, 2.0)) for p in sweep_files]
+    jobs += [pool.Job(f"Hypothesis search, {examples} examples", hypothesis_search, (fixture, examples, seed), 3.9),
+             pool.Job("hard-case catalogue", run_catalogue, (fixture, None, N_HARD, seed), 1.8)]
+    here = [pool.Job("cross-validation", lambda: (harness.check(), errata(harness))),
+            pool.Job("derivative sweep", tradeoff_mod.derivative_sweep, (fixture, profile, seed))]
+    second = (not quick and pool.cores() >= 2) if second is None else second
+    done = pool.run_jobs(here + jobs, second=second, progress=progress, here=len(here),
+                         idle=[pool.Job("the note's formulas", errata_section.draw_formulas)])
+    (check, items), drows, rest = done[0], done[1], done[len(here):]
+    simulations = rest[:len(scene_files)]
+    sweeps = rest[len(scene_files):len(scene_files) + len(sweep_files)]
+    worst, hard = rest[-2], rest[-1]
     return ReportContext(
         harness=harness,
         check=check,
@@ -132,7 +150,7 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
         throughput=throughput,
         batched=batched_result,
         simulations=simulations,
-        tradeoff=tradeoff,
+        tradeoff=tradeoff_mod.assemble(drows, sweeps),
         quick=quick,
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),
@@ -143,32 +161,25 @@ SWEEP = (1, 2, 4, 8, 16)
 """Multiples of each scene's own step at which the report measures the engines' agreement."""
 
 
-def run_scenes(quick: bool, progress: Callable[[str], object] | None = None) -> list:
-    """Each shipped scene at its own step, and its agreement at coarser steps.
-
-    Quick runs cap every scene at 0.2 s and sweep two steps only.
-    """
+def scene_entry(path: str | os.PathLike, quick: bool) -> dict:
+    """``{"result", "sweep"}``: a shipped scene at its own step, and its agreement at coarser steps (:data:`SWEEP`;
+    each step's largest differences and the engines whose acceleration is not relacc's). Quick runs cap the scene at
+    0.2 s and sweep two steps only."""
     from relacc import simulate
-    from relacc.fixtures import shipped
     from relacc.simulate import scenes
 
-    out = []
-    for path in shipped.scene_paths("chain"):
-        scene = scenes.load(path)
-        if quick:
-            scene = scene.replace(duration=round(min(scene.duration, 0.2) / scene.dt) * scene.dt)
-        if progress:
-            progress(f"scene {scene.name}")
-        result = simulate.run(scene)
-        sweep = []
-        for factor in (SWEEP[:2] if quick else SWEEP):
-            dt = scene.dt * factor
-            coarse = result if factor == 1 else simulate.run(scene.replace(
-                dt=dt, duration=max(round(scene.duration / dt), 1) * dt))
-            pos, vel, _ = coarse.differences()
-            sweep.append({"dt": dt, "position": pos, "velocity": vel, "differing": coarse.differing})
-        out.append({"result": result, "sweep": sweep})
-    return out
+    scene = scenes.load(path)
+    if quick:
+        scene = scene.replace(duration=round(min(scene.duration, 0.2) / scene.dt) * scene.dt)
+    result = simulate.run(scene)
+    sweep = []
+    for factor in (SWEEP[:2] if quick else SWEEP):
+        dt = scene.dt * factor
+        coarse = result if factor == 1 else simulate.run(scene.replace(
+            dt=dt, duration=max(round(scene.duration / dt), 1) * dt))
+        pos, vel, _ = coarse.differences()
+        sweep.append({"dt": dt, "position": pos, "velocity": vel, "differing": coarse.differing})
+    return {"result": result, "sweep": sweep}
 
 
 def environment() -> Environment:
@@ -211,4 +222,4 @@ def build_report(out: str | os.PathLike = "reports/agreement.html", n_states: in
 
 __all__ = ["DEFAULT_BATCHED", "DEFAULT_BENCH", "DEFAULT_EXAMPLES", "DEFAULT_STATES", "QUICK_BATCHED", "QUICK_BENCH",
            "QUICK_EXAMPLES", "QUICK_STATES", "SWEEP", "ReportContext", "build_context", "build_report", "environment",
-           "render", "run_scenes"]
+           "render", "scene_entry"]

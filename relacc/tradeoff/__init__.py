@@ -10,6 +10,19 @@ Layer rule: imports the core, kernels, dynamics, fixtures, reading, simulate, va
 engines' adapters (:mod:`relacc.engines`), never an engine's own package, the report or the CLI.
 """
 
-from relacc.tradeoff.study import FULL, QUICK, REPORT, Tradeoff, format_text, pareto, run
+from relacc.tradeoff.study import (
+                                   FULL,
+                                   QUICK,
+                                   REPORT,
+                                   Tradeoff,
+                                   assemble,
+                                   derivative_sweep,
+                                   format_text,
+                                   pareto,
+                                   run,
+                                   scene_paths,
+                                   scene_sweep,
+)
 
-__all__ = ["FULL", "QUICK", "REPORT", "Tradeoff", "format_text", "pareto", "run"]
+__all__ = ["FULL", "QUICK", "REPORT", "Tradeoff", "assemble", "derivative_sweep", "format_text", "pareto", "run",
+           "scene_paths", "scene_sweep"]

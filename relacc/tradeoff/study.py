@@ -52,31 +52,37 @@ def pareto(rows: Iterable[dict], error: str = "error", cost: str = "seconds") ->
     return front
 
 
-def run(quick: bool = False, seed: int = 0, progress: Callable[[str], object] | None = None,
-        fixture: Fixture | None = None, profile: dict | None = None) -> Tradeoff:
-    """Run both sweeps (``quick``: a small one for tests and CI; ``profile``: QUICK, REPORT or FULL)."""
-    from relacc.engines import chain_engines, load_engine
-    from relacc.fixtures import load, shipped
+def scene_paths(cfg: dict) -> list:
+    """The shipped chain scenes a profile's integrator sweep runs (``cfg["scenes"]``: their names, or None for all)."""
+    from relacc.fixtures import shipped
+
+    return [p for p in shipped.scene_paths("chain") if not cfg["scenes"] or p.stem in cfg["scenes"]]
+
+
+def scene_sweep(path, cfg: dict) -> tuple[list, dict]:
+    """``(rows, reference)`` of one scene's integrator sweep under a profile (:func:`integrators.sweep`), the scene
+    capped at ``cfg["duration"]``; a function of its arguments alone, so that it can run in another process."""
     from relacc.simulate import scenes
 
-    cfg = profile if profile is not None else (QUICK if quick else FULL)
-    fixture = fixture if fixture is not None else load()
-    if progress:
-        progress("derivative sweep")
+    scene = scenes.load(path)
+    if cfg["duration"]:
+        scene = scene.replace(duration=round(min(scene.duration, cfg["duration"]) / scene.dt) * scene.dt)
+    return integrators.sweep(scene, cfg["factors"], cfg["tolerances"], cfg["euler_factors"])
+
+
+def derivative_sweep(fixture: Fixture, cfg: dict, seed: int = 0) -> list:
+    """The acceleration's rows: every method on ``cfg["states"]`` states of each case (:func:`derivatives.sweep`)."""
+    from relacc.engines import chain_engines, load_engine
+
     engines = {n: load_engine(n, fixture) for n in chain_engines()}
-    drows = derivatives.sweep(fixture.chain, cfg["states"], seed, cfg["repeats"], engines)
-    irows, refs = [], []
-    for path in shipped.scene_paths("chain"):
-        if cfg["scenes"] and path.stem not in cfg["scenes"]:
-            continue
-        scene = scenes.load(path)
-        if cfg["duration"]:
-            scene = scene.replace(duration=round(min(scene.duration, cfg["duration"]) / scene.dt) * scene.dt)
-        if progress:
-            progress(f"integrator sweep: {scene.name}")
-        rows, ref = integrators.sweep(scene, cfg["factors"], cfg["tolerances"], cfg["euler_factors"])
-        irows += rows
-        refs.append(ref)
+    return derivatives.sweep(fixture.chain, cfg["states"], seed, cfg["repeats"], engines)
+
+
+def assemble(drows: list, sweeps: list) -> Tradeoff:
+    """The study from its derivative rows and its scenes' ``(rows, reference)`` in scene order, with the observed
+    orders (median over scenes)."""
+    irows = [r for rows, _ in sweeps for r in rows]
+    refs = [ref for _, ref in sweeps]
     orders = {}
     for engine, names in integrators.FIXED.items():
         for integrator in names:
@@ -86,6 +92,24 @@ def run(quick: bool = False, seed: int = 0, progress: Callable[[str], object] | 
                 per_scene.sort()
                 orders[f"{engine}/{integrator}"] = per_scene[len(per_scene) // 2]
     return Tradeoff(drows, irows, refs, orders)
+
+
+def run(quick: bool = False, seed: int = 0, progress: Callable[[str], object] | None = None,
+        fixture: Fixture | None = None, profile: dict | None = None) -> Tradeoff:
+    """Run both sweeps (``quick``: a small one for tests and CI; ``profile``: QUICK, REPORT or FULL)."""
+    from relacc.fixtures import load
+
+    cfg = profile if profile is not None else (QUICK if quick else FULL)
+    fixture = fixture if fixture is not None else load()
+    if progress:
+        progress("derivative sweep")
+    drows = derivative_sweep(fixture, cfg, seed)
+    sweeps = []
+    for path in scene_paths(cfg):
+        if progress:
+            progress(f"integrator sweep: {path.stem}")
+        sweeps.append(scene_sweep(path, cfg))
+    return assemble(drows, sweeps)
 
 
 def format_text(result: Tradeoff) -> str:
@@ -114,4 +138,5 @@ def format_text(result: Tradeoff) -> str:
     return "\n".join(out)
 
 
-__all__ = ["FULL", "QUICK", "REPORT", "Tradeoff", "format_text", "pareto", "run"]
+__all__ = ["FULL", "QUICK", "REPORT", "Tradeoff", "assemble", "derivative_sweep", "format_text", "pareto", "run",
+           "scene_paths", "scene_sweep"]

@@ -8,6 +8,16 @@ ID = "errata"
 TITLE = "Where the note is wrong"
 
 
+def draw_formulas(equations=None) -> None:
+    """Draw every equation's printed and corrected formula (:func:`svg.formula_lines`, which keeps them)."""
+    from relacc.core.note.equations import EQUATIONS
+
+    for eq in EQUATIONS if equations is None else equations:
+        for tex in (eq.printed, eq.corrected):
+            if tex:
+                svg.formula_lines(tex)
+
+
 def build(ctx) -> dict:
     rows = []
     for e in ctx.errata:

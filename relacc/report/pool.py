@@ -1,0 +1,107 @@
+"""The report's untimed work on this process and, where the machine has a second core, one more.
+
+A job is a function of picklable arguments (a scene's run, a scene's integrator sweep, the hard-case catalogue,
+the Hypothesis search), so it gives the same result in either process. The jobs are ordered by their expected cost
+(:attr:`Job.cost`); each process takes the next from the front (the largest first: a short job is left for the end,
+when the other process finishes its own), until none is left, then this one runs the ``idle`` jobs while it waits.
+Results come back in the list's order. With one core, or ``second=False``, every job runs here, in the list's order.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import threading
+from collections import deque
+from collections.abc import Callable, Sequence
+from concurrent.futures import Future, ProcessPoolExecutor
+from dataclasses import dataclass
+from typing import Any
+
+QUEUED = 1
+"""Jobs in the second process's queue: each one done hands it the next from the front (a callback of its future), so
+that it never waits for this process to hand on the next, and none waits there that this process could take."""
+
+
+@dataclass(frozen=True)
+class Job:
+    """``fn(*args)``, named ``label`` in the progress messages; ``cost``: its expected seconds (only their order
+    matters: measured on this project's 2-core machine, docs/architecture.md)."""
+
+    label: str
+    fn: Callable[..., Any]
+    args: tuple = ()
+    cost: float = 0.0
+
+
+def cores() -> int:
+    """The CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def run_jobs(jobs: Sequence[Job], *, second: bool, progress: Callable[[str], object] | None = None,
+             here: int = 0, idle: Sequence[Job] = ()) -> list:
+    """Every job's result, in ``jobs``' order: on this process and, with ``second``, a spawned one (a fresh
+    interpreter: no engine's threads or handles are forked). The first ``here`` jobs run on this process, first
+    (what needs its objects: they need not be picklable), while the second process starts on the others. ``idle``:
+    jobs of this process alone, run once every other job is taken (their results are not returned: they fill caches).
+
+    Raises:
+        whatever a job raises, as it raised it (a second process's exception is carried back).
+    """
+    say = progress or (lambda _: None)
+    results: list = [None] * len(jobs)
+    pending = deque(enumerate(jobs))
+    if not second:
+        for i, job in pending:
+            say(job.label)
+            results[i] = job.fn(*job.args)
+        return results
+    mine = [pending.popleft() for _ in range(here)]
+    pending = deque(sorted(pending, key=lambda x: -x[1].cost))
+    lock = threading.Lock()
+    futures: dict[int, Future] = {}
+
+    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
+
+        def feed(_: object = None) -> None:  # the next job from the front, as soon as one is done there
+            with lock:
+                if not pending or stop.is_set():
+                    return
+                i, job = pending.popleft()
+                futures[i] = pool.submit(job.fn, *job.args)
+            futures[i].add_done_callback(feed)
+
+        stop = threading.Event()
+        say(f"{len(pending)} jobs shared with a second process")
+        try:
+            for _ in range(QUEUED):
+                feed()
+            for i, job in mine:
+                say(job.label)
+                results[i] = job.fn(*job.args)
+            while True:
+                with lock:
+                    if not pending:
+                        break
+                    i, job = pending.popleft()
+                say(job.label)
+                results[i] = job.fn(*job.args)
+            for job in idle:
+                job.fn(*job.args)
+            with lock:
+                running = dict(futures)
+            for i, fut in running.items():
+                results[i] = fut.result()
+        except BaseException:
+            stop.set()
+            for fut in futures.values():
+                fut.cancel()
+            raise
+    return results
+
+
+__all__ = ["QUEUED", "Job", "cores", "run_jobs"]

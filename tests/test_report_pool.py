@@ -1,0 +1,59 @@
+"""The report's work shared with a second process (relacc.report.pool): the same results, in the same order, as on
+one process; a job's exception carried back as raised."""
+
+from __future__ import annotations
+
+import math
+import operator
+
+import numpy as np
+import pytest
+
+from relacc.report import pool
+
+
+def test_jobs_shared_with_a_second_process_come_back_in_the_lists_order():
+    """Results in the list's order whichever process ran them (the second takes the most expensive first), the
+    ``here`` jobs on this process (a lambda: not picklable, so it cannot have left it), the idle jobs run here."""
+    seen = []
+    jobs = [pool.Job("here", lambda: "main"),
+            *[pool.Job(f"pow {k}", pow, (2, k), cost=float(k % 4)) for k in range(9)],
+            pool.Job("factorial", math.factorial, (20,), cost=9.0)]
+    said = []
+    got = pool.run_jobs(jobs, second=True, progress=said.append, here=1,
+                        idle=[pool.Job("idle", seen.append, ("ran",))])
+    assert got == ["main", *[2 ** k for k in range(9)], 2432902008176640000]
+    assert seen == ["ran"]
+    assert said[0] == "10 jobs shared with a second process" and "here" in said
+    assert pool.run_jobs(jobs, second=False) == got
+
+
+def test_a_job_that_fails_in_the_second_process_raises_as_it_raised():
+    jobs = [pool.Job("fine", operator.add, (1, 2), cost=0.0), pool.Job("bad", int, ("not a number",), cost=5.0)]
+    with pytest.raises(ValueError, match="not a number"):
+        pool.run_jobs(jobs, second=True)
+
+
+@pytest.mark.slow
+def test_the_report_is_the_same_on_one_process_and_two():
+    """Every number the report judges is the same bits from one process and from two (the timings aside): the
+    cross-validation, the hard cases, the Hypothesis search, the scenes' differences and acceleration checks, the
+    integrator and derivative sweeps' errors."""
+    from relacc.report.build import build_context
+
+    one, two = (build_context(quick=True, second=s) for s in (False, True))
+    assert [c.max_error for c in one.check.comparisons] == [c.max_error for c in two.check.comparisons]
+    assert [(r.name, r.case, r.evaluator, r.quantity, r.max_error, r.max_bound) for r in one.hard] == \
+        [(r.name, r.case, r.evaluator, r.quantity, r.max_error, r.max_bound) for r in two.hard]
+    assert (one.worst.ratio, one.worst.q, one.worst.u) == (two.worst.ratio, two.worst.q, two.worst.u)
+    for a, b in zip(one.simulations, two.simulations, strict=True):
+        assert a["sweep"] == b["sweep"]
+        assert a["result"].note_check == b["result"].note_check
+        for name, tr in a["result"].trajectories.items():
+            np.testing.assert_array_equal(tr.position, b["result"].trajectories[name].position)
+    errors = [(r["scene"], r["engine"], r["integrator"], r["dt_or_tol"], r["error"]) for r in one.tradeoff.integrators]
+    assert errors == [(r["scene"], r["engine"], r["integrator"], r["dt_or_tol"], r["error"])
+                      for r in two.tradeoff.integrators]
+    assert [(r["case"], r["method"], r["error"]) for r in one.tradeoff.derivatives] == \
+        [(r["case"], r["method"], r["error"]) for r in two.tradeoff.derivatives]
+    assert one.failures() == two.failures() == []
