@@ -7,7 +7,8 @@ on an empty numba cache and again on the filled one. Every run writes into the t
 
 Run:  python benchmarks/first_run.py [--json benchmarks/results/first-run-DATE-runN.json]
 
-The issue's budgets (2 cores): the report at most 90 s cold and 45 s warm, ``check`` at most 20 s and 10 s.
+The budgets (2 cores; issue 52): the whole first command (venv, install and the cold report) at most 90 s, the
+report at most 30 s warm; ``check`` at most 20 s cold and 10 s warm.
 """
 
 import argparse
@@ -24,7 +25,7 @@ from relacc.files import write_text
 from relacc.tradeoff.throughput import cpu_model, source_commit
 
 ROOT = Path(__file__).resolve().parents[1]
-BUDGET = {"report cold": 90.0, "report warm": 45.0, "check cold": 20.0, "check warm": 10.0}
+BUDGET = {"first command": 90.0, "report warm": 30.0, "check cold": 20.0, "check warm": 10.0}
 """Seconds, from the issue."""
 
 
@@ -64,6 +65,7 @@ def main(argv=None) -> int:
         for step in steps:
             label = "install" if "pip install" in step else "report cold" if "relacc report" in step else "venv"
             times[label] = timed(step, clone, env)
+        times["first command"] = sum(times.values())
         times["report warm"] = timed(steps[-1], clone, env)
         cache = Path(tmp) / "numba-cache"
         check = ".venv/bin/relacc check --quiet"

@@ -85,6 +85,18 @@ def test_out_is_a_directory_is_one_line_error(tmp_path, capsys):
     assert "is a directory" in capsys.readouterr().err
 
 
+def test_processes_is_an_option_of_the_chains_report(tmp_path, capsys):
+    """``--processes`` takes 1 or 2, and only for the chain's report: a model file's report runs in one process, and
+    says so rather than ignore it (one line, exit 2)."""
+    out = str(tmp_path / "r.html")
+    assert main(["report", "--model", str(REPO / "models" / "two_body.xml"), "--processes", "2", "--out", out]) == 2
+    err = capsys.readouterr().err
+    assert "--processes applies to the chain's report" in err and len(err.strip().splitlines()) == 1
+    assert main(["report", "--processes", "3", "--out", out]) == 2
+    assert "--processes: must be at most 2, got 3" in capsys.readouterr().err
+    assert not (tmp_path / "r.html").exists()
+
+
 @pytest.mark.slow
 def test_report_in_headless_chromium(quick_report):
     """Chromium loads the page with no console error, no network request and no table wider than the page."""

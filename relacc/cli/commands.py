@@ -417,6 +417,8 @@ def cmd_report(args) -> int:
     if _is_robot(args):
         from relacc.report import model as model_report
 
+        if args.processes is not None:
+            raise InputError("--processes applies to the chain's report; a model file's report runs in one process")
         path, agree, notes = model_report.write(args.model, args.out, n_states=args.states, seed=args.seed,
                                                 quick=args.quick, progress=_progress(args))
         print(f"wrote {path}: {'everything agrees' if agree else 'DISAGREEMENTS found (see the verdict)'}")
@@ -426,7 +428,8 @@ def cmd_report(args) -> int:
     from relacc.report import build_report
 
     path, ctx = build_report(out=args.out, n_states=args.states, seed=args.seed, quick=args.quick,
-                             model=args.model, progress=_progress(args))
+                             model=args.model, progress=_progress(args),
+                             second=None if args.processes is None else args.processes == 2)
     failures = ctx.failures()
     verdict = "everything agrees" if not failures else "DISAGREEMENTS found (see the verdict)"
     print(f"wrote {path}: {verdict}")

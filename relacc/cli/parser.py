@@ -422,6 +422,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="states per case (default 2000, --quick 200; a model file: 20, --quick 5)")
     _seed(p)
     p.add_argument("--quick", action="store_true", help="a small run for tests and CI")
+    p.add_argument("--processes", type=_int_in(1, 2), default=None, metavar="N",
+                   help="1: everything in this process; 2: the scenes, sweeps, hard cases and Hypothesis search "
+                        "shared with a second one (default: 2 for a full report on a machine with 2 cores or more, "
+                        "else 1; the benchmarks run alone either way)")
     _quiet(p)
     _model(p, "a chain TOML, or an MJCF .xml or URDF .urdf model: its audit, per-body agreement in the three "
               "cases, conventions, referee and default scene")

@@ -97,10 +97,11 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
                   second: bool | None = None) -> ReportContext:
     """Run the cross-validation, the errata and every study the report shows.
 
-    The throughput and batched benchmarks run first, alone on the machine. The rest runs on this process and, with
-    ``second`` (default: a full report on a machine with two cores or more), a second one
-    (:mod:`relacc.report.pool`): the scenes, the integrator sweeps, the hard-case catalogue and the Hypothesis search
-    as jobs, the cross-validation, the errata and the derivative sweep here. Every result is the same either way;
+    With ``second`` (default: a full report on a machine with two cores or more) a second process
+    (:mod:`relacc.report.pool`) compiles or loads the batched benchmark's and the scenes' kernels while this one does
+    the throughput benchmark's, the cross-validation and the searches; then the throughput and batched benchmarks
+    run alone on the machine; then the scenes, the integrator sweeps and whatever is left of the searches and the
+    derivative sweep are jobs shared by both processes. Every result is the same either way (the timings aside);
     the trade-off section's times are then taken beside the other process (measured: 1-5% slower than alone).
     """
     from relacc import tradeoff as tradeoff_mod
@@ -112,35 +113,53 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
     fixture = fixtures.load(model)
     harness = Harness(fixture, n_states=n, seed=seed, progress=progress)
     say = progress or (lambda _: None)
-    n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
-    say(f"throughput, {n_bench} states per case")
-    throughput = run_benchmark(n_bench, repeats, seed, fixture)
-    sizes = dict(QUICK_BATCHED if quick else DEFAULT_BATCHED)
-    say(f"dynamics and simulation against the engines' batched APIs, {sizes['n_states']} states")
-    batched_result = batched.run(fixture, batched.tumbling(sizes["duration"], fixture), seed=seed,
-                                 n_states=int(sizes["n_states"]), n_steps=int(sizes["n_steps"]),
-                                 members=int(sizes["members"]), repeats=int(sizes["repeats"]))
+    second = (not quick and pool.cores() >= 2) if second is None else second
     profile = tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT
     examples = QUICK_EXAMPLES if quick else DEFAULT_EXAMPLES
-    scene_files = shipped.scene_paths("chain")
-    sweep_files = tradeoff_mod.scene_paths(profile)
-    # expected seconds on this project's 2-core machine (the order the second process takes them in)
-    scene_cost = {"gimbal_spin": 3.7, "gravity_spring": 2.3, "forced_damped": 2.2, "tumbling": 1.9}
-    sweep_cost = {"gravity_spring": 3.6, "gimbal_spin": 3.1, "forced_damped": 2.6, "tumbling": 0.8}
+    scene_files, sweep_files = shipped.scene_paths("chain"), tradeoff_mod.scene_paths(profile)
+    # expected seconds on this project's 2-core machine (the order the processes take them in)
+    scene_cost = {"forced_damped": 4.1, "gimbal_spin": 2.3, "gravity_spring": 2.0, "tumbling": 1.0}
+    sweep_cost = {"gravity_spring": 4.2, "gimbal_spin": 3.5, "forced_damped": 3.5, "tumbling": 0.8}
+    searches = [pool.Job("hard-case catalogue", run_catalogue, (fixture, None, N_HARD, seed), 1.7),
+                pool.Job("derivative sweep", tradeoff_mod.derivative_sweep, (fixture, profile, seed), 2.5),
+                pool.Job(f"Hypothesis search, {examples} examples", hypothesis_search, (fixture, examples, seed), 3.7)]
     jobs = [pool.Job(f"scene {p.stem}", scene_entry, (p, quick), scene_cost.get(p.stem, 2.0)) for p in scene_files]
     jobs += [pool.Job(f"integrator sweep: {p.stem}", tradeoff_mod.scene_sweep, (p, profile),
                       sweep_cost.get(p.stem, 2.0)) for p in sweep_files]
-    jobs += [pool.Job(f"Hypothesis search, {examples} examples", hypothesis_search, (fixture, examples, seed), 3.9),
-             pool.Job("hard-case catalogue", run_catalogue, (fixture, None, N_HARD, seed), 1.8)]
-    here = [pool.Job("cross-validation", lambda: (harness.check(), errata(harness))),
-            pool.Job("derivative sweep", tradeoff_mod.derivative_sweep, (fixture, profile, seed))]
-    second = (not quick and pool.cores() >= 2) if second is None else second
-    done = pool.run_jobs(here + jobs, second=second, progress=progress, here=len(here),
-                         idle=[pool.Job("the note's formulas", errata_section.draw_formulas)])
-    (check, items), drows, rest = done[0], done[1], done[len(here):]
-    simulations = rest[:len(scene_files)]
-    sweeps = rest[len(scene_files):len(scene_files) + len(sweep_files)]
-    worst, hard = rest[-2], rest[-1]
+    got: dict[str, object] = {}
+    with pool.Processes(second) as processes:
+        # the second process compiles (or loads) the scenes' and the batched benchmark's kernels while this one does
+        # the throughput benchmark's and the batched forward dynamics' (the second finds them in the cache when it
+        # gets there), the cross-validation and, until the other is done, the searches and the derivative sweep
+        # (what the cross-validation compiled is all they need); then the benchmarks run alone
+        warm = processes.submit(pool.Job("kernels", warm_kernels, (fixture, seed)))
+        if warm is not None:
+            say("kernels of the benchmarks and the scenes, the second process compiling or loading its own")
+            run_benchmark(WARM_STATES, 1, seed, fixture)
+            batched.dynamics_rows(fixture, WARM_STATES, 1, seed)
+        say("cross-validation")
+        check, items = harness.check(), errata(harness)
+        if warm is not None:
+            for job in searches:
+                if warm.done():
+                    break
+                say(job.label)
+                got[job.label] = job.fn(*job.args)
+            warm.result()
+        n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
+        say(f"throughput, {n_bench} states per case")
+        throughput = run_benchmark(n_bench, repeats, seed, fixture)
+        sizes = dict(QUICK_BATCHED if quick else DEFAULT_BATCHED)
+        say(f"dynamics and simulation against the engines' batched APIs, {sizes['n_states']} states")
+        batched_result = batched.run(fixture, batched.tumbling(sizes["duration"], fixture), seed=seed,
+                                     n_states=int(sizes["n_states"]), n_steps=int(sizes["n_steps"]),
+                                     members=int(sizes["members"]), repeats=int(sizes["repeats"]))
+        rest = [j for j in jobs + searches if j.label not in got]
+        got.update(zip((j.label for j in rest), processes.run(
+            rest, progress=progress, idle=[pool.Job("the note's formulas", errata_section.draw_formulas)])))
+    simulations = [got[j.label] for j in jobs[:len(scene_files)]]
+    sweeps = [got[j.label] for j in jobs[len(scene_files):]]
+    hard, drows, worst = (got[j.label] for j in searches)
     return ReportContext(
         harness=harness,
         check=check,
@@ -155,6 +174,27 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),
     )
+
+
+WARM_STATES = 8
+"""States of the benchmarks' runs that compile (or load) their kernels before they are timed."""
+
+
+def warm_kernels(fixture, seed: int) -> None:
+    """The kernels of the shipped scenes and of the batched benchmark compiled (or loaded from the cache): the
+    bodies' kinematics without partials first (the engines' energies; nothing on the other process needs it), then
+    a run of the batched benchmark too small to time, then each scene for two steps."""
+    from relacc import simulate, tree_kinematics
+    from relacc.simulate import scenes, subjects
+    from relacc.tradeoff import batched
+
+    loaded = [scenes.load(path) for path in shipped.scene_paths("chain")]
+    first = loaded[0]
+    tree_kinematics(first.subject_tree, 2, *subjects.reference_state(first, first.q, first.u), partials=False)
+    batched.run(fixture, batched.tumbling(0.002, fixture), seed=seed, n_states=WARM_STATES, n_steps=2, members=2,
+                repeats=1)
+    for scene in loaded:
+        simulate.run(scene.replace(duration=2 * scene.dt), keep=False)
 
 
 SWEEP = (1, 2, 4, 8, 16)
@@ -201,7 +241,8 @@ def render(ctx: ReportContext) -> str:
 
 def build_report(out: str | os.PathLike = "reports/agreement.html", n_states: int | None = None, seed: int = 0,
                  quick: bool = False, model: str | os.PathLike | None = None,
-                 progress: Callable[[str], object] | None = None) -> tuple[Path, ReportContext]:
+                 progress: Callable[[str], object] | None = None, second: bool | None = None
+                 ) -> tuple[Path, ReportContext]:
     """Run everything and write the report atomically.
 
     Returns:
@@ -213,7 +254,7 @@ def build_report(out: str | os.PathLike = "reports/agreement.html", n_states: in
             unchanged. Any RelaccError of the run; nothing is written then.
     """
     path = files.check_output_file(out)
-    ctx = build_context(n_states=n_states, seed=seed, quick=quick, model=model, progress=progress)
+    ctx = build_context(n_states=n_states, seed=seed, quick=quick, model=model, progress=progress, second=second)
     html = render(ctx)
     path.parent.mkdir(parents=True, exist_ok=True)
     files.write_text(path, html)

@@ -42,40 +42,59 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def run_jobs(jobs: Sequence[Job], *, second: bool, progress: Callable[[str], object] | None = None,
-             here: int = 0, idle: Sequence[Job] = ()) -> list:
-    """Every job's result, in ``jobs``' order: on this process and, with ``second``, a spawned one (a fresh
-    interpreter: no engine's threads or handles are forked). The first ``here`` jobs run on this process, first
-    (what needs its objects: they need not be picklable), while the second process starts on the others. ``idle``:
-    jobs of this process alone, run once every other job is taken (their results are not returned: they fill caches).
+class Processes:
+    """This process and, with ``second``, one spawned process (a fresh interpreter: no engine's threads or handles are
+    forked), kept for every phase of a report: its imports and caches are paid once."""
 
-    Raises:
-        whatever a job raises, as it raised it (a second process's exception is carried back).
-    """
-    say = progress or (lambda _: None)
-    results: list = [None] * len(jobs)
-    pending = deque(enumerate(jobs))
-    if not second:
-        for i, job in pending:
-            say(job.label)
-            results[i] = job.fn(*job.args)
-        return results
-    mine = [pending.popleft() for _ in range(here)]
-    pending = deque(sorted(pending, key=lambda x: -x[1].cost))
-    lock = threading.Lock()
-    futures: dict[int, Future] = {}
+    def __init__(self, second: bool):
+        self.second = second
+        self._pool: ProcessPoolExecutor | None = None
 
-    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
+    def __enter__(self) -> Processes:
+        if self.second:
+            self._pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+
+    def submit(self, job: Job) -> Future | None:
+        """Start ``job`` in the second process now; None without one (then nobody runs it)."""
+        return None if self._pool is None else self._pool.submit(job.fn, *job.args)
+
+    def run(self, jobs: Sequence[Job], *, progress: Callable[[str], object] | None = None, here: int = 0,
+            idle: Sequence[Job] = ()) -> list:
+        """Every job's result, in ``jobs``' order, on this process and the second one (the module docstring). The
+        first ``here`` jobs run on this process, first (what needs its objects: they need not be picklable), while
+        the second process starts on the others. ``idle``: jobs of this process alone, run once every other job is
+        taken (their results are not returned: they fill caches).
+
+        Raises:
+            whatever a job raises, as it raised it (a second process's exception is carried back).
+        """
+        say = progress or (lambda _: None)
+        results: list = [None] * len(jobs)
+        pending = deque(enumerate(jobs))
+        pool_ = self._pool
+        if pool_ is None:
+            for i, job in pending:
+                say(job.label)
+                results[i] = job.fn(*job.args)
+            return results
+        mine = [pending.popleft() for _ in range(here)]
+        pending = deque(sorted(pending, key=lambda x: -x[1].cost))
+        lock, stop = threading.Lock(), threading.Event()
+        futures: dict[int, Future] = {}
 
         def feed(_: object = None) -> None:  # the next job from the front, as soon as one is done there
             with lock:
                 if not pending or stop.is_set():
                     return
                 i, job = pending.popleft()
-                futures[i] = pool.submit(job.fn, *job.args)
+                futures[i] = pool_.submit(job.fn, *job.args)
             futures[i].add_done_callback(feed)
 
-        stop = threading.Event()
         say(f"{len(pending)} jobs shared with a second process")
         try:
             for _ in range(QUEUED):
@@ -101,7 +120,14 @@ def run_jobs(jobs: Sequence[Job], *, second: bool, progress: Callable[[str], obj
             for fut in futures.values():
                 fut.cancel()
             raise
-    return results
+        return results
 
 
-__all__ = ["QUEUED", "Job", "cores", "run_jobs"]
+def run_jobs(jobs: Sequence[Job], *, second: bool, progress: Callable[[str], object] | None = None,
+             here: int = 0, idle: Sequence[Job] = ()) -> list:
+    """:meth:`Processes.run` on a second process of its own (``second``) or on this one alone."""
+    with Processes(second) as processes:
+        return processes.run(jobs, progress=progress, here=here, idle=idle)
+
+
+__all__ = ["QUEUED", "Job", "Processes", "cores", "run_jobs"]
