@@ -8,6 +8,7 @@ import platform
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
@@ -126,7 +127,7 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
     jobs = [pool.Job(f"scene {p.stem}", scene_entry, (p, quick), scene_cost.get(p.stem, 2.0)) for p in scene_files]
     jobs += [pool.Job(f"integrator sweep: {p.stem}", tradeoff_mod.scene_sweep, (p, profile),
                       sweep_cost.get(p.stem, 2.0)) for p in sweep_files]
-    got: dict[str, object] = {}
+    got: dict[str, Any] = {}
     with pool.Processes(second) as processes:
         # the second process compiles (or loads) the scenes' and the batched benchmark's kernels while this one does
         # the throughput benchmark's and the batched forward dynamics' (the second finds them in the cache when it

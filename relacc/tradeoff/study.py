@@ -3,6 +3,7 @@ states what is measured)."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -59,7 +60,7 @@ def scene_paths(cfg: dict) -> list:
     return [p for p in shipped.scene_paths("chain") if not cfg["scenes"] or p.stem in cfg["scenes"]]
 
 
-def scene_sweep(path, cfg: dict) -> tuple[list, dict]:
+def scene_sweep(path: str | os.PathLike, cfg: dict) -> tuple[list, dict]:
     """``(rows, reference)`` of one scene's integrator sweep under a profile (:func:`integrators.sweep`), the scene
     capped at ``cfg["duration"]``; a function of its arguments alone, so that it can run in another process."""
     from relacc.simulate import scenes
