@@ -397,3 +397,33 @@ def test_the_traced_articulated_body_algorithm_is_kanes_equations(tmp_path, whic
         bound = _dynamics_scale(tree, case, q, u, ref) * 64 * 2.2e-16 * max(tree.depth)
         err = np.abs(out - ref).max(axis=1)
         assert np.all(err <= bound), f"{which}, case {case}: worst {np.max(err / bound):.3g} of the bound (seed 7)"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("damage", ["index", "data"])
+def test_a_damaged_numba_cache_file_is_compiled_again_and_said(tmp_path, damage):
+    """A numba cache file (a kernel's ``.nbi`` index or ``.nbc`` code) truncated or overwritten made every later call
+    of that kernel an internal error (``UnpicklingError``, exit 3) in every command: numba reads them with pickle and
+    lets its errors through. Such a kernel is now compiled again (the same answer), said once on stderr, and its
+    cache written anew: the process after that says nothing. Three fresh processes on one cache directory, with a
+    cached kernel of relacc's own module layout (a file-backed module, as numba caches relacc's)."""
+    import os
+    import subprocess
+    import sys
+
+    (tmp_path / "kern.py").write_text("import relacc.kernels.jit\nimport numba\n\n\n"
+                                      "@numba.njit(cache=True)\ndef f(x):\n    return 2.0 * x + 1.0\n")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), "PYTHONPATH": str(tmp_path)}
+
+    def run():
+        done = subprocess.run([sys.executable, "-c", "import kern; print(kern.f(20.5))"], capture_output=True,
+                              text=True, env=env, cwd=tmp_path, timeout=300)
+        assert done.returncode == 0, done.stderr[-2000:]
+        return done.stdout.strip(), [line for line in done.stderr.splitlines() if line.startswith("relacc:")]
+
+    assert run() == ("42.0", [])
+    (target,) = (tmp_path / "cache").rglob("*.nbi" if damage == "index" else "*.nbc")
+    target.write_bytes(np.random.default_rng(3).bytes(64))
+    out, said = run()
+    assert out == "42.0" and len(said) == 1 and "is damaged" in said[0] and "compiling it again" in said[0], said
+    assert run() == ("42.0", [])

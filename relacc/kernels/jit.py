@@ -35,6 +35,46 @@ if HAVE_NUMBA and "NUMBA_THREADING_LAYER" not in os.environ:
     numba.config.THREADING_LAYER = THREADING_LAYER
 
 
+def _tolerate_damaged_caches() -> None:
+    """numba's cache read as a miss where one of its files is damaged, rather than the call failing.
+
+    numba reads a kernel's cache index and data with ``pickle`` and lets any error through: a truncated or
+    overwritten ``.nbi`` or ``.nbc`` file (a full disk, an interrupted copy, two machines sharing a directory) made
+    every later call of that kernel an internal error (``UnpicklingError``). Now such a kernel is compiled again, its
+    damaged index removed so that the new code is saved in its place, and this is said once per file on stderr, as a
+    damaged lanes kernel is (:func:`relacc.kernels.lanes.compile_cached`)."""
+    import sys
+
+    from numba.core import caching
+
+    load = caching.Cache._load_overload
+    if getattr(load, "relacc_tolerant", False):
+        return
+
+    def _load_overload(self, sig, target_context):
+        try:
+            return load(self, sig, target_context)
+        except Exception as exc:  # noqa: BLE001 - whatever an unreadable file raises: pickle, EOF, llvmlite
+            index = self._cache_file._index_path
+            with contextlib.suppress(OSError):
+                os.remove(index)
+            if index not in _SAID:
+                _SAID.add(index)
+                print(f"relacc: the cached kernel {index} is damaged ({type(exc).__name__}: {exc}); compiling it "
+                      "again", file=sys.stderr)
+            return None
+
+    _load_overload.relacc_tolerant = True  # type: ignore[attr-defined]
+    caching.Cache._load_overload = _load_overload
+
+
+_SAID: set[str] = set()
+"""The damaged cache files said in this process (each once)."""
+
+if HAVE_NUMBA:
+    _tolerate_damaged_caches()
+
+
 def jitable(fn=None, *, inline=False):
     """Plain Python when called from Python (the numpy backend); compiled when called from numba code.
 
