@@ -425,11 +425,11 @@ def cmd_report(args) -> int:
         for line in notes:
             print(line)
         return 0 if agree else 1
-    from relacc.report import build_report
+    from relacc.report import build_report, default_second
 
     path, ctx = build_report(out=args.out, n_states=args.states, seed=args.seed, quick=args.quick,
                              model=args.model, progress=_progress(args),
-                             second=None if args.processes is None else args.processes == 2)
+                             second=default_second(args.quick) if args.processes is None else args.processes == 2)
     failures = ctx.failures()
     verdict = "everything agrees" if not failures else "DISAGREEMENTS found (see the verdict)"
     print(f"wrote {path}: {verdict}")

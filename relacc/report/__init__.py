@@ -23,11 +23,12 @@ from relacc.report.build import (
     ReportContext,
     build_context,
     build_report,
+    default_second,
     environment,
     render,
     scene_entry,
 )
 
 __all__ = ["DEFAULT_BATCHED", "DEFAULT_BENCH", "DEFAULT_EXAMPLES", "DEFAULT_STATES", "QUICK_BATCHED", "QUICK_BENCH",
-           "QUICK_EXAMPLES", "QUICK_STATES", "SWEEP", "ReportContext", "build_context", "build_report", "environment",
-           "render", "scene_entry"]
+           "QUICK_EXAMPLES", "QUICK_STATES", "SWEEP", "ReportContext", "build_context", "build_report",
+           "default_second", "environment", "render", "scene_entry"]

@@ -95,10 +95,12 @@ def _machine() -> str:
 
 def build_context(n_states: int | None = None, seed: int = 0, quick: bool = False,
                   model: str | os.PathLike | None = None, progress: Callable[[str], object] | None = None,
-                  second: bool | None = None) -> ReportContext:
+                  second: bool = False) -> ReportContext:
     """Run the cross-validation, the errata and every study the report shows.
 
-    With ``second`` (default: a full report on a machine with two cores or more) a second process
+    With ``second`` (``relacc report``'s default for a full report on a machine with two cores or more: see
+    :func:`default_second`; from Python, a script that passes it must start under ``if __name__ == "__main__":``,
+    since the second process is spawned and imports the main module) a second process
     (:mod:`relacc.report.pool`) compiles or loads the batched benchmark's and the scenes' kernels while this one does
     the throughput benchmark's, the cross-validation and the searches; then the throughput and batched benchmarks
     run alone on the machine; then the scenes, the integrator sweeps and whatever is left of the searches and the
@@ -114,7 +116,6 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
     fixture = fixtures.load(model)
     harness = Harness(fixture, n_states=n, seed=seed, progress=progress)
     say = progress or (lambda _: None)
-    second = (not quick and pool.cores() >= 2) if second is None else second
     profile = tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT
     examples = QUICK_EXAMPLES if quick else DEFAULT_EXAMPLES
     scene_files, sweep_files = shipped.scene_paths("chain"), tradeoff_mod.scene_paths(profile)
@@ -175,6 +176,13 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),
     )
+
+
+def default_second(quick: bool) -> bool:
+    """``relacc report``'s default: a second process for a full report on a machine with two cores or more."""
+    from relacc.report import pool
+
+    return not quick and pool.cores() >= 2
 
 
 WARM_STATES = 8
@@ -242,7 +250,7 @@ def render(ctx: ReportContext) -> str:
 
 def build_report(out: str | os.PathLike = "reports/agreement.html", n_states: int | None = None, seed: int = 0,
                  quick: bool = False, model: str | os.PathLike | None = None,
-                 progress: Callable[[str], object] | None = None, second: bool | None = None
+                 progress: Callable[[str], object] | None = None, second: bool = False
                  ) -> tuple[Path, ReportContext]:
     """Run everything and write the report atomically.
 
@@ -264,4 +272,4 @@ def build_report(out: str | os.PathLike = "reports/agreement.html", n_states: in
 
 __all__ = ["DEFAULT_BATCHED", "DEFAULT_BENCH", "DEFAULT_EXAMPLES", "DEFAULT_STATES", "QUICK_BATCHED", "QUICK_BENCH",
            "QUICK_EXAMPLES", "QUICK_STATES", "SWEEP", "ReportContext", "build_context", "build_report", "environment",
-           "render", "scene_entry"]
+           "default_second", "render", "scene_entry"]
