@@ -6,7 +6,7 @@ import datetime as dt
 import os
 import platform
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -15,7 +15,6 @@ from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescap
 from relacc import files, fixtures
 from relacc.fixtures import shipped
 from relacc.report.sections import SECTIONS
-from relacc.report.sections import errata as errata_section
 from relacc.validation.check import CheckReport, Harness
 from relacc.validation.errata import Erratum, errata
 from relacc.validation.hardcases import N_STATES as N_HARD
@@ -49,6 +48,8 @@ class ReportContext:
     quick: bool
     created: dt.datetime
     machine: str
+    drawn: dict = field(default_factory=dict)
+    """Sections' data built ahead, by section ``ID`` (:func:`draw_ready`): :func:`render` uses them as they are."""
 
     def failures(self) -> list[str]:
         """One line per failed check the page shows: a cross-validation comparison, an erratum's corrected form, a
@@ -157,8 +158,12 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
                                      n_states=int(sizes["n_states"]), n_steps=int(sizes["n_steps"]),
                                      members=int(sizes["members"]), repeats=int(sizes["repeats"]))
         rest = [j for j in jobs + searches if j.label not in got]
+        known = {"check": check, "errata": items, "throughput": throughput, "batched": batched_result}
+        if all(j.label in got for j in searches[::2]):  # the hard cases and the Hypothesis search, done here
+            known.update(hard=got[searches[0].label], worst=got[searches[2].label])
+        drawn: dict[str, Any] = {}
         got.update(zip((j.label for j in rest), processes.run(
-            rest, progress=progress, idle=[pool.Job("the note's formulas", errata_section.draw_formulas)])))
+            rest, progress=progress, idle=[pool.Job("the sections drawn so far", draw_ready, (known, drawn))])))
     simulations = [got[j.label] for j in jobs[:len(scene_files)]]
     sweeps = [got[j.label] for j in jobs[len(scene_files):]]
     hard, drows, worst = (got[j.label] for j in searches)
@@ -175,7 +180,18 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
         quick=quick,
         created=dt.datetime.now(dt.timezone.utc),
         machine=_machine(),
+        drawn=drawn,
     )
+
+
+def draw_ready(known: dict, drawn: dict) -> None:
+    """Into ``drawn``: each section's data whose ``READS`` are all in ``known`` (the context's fields known so far)."""
+    from types import SimpleNamespace
+
+    for m in SECTIONS:
+        reads = getattr(m, "READS", None)
+        if reads is not None and m.ID not in drawn and set(reads) <= set(known):
+            drawn[m.ID] = m.build(SimpleNamespace(**{k: known[k] for k in reads}))
 
 
 def default_second(quick: bool) -> bool:
@@ -244,7 +260,8 @@ def environment() -> Environment:
 
 def render(ctx: ReportContext) -> str:
     """The report's HTML text."""
-    sections = [{"id": m.ID, "title": m.TITLE, "data": m.build(ctx)} for m in SECTIONS]
+    sections = [{"id": m.ID, "title": m.TITLE, "data": ctx.drawn[m.ID] if m.ID in ctx.drawn else m.build(ctx)}
+                for m in SECTIONS]
     return environment().get_template("report.html.j2").render(sections=sections)
 
 

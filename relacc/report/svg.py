@@ -8,7 +8,6 @@ different pictures never collide.
 from __future__ import annotations
 
 import base64
-import functools
 import hashlib
 import io
 import itertools
@@ -122,10 +121,8 @@ def log_axes(ax, title: str, xlabel: str) -> None:
     ax.set_xlabel(xlabel)
 
 
-@functools.cache
 def formula(tex: str, fontsize: int = 11) -> str:
-    """A LaTeX formula (matplotlib mathtext subset) as an SVG data URI (kept: the report draws the note's formulas
-    while it waits for its second process, :func:`relacc.report.build.build_context`)."""
+    """A LaTeX formula (matplotlib mathtext subset) as an SVG data URI."""
     buf = io.BytesIO()
     prop = matplotlib.font_manager.FontProperties(size=fontsize)
     math_to_image(f"${tex}$", buf, prop=prop, format="svg", dpi=72)

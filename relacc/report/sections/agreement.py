@@ -12,6 +12,8 @@ from relacc.validation.summary import EDGES
 
 ID = "agreement"
 TITLE = "Agreement with the engines"
+READS = ("check",)
+"""What ``build`` reads of the context: the report draws this section as soon as they are known."""
 
 FLOOR_EPS = 1e-3
 """Errors of exactly zero are drawn at this many eps (log axes cannot show zero)."""

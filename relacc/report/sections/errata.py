@@ -6,16 +6,8 @@ from relacc.report import svg
 
 ID = "errata"
 TITLE = "Where the note is wrong"
-
-
-def draw_formulas(equations=None) -> None:
-    """Draw every equation's printed and corrected formula (:func:`svg.formula_lines`, which keeps them)."""
-    from relacc.core.note.equations import EQUATIONS
-
-    for eq in EQUATIONS if equations is None else equations:
-        for tex in (eq.printed, eq.corrected):
-            if tex:
-                svg.formula_lines(tex)
+READS = ("errata", "check")
+"""What ``build`` reads of the context: the report draws this section as soon as they are known."""
 
 
 def build(ctx) -> dict:

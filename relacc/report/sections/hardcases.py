@@ -14,6 +14,8 @@ from relacc.report import svg
 
 ID = "hardcases"
 TITLE = "Hard cases"
+READS = ("hard", "worst")
+"""What ``build`` reads of the context: the report draws this section as soon as they are known."""
 
 FAMILIES = (
     ("gimbal", "delta (rad)", "case 3, middle angle theta2 = +-(pi/2 - delta) for B1 and B2"),

@@ -12,6 +12,8 @@ from relacc.tradeoff.throughput import recorded_runs
 
 ID = "throughput"
 TITLE = "Throughput"
+READS = ("throughput", "batched")
+"""What ``build`` reads of the context: the report draws this section as soon as they are known."""
 
 RECORDED_COLUMNS = tuple((case, output) for case in (1, 2, 3) for output in ("acceleration", "full"))
 """(case, output) columns of the recorded-runs table."""
