@@ -38,7 +38,8 @@ def test_a_job_that_fails_in_the_second_process_raises_as_it_raised():
 def test_the_report_is_the_same_on_one_process_and_two():
     """Every number the report judges is the same bits from one process and from two (the timings aside): the
     cross-validation, the hard cases, the Hypothesis search, the scenes' differences and acceleration checks, the
-    integrator and derivative sweeps' errors."""
+    integrator and derivative sweeps' errors; and the page drawn with the sections built early is the page built
+    from the whole context, byte for byte."""
     from relacc.report.build import build_context
 
     one, two = (build_context(quick=True, second=s) for s in (False, True))
@@ -57,3 +58,10 @@ def test_the_report_is_the_same_on_one_process_and_two():
     assert [(r["case"], r["method"], r["error"]) for r in one.tradeoff.derivatives] == \
         [(r["case"], r["method"], r["error"]) for r in two.tradeoff.derivatives]
     assert one.failures() == two.failures() == []
+    # the sections drawn while the first process waited are what the page would have built from the whole context
+    import dataclasses
+
+    from relacc.report.build import render
+
+    assert {"agreement", "errata", "throughput"} <= set(two.drawn) and one.drawn == {}
+    assert render(two) == render(dataclasses.replace(two, drawn={}))

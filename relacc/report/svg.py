@@ -18,7 +18,6 @@ import matplotlib
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.mathtext import math_to_image  # noqa: E402
 
 plt.rcParams.update(
     {
@@ -122,8 +121,17 @@ def log_axes(ax, title: str, xlabel: str) -> None:
 
 
 def formula(tex: str, fontsize: int = 11) -> str:
-    """A LaTeX formula (matplotlib mathtext subset) as an SVG data URI."""
+    """A LaTeX formula (matplotlib mathtext subset) as an SVG data URI, drawn as ``matplotlib.mathtext.math_to_image``
+    draws it but with no date in its metadata (``math_to_image`` has no way to leave it out: every formula of a page
+    carried the time it was drawn)."""
+    from matplotlib.figure import Figure
+    from matplotlib.mathtext import MathTextParser
+
     buf = io.BytesIO()
     prop = matplotlib.font_manager.FontProperties(size=fontsize)
-    math_to_image(f"${tex}$", buf, prop=prop, format="svg", dpi=72)
+    text = f"${tex}$"
+    width, height, depth, _, _ = MathTextParser("path").parse(text, dpi=72, prop=prop)
+    fig = Figure(figsize=(width / 72.0, height / 72.0))
+    fig.text(0, depth / height, text, fontproperties=prop)
+    fig.savefig(buf, dpi=72, format="svg", metadata={"Date": None})
     return data_uri(buf.getvalue())
