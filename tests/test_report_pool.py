@@ -12,26 +12,30 @@ import pytest
 from relacc.report import pool
 
 
+def run_jobs(jobs, *, second, **kwargs):
+    with pool.Processes(second) as processes:
+        return processes.run(jobs, **kwargs)
+
+
 def test_jobs_shared_with_a_second_process_come_back_in_the_lists_order():
-    """Results in the list's order whichever process ran them (the second takes the most expensive first), the
-    ``here`` jobs on this process (a lambda: not picklable, so it cannot have left it), the idle jobs run here."""
-    seen = []
-    jobs = [pool.Job("here", lambda: "main"),
-            *[pool.Job(f"pow {k}", pow, (2, k), cost=float(k % 4)) for k in range(9)],
+    """Results in the list's order whichever process ran them (the second takes the most expensive first); the idle
+    jobs run on this process (a list of this process is filled), only with a second one."""
+    seen: list = []
+    jobs = [*[pool.Job(f"pow {k}", pow, (2, k), cost=float(k % 4)) for k in range(9)],
             pool.Job("factorial", math.factorial, (20,), cost=9.0)]
-    said = []
-    got = pool.run_jobs(jobs, second=True, progress=said.append, here=1,
-                        idle=[pool.Job("idle", seen.append, ("ran",))])
-    assert got == ["main", *[2 ** k for k in range(9)], 2432902008176640000]
+    said: list = []
+    got = run_jobs(jobs, second=True, progress=said.append, idle=[pool.Job("idle", seen.append, ("ran",))])
+    assert got == [*[2 ** k for k in range(9)], 2432902008176640000]
     assert seen == ["ran"]
-    assert said[0] == "10 jobs shared with a second process" and "here" in said
-    assert pool.run_jobs(jobs, second=False) == got
+    assert said[0] == "10 jobs shared with a second process"
+    assert run_jobs(jobs, second=False, idle=[pool.Job("idle", seen.append, ("again",))]) == got
+    assert seen == ["ran"]
 
 
 def test_a_job_that_fails_in_the_second_process_raises_as_it_raised():
     jobs = [pool.Job("fine", operator.add, (1, 2), cost=0.0), pool.Job("bad", int, ("not a number",), cost=5.0)]
     with pytest.raises(ValueError, match="not a number"):
-        pool.run_jobs(jobs, second=True)
+        run_jobs(jobs, second=True)
 
 
 @pytest.mark.slow

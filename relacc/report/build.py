@@ -123,9 +123,10 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
     # expected seconds on this project's 2-core machine (the order the processes take them in)
     scene_cost = {"forced_damped": 4.1, "gimbal_spin": 2.3, "gravity_spring": 2.0, "tumbling": 1.0}
     sweep_cost = {"gravity_spring": 4.2, "gimbal_spin": 3.5, "forced_damped": 3.5, "tumbling": 0.8}
-    searches = [pool.Job("hard-case catalogue", run_catalogue, (fixture, None, N_HARD, seed), 1.7),
-                pool.Job("derivative sweep", tradeoff_mod.derivative_sweep, (fixture, profile, seed), 2.5),
-                pool.Job(f"Hypothesis search, {examples} examples", hypothesis_search, (fixture, examples, seed), 3.7)]
+    hard_job = pool.Job("hard-case catalogue", run_catalogue, (fixture, None, N_HARD, seed), 1.7)
+    search_job = pool.Job(f"Hypothesis search, {examples} examples", hypothesis_search, (fixture, examples, seed), 3.7)
+    derivative_job = pool.Job("derivative sweep", tradeoff_mod.derivative_sweep, (fixture, profile, seed), 2.5)
+    searches = [hard_job, derivative_job, search_job]  # the order this process takes them in while the other warms
     jobs = [pool.Job(f"scene {p.stem}", scene_entry, (p, quick), scene_cost.get(p.stem, 2.0)) for p in scene_files]
     jobs += [pool.Job(f"integrator sweep: {p.stem}", tradeoff_mod.scene_sweep, (p, profile),
                       sweep_cost.get(p.stem, 2.0)) for p in sweep_files]
@@ -159,14 +160,14 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
                                      members=int(sizes["members"]), repeats=int(sizes["repeats"]))
         rest = [j for j in jobs + searches if j.label not in got]
         known = {"check": check, "errata": items, "throughput": throughput, "batched": batched_result}
-        if all(j.label in got for j in searches[::2]):  # the hard cases and the Hypothesis search, done here
-            known.update(hard=got[searches[0].label], worst=got[searches[2].label])
+        if hard_job.label in got and search_job.label in got:  # both done here
+            known.update(hard=got[hard_job.label], worst=got[search_job.label])
         drawn: dict[str, Any] = {}
         got.update(zip((j.label for j in rest), processes.run(
             rest, progress=progress, idle=[pool.Job("the sections drawn so far", draw_ready, (known, drawn))])))
     simulations = [got[j.label] for j in jobs[:len(scene_files)]]
     sweeps = [got[j.label] for j in jobs[len(scene_files):]]
-    hard, drows, worst = (got[j.label] for j in searches)
+    hard, drows, worst = (got[j.label] for j in (hard_job, derivative_job, search_job))
     return ReportContext(
         harness=harness,
         check=check,

@@ -63,12 +63,12 @@ class Processes:
         """Start ``job`` in the second process now; None without one (then nobody runs it)."""
         return None if self._pool is None else self._pool.submit(job.fn, *job.args)
 
-    def run(self, jobs: Sequence[Job], *, progress: Callable[[str], object] | None = None, here: int = 0,
+    def run(self, jobs: Sequence[Job], *, progress: Callable[[str], object] | None = None,
             idle: Sequence[Job] = ()) -> list:
-        """Every job's result, in ``jobs``' order, on this process and the second one (the module docstring). The
-        first ``here`` jobs run on this process, first (what needs its objects: they need not be picklable), while
-        the second process starts on the others. ``idle``: jobs of this process alone, run once every other job is
-        taken (their results are not returned: they fill caches).
+        """Every job's result, in ``jobs``' order, on this process and the second one (the module docstring).
+        ``idle``: jobs of this process alone, run once every other job is taken, and only with a second process
+        (their results are not returned: they fill what their arguments hold, as the report's sections drawn
+        early).
 
         Raises:
             whatever a job raises, as it raised it (a second process's exception is carried back).
@@ -82,7 +82,6 @@ class Processes:
                 say(job.label)
                 results[i] = job.fn(*job.args)
             return results
-        mine = [pending.popleft() for _ in range(here)]
         pending = deque(sorted(pending, key=lambda x: -x[1].cost))
         lock, stop = threading.Lock(), threading.Event()
         futures: dict[int, Future] = {}
@@ -99,9 +98,6 @@ class Processes:
         try:
             for _ in range(QUEUED):
                 feed()
-            for i, job in mine:
-                say(job.label)
-                results[i] = job.fn(*job.args)
             while True:
                 with lock:
                     if not pending:
@@ -123,11 +119,4 @@ class Processes:
         return results
 
 
-def run_jobs(jobs: Sequence[Job], *, second: bool, progress: Callable[[str], object] | None = None,
-             here: int = 0, idle: Sequence[Job] = ()) -> list:
-    """:meth:`Processes.run` on a second process of its own (``second``) or on this one alone."""
-    with Processes(second) as processes:
-        return processes.run(jobs, progress=progress, here=here, idle=idle)
-
-
-__all__ = ["QUEUED", "Job", "Processes", "cores", "run_jobs"]
+__all__ = ["QUEUED", "Job", "Processes", "cores"]
