@@ -13,6 +13,13 @@ case 3) from the same state under the same effects (gravity, the slides' spring 
 Microseconds per step of one trajectory (one thread: a single state), median and best of ``--repeats`` runs of
 ``--steps`` steps, and the largest difference of the two final states (they must agree to rounding).
 
+Then the forward dynamics alone (issue 51: keep the fused kernels only if, re-measured against the lanes kernel on
+the chain's tree, they are still clearly faster): microseconds a state over ``--batch`` seeded states and for one
+state (a loop of calls), one thread, the chain's ``relacc.dynamics.accelerations`` against
+``relacc.tree_accelerations`` on its tree, under gravity alone (the lanes kernel's path in every case) and under the
+trajectory's effects (the ball's damper takes the tree's reference path in cases 1 and 3), with the largest
+difference of the two answers; and the note's ``relacc.g2_kinematics`` of one state with its acceleration.
+
 Run:  python benchmarks/chain_form.py [--steps 5000] [--repeats 5] [--json PATH]
 """
 
@@ -69,12 +76,61 @@ def run(steps: int, repeats: int) -> list[dict]:
     return out
 
 
+def _us(fn, repeats: int, calls: int) -> float:
+    runs = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(calls):
+            fn()
+        runs.append((time.perf_counter() - start) / calls * 1e6)
+    return statistics.median(runs)
+
+
+def forward(batch: int, repeats: int) -> list[dict]:
+    import relacc
+    from relacc.core.states import random_states
+    from relacc.core.tree.model import chain_tree
+    from relacc.dynamics import Effects
+    from relacc.dynamics.kane import accelerations
+    from relacc.dynamics.tree import tree_accelerations
+    from relacc.fixtures import load
+    from relacc.kernels.jit import threads
+
+    chain = load().chain
+    tree = chain_tree(chain)
+    out = []
+    for label, effects in (("gravity", Effects(gravity=(0, 0, -9.81))),
+                           ("gravity, springs and dampers",
+                            Effects(gravity=(0, 0, -9.81), spring_stiffness=(10, 10, 10), spring_damping=(1, 1, 1),
+                                    ball_damping=0.1))):
+        te = effects.for_tree()
+        with threads(1):
+            for case in (1, 2, 3):
+                s = random_states(case, batch, 0)
+                q1, u1 = s.q[0].copy(), s.u[0].copy()
+                a = accelerations(chain, case, s.q, s.u, effects)
+                b = tree_accelerations(tree, case, s.q, s.u, effects=te)
+                row = {"effects": label, "case": case, "difference": float(np.max(np.abs(a - b)))}
+                for key, fn in (("chain_batch_us", lambda: accelerations(chain, case, s.q, s.u, effects)),
+                                ("tree_batch_us", lambda: tree_accelerations(tree, case, s.q, s.u, effects=te))):
+                    row[key] = _us(fn, repeats, 3) / batch
+                d1 = s.udot[0].copy()
+                for key, fn in (("chain_single_us", lambda: accelerations(chain, case, q1, u1, effects)),
+                                ("note_g2_single_us", lambda: relacc.g2_kinematics(chain, case, q1, u1, d1)),
+                                ("tree_single_us", lambda: tree_accelerations(tree, case, q1, u1, effects=te))):
+                    fn()
+                    row[key] = _us(fn, repeats, 200)
+                out.append(row)
+    return out
+
+
 def main(argv=None) -> int:
     from relacc.tradeoff.throughput import machine
 
     parser = argparse.ArgumentParser(description="the chain's compiled form against the tree kernels on its tree")
     parser.add_argument("--steps", type=int, default=5000)
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--batch", type=int, default=4096)
     parser.add_argument("--json", help="also write the results to this JSON file (atomically)")
     args = parser.parse_args(argv)
     rows = run(args.steps, args.repeats)
@@ -84,9 +140,15 @@ def main(argv=None) -> int:
         print(f"  case {r['case']}: chain's compiled form {a['median_us']:6.2f} ({a['best_us']:.2f})   tree kernels "
               f"{b['median_us']:6.2f} ({b['best_us']:.2f})   x{r['ratio_of_medians']:.1f}   final states differ by "
               f"{r['final_state_difference']:.2g}")
+    fd = forward(args.batch, args.repeats)
+    print(f"forward dynamics, us a state, one thread: {args.batch} states (one state)")
+    for r in fd:
+        print(f"  {r['effects']:28s} case {r['case']}: chain's kernel {r['chain_batch_us']:7.3f} "
+              f"({r['chain_single_us']:7.2f})   tree {r['tree_batch_us']:7.3f} ({r['tree_single_us']:7.2f})   "
+              f"differ by {r['difference']:.2g}   one state's G2 {r['note_g2_single_us']:.2f}")
     if args.json:
         write_text(args.json, json.dumps({"machine": machine(), "steps": args.steps, "repeats": args.repeats,
-                                          "rows": rows}, indent=2) + "\n")
+                                          "batch": args.batch, "rows": rows, "forward": fd}, indent=2) + "\n")
     return 0
 
 

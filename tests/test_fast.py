@@ -147,3 +147,32 @@ def test_stream_reuses_its_buffers(chain):
         assert np.array_equal(k.V, whole.V[states])
         seen.add(k.V.__array_interface__["data"][0])
     assert len(seen) == 1  # one buffer for all four chunks (the last a view of it)
+
+
+def test_the_chains_kernels_give_a_states_bits_alone_on_one_thread_and_split_over_two(chain, case):
+    """The note's G2 kernels and the chain's forward dynamics run a batch on the calling thread or split over threads
+    where that pays (relacc.kernels.jit.parallel_pays); a state's result must not depend on which, nor on being
+    asked alone: 8,192 states (split on two threads, one block more than LAUNCH_US's break-even) against the same
+    states on one thread and the first 24 one call each."""
+    from relacc import dynamics
+    from relacc.dynamics import Effects
+    from relacc.kernels.jit import HAVE_NUMBA, parallel_pays, threads
+
+    effects = Effects(gravity=(0, 0, -9.81), spring_stiffness=(10, 10, 10), spring_damping=(1, 1, 1),
+                      ball_damping=0.1)
+    s = random_states(case, 8192, seed_for(case, 61))
+    with threads(2):
+        assert not HAVE_NUMBA or parallel_pays(8192, fast.FULL_US_PER_STATE, 128), "the batch would not be split"
+        two = relacc.g2_kinematics(chain, case, s.q, s.u, s.udot)
+        a_two = dynamics.accelerations(chain, case, s.q, s.u, effects)
+    with threads(1):
+        one = relacc.g2_kinematics(chain, case, s.q, s.u, s.udot)
+        a_one = dynamics.accelerations(chain, case, s.q, s.u, effects)
+    for name in FIELDS:
+        assert np.array_equal(getattr(one, name), getattr(two, name)), (name, s.seed)
+    assert np.array_equal(a_one, a_two), s.seed
+    for i in range(24):
+        k = relacc.g2_kinematics(chain, case, s.q[i], s.u[i], s.udot[i])
+        for name in FIELDS:
+            assert np.array_equal(getattr(k, name), getattr(one, name)[i]), (name, i, s.seed)
+        assert np.array_equal(dynamics.accelerations(chain, case, s.q[i], s.u[i], effects), a_one[i]), (i, s.seed)

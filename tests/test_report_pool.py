@@ -69,3 +69,32 @@ def test_the_report_is_the_same_on_one_process_and_two():
 
     assert {"agreement", "errata", "throughput"} <= set(two.drawn) and one.drawn == {}
     assert render(two) == render(dataclasses.replace(two, drawn={}))
+
+
+def test_the_estimate_is_the_expected_rest_scaled_by_how_the_phases_since_the_first_went():
+    """Estimate on a clock the test sets: before the first phase ends, what is left is the expected rest (10 - done);
+    once it has, the rest times (seconds spent since) / (expected seconds done since): here phases that took twice as
+    long as expected double it, and the first phase's own time (a cold compile: 50 s for an expected 2) does not
+    count."""
+    now = [100.0]
+    said: list = []
+    est = pool.Estimate(said.append, total=10.0, first=2.0, clock=lambda: now[0])
+    est("start")
+    now[0] = 150.0
+    est.add(2.0)  # the first phase: 50 s, compiling
+    est("benchmarks")
+    now[0] = 158.0
+    est.add(4.0)  # 4 s expected, 8 s spent
+    est("jobs")
+    assert said == ["start  [0 s; about 10 s left]", "benchmarks  [50 s; about 8 s left]",
+                    "jobs  [58 s; about 8 s left]"]
+    assert est.left() == 2 * (10.0 - 6.0)
+
+
+def test_every_job_that_ends_is_counted_once_on_either_process():
+    """``finished`` sees each job once, whichever process ran it (the estimate adds each job's cost)."""
+    jobs = [pool.Job(f"pow {k}", pow, (3, k), cost=float(k)) for k in range(7)]
+    for second in (False, True):
+        ended: list = []
+        run_jobs(jobs, second=second, finished=lambda job: ended.append(job.label))
+        assert sorted(ended) == sorted(j.label for j in jobs), second

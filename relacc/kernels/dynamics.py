@@ -32,6 +32,8 @@ same algorithms as :mod:`relacc.dynamics.integrate`.
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from relacc.core.tolerances import MAX_CONDITION
@@ -62,8 +64,30 @@ INTEGRATORS = {"rk4": 0, "euler": 1}
 """relacc's integrators by scene name, and their codes in the compiled loops."""
 
 
+_PARAMS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+"""Each chain's and each effects' parameter array, made once: both are frozen, with read-only arrays."""
+
+
+def _once(key, make) -> np.ndarray:
+    got = _PARAMS.get(key)
+    if got is None:
+        got = _PARAMS[key] = make(key)
+    return got
+
+
 def chain_params(chain) -> np.ndarray:
-    """The chain's constants as one float array laid out by ``Q2`` ... ``INVERSE_B2`` (``N_CHAIN`` values)."""
+    """The chain's constants as one float array laid out by ``Q2`` ... ``INVERSE_B2`` (``N_CHAIN`` values); made once
+    a chain and shared by its callers, which never write to it (a single state's call spent 11 us making it)."""
+    return _once(chain, _chain_params)
+
+
+def effect_params(effects) -> np.ndarray:
+    """Flags and values of :class:`relacc.dynamics.Effects`, laid out by ``GRAVITY_ON`` ... ``TORQUE2``; made once
+    an effects and shared as :func:`chain_params`."""
+    return _once(effects, _effect_params)
+
+
+def _chain_params(chain) -> np.ndarray:
     out = np.empty(N_CHAIN)
     out[Q2:Q2 + 3], out[R2:R2 + 3], out[R1:R1 + 3] = chain.q2, chain.r2, chain.r1
     out[M1], out[M2] = chain.m1, chain.m2
@@ -73,8 +97,7 @@ def chain_params(chain) -> np.ndarray:
     return out
 
 
-def effect_params(effects) -> np.ndarray:
-    """Flags and values of :class:`relacc.dynamics.Effects`, laid out by ``GRAVITY_ON`` ... ``TORQUE2``."""
+def _effect_params(effects) -> np.ndarray:
     out = np.zeros(N_EFFECTS)
     for flag, slots in ((GRAVITY_ON, ((GRAVITY, effects.gravity),)),
                         (SPRING_ON, ((STIFFNESS, effects.spring_stiffness), (REST, effects.spring_rest))),
@@ -378,14 +401,12 @@ def suspect_input(case, q, u):
 
 if HAVE_NUMBA:
 
-    @numba.njit(parallel=True, cache=True)
-    def accelerations(case, q, u, cp, ep, out):  # pragma: no cover - compiled
-        """Every state's ``udot`` into ``out`` ``(n, 12)``; returns ``(non-finite results, suspect inputs)``.
-
-        Suspect inputs (:func:`suspect_input`) send the caller to the full Python checks, which decide.
-        """
+    @numba.njit(nogil=True, cache=True)
+    def _accelerations(case, q, u, cp, ep, out, start, stop):  # pragma: no cover - compiled
+        """States ``start .. stop - 1``' ``udot`` into ``out`` ``(n, 12)``; returns ``(non-finite results, suspect
+        inputs)`` (:func:`accelerations`)."""
         bad, bad_in = 0, 0
-        for i in numba.prange(q.shape[0]):
+        for i in range(start, stop):
             bad_in += suspect_input(case, q[i], u[i])
             _, a = rates(case, q[i], u[i], cp, ep)
             nb = 0
@@ -436,9 +457,9 @@ if HAVE_NUMBA:
 
 else:  # pragma: no cover - exercised only without numba
 
-    def accelerations(case, q, u, cp, ep, out):
+    def _accelerations(case, q, u, cp, ep, out, start, stop):
         bad, bad_in = 0, 0
-        for i in range(q.shape[0]):
+        for i in range(start, stop):
             bad_in += suspect_input(case, q[i], u[i])
             out[i] = rates(case, q[i], u[i], cp, ep)[1]
             bad += int(np.count_nonzero(~np.isfinite(out[i])))
@@ -470,6 +491,23 @@ else:  # pragma: no cover - exercised only without numba
         out = np.empty(12)
         _dexp_tangent(case, delta, w, out)
         return out
+
+
+US_PER_STATE = 0.25
+"""Microseconds of :func:`accelerations`' work a state on one thread (0.12-0.25 in ``chain-form-2026-11-29-run1``,
+the largest case), what :func:`relacc.kernels.jit.parallel_pays` weighs."""
+
+
+def accelerations(case, q, u, cp, ep, out) -> tuple[int, int]:
+    """Every state's ``udot`` into ``out`` ``(n, 12)``; returns ``(non-finite results, suspect inputs)``.
+
+    Suspect inputs (:func:`suspect_input`) send the caller to the full Python checks, which decide. The states run on
+    the calling thread, or split over numba's threads where that pays (:func:`relacc.kernels.jit.parallel_pays`; a
+    state's bits are the same either way): a parallel loop's start alone costs more than a few thousand states."""
+    from relacc.kernels.jit import parallel_pays, split
+
+    args, n = (case, q, u, cp, ep, out), q.shape[0]
+    return split(_accelerations, args, n, 1) if parallel_pays(n, US_PER_STATE, 1) else _accelerations(*args, 0, n)
 
 
 class Rates:

@@ -18,7 +18,7 @@ The kernel evaluates, per state, the same mathematics as :mod:`relacc.core.note`
   + omega_B1 x [R_B1]^T s2'_dot + w_hat_dot x r2 + w_hat x r2_dot``.
 
 One source serves two backends: numba compiles it per state inside a
-parallel loop over blocks of :data:`relacc.kernels.perstate.TRIG_BLOCK` states (no
+loop over blocks of :data:`relacc.kernels.perstate.TRIG_BLOCK` states, split over threads where that pays (no
 temporaries but a 13 x 128 scratch per block: memory is the inputs plus the
 outputs), and numpy runs it on whole columns when numba is unavailable; the
 two give the same bits. Case 3's sines and cosines come from
@@ -69,16 +69,16 @@ if HAVE_NUMBA:
     # of the vectorized pass. Counts are summed per block, then over blocks. The acceleration
     # alone of cases 1-2 loops over states directly: for them that measured about 25 % faster.
 
-    @numba.njit(parallel=True, cache=True)
-    def _acc_loop(case, q, u, d, q2p, r2p, out):  # pragma: no cover - compiled
+    @numba.njit(nogil=True, cache=True)
+    def _acc_loop(case, q, u, d, q2p, r2p, out, start, stop):  # pragma: no cover - compiled
         n = q.shape[0]
         bad, bad_in = 0, 0
         if case != 3:
-            for i in numba.prange(n):
+            for i in range(start, stop):
                 bad_in += bad_inputs(case, q[i], u[i], d[i])
                 bad += _acc_row(case, q[i], u[i], d[i], q2p, r2p, NO_TRIG, out, i)
             return bad, bad_in
-        for b in numba.prange((n + TRIG_BLOCK - 1) // TRIG_BLOCK):
+        for b in range(start // TRIG_BLOCK, (stop + TRIG_BLOCK - 1) // TRIG_BLOCK):
             i0, i1 = b * TRIG_BLOCK, min(n, (b + 1) * TRIG_BLOCK)
             tr = block_trig_table(3, q, i0, i1)
             nb, nb_in = 0, 0
@@ -89,11 +89,11 @@ if HAVE_NUMBA:
             bad_in += nb_in
         return bad, bad_in
 
-    @numba.njit(parallel=True, cache=True)
-    def _full_loop(case, q, u, d, q2p, r2p, pos, vel, acc, V, Vd, with_acc):  # pragma: no cover - compiled
+    @numba.njit(nogil=True, cache=True)
+    def _full_loop(case, q, u, d, q2p, r2p, pos, vel, acc, V, Vd, with_acc, start, stop):  # pragma: no cover
         n = q.shape[0]
         bad, bad_in = 0, 0
-        for b in numba.prange((n + TRIG_BLOCK - 1) // TRIG_BLOCK):
+        for b in range(start // TRIG_BLOCK, (stop + TRIG_BLOCK - 1) // TRIG_BLOCK):
             i0, i1 = b * TRIG_BLOCK, min(n, (b + 1) * TRIG_BLOCK)
             tr = block_trig_table(case, q, i0, i1)
             nb, nb_in = 0, 0
@@ -137,6 +137,23 @@ if HAVE_NUMBA:
         return bad, bad_in
 
 
+ACC_US_PER_STATE, FULL_US_PER_STATE = 0.05, 0.3
+"""Microseconds of work a state on one thread of the acceleration alone and of every output (the throughput
+benchmark's order of magnitude on this project's 2-core machine), what :func:`relacc.kernels.jit.parallel_pays`
+weighs."""
+
+
+def _run(loop, args: tuple, us_per_state: float) -> tuple[int, int]:
+    """``loop(*args, start, stop)`` over every state: on the calling thread, or split over numba's threads in whole
+    blocks of :data:`TRIG_BLOCK` states where that pays (:func:`relacc.kernels.jit.parallel_pays`: a parallel loop's
+    start alone cost 130-230 us here, 75 us of a single state's ``relacc.g2_kinematics`` when every call paid it). A
+    state's bits are the same either way: each block's sines and cosines are its own."""
+    from relacc.kernels.jit import parallel_pays, split
+
+    n = args[1].shape[0]
+    return split(loop, args, n, TRIG_BLOCK) if parallel_pays(n, us_per_state, TRIG_BLOCK) else loop(*args, 0, n)
+
+
 def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None, out=None):
     """G2's classical acceleration for validated, C-contiguous float64 ``(n, .)`` inputs (into ``out`` if given).
 
@@ -150,7 +167,7 @@ def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None, ou
     """
     if (backend or BACKEND) == "numba":
         out = np.empty((q.shape[0], 3)) if out is None else out
-        bad, bad_in = _acc_loop(int(case), q, u, udot, q2p, r2p, out)
+        bad, bad_in = _run(_acc_loop, (int(case), q, u, udot, q2p, r2p, out), ACC_US_PER_STATE)
         return out, bad, bad_in
     acc = np.stack(acceleration_of(int(case), q.T, u.T, udot.T, q2p, r2p, _numpy_trig(int(case), q.T)), -1)
     if out is not None:
@@ -176,8 +193,8 @@ def kinematics(case: int, q, u, udot, q2p, r2p, backend: str | None = None, out=
             out = (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)) if with_acc else None, np.empty((n, 3, 12)),
                    np.empty((n, 3, 12)))
         pos, vel, acc, V, Vd = out
-        bad, bad_in = _full_loop(int(case), q, u, d, q2p, r2p, pos, vel, acc if with_acc else np.empty((1, 3)),
-                                 V, Vd, with_acc)
+        bad, bad_in = _run(_full_loop, (int(case), q, u, d, q2p, r2p, pos, vel,
+                                        acc if with_acc else np.empty((1, 3)), V, Vd, with_acc), FULL_US_PER_STATE)
         return (pos, vel, (acc if with_acc else None), V, Vd), bad, bad_in
     result = _numpy_kinematics(int(case), q, u, d, q2p, r2p, with_acc)
     if out is not None:

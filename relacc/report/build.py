@@ -23,6 +23,17 @@ from relacc.validation.hardsearch import Worst, hypothesis_search
 
 DEFAULT_STATES = 2000
 QUICK_STATES = 200
+PHASES = {"first": 2.5, "first_alone": 2.0, "benchmarks": 6.7, "job_scale": 1.0, "parallel": 1.65, "page": 3.2,
+          "page_alone": 5.2}
+"""A full report's expected seconds on this project's 2-core machine with its kernels compiled, for the progress
+messages' estimate (:class:`relacc.report.pool.Estimate`; measured 2026-11-29, docs/architecture.md "The report's
+run"): the first phase with a second process (this one's cross-validation, and searches until the other has loaded
+its kernels) and alone (the cross-validation); the two benchmarks; the jobs, their own costs (``Job.cost``) times
+``job_scale``, ``parallel`` times faster on two processes than on one; the page with and without the sections drawn
+while waiting."""
+QUICK_PHASES = {"first": 1.0, "first_alone": 0.5, "benchmarks": 0.7, "job_scale": 0.17, "parallel": 1.65,
+                "page": 3.0, "page_alone": 4.4}
+"""The same for ``--quick``."""
 DEFAULT_EXAMPLES = 300
 QUICK_EXAMPLES = 40
 DEFAULT_BENCH = (20_000, 5)
@@ -115,6 +126,11 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
 
     n = n_states if n_states is not None else (QUICK_STATES if quick else DEFAULT_STATES)
     fixture = fixtures.load(model)
+    plan = QUICK_PHASES if quick else PHASES
+    procs = plan["parallel"] if second else 1.0  # how many times faster the jobs go
+    first = plan["first"] if second else plan["first_alone"]
+    estimate = None if progress is None else pool.Estimate(progress, 0.0, first)
+    progress = estimate
     harness = Harness(fixture, n_states=n, seed=seed, progress=progress)
     say = progress or (lambda _: None)
     profile = tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT
@@ -131,6 +147,14 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
     jobs += [pool.Job(f"integrator sweep: {p.stem}", tradeoff_mod.scene_sweep, (p, profile),
                       sweep_cost.get(p.stem, 2.0)) for p in sweep_files]
     got: dict[str, Any] = {}
+    work = sum(j.cost for j in jobs + searches) * plan["job_scale"]  # seconds of the jobs on one process
+
+    def done(seconds: float) -> None:
+        if estimate is not None:
+            estimate.add(seconds)
+
+    if estimate is not None:
+        estimate.total = first + plan["benchmarks"] + work / procs + plan["page" if second else "page_alone"]
     with pool.Processes(second) as processes:
         # the second process compiles (or loads) the scenes' and the batched benchmark's kernels while this one does
         # the throughput benchmark's and the batched forward dynamics' (the second finds them in the cache when it
@@ -150,6 +174,10 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
                 say(job.label)
                 got[job.label] = job.fn(*job.args)
             warm.result()
+        done(first)
+        if estimate is not None:  # the searches done while the other warmed up are not left
+            searched = sum(j.cost for j in searches if j.label in got) * plan["job_scale"]
+            estimate.total -= searched / procs
         n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
         say(f"throughput, {n_bench} states per case")
         throughput = run_benchmark(n_bench, repeats, seed, fixture)
@@ -158,13 +186,16 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
         batched_result = batched.run(fixture, batched.tumbling(sizes["duration"], fixture), seed=seed,
                                      n_states=int(sizes["n_states"]), n_steps=int(sizes["n_steps"]),
                                      members=int(sizes["members"]), repeats=int(sizes["repeats"]))
+        done(plan["benchmarks"])
         rest = [j for j in jobs + searches if j.label not in got]
         known = {"check": check, "errata": items, "throughput": throughput, "batched": batched_result}
         if hard_job.label in got and search_job.label in got:  # both done here
             known.update(hard=got[hard_job.label], worst=got[search_job.label])
         drawn: dict[str, Any] = {}
         got.update(zip((j.label for j in rest), processes.run(
-            rest, progress=progress, idle=[pool.Job("the sections drawn so far", draw_ready, (known, drawn))])))
+            rest, progress=progress, idle=[pool.Job("the sections drawn so far", draw_ready, (known, drawn))],
+            finished=lambda job: done(job.cost * plan["job_scale"] / procs))))
+    say("the page")
     simulations = [got[j.label] for j in jobs[:len(scene_files)]]
     sweeps = [got[j.label] for j in jobs[len(scene_files):]]
     hard, drows, worst = (got[j.label] for j in (hard_job, derivative_job, search_job))

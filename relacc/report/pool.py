@@ -9,13 +9,15 @@ Results come back in the list's order. With one core, or ``second=False``, every
 
 from __future__ import annotations
 
+import functools
 import multiprocessing
 import os
 import threading
+import time
 from collections import deque
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 QUEUED = 1
@@ -32,6 +34,51 @@ class Job:
     fn: Callable[..., Any]
     args: tuple = ()
     cost: float = 0.0
+
+
+@dataclass
+class Estimate:
+    """A run's progress messages with the time so far and an estimate of what is left: ``say(label)`` becomes
+    ``say("label  [12 s; about 18 s left]")``.
+
+    ``total`` is the run's expected seconds on this project's 2-core machine with its kernels compiled, ``done`` the
+    expected seconds of the phases finished so far (:meth:`add`). Until the first phase is done (``first`` expected
+    seconds: where kernels are compiled or loaded) what is left is the expected rest; after it, the expected rest
+    scaled by how much longer or shorter the phases since took than expected, so that a slower or busier machine gets
+    a longer estimate and a first run's compiling does not count against the rest."""
+
+    say: Callable[[str], object]
+    total: float
+    first: float
+    done: float = 0.0
+    clock: Callable[[], float] = time.perf_counter
+    start: float = -1.0  # the clock when made (default)
+    _calibrated: tuple[float, float] | None = None  # (time, done) when the first phase ended
+    _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.start < 0:
+            self.start = self.clock()
+
+    def add(self, seconds: float) -> None:
+        """``seconds`` more of the expected work done (a phase, a job); thread-safe."""
+        with self._lock:
+            self.done += seconds
+            if self._calibrated is None and self.done >= self.first - 1e-9:
+                self._calibrated = (self.clock(), self.done)
+
+    def left(self) -> float:
+        """Seconds expected to be left."""
+        with self._lock:
+            rest, mark = max(self.total - self.done, 0.0), self._calibrated
+            if mark is None:
+                return rest
+            spent, expected = self.clock() - mark[0], self.done - mark[1]
+        return rest * (spent / expected) if expected > 0.5 else rest
+
+    def __call__(self, label: str) -> None:
+        elapsed = self.clock() - self.start
+        self.say(f"{label}  [{elapsed:.0f} s; about {self.left():.0f} s left]")
 
 
 def cores() -> int:
@@ -64,16 +111,18 @@ class Processes:
         return None if self._pool is None else self._pool.submit(job.fn, *job.args)
 
     def run(self, jobs: Sequence[Job], *, progress: Callable[[str], object] | None = None,
-            idle: Sequence[Job] = ()) -> list:
+            idle: Sequence[Job] = (), finished: Callable[[Job], object] | None = None) -> list:
         """Every job's result, in ``jobs``' order, on this process and the second one (the module docstring).
         ``idle``: jobs of this process alone, run once every other job is taken, and only with a second process
         (their results are not returned: they fill what their arguments hold, as the report's sections drawn
-        early).
+        early). ``finished(job)`` is called as each job ends, on either process (from another thread for the second
+        process's: an :class:`Estimate`'s :meth:`Estimate.add` is thread-safe).
 
         Raises:
             whatever a job raises, as it raised it (a second process's exception is carried back).
         """
         say = progress or (lambda _: None)
+        end = finished or (lambda _: None)
         results: list = [None] * len(jobs)
         pending = deque(enumerate(jobs))
         pool_ = self._pool
@@ -81,10 +130,19 @@ class Processes:
             for i, job in pending:
                 say(job.label)
                 results[i] = job.fn(*job.args)
+                end(job)
             return results
         pending = deque(sorted(pending, key=lambda x: -x[1].cost))
         lock, stop = threading.Lock(), threading.Event()
         futures: dict[int, Future] = {}
+        ended: set[int] = set()
+
+        def once(i: int) -> None:  # a future's callbacks may still be running when its result is back
+            with lock:
+                first = i not in ended
+                ended.add(i)
+            if first:
+                end(jobs[i])
 
         def feed(_: object = None) -> None:  # the next job from the front, as soon as one is done there
             with lock:
@@ -92,6 +150,7 @@ class Processes:
                     return
                 i, job = pending.popleft()
                 futures[i] = pool_.submit(job.fn, *job.args)
+            futures[i].add_done_callback(functools.partial(lambda i, _: once(i), i))
             futures[i].add_done_callback(feed)
 
         say(f"{len(pending)} jobs shared with a second process")
@@ -105,12 +164,14 @@ class Processes:
                     i, job = pending.popleft()
                 say(job.label)
                 results[i] = job.fn(*job.args)
+                end(job)
             for job in idle:
                 job.fn(*job.args)
             with lock:
                 running = dict(futures)
             for i, fut in running.items():
                 results[i] = fut.result()
+                once(i)
         except BaseException:
             stop.set()
             for fut in futures.values():
@@ -119,4 +180,4 @@ class Processes:
         return results
 
 
-__all__ = ["QUEUED", "Job", "Processes", "cores"]
+__all__ = ["QUEUED", "Estimate", "Job", "Processes", "cores"]
