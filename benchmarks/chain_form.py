@@ -18,7 +18,8 @@ the chain's tree, they are still clearly faster): microseconds a state over ``--
 state (a loop of calls), one thread, the chain's ``relacc.dynamics.accelerations`` against
 ``relacc.tree_accelerations`` on its tree, under gravity alone (the lanes kernel's path in every case) and under the
 trajectory's effects (the ball's damper takes the tree's reference path in cases 1 and 3), with the largest
-difference of the two answers; and the note's ``relacc.g2_kinematics`` of one state with its acceleration.
+difference of the two answers; and the note's ``relacc.g2_kinematics`` of one state with its acceleration, and its
+kernels over the batch (every output, and the acceleration alone) into outputs made once.
 
 Run:  python benchmarks/chain_form.py [--steps 5000] [--repeats 5] [--json PATH]
 """
@@ -88,6 +89,7 @@ def _us(fn, repeats: int, calls: int) -> float:
 
 def forward(batch: int, repeats: int) -> list[dict]:
     import relacc
+    from relacc.kernels import kinematics as g2
     from relacc.core.states import random_states
     from relacc.core.tree.model import chain_tree
     from relacc.dynamics import Effects
@@ -111,6 +113,13 @@ def forward(batch: int, repeats: int) -> list[dict]:
                 a = accelerations(chain, case, s.q, s.u, effects)
                 b = tree_accelerations(tree, case, s.q, s.u, effects=te)
                 row = {"effects": label, "case": case, "difference": float(np.max(np.abs(a - b)))}
+                if label == "gravity":  # the note's G2 kernels over the batch, into outputs made once
+                    q2p, r2p = np.asarray(chain.q2, float), np.asarray(chain.r2, float)
+                    outs = tuple(np.empty(shape) for shape in ((batch, 3),) * 3 + ((batch, 3, 12),) * 2)
+                    row["note_g2_batch_us"] = _us(lambda: g2.kinematics(case, s.q, s.u, s.udot, q2p, r2p, out=outs),
+                                                  repeats, 3) / batch
+                    row["note_acceleration_batch_us"] = _us(
+                        lambda: g2.acceleration(case, s.q, s.u, s.udot, q2p, r2p, out=outs[2]), repeats, 3) / batch
                 for key, fn in (("chain_batch_us", lambda: accelerations(chain, case, s.q, s.u, effects)),
                                 ("tree_batch_us", lambda: tree_accelerations(tree, case, s.q, s.u, effects=te))):
                     row[key] = _us(fn, repeats, 3) / batch
@@ -143,6 +152,9 @@ def main(argv=None) -> int:
     fd = forward(args.batch, args.repeats)
     print(f"forward dynamics, us a state, one thread: {args.batch} states (one state)")
     for r in fd:
+        if "note_g2_batch_us" in r:
+            print(f"  the note's G2, case {r['case']}: every output {r['note_g2_batch_us']:.3f}, the acceleration "
+                  f"alone {r['note_acceleration_batch_us']:.3f}")
         print(f"  {r['effects']:28s} case {r['case']}: chain's kernel {r['chain_batch_us']:7.3f} "
               f"({r['chain_single_us']:7.2f})   tree {r['tree_batch_us']:7.3f} ({r['tree_single_us']:7.2f})   "
               f"differ by {r['difference']:.2g}   one state's G2 {r['note_g2_single_us']:.2f}")

@@ -37,7 +37,7 @@ import weakref
 import numpy as np
 
 from relacc.core.tolerances import MAX_CONDITION
-from relacc.kernels.jit import leaf
+from relacc.kernels.jit import leaf, unfused
 from relacc.kernels.perstate import HAVE_NUMBA, bad_inputs, jitable, numba
 from relacc.kernels.so3 import cross, exp_mul, jr_inv, mv, quat_matrix, r123, w123_dot_mv, w123_mv, w123_solve
 from relacc.kernels.trig import LIMIT, sincos
@@ -401,7 +401,7 @@ def suspect_input(case, q, u):
 
 if HAVE_NUMBA:
 
-    @numba.njit(nogil=True, cache=True)
+    @unfused
     def _accelerations(case, q, u, cp, ep, out, start, stop):  # pragma: no cover - compiled
         """States ``start .. stop - 1``' ``udot`` into ``out`` ``(n, 12)``; returns ``(non-finite results, suspect
         inputs)`` (:func:`accelerations`)."""

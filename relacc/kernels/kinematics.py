@@ -34,6 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.kernels import trig
+from relacc.kernels.jit import unfused
 from relacc.kernels.perstate import (
     ANGLES,
     HAVE_NUMBA,
@@ -43,12 +44,12 @@ from relacc.kernels.perstate import (
     acc_from,
     acceleration_of,
     bad_inputs,
-    block_trig_table,
+    block_trig,
     columns,
     cross,
     jitable,
+    libm_columns,
     nonfinite,
-    numba,
     state_quantities,
     trig_in,
 )
@@ -69,39 +70,40 @@ if HAVE_NUMBA:
     # of the vectorized pass. Counts are summed per block, then over blocks. The acceleration
     # alone of cases 1-2 loops over states directly: for them that measured about 25 % faster.
 
-    @numba.njit(nogil=True, cache=True)
-    def _acc_loop(case, q, u, d, q2p, r2p, out, start, stop):  # pragma: no cover - compiled
-        n = q.shape[0]
+    # Compiled without reference counting or fused multiply-adds (relacc.kernels.jit.unfused), so they allocate
+    # nothing: the caller hands them case 3's trigonometry scratch ``tr`` (13, TRIG_BLOCK), one per thread.
+
+    @unfused
+    def _acc_loop(case, q, u, d, q2p, r2p, out, tr, start, stop):  # pragma: no cover - compiled
         bad, bad_in = 0, 0
         if case != 3:
             for i in range(start, stop):
                 bad_in += bad_inputs(case, q[i], u[i], d[i])
                 bad += _acc_row(case, q[i], u[i], d[i], q2p, r2p, NO_TRIG, out, i)
             return bad, bad_in
+        n = q.shape[0]
         for b in range(start // TRIG_BLOCK, (stop + TRIG_BLOCK - 1) // TRIG_BLOCK):
             i0, i1 = b * TRIG_BLOCK, min(n, (b + 1) * TRIG_BLOCK)
-            tr = block_trig_table(3, q, i0, i1)
-            nb, nb_in = 0, 0
+            if block_trig(q, i0, i1, tr):
+                libm_columns(q, i0, i1, tr)
             for i in range(i0, i1):
-                nb_in += bad_inputs(3, q[i], u[i], d[i])
-                nb += _acc_row(3, q[i], u[i], d[i], q2p, r2p, trig_in(3, tr, i - i0), out, i)
-            bad += nb
-            bad_in += nb_in
+                bad_in += bad_inputs(3, q[i], u[i], d[i])
+                bad += _acc_row(3, q[i], u[i], d[i], q2p, r2p, trig_in(3, tr, i - i0), out, i)
         return bad, bad_in
 
-    @numba.njit(nogil=True, cache=True)
-    def _full_loop(case, q, u, d, q2p, r2p, pos, vel, acc, V, Vd, with_acc, start, stop):  # pragma: no cover
+    @unfused
+    def _full_loop(case, q, u, d, q2p, r2p, pos, vel, acc, V, Vd, with_acc, tr, start, stop):  # pragma: no cover
         n = q.shape[0]
-        bad, bad_in = 0, 0
+        nb, nb_in = 0, 0
         for b in range(start // TRIG_BLOCK, (stop + TRIG_BLOCK - 1) // TRIG_BLOCK):
             i0, i1 = b * TRIG_BLOCK, min(n, (b + 1) * TRIG_BLOCK)
-            tr = block_trig_table(case, q, i0, i1)
-            nb, nb_in = 0, 0
+            if case == 3 and block_trig(q, i0, i1, tr):
+                libm_columns(q, i0, i1, tr)
             for i in range(i0, i1):
                 qi, ui, di = q[i], u[i], d[i]
                 nb_in += bad_inputs(case, qi, ui, di)
                 C1, M, r, L, Ld, w, al, wh, hd, sd, rd, t = state_quantities(case, qi, ui, di, q2p, r2p,
-                                                                   trig_in(case, tr, i - i0))
+                                                                             trig_in(case, tr, i - i0))
                 P, P_dot, G, G_dot = columns(case, qi, ui, C1, M, w, wh, t)
                 vw = cross(w[0], w[1], w[2], L[0], L[1], L[2])
                 vh = cross(wh[0], wh[1], wh[2], r[0], r[1], r[2])
@@ -132,9 +134,7 @@ if HAVE_NUMBA:
                     a = acc_from(di, C1, r, L, Ld, w, al, wh, hd, sd, rd)
                     acc[i, 0], acc[i, 1], acc[i, 2] = a[0], a[1], a[2]
                     nb += nonfinite(a[0]) + nonfinite(a[1]) + nonfinite(a[2])
-            bad += nb
-            bad_in += nb_in
-        return bad, bad_in
+        return nb, nb_in
 
 
 ACC_US_PER_STATE, FULL_US_PER_STATE = 0.05, 0.3
@@ -144,14 +144,20 @@ weighs."""
 
 
 def _run(loop, args: tuple, us_per_state: float) -> tuple[int, int]:
-    """``loop(*args, start, stop)`` over every state: on the calling thread, or split over numba's threads in whole
-    blocks of :data:`TRIG_BLOCK` states where that pays (:func:`relacc.kernels.jit.parallel_pays`: a parallel loop's
-    start alone cost 130-230 us here, 75 us of a single state's ``relacc.g2_kinematics`` when every call paid it). A
-    state's bits are the same either way: each block's sines and cosines are its own."""
+    """``loop(*args, tr, start, stop)`` over every state, ``tr`` case 3's trigonometry scratch of the thread: on the
+    calling thread, or split over numba's threads in whole blocks of :data:`TRIG_BLOCK` states where that pays
+    (:func:`relacc.kernels.jit.parallel_pays`: a parallel loop's start alone cost 130-230 us here, 75 us of a single
+    state's ``relacc.g2_kinematics`` when every call paid it). A state's bits are the same either way: each block's
+    sines and cosines are its own."""
     from relacc.kernels.jit import parallel_pays, split
 
+    width = TRIG_BLOCK if args[0] == 3 else 1
+
+    def share(*a):
+        return loop(*a[:-2], np.empty((13, width)), a[-2], a[-1])
+
     n = args[1].shape[0]
-    return split(loop, args, n, TRIG_BLOCK) if parallel_pays(n, us_per_state, TRIG_BLOCK) else loop(*args, 0, n)
+    return split(share, args, n, TRIG_BLOCK) if parallel_pays(n, us_per_state, TRIG_BLOCK) else share(*args, 0, n)
 
 
 def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None, out=None):
