@@ -89,13 +89,13 @@ def _us(fn, repeats: int, calls: int) -> float:
 
 def forward(batch: int, repeats: int) -> list[dict]:
     import relacc
-    from relacc.kernels import kinematics as g2
     from relacc.core.states import random_states
     from relacc.core.tree.model import chain_tree
     from relacc.dynamics import Effects
     from relacc.dynamics.kane import accelerations
     from relacc.dynamics.tree import tree_accelerations
     from relacc.fixtures import load
+    from relacc.kernels import kinematics as g2
     from relacc.kernels.jit import threads
 
     chain = load().chain
