@@ -46,6 +46,7 @@ from relacc.core.states import random_states
 from relacc.engines import adapter_module, load_engine, with_trait
 from relacc.engines.chain import G2
 from relacc.fixtures import load
+from relacc.kernels import jit
 from relacc.kernels import kinematics as fast
 from relacc.kernels.jit import threads
 
@@ -84,7 +85,7 @@ def machine() -> dict:
         "system": f"{platform.system()} {platform.release()} {platform.machine()}",
         "python": sys.version.split()[0],
         "numpy": np.__version__,
-        "numba": fast.numba.__version__ if fast.HAVE_NUMBA else None,
+        "numba": jit.numba.__version__ if jit.HAVE_NUMBA else None,
         "relacc_backend": fast.BACKEND,
         **{name: adapter_module(name).version() for name in TIMED},
         "relacc": relacc.__version__,
