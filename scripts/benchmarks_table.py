@@ -79,8 +79,21 @@ def _lanes(d) -> str:
 
 
 def _chain_form(d) -> str:
-    return ("the chain's fused kernel over the tree kernels on its tree, a step: "
+    text = ("the chain's fused kernel over the tree kernels on its tree, a step: "
             f"{_span([r['ratio_of_medians'] for r in d['rows']])}x faster")
+    fd = [r for r in d.get("forward", []) if r["effects"] == "gravity"]
+    if fd:
+        text += ("; its forward dynamics over the lanes kernel's, gravity alone, a batch: "
+                 f"{_span([r['tree_batch_us'] / r['chain_batch_us'] for r in fd])}x; one state's G2 kinematics "
+                 f"{_span([r['note_g2_single_us'] for r in fd])} us")
+    return text
+
+
+def _kernels_ab(d) -> str:
+    rows = {(r["case"], r["checkout"], r["what"]): r["median_ns"] for r in d["rows"]}
+    return "the note's G2 kernels over another checkout's, one thread: " + "; ".join(
+        f"{what} {_span([rows[(c, 'old', what)] / rows[(c, 'new', what)] for c in (1, 2, 3)], '{:.2f}')}x"
+        for what in ("every output", "acceleration"))
 
 
 def _cluster(d) -> str:
@@ -118,7 +131,7 @@ BENCHMARKS = {"throughput": ("benchmarks/throughput.py", _throughput), "batched"
               "lanes": ("benchmarks/lanes.py", _lanes), "chain-form": ("benchmarks/chain_form.py", _chain_form),
               "cluster": ("benchmarks/cluster.py", _cluster), "ensembles": ("benchmarks/ensembles.py", _ensembles),
               "first-run": ("benchmarks/first_run.py", _first_run), "waits": ("benchmarks/waits.py", _waits),
-              "flops": ("benchmarks/flops.py", _flops)}
+              "flops": ("benchmarks/flops.py", _flops), "kernels-ab": ("benchmarks/kernels_ab.py", _kernels_ab)}
 """Each benchmark's result prefix, its script and its headline."""
 
 
