@@ -148,41 +148,62 @@ def test_a_xacro_is_read_directly_with_its_expansions_verdict(repo, capsys, izz,
 @pytest.mark.slow
 def test_the_pre_commit_hook_fails_on_a_non_physical_link_and_passes_once_it_is_fixed(tmp_path):
     """Issue 53 item 4: in a temporary git repository holding two URDFs (one with a link that breaks the triangle
-    inequality) and a ROS package.xml, `pre-commit try-repo <relacc> relacc-compare --all-files` fails and names the
-    link's file and line, skipping package.xml with a word; with the link fixed it passes. pre-commit installs relacc
-    into its own environment from this checkout (its cache kept apart, in the test's directory)."""
+    inequality) and a ROS package.xml, whose .pre-commit-config.yaml names relacc's hook, `pre-commit run
+    --all-files` fails and names the link's file and line, skipping package.xml with a word; with the link fixed it
+    passes. pre-commit installs relacc into its own environment once (its cache kept apart, in the test's directory)
+    from a snapshot of this checkout, its uncommitted changes committed there as `pre-commit try-repo` does (which
+    installs afresh at every call: two installs and two first compilations, 93-166 s of the test command)."""
     import os
+    import shutil
     import subprocess
     import sys
     from pathlib import Path
 
     root = Path(__file__).resolve().parents[1]
+    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home"), "GIT_AUTHOR_NAME": "t",
+           "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t", "GIT_COMMITTER_EMAIL": "t@t"}
+
+    def git(where, *args):
+        return subprocess.run(["git", *args], cwd=where, check=True, capture_output=True, text=True, env=env).stdout
+
+    hooks = tmp_path / "relacc"
+    git(tmp_path, "clone", "-q", str(root), str(hooks))
+    changed = git(root, "diff", "--name-only", "HEAD").split() + git(root, "ls-files", "--others",
+                                                                      "--exclude-standard").split()
+    for name in changed:
+        (hooks / name).parent.mkdir(parents=True, exist_ok=True)
+        if (root / name).exists():
+            shutil.copyfile(root / name, hooks / name)
+        elif (hooks / name).exists():
+            (hooks / name).unlink()
+    if changed:
+        git(hooks, "add", "-A")
+        git(hooks, "commit", "-qm", "uncommitted changes")
+    rev = git(hooks, "rev-parse", "HEAD").strip()
     repo = tmp_path / "descriptions"
     (repo / "robots").mkdir(parents=True)
     (repo / "robots" / "good.urdf").write_text(GOOD)
     (repo / "robots" / "bad.urdf").write_text(BAD)
     (repo / "package.xml").write_text('<package format="2"><name>descriptions</name></package>')
-    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home"), "GIT_AUTHOR_NAME": "t",
-           "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t", "GIT_COMMITTER_EMAIL": "t@t"}
-
-    def git(*args):
-        subprocess.run(["git", *args], cwd=repo, check=True, capture_output=True, env=env)
+    (repo / ".pre-commit-config.yaml").write_text(f"repos:\n  - repo: {hooks}\n    rev: {rev}\n    hooks:\n"
+                                                  "      - id: relacc-compare\n")
 
     def hook():
-        return subprocess.run([sys.executable, "-m", "pre_commit", "try-repo", str(root), "relacc-compare",
-                               "--all-files"], cwd=repo, capture_output=True, text=True, env=env, timeout=1500)
+        return subprocess.run([sys.executable, "-m", "pre_commit", "run", "--all-files"], cwd=repo,
+                              capture_output=True, text=True, env=env, timeout=1500)
 
-    git("init", "-q")
-    git("add", "-A")
-    git("commit", "-qm", "descriptions")
+    git(repo, "init", "-q")
+    git(repo, "add", "-A")
+    git(repo, "commit", "-qm", "descriptions")
     out = hook()
     assert out.returncode == 1, out.stdout[-3000:]
     assert "robots/bad.urdf:2: body arm: principal moments that break the triangle inequality" in out.stdout
     assert "skipped 1 file that is not a robot description: package.xml" in out.stdout
     (repo / "robots" / "bad.urdf").write_text(GOOD.replace('"good"', '"bad"'))
-    git("commit", "-qam", "fixed")
+    git(repo, "commit", "-qam", "fixed")
     out = hook()
     assert out.returncode == 0, out.stdout[-3000:]
+    assert len(list((tmp_path / "pre-commit-home").glob("repo*"))) == 1, "pre-commit installed relacc twice"
 
 
 def test_a_file_a_xacro_includes_is_an_input(repo, capsys):
