@@ -89,6 +89,11 @@ def _chain_form(d) -> str:
     return text
 
 
+def _tiers(d) -> str:
+    return "the test command: " + "; ".join(f"{r['tier']} {r['seconds']:.0f} s ({r['counts'].get('passed', 0)} passed)"
+                                             for r in d["rows"])
+
+
 def _kernels_ab(d) -> str:
     rows = {(r["case"], r["checkout"], r["what"]): r["median_ns"] for r in d["rows"]}
     return "the note's G2 kernels over another checkout's, one thread: " + "; ".join(
@@ -131,7 +136,8 @@ BENCHMARKS = {"throughput": ("benchmarks/throughput.py", _throughput), "batched"
               "lanes": ("benchmarks/lanes.py", _lanes), "chain-form": ("benchmarks/chain_form.py", _chain_form),
               "cluster": ("benchmarks/cluster.py", _cluster), "ensembles": ("benchmarks/ensembles.py", _ensembles),
               "first-run": ("benchmarks/first_run.py", _first_run), "waits": ("benchmarks/waits.py", _waits),
-              "flops": ("benchmarks/flops.py", _flops), "kernels-ab": ("benchmarks/kernels_ab.py", _kernels_ab)}
+              "flops": ("benchmarks/flops.py", _flops), "kernels-ab": ("benchmarks/kernels_ab.py", _kernels_ab),
+              "tiers": ("benchmarks/tiers.py", _tiers)}
 """Each benchmark's result prefix, its script and its headline."""
 
 
