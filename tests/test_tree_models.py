@@ -193,6 +193,45 @@ def test_joint_forces_are_mujocos_passive_forces(tmp_path):
         np.testing.assert_allclose(f[i], data.qfrc_passive, rtol=0, atol=64 * EPS * scale, err_msg=f"seed {seed}")
 
 
+def test_case_1_forward_dynamics_with_a_balls_and_a_free_joints_dampers_is_mujocos_in_the_compiled_path(tmp_path):
+    """A damped free root and a sprung, damped ball first to turn its (rotated) body: relacc's case-1 forward
+    dynamics (the kernel, the springs and dampers evaluated in case-2 speeds and carried back by ``[B]^T``, no longer
+    Kane's equations in Python) mapped to MuJoCo's speeds by relacc's conversion, against MuJoCo's ``qacc`` with the
+    same passive forces and gravity. Tolerance: ``M (udot - qacc)`` within ``64 eps depth`` times the terms, as the
+    test above; the conversion's own rounding is within it."""
+    from relacc.dynamics import tree as tree_dynamics_module
+
+    xml = """<mujoco><compiler angle="radian"/><option gravity="0 0 -9.81"/><worldbody>
+      <body name="a" pos="0 0 1"><freejoint name="root"/><inertial pos="0.1 0 0" mass="2" diaginertia=".1 .2 .25"/>
+        <body name="b" pos="0.3 0 0" quat="0.8 0.36 0.48 0"><joint name="ball" type="ball" stiffness="1.5"
+          damping="0.3"/><inertial pos="0.2 0.05 0" mass="1" diaginertia=".05 .06 .07"/>
+          <body name="c" pos="0.4 0 0"><joint name="h" type="hinge" axis="0 0.6 0.8" damping="0.4"/>
+            <inertial pos="0.1 0.1 0" mass="0.5" diaginertia=".01 .02 .025"/></body></body></body>
+    </worldbody></mujoco>"""
+    path = tmp_path / "dampers.xml"
+    path.write_text(xml)
+    tree, model = read_tree(path), mujoco.MjModel.from_xml_path(str(path))
+    model.dof_damping[:6] = 0.15
+    data = mujoco.MjData(model)
+    effects = relacc.TreeEffects(gravity=(0, 0, -9.81), joints={"root": relacc.JointEffect(0, 0.15),
+                                                                "ball": relacc.JointEffect(1.5, 0.3),
+                                                                "h": relacc.JointEffect(0, 0.4)})
+    seed = 21
+    st = random_states(tree, 1, 9, seed)
+    assert tree_dynamics_module._effect_forces(tree, 1, st.q, st.u, effects, 0.0) is not None, "not compiled"
+    a1 = relacc.tree_accelerations(tree, 1, st.q, st.u, effects=effects)
+    q2, u2, a2 = convert(tree, st.q, st.u, a1, source=1, target=2)
+    for i in range(9):
+        data.qpos[:], data.qvel[:] = q2[i], u2[i]
+        mujoco.mj_forward(model, data)
+        M = np.zeros((model.nv, model.nv))
+        full_inertia(model, data, M)
+        terms = np.linalg.norm(M, 2) * np.abs(data.qacc).max() + np.abs(data.qfrc_bias).max() + np.abs(
+            data.qfrc_passive).max()
+        np.testing.assert_allclose(M @ (a2[i] - data.qacc), 0, rtol=0, atol=64 * EPS * max(tree.depth) * terms,
+                                   err_msg=f"seed {seed}, state {i}")
+
+
 def test_a_three_link_arm_built_in_python():
     """A planar three-link arm with hinges about z, against its closed form: mass centre i at
     ``sum_{j<i} l_j e(phi_j) + c_i e(phi_i)`` with ``phi_i = q_1 + ... + q_i``, ``e(phi) = (cos phi, sin phi, 0)``."""

@@ -285,8 +285,9 @@ def tree_accelerations(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, tau
     Args:
         tau: ``(..., nv)`` generalized forces conjugate to ``u`` (N or N m), default zero.
         backend: ``"auto"`` (the compiled kernel of :mod:`relacc.kernels.tree_dynamics`, with the generalized
-            forces of ``effects``' joints and body loads evaluated apart and applied; the reference path where a
-            ball's or free joint's spring or damper acts in case 1 or 3), ``"fast"`` (the kernel, gravity only) or
+            forces of ``effects``' joints and body loads evaluated apart and applied, a ball's or free joint's spring or
+            damper in case 1 through its case-2 speeds; the reference path where such a ball follows a turning
+            joint on its body), ``"fast"`` (the kernel, gravity only) or
             ``"reference"`` (Kane's equations of :func:`tree_dynamics`, solved by Cholesky); they agree to rounding.
             Complex ``q``, ``u`` or ``tau`` (complex-step derivatives) take the reference path whatever ``backend``
             says but ``"fast"``, which refuses them: every path that answers carries the imaginary parts.
@@ -393,19 +394,32 @@ def _angle_rates(tree, q, u, tau, effects, t, backend, out):
 
 def _effect_forces(tree, case, q, u, effects, t):
     """``(..., nv)`` the generalized forces of ``effects``' joint springs and dampers and body loads in the case's
-    speeds, evaluated apart for the compiled kernel (numpy, batched); None where that needs the walk's joint frames (a
-    ball's or free joint's spring or damper in cases 1 and 3, whose case-2 speeds are ``[B] u``).
+    speeds, evaluated apart for the compiled kernel (numpy, batched). A ball's or free joint's spring or damper in
+    case 1 is evaluated at the case-2 speeds ``u2 = [B] u1`` and carried back by ``[B]^T`` (:func:`_case1_map`); None
+    where that needs the walk's joint frames (a ball after a turning joint on its body; case 3, which
+    :func:`tree_accelerations` solves in case-2 speeds).
 
     Loads act at the bodies' mass centres: ``[V_b]^T F + [Omega_b]^T T``, compiled
     (:func:`relacc.kernels.tree_loads.load_forces`); joints' as :func:`joint_forces` (a hinge's or slide's speed is
     the same in every case)."""
     c, q, u, _, batch = inputs(tree, case, q, u, values=False)
     _, joint_effects, loads = effects.resolve(tree)
-    if int(c) != 2 and any(tree.joints[k][1].type in ("ball", "free") for k, _, _ in joint_effects):
+    rotating = any(tree.joints[k][1].type in ("ball", "free") for k, _, _ in joint_effects)
+    maps = _case1_maps(tree) if rotating and int(c) == 1 else None
+    if rotating and int(c) != 2 and maps is None:
         return None
     n = math.prod(batch)
     qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
-    f = joint_forces(tree, qf, uf, effects, joint_effects, case=int(c))
+    if maps is None:
+        f = joint_forces(tree, qf, uf, effects, joint_effects, case=int(c))
+    else:  # in case-2 speeds u2 = [B] u1, then f1 = [B]^T f2 (the power is the same)
+        turns = [(d, _case1_map(qf[:, a:a + 4], Rb)) for d, a, Rb in maps]
+        u2 = np.array(uf, dtype=float)
+        for d, Bt in turns:
+            u2[:, d:d + 3] = np.einsum("nji,nj->ni", Bt, uf[:, d:d + 3])
+        f = joint_forces(tree, qf, u2, effects, joint_effects, case=2)
+        for d, Bt in turns:
+            f[:, d:d + 3] = np.einsum("nij,nj->ni", Bt, f[:, d:d + 3])
     if loads:
         from relacc.kernels.tree_loads import load_forces
 
@@ -415,6 +429,35 @@ def _effect_forces(tree, case, q, u, effects, t):
         torque = s * np.array([load.torque for _, load in loads])
         f += load_forces(tree, int(c), qf, uf, [b for b, _ in loads], force, torque)
     return f.reshape(batch + (tree.nv,))
+
+
+def _case1_maps(tree) -> list | None:
+    """``[(dofadr, qadr, Rb)]`` of every ball's and free joint's rotation for :func:`_case1_map` (``Rb`` the ball's
+    body's fixed orientation in its parent, None for a free joint); None where a ball follows a hinge or a ball on its
+    body (the frame it turns from then moves with that joint: the walk's reference path handles it)."""
+    from relacc.core.rotations import matrix_from_quaternion
+
+    out = []
+    for k, kind, a, d in rotations(tree, 1):
+        if kind == "free":
+            out.append((d, a, None))
+            continue
+        b = tree.joints[k][0]
+        before = tree.body_joints[b][:tree.body_joints[b].index(k)]
+        if any(tree.joints[j][1].type != "slide" for j in before):
+            return None
+        out.append((d, a, matrix_from_quaternion(tree.bodies[b].quat)))
+    return out
+
+
+def _case1_map(quat, Rb) -> np.ndarray:
+    """``[B]^T (n, 3, 3)`` of a ball's or free joint's rotation, ``u2 = [B] u1`` (:func:`relacc.core.tree.walk.
+    angular_map`: ``A1 u1 = A2 u2`` with ``A1 = [R_parent]``, ``A2 = [R_after] = [R_parent][Rb][R_j]`` for a ball
+    first to turn its body, ``A1 = I``, ``A2 = [R_j]`` for a free joint): ``[B]^T = [Rb][R_j]``, or ``[R_j]``."""
+    from relacc.core.rotations import matrix_from_quaternion
+
+    Rj = matrix_from_quaternion(quat)
+    return Rj if Rb is None else Rb @ Rj
 
 
 def _tau(tree, tau, batch, nq) -> tuple[Any, tuple[int, ...]]:
