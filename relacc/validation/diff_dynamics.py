@@ -20,10 +20,11 @@ from collections.abc import Callable
 
 import numpy as np
 
+from relacc.core.conventions import Quantity
 from relacc.core.rotations import quaternion_multiply
 from relacc.core.tolerances import printed_tolerance
 
-QUANTITIES = ("mass matrix", "bias forces", "forward dynamics")
+QUANTITIES = (Quantity.MASS_MATRIX, Quantity.BIAS_FORCES, Quantity.FORWARD_DYNAMICS)
 """The rows of the dynamics comparison, each with its worst state (0: the reference configuration)."""
 
 
@@ -121,8 +122,8 @@ def compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, sta
     depth = max(ta.depth) if ta.depth else 0
     base = printed_tolerance(1 + 2 * np.pi * (depth + 1), rtol)
     rows: list[dict] = []
-    for name, xa, xb in (("mass matrix", Ma, Mb), ("bias forces", fa, fb), ("forward dynamics", fa, fb)):
-        if name == "forward dynamics":
+    for name, xa, xb in zip(QUANTITIES, (Ma, fa, fa), (Mb, fb, fb)):
+        if name is Quantity.FORWARD_DYNAMICS:
             try:
                 xa = np.linalg.solve(Ma, fa[..., None])[..., 0]
                 xb = np.linalg.solve(Mb, fb[..., None])[..., 0]
