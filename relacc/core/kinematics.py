@@ -5,6 +5,7 @@ Entry point: :func:`g2_kinematics`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -175,7 +176,11 @@ def _kernels():
     return kinematics
 
 
-def _flat(a, batch, width):
+def rows_of(a, batch, width):
+    """``a`` as ``(n, width)`` C-contiguous float64 rows of the batch: a view where it already is (the kernels only
+    read their inputs), else a broadcast copy."""
+    if a.dtype == np.float64 and a.flags.c_contiguous and a.shape == batch + (width,):
+        return a.reshape(-1, width)
     return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width), dtype=np.float64)
 
 
@@ -223,7 +228,8 @@ def g2_kinematics(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, ud
     buffers = _kinematics_out(out, batch, udot is not None)
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an InputError
         if path == "fast":
-            flat = [_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), None if udot is None else _flat(udot, batch, 12)]
+            flat = [rows_of(q, batch, q.shape[-1]), rows_of(u, batch, 12),
+                    None if udot is None else rows_of(udot, batch, 12)]
             views = None if buffers is None else tuple(
                 None if b is None else b.reshape((-1,) + b.shape[len(batch):]) for b in buffers)
             (pos, vel, acc, V, Vdot), bad, bad_in = _kernels().kinematics(int(c), *flat, chain.q2, chain.r2,
@@ -277,7 +283,7 @@ def g2_acceleration(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, 
     out = check_out(out, batch + (3,), "out")
     with np.errstate(over="ignore", invalid="ignore"):
         if path == "fast":
-            flat = (_flat(q, batch, q.shape[-1]), _flat(u, batch, 12), _flat(udot, batch, 12))
+            flat = (rows_of(q, batch, q.shape[-1]), rows_of(u, batch, 12), rows_of(udot, batch, 12))
             acc, bad, bad_in = _kernels().acceleration(int(c), *flat, chain.q2, chain.r2,
                                                        out=None if out is None else out.reshape(-1, 3))
             if bad_in:
@@ -324,7 +330,8 @@ def _inputs(chain, case, q, u, udot, printed, backend, need_udot=False, out=None
     per_state = (41 if need_udot else 120) * (1 if path == "fast" else 20)  # doubles: outputs, copies, temporaries
     if out is not None and path == "fast":
         per_state = 38  # the outputs are the caller's: only the inputs' contiguous copies, at most
-    require_memory(8 * per_state * float(np.prod(batch)), f"evaluating {int(np.prod(batch))} states at once",
+    n = math.prod(batch)
+    require_memory(8 * per_state * float(n), f"evaluating {n} states at once",
                    "stream them with relacc.core.stream.iter_g2_kinematics")
     return c, q, u, udot, path, batch
 

@@ -19,6 +19,8 @@ the general tree kernels on this tree (``benchmarks/chain_form.py``), held to Ka
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -146,13 +148,13 @@ def accelerations(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, ef
             return udot
         out[...] = udot
         return out
+    from relacc.core.kinematics import rows_of
     from relacc.kernels import dynamics as kernel
 
-    flat = lambda a, w: np.ascontiguousarray(np.broadcast_to(a, batch + (w,)).reshape(-1, w))  # noqa: E731
-    target = out.reshape(-1, 12) if out is not None else np.empty((int(np.prod(batch)), 12))
+    target = out.reshape(-1, 12) if out is not None else np.empty((math.prod(batch), 12))
     with np.errstate(all="ignore"):
-        bad, suspect = kernel.accelerations(int(c), flat(q, q.shape[-1]), flat(u, 12), kernel.chain_params(chain),
-                                            kernel.effect_params(effects), target)
+        bad, suspect = kernel.accelerations(int(c), rows_of(q, batch, q.shape[-1]), rows_of(u, batch, 12),
+                                            kernel.chain_params(chain), kernel.effect_params(effects), target)
     if suspect:
         check_values()
     if bad:
