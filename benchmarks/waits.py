@@ -36,12 +36,12 @@ def _gymnasium_asset(name: str) -> Path:
     return Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / name
 
 
-def compare_times(repeats: int) -> list[dict]:
-    """Seconds of ``relacc compare FILE --json`` per model, each run a fresh process in an empty directory."""
+def compare_times(repeats: int, also: list[Path] = ()) -> list[dict]:
+    """Seconds of ``relacc compare PATH --json`` per model (and per ``also``: a file, or a directory whose files are
+    compared in one process, its per-file time given too), each run a fresh process in an empty directory."""
     relacc = str(Path(sys.executable).with_name("relacc"))
     rows = []
-    for name in MODELS:
-        path = _gymnasium_asset(name)
+    for name, path in [(f"gymnasium {m}", _gymnasium_asset(m)) for m in MODELS] + [(str(p), p) for p in also]:
         times, code = [], None
         with tempfile.TemporaryDirectory(prefix="relacc-waits-") as tmp:
             subprocess.run([relacc, "compare", str(path), "--json"], cwd=tmp, capture_output=True)  # warm-up
@@ -51,8 +51,12 @@ def compare_times(repeats: int) -> list[dict]:
                 times.append(time.perf_counter() - start)
                 code = done.returncode
             left = os.listdir(tmp)
-        rows.append({"model": f"gymnasium {name}", "exit": code, "median_s": round(statistics.median(times), 2),
-                     "best_s": round(min(times), 2), "left_in_directory": left})
+        row = {"model": name, "exit": code, "median_s": round(statistics.median(times), 2),
+               "best_s": round(min(times), 2), "left_in_directory": left}
+        if path.is_dir():
+            files = len(json.loads(done.stdout))
+            row.update(files=files, median_s_per_file=round(statistics.median(times) / files, 2))
+        rows.append(row)
     return rows
 
 
@@ -80,13 +84,18 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description="time where a user waits: compare, and each engine's scene runs")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--json", type=Path, help="write the record here")
+    parser.add_argument("--also", type=Path, action="append", default=[],
+                        help="a model file or a directory of them to time too (repeatable), e.g. gymnasium-robotics' "
+                             "Shadow hand from scripts/corpus.py's cache")
     args = parser.parse_args(argv)
     record = {"what": "where a user waits: relacc compare as a command, each engine's run of the chain scenes",
               "date": time.strftime("%Y-%m-%d"), "cpu": cpu_model(), "logical_cpus": os.cpu_count(),
               "python": sys.version.split()[0], "relacc_commit": source_commit(),
-              "compare": compare_times(args.repeats), "simulate": simulate_times(args.repeats)}
+              "compare": compare_times(args.repeats, args.also), "simulate": simulate_times(args.repeats)}
     for r in record["compare"]:
-        print(f"compare {r['model']:24s} median {r['median_s']:6.2f} s  best {r['best_s']:6.2f} s  exit {r['exit']}")
+        per = f"  ({r['files']} files, {r['median_s_per_file']:.2f} s a file)" if "files" in r else ""
+        print(f"compare {r['model']:24s} median {r['median_s']:6.2f} s  best {r['best_s']:6.2f} s  exit {r['exit']}"
+              + per)
     for r in record["simulate"]:
         print(f"simulate {r['scene']:16s} {r['engine']:10s} {r['steps']:6d} steps  {r['best_s']:7.3f} s")
     if args.json:

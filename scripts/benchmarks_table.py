@@ -117,7 +117,9 @@ def _first_run(d) -> str:
 
 
 def _waits(d) -> str:
-    calls = ", ".join(f"{r['model'].split()[-1]} {r['median_s']:.1f} s" for r in d["compare"])
+    calls = ", ".join(f"{Path(r['model'].split()[-1]).name} {r['median_s']:.1f} s"
+                      + (f" ({r['files']} files, {r['median_s_per_file']:.2f} s a file)" if "files" in r else "")
+                      for r in d["compare"])
     slow = max(d["simulate"], key=lambda r: r["best_s"])
     return (f"relacc compare as a command: {calls} (median); slowest engine run of a chain scene: {slow['engine']} "
             f"{slow['scene']} {slow['best_s']:.1f} s ({slow['steps']} steps)")
