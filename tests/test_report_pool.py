@@ -78,7 +78,7 @@ def test_the_estimate_is_the_expected_rest_scaled_by_how_the_phases_since_the_fi
     count."""
     now = [100.0]
     said: list = []
-    est = pool.Estimate(said.append, total=10.0, first=2.0, clock=lambda: now[0])
+    est = pool.Estimate(said.append, first=2.0, rest=8.0, clock=lambda: now[0])
     est("start")
     now[0] = 150.0
     est.add(2.0)  # the first phase: 50 s, compiling

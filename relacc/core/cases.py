@@ -20,6 +20,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import enum
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -244,3 +245,13 @@ def check_int(name: str, value, minimum: int | None = None) -> int:
     if minimum is not None and value < minimum:
         raise InputError(f"{name}: must be at least {minimum}, got {value}")
     return int(value)
+
+
+def batch_rows(a, batch: tuple[int, ...], width: int, dtype=None) -> np.ndarray:
+    """``a`` broadcast to ``batch + (width,)`` as a C-contiguous ``(n, width)`` array (of ``dtype`` if given): a view
+    where ``a`` already is one (the kernels only read their inputs), else a copy."""
+    n = math.prod(batch)  # explicit: a width of 0 (a tree where nothing moves) leaves -1 undefined
+    if (isinstance(a, np.ndarray) and a.shape == batch + (width,) and a.flags.c_contiguous
+            and (dtype is None or a.dtype == dtype)):
+        return a.reshape(n, width)
+    return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(n, width), dtype=dtype)

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from relacc.core.cases import Case, as_case, check_q, check_u
+from relacc.core.cases import Case, as_case, batch_rows, check_q, check_u
 from relacc.core.chain import TwoBodyChain
 from relacc.core.note import case1, case2, case3
 from relacc.core.note.common import assemble, configuration, position
@@ -176,14 +176,6 @@ def _kernels():
     return kinematics
 
 
-def rows_of(a, batch, width):
-    """``a`` as ``(n, width)`` C-contiguous float64 rows of the batch: a view where it already is (the kernels only
-    read their inputs), else a broadcast copy."""
-    if a.dtype == np.float64 and a.flags.c_contiguous and a.shape == batch + (width,):
-        return a.reshape(-1, width)
-    return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(-1, width), dtype=np.float64)
-
-
 def g2_kinematics(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, udot: ArrayLike | None = None, *,
                   variant: str | Iterable[str] = "corrected", backend: str = "auto", out: Sequence | None = None
                   ) -> G2Kinematics:
@@ -228,8 +220,8 @@ def g2_kinematics(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, ud
     buffers = _kinematics_out(out, batch, udot is not None)
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below, as an InputError
         if path == "fast":
-            flat = [rows_of(q, batch, q.shape[-1]), rows_of(u, batch, 12),
-                    None if udot is None else rows_of(udot, batch, 12)]
+            flat = [batch_rows(q, batch, q.shape[-1], np.float64), batch_rows(u, batch, 12, np.float64),
+                    None if udot is None else batch_rows(udot, batch, 12, np.float64)]
             views = None if buffers is None else tuple(
                 None if b is None else b.reshape((-1,) + b.shape[len(batch):]) for b in buffers)
             (pos, vel, acc, V, Vdot), bad, bad_in = _kernels().kinematics(int(c), *flat, chain.q2, chain.r2,
@@ -283,7 +275,8 @@ def g2_acceleration(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, 
     out = check_out(out, batch + (3,), "out")
     with np.errstate(over="ignore", invalid="ignore"):
         if path == "fast":
-            flat = (rows_of(q, batch, q.shape[-1]), rows_of(u, batch, 12), rows_of(udot, batch, 12))
+            flat = (batch_rows(q, batch, q.shape[-1], np.float64), batch_rows(u, batch, 12, np.float64),
+                    batch_rows(udot, batch, 12, np.float64))
             acc, bad, bad_in = _kernels().acceleration(int(c), *flat, chain.q2, chain.r2,
                                                        out=None if out is None else out.reshape(-1, 3))
             if bad_in:

@@ -24,7 +24,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from relacc.core.cases import Case, as_case, check_q, check_u
+from relacc.core.cases import Case, as_case, batch_rows, check_q, check_u
 from relacc.core.chain import TwoBodyChain
 from relacc.core.kinematics import check_finite_result, check_out
 from relacc.core.speeds import check_invertible
@@ -148,12 +148,12 @@ def accelerations(chain: TwoBodyChain, case: int, q: ArrayLike, u: ArrayLike, ef
             return udot
         out[...] = udot
         return out
-    from relacc.core.kinematics import rows_of
     from relacc.kernels import dynamics as kernel
 
     target = out.reshape(-1, 12) if out is not None else np.empty((math.prod(batch), 12))
     with np.errstate(all="ignore"):
-        bad, suspect = kernel.accelerations(int(c), rows_of(q, batch, q.shape[-1]), rows_of(u, batch, 12),
+        bad, suspect = kernel.accelerations(int(c), batch_rows(q, batch, q.shape[-1], np.float64),
+                                            batch_rows(u, batch, 12, np.float64),
                                             kernel.chain_params(chain), kernel.effect_params(effects), target)
     if suspect:
         check_values()

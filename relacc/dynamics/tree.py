@@ -27,12 +27,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from relacc.core.cases import Case, as_case
+from relacc.core.cases import Case, as_case, batch_rows
 from relacc.core.kinematics import check_finite_result
 from relacc.core.rotations import quaternion_from_123, tilde
 from relacc.core.so3 import SO3
 from relacc.core.tree.coordinates import check_invertible, rotations
-from relacc.core.tree.kinematics import flat, inputs
+from relacc.core.tree.kinematics import inputs
 from relacc.core.tree.model import NQ, NQ_ANGLES, NV, Tree
 from relacc.core.tree.walk import mv, walk
 from relacc.dynamics.tree_effects import NO_EFFECTS, TreeEffects
@@ -244,7 +244,7 @@ def tree_dynamics(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, effects:
                        "(relacc.tree_accelerations solves in case-2 speeds instead)")
     tt = _flat_time(t, batch)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, in one sentence
-        M, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt)
+        M, f = equations(tree, c, batch_rows(q, batch, q.shape[-1]), batch_rows(u, batch, tree.nv), effects, tt)
     check_finite_result((M, f), q, u, model=_model_magnitude(tree))
     M, f = M.reshape(batch + (tree.nv, tree.nv)), f.reshape(batch + (tree.nv,))
     M.setflags(write=False)
@@ -261,7 +261,8 @@ def generalized_forces(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, *, eff
     nb, nv = (tree.nb, tree.nv) if isinstance(tree, Tree) else (0, 0)
     c, q, u, _, batch = inputs(tree, case, q, u, bytes_per_state=8.0 * (4 * nb * 3 * nv * 3), what="the forces of")
     tt = _flat_time(t, batch)
-    _, f = equations(tree, c, flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), effects, tt, active_only=True)
+    _, f = equations(tree, c, batch_rows(q, batch, q.shape[-1]), batch_rows(u, batch, tree.nv), effects, tt,
+                     active_only=True)
     return f.reshape(batch + (tree.nv,))
 
 
@@ -368,9 +369,9 @@ def _angle_rates(tree, q, u, tau, effects, t, backend, out):
     warn_near_lock(tree, q, "its rates' accelerations carry relative errors up to about {err:.2g} times the mass "
                    "matrix's condition number", stacklevel=3)
     n = math.prod(batch)
-    qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
+    qf, uf = batch_rows(q, batch, q.shape[-1]), batch_rows(u, batch, tree.nv)
     u2 = np.array(uf)
-    tau2 = None if tau is None else np.array(flat(tau, batch, tree.nv))
+    tau2 = None if tau is None else np.array(batch_rows(tau, batch, tree.nv))
     maps = []
     for _, _, a, d in rotations(tree, 3):
         W, W_dot = w123_body(qf[:, a:a + 3], uf[:, d:d + 3])
@@ -409,7 +410,7 @@ def _effect_forces(tree, case, q, u, effects, t):
     if rotating and int(c) != 2 and maps is None:
         return None
     n = math.prod(batch)
-    qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
+    qf, uf = batch_rows(q, batch, q.shape[-1]), batch_rows(u, batch, tree.nv)
     if maps is None:
         f = joint_forces(tree, qf, uf, effects, joint_effects, case=int(c))
     else:  # in case-2 speeds u2 = [B] u1, then f1 = [B]^T f2 (the power is the same)
@@ -505,8 +506,8 @@ def _fast(tree, case, q, u, tau, effects, out):
     gravity = tree.gravity if effects is None or effects.gravity is None else effects.gravity
     n = math.prod(batch)
     flat_out = None if out is None else out.reshape(n, tree.nv)
-    res, bad_in, singular, ill = kernel.accelerations(tree, c, flat(q, batch, q.shape[-1]),
-                                                      flat(u, batch, tree.nv), flat(tau, batch, tree.nv),
+    res, bad_in, singular, ill = kernel.accelerations(tree, c, batch_rows(q, batch, q.shape[-1]),
+                                                      batch_rows(u, batch, tree.nv), batch_rows(tau, batch, tree.nv),
                                                       np.asarray(gravity, dtype=float), flat_out)
     if bad_in:
         inputs(tree, c, q, u)  # raises, naming the bad entry
@@ -514,7 +515,7 @@ def _fast(tree, case, q, u, tau, effects, out):
         warn_ill_conditioned(ill, n, stacklevel=3)
     bad = () if np.isfinite(res).all() else np.flatnonzero(~np.all(np.isfinite(res), axis=1))
     if len(bad):  # a non-positive pivot (NaN rows) or an overflow: the reference path says which, or answers
-        qs, us, ts = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv), flat(tau, batch, tree.nv)
+        qs, us, ts = batch_rows(q, batch, q.shape[-1]), batch_rows(u, batch, tree.nv), batch_rows(tau, batch, tree.nv)
         d = tree_dynamics(tree, c, qs[bad], us[bad], effects=effects)
         res[bad] = solve(tree, d.M, np.array(d.f) + ts[bad])  # raises SingularityError naming the speeds
         check_finite_result((res,), q, u, model=_model_magnitude(tree))

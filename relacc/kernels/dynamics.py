@@ -493,9 +493,9 @@ else:  # pragma: no cover - exercised only without numba
         return out
 
 
-US_PER_STATE = 0.25
-"""Microseconds of :func:`accelerations`' work a state on one thread (0.12-0.25 in ``chain-form-2026-11-29-run1``,
-the largest case), what :func:`relacc.kernels.jit.parallel_pays` weighs."""
+US_PER_STATE = 0.15
+"""Microseconds of :func:`accelerations`' work a state on one thread, what :func:`relacc.kernels.jit.parallel_pays`
+weighs: 0.063-0.153 over a batch in ``chain-form-2026-11-29-run2`` to ``run4``, the slowest case."""
 
 
 def accelerations(case, q, u, cp, ep, out) -> tuple[int, int]:

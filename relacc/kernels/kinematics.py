@@ -137,10 +137,9 @@ if HAVE_NUMBA:
         return nb, nb_in
 
 
-ACC_US_PER_STATE, FULL_US_PER_STATE = 0.05, 0.3
-"""Microseconds of work a state on one thread of the acceleration alone and of every output (the throughput
-benchmark's order of magnitude on this project's 2-core machine), what :func:`relacc.kernels.jit.parallel_pays`
-weighs."""
+ACC_US_PER_STATE, FULL_US_PER_STATE = 0.07, 0.15
+"""Microseconds of work a state on one thread of the acceleration alone and of every output, what
+:func:`relacc.kernels.jit.parallel_pays` weighs: 0.062-0.080 and 0.133-0.168 in ``kernels-ab-2026-11-29-run1``."""
 
 
 def _run(loop, args: tuple, us_per_state: float) -> tuple[int, int]:

@@ -101,18 +101,6 @@ def libm_columns(q, i0, i1, tr):
 
 
 @jitable
-def block_trig_table(case, q, i0, i1):
-    """The trigonometry of states ``i0 .. i1-1`` for :func:`trig_in`: :func:`block_trig`, then
-    :func:`libm_columns` when an angle is beyond :data:`relacc.kernels.trig.LIMIT`; a dummy in cases 1-2."""
-    if case != 3:
-        return np.empty((13, 1))
-    tr = np.empty((13, TRIG_BLOCK))
-    if block_trig(q, i0, i1, tr):
-        libm_columns(q, i0, i1, tr)
-    return tr
-
-
-@jitable
 def rotations(case, q, t):
     """``C1 = [R_B1]^T`` and ``M = [^{B2}R_{B1}]`` from quaternions (cases 1-2) or 1-2-3 angles (case 3)."""
     if case == 3:

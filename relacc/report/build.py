@@ -129,10 +129,6 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
     plan = QUICK_PHASES if quick else PHASES
     procs = plan["parallel"] if second else 1.0  # how many times faster the jobs go
     first = plan["first"] if second else plan["first_alone"]
-    estimate = None if progress is None else pool.Estimate(progress, 0.0, first)
-    progress = estimate
-    harness = Harness(fixture, n_states=n, seed=seed, progress=progress)
-    say = progress or (lambda _: None)
     profile = tradeoff_mod.QUICK if quick else tradeoff_mod.REPORT
     examples = QUICK_EXAMPLES if quick else DEFAULT_EXAMPLES
     scene_files, sweep_files = shipped.scene_paths("chain"), tradeoff_mod.scene_paths(profile)
@@ -148,13 +144,9 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
                       sweep_cost.get(p.stem, 2.0)) for p in sweep_files]
     got: dict[str, Any] = {}
     work = sum(j.cost for j in jobs + searches) * plan["job_scale"]  # seconds of the jobs on one process
-
-    def done(seconds: float) -> None:
-        if estimate is not None:
-            estimate.add(seconds)
-
-    if estimate is not None:
-        estimate.total = first + plan["benchmarks"] + work / procs + plan["page" if second else "page_alone"]
+    say = pool.Estimate(progress or (lambda _: None), first, plan["benchmarks"] + work / procs
+                        + plan["page" if second else "page_alone"])
+    harness = Harness(fixture, n_states=n, seed=seed, progress=None if progress is None else say)
     with pool.Processes(second) as processes:
         # the second process compiles (or loads) the scenes' and the batched benchmark's kernels while this one does
         # the throughput benchmark's and the batched forward dynamics' (the second finds them in the cache when it
@@ -174,10 +166,8 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
                 say(job.label)
                 got[job.label] = job.fn(*job.args)
             warm.result()
-        done(first)
-        if estimate is not None:  # the searches done while the other warmed up are not left
-            searched = sum(j.cost for j in searches if j.label in got) * plan["job_scale"]
-            estimate.total -= searched / procs
+        say.add(first)
+        say.drop(sum(j.cost for j in searches if j.label in got) * plan["job_scale"] / procs)  # done while warming
         n_bench, repeats = QUICK_BENCH if quick else DEFAULT_BENCH
         say(f"throughput, {n_bench} states per case")
         throughput = run_benchmark(n_bench, repeats, seed, fixture)
@@ -186,15 +176,15 @@ def build_context(n_states: int | None = None, seed: int = 0, quick: bool = Fals
         batched_result = batched.run(fixture, batched.tumbling(sizes["duration"], fixture), seed=seed,
                                      n_states=int(sizes["n_states"]), n_steps=int(sizes["n_steps"]),
                                      members=int(sizes["members"]), repeats=int(sizes["repeats"]))
-        done(plan["benchmarks"])
+        say.add(plan["benchmarks"])
         rest = [j for j in jobs + searches if j.label not in got]
         known = {"check": check, "errata": items, "throughput": throughput, "batched": batched_result}
         if hard_job.label in got and search_job.label in got:  # both done here
             known.update(hard=got[hard_job.label], worst=got[search_job.label])
         drawn: dict[str, Any] = {}
         got.update(zip((j.label for j in rest), processes.run(
-            rest, progress=progress, idle=[pool.Job("the sections drawn so far", draw_ready, (known, drawn))],
-            finished=lambda job: done(job.cost * plan["job_scale"] / procs))))
+            rest, progress=say, idle=[pool.Job("the sections drawn so far", draw_ready, (known, drawn))],
+            finished=lambda job: say.add(job.cost * plan["job_scale"] / procs))))
     say("the page")
     simulations = [got[j.label] for j in jobs[:len(scene_files)]]
     sweeps = [got[j.label] for j in jobs[len(scene_files):]]

@@ -41,15 +41,15 @@ class Estimate:
     """A run's progress messages with the time so far and an estimate of what is left: ``say(label)`` becomes
     ``say("label  [12 s; about 18 s left]")``.
 
-    ``total`` is the run's expected seconds on this project's 2-core machine with its kernels compiled, ``done`` the
-    expected seconds of the phases finished so far (:meth:`add`). Until the first phase is done (``first`` expected
-    seconds: where kernels are compiled or loaded) what is left is the expected rest; after it, the expected rest
-    scaled by how much longer or shorter the phases since took than expected, so that a slower or busier machine gets
-    a longer estimate and a first run's compiling does not count against the rest."""
+    The run's expected seconds on this project's 2-core machine with its kernels compiled are ``first`` (the first
+    phase: where kernels are compiled or loaded) and ``rest`` (the phases after it); ``done`` is the expected seconds
+    of the phases finished so far (:meth:`add`). Until the first phase is done what is left is the expected rest of
+    the run; after it, that rest scaled by how much longer or shorter the phases since took than expected, so that a
+    slower or busier machine gets a longer estimate and a first run's compiling does not count against the rest."""
 
     say: Callable[[str], object]
-    total: float
     first: float
+    rest: float
     done: float = 0.0
     clock: Callable[[], float] = time.perf_counter
     start: float = -1.0  # the clock when made (default)
@@ -67,10 +67,15 @@ class Estimate:
             if self._calibrated is None and self.done >= self.first - 1e-9:
                 self._calibrated = (self.clock(), self.done)
 
+    def drop(self, seconds: float) -> None:
+        """``seconds`` of the expected rest that will not be run after all (done in the first phase); thread-safe."""
+        with self._lock:
+            self.rest -= seconds
+
     def left(self) -> float:
         """Seconds expected to be left."""
         with self._lock:
-            rest, mark = max(self.total - self.done, 0.0), self._calibrated
+            rest, mark = max(self.first + self.rest - self.done, 0.0), self._calibrated
             if mark is None:
                 return rest
             spent, expected = self.clock() - mark[0], self.done - mark[1]

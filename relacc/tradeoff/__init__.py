@@ -11,17 +11,17 @@ engines' adapters (:mod:`relacc.engines`), never an engine's own package, the re
 """
 
 from relacc.tradeoff.study import (
-                                   FULL,
-                                   QUICK,
-                                   REPORT,
-                                   Tradeoff,
-                                   assemble,
-                                   derivative_sweep,
-                                   format_text,
-                                   pareto,
-                                   run,
-                                   scene_paths,
-                                   scene_sweep,
+    FULL,
+    QUICK,
+    REPORT,
+    Tradeoff,
+    assemble,
+    derivative_sweep,
+    format_text,
+    pareto,
+    run,
+    scene_paths,
+    scene_sweep,
 )
 
 __all__ = ["FULL", "QUICK", "REPORT", "Tradeoff", "assemble", "derivative_sweep", "format_text", "pareto", "run",

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from relacc.core.cases import as_case
+from relacc.core.cases import as_case, batch_rows
 from relacc.core.tree.coordinates import check_q, check_u
 from relacc.core.tree.model import Tree
 from relacc.core.tree.walk import cross_columns, mv, walk
@@ -160,14 +160,6 @@ def inputs(tree, case, q, u, udot=None, *, need_udot=False, values=True, bytes_p
     return c, q, u, udot, batch
 
 
-def flat(a, batch, width):
-    """``a`` broadcast to ``batch + (width,)`` as a C-contiguous ``(n, width)`` array."""
-    n = math.prod(batch)  # explicit: a width of 0 (a tree where nothing moves) leaves -1 undefined
-    if isinstance(a, np.ndarray) and a.shape == batch + (width,) and a.flags.c_contiguous:
-        return a.reshape(n, width)
-    return np.ascontiguousarray(np.broadcast_to(a, batch + (width,)).reshape(n, width))
-
-
 BACKENDS = ("auto", "fast", "reference")
 
 
@@ -215,8 +207,8 @@ def tree_kinematics(tree: Tree, case: int, q: ArrayLike, u: ArrayLike, udot: Arr
     if out is not None and not fast:
         raise InputError("out= is for the fast backend (real inputs)")
     n = math.prod(batch)
-    qf, uf = flat(q, batch, q.shape[-1]), flat(u, batch, tree.nv)
-    udf = None if udot is None else flat(udot, batch, tree.nv)
+    qf, uf = batch_rows(q, batch, q.shape[-1]), batch_rows(u, batch, tree.nv)
+    udf = None if udot is None else batch_rows(udot, batch, tree.nv)
     if not isinstance(partials, (bool, np.bool_)):
         raise InputError(f"partials: expected True or False, got {partials!r:.40}")
     if fast:
