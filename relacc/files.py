@@ -407,18 +407,13 @@ def terminate_as_interrupt():
     except ValueError:  # not the main thread: leave signals alone
         yield
         return
-    PENDING[0] = None
     unraisable = sys.unraisablehook
-
-    def quiet(info):  # the interrupt lost in a callback is pending, not news: no "Exception ignored" lines
-        if not (isinstance(info.exc_value, KeyboardInterrupt) and PENDING[0] is not None):
-            unraisable(info)
-
-    sys.unraisablehook = quiet
+    sys.unraisablehook = quiet_unraisable(unraisable)
     pending = _PendingFilter()
     for name in QUIET_LOGGERS:
         logging.getLogger(name).addFilter(pending)
     try:
+        check_interrupt()  # one that came before the block (relacc's entry records it too) and was lost on the way
         yield
     finally:
         sys.unraisablehook = unraisable
@@ -426,6 +421,16 @@ def terminate_as_interrupt():
             logging.getLogger(name).removeFilter(pending)
         for sig, old in previous.items():
             signal.signal(sig, old)
+
+
+def quiet_unraisable(unraisable):
+    """``sys.unraisablehook`` that passes everything to ``unraisable`` but the :class:`KeyboardInterrupt` of a pending
+    interrupt (:data:`PENDING`): lost in a callback or a finalizer, it is not news, the command's one line is."""
+    def quiet(info):
+        if not (isinstance(info.exc_value, KeyboardInterrupt) and PENDING[0] is not None):
+            unraisable(info)
+
+    return quiet
 
 
 QUIET_LOGGERS = ("drake",)

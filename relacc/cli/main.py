@@ -22,6 +22,8 @@ import sys
 import warnings
 from pathlib import Path
 
+from relacc import files
+
 INTERNAL = 3
 """The exit code of an internal error: never 0 or 1, which are verdicts, nor 2, which is the user's input."""
 
@@ -34,7 +36,6 @@ def main(argv=None) -> int:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:  # --help, --version (0) and usage errors (2, one line already printed)
         return exc.code if isinstance(exc.code, int) else 2
-    from relacc import files
     from relacc.cli import commands
     from relacc.cli.progress import compile_notice, end_line
     from relacc.errors import RelaccError
@@ -151,15 +152,18 @@ def entry() -> None:
     SIGINT and SIGTERM are taken from this function's first instruction to the process's last: before the command
     starts (the parser, the imports) they interrupt it as :class:`KeyboardInterrupt`, one line and exit 130; once
     it has ended, output is flushed and the process exits at once (``os._exit``: no interpreter teardown, in which a
-    signal would end it silently), a signal in between giving the same one line and 130. After an error or an
-    interrupt relacc has said what happened in one line; what libraries still print while the process winds down
-    (Dask's own handlers closing a cluster that was still starting) is not the user's news."""
+    signal would end it silently), a signal in between giving the same one line and 130. An interrupt a finalizer or
+    a library's callback drops before the command's own handling starts stays pending (:data:`relacc.files.PENDING`,
+    its "Exception ignored" report kept off stderr) and is raised as the command starts, before any file is written.
+    After an error or an interrupt relacc has said what happened in one line; what libraries still print while the
+    process winds down (Dask's own handlers closing a cluster that was still starting) is not the user's news."""
     import signal
 
     state = {"running": True, "said": False}  # one handler for the whole process: no moment without one
 
     def handler(signum, frame):
         if state["running"]:  # the command (or its start) is under way: unwind it, then one line
+            files.PENDING[0] = signum  # kept, should a finalizer or a callback drop the exception (files.PENDING)
             raise KeyboardInterrupt(f"signal {signum}")
         os._exit(130 if state["said"] else _say_interrupted(name))  # it has ended: nothing more to unwind
 
@@ -167,6 +171,7 @@ def entry() -> None:
     for sig in (signal.SIGINT, signal.SIGTERM):
         if signal.getsignal(sig) is not signal.SIG_IGN:  # a signal the parent ignores (a background job) stays so
             signal.signal(sig, handler)
+    sys.unraisablehook = files.quiet_unraisable(sys.unraisablehook)
     try:
         name = f"relacc {sys.argv[1]}" if len(sys.argv) > 1 and not sys.argv[1].startswith("-") else name
         code = main()
