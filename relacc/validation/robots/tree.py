@@ -15,6 +15,8 @@ exactly as the engines' adapters map theirs.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from relacc.core.cases import Case
@@ -44,6 +46,7 @@ class TreeRobot:
         self.warnings: list[str] = list(reading.notes)
         self.links = {self.tree.bodies[b].name: members for b, members in groups(self.tree).items()}
         self._mapped: tuple | None = None  # the last states' map: dynamics and kinematics take the same states
+        self._answers: dict = {}  # the last states' answers: a comparison asks the reference once per engine
 
     def _match(self, reference) -> tuple[np.ndarray, np.ndarray]:
         """``(dofs, qdofs)``: the reference's speeds and positions of this tree's joints (by name, in order): a reading
@@ -77,6 +80,20 @@ class TreeRobot:
         """``(nq,)`` the reference configuration (hinges and slides at ``ref``, balls at identity, free bodies as
         placed: MuJoCo's ``qpos0``)."""
         return reference_q(self.tree, 2)
+
+    def _once(self, what, arrays, make):
+        """``make()``, or its answer for the same ``what`` at the same state arrays, kept read-only until the
+        states change: a comparison asks the reference the same question once per engine and per case."""
+        key = (what, *((a.shape, a.tobytes()) for a in arrays))
+        if key not in self._answers:
+            if len(self._answers) > 8:
+                self._answers.clear()
+            answer = make()
+            for a in dataclasses.astuple(answer):
+                if isinstance(a, np.ndarray):
+                    a.flags.writeable = False
+            self._answers[key] = answer
+        return self._answers[key]
 
     def _map(self, q, v):
         """``(q_c, u_c, T (n, nv, nv), T_dot v (n, nv))``: states ``(n, nq)``, ``(n, nv)`` in the case's coordinates
@@ -114,19 +131,27 @@ class TreeRobot:
         """:class:`Dynamics` at states ``q (n, nq)``, ``v (n, nv)`` (case 2; one state: no batch axis)."""
         one = np.ndim(q) == 1
         q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
+        return first(self._once("dynamics", (q, v), lambda: self._dynamics(q, v)), one)
+
+    def _dynamics(self, q, v) -> Dynamics:
         q_c, u_c, T, Tdv = self._map(*self._own(q, v))
-        d = tree_dynamics(self.tree, self.case, q_c, u_c)
-        rest = tree_dynamics(self.tree, self.case, q_c, np.zeros_like(u_c))
+        n = len(q_c)
+        # the states and the same states at rest (the gravity terms) in one evaluation
+        d = tree_dynamics(self.tree, self.case, np.concatenate([q_c, q_c]), np.concatenate([u_c, np.zeros_like(u_c)]))
         try:
             forward = tree_accelerations(self.tree, self.case, q_c, u_c)
         except RelaccError:  # a singular M: the comparison solves the shared speeds itself and says so
             forward = np.full(u_c.shape, np.nan)
-        return first(mapped_dynamics(d.M, d.f, rest.f, forward, T, Tdv), one)
+        return mapped_dynamics(d.M[:n], d.f[:n], d.f[n:], forward, T, Tdv)
 
     def kinematics(self, q, v, a, links) -> Points:
         """:class:`Points` ``(n, L, ...)`` of the named links' mass centres (one state: ``(L, ...)``)."""
         one = np.ndim(q) == 1
         q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
+        return first(self._once(("kinematics", tuple(links)), (q, v, a), lambda: self._kinematics(q, v, a, links)),
+                     one)
+
+    def _kinematics(self, q, v, a, links) -> Points:
         q, v = self._own(q, v)
         a = a if self.reference is self.tree else a[:, self.dofs]
         q_c, u_c, T, Tdv = self._map(q, v)
@@ -144,4 +169,4 @@ class TreeRobot:
             Jdv[:, i] = (np.einsum("nkj,nj->nk", np.einsum("b,nbkj->nkj", w, k.required("Vdot")[:, bodies]), u_c)
                          + np.einsum("nkj,nj->nk", Vc, Tdv))
             acc[:, i] = np.einsum("b,nbk->nk", w, k.required("acceleration")[:, bodies])
-        return first(Points(pos, J, None, Jdv, acc), one)
+        return Points(pos, J, None, Jdv, acc)
