@@ -369,6 +369,7 @@ class Adapter(abc.ABC):
         self.qdofs = np.array(sorted(i for m in self.matches for i in m.ref_q), dtype=int)
         self.extra_dofs = self.nv_e - len(self.dofs)
         self._joint_plan: tuple | None = None  # (effects, resolved joint effects, matches): see _joint_forces
+        self.answers = Answers()
 
     # --- what each engine implements -------------------------------------------------------------------------
 
@@ -602,26 +603,36 @@ class Adapter(abc.ABC):
     def dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
         """:class:`Dynamics` at reference states ``q (n, nq)``, ``v (n, nv)`` (or one state, ``(nq,)``, ``(nv,)``:
         then without the batch axis; speeds the engine lacks: zero), the model's own gravity as the engine read it
-        and nothing else."""
+        and nothing else; read-only, and evaluated once for the same states (:class:`Answers`)."""
         one = np.ndim(q) == 1
+        q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
+        return first(self.answers("dynamics", (q, v), lambda: self._dynamics(q, v)), one)
+
+    def _dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
         x = self.to_engine(q, v)
         qe, ve, T, Td = x.q, x.v, x.T, x.T_dot
         Me, fe = self.equations(qe, ve)
         _, ge = self.equations(qe, np.zeros_like(ve))
-        Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
+        Tdv = np.einsum("nij,nj->ni", Td, v[:, self.dofs])
         forward = self.forward(qe, ve) if self.extra_dofs == 0 else None
-        return first(mapped_dynamics(Me, fe, ge, forward, T, Tdv), one)
+        return mapped_dynamics(Me, fe, ge, forward, T, Tdv)
 
     def kinematics(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, links: Sequence[str]) -> Points:
         """Each named link's centre of mass at reference states ``q (n, nq)``, ``v (n, nv)``, rates ``a (n, nv)``, over
-        the shared speeds: :class:`Points` ``(n, L, ...)`` (one state: ``(L, ...)``), ``J_dot v`` included."""
+        the shared speeds: :class:`Points` ``(n, L, ...)`` (one state: ``(L, ...)``), ``J_dot v`` included; read-only,
+        and evaluated once for the same states (:class:`Answers`)."""
         one = np.ndim(q) == 1
+        q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
+        return first(self.answers(("kinematics", tuple(links)), (q, v, a), lambda: self._kinematics(q, v, a, links)),
+                     one)
+
+    def _kinematics(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, links: Sequence[str]) -> Points:
         x = self.to_engine(q, v, a)
         qe, ve, ae, T, Td = x.q, x.v, x.a, x.T, x.T_dot
         p = self.points(qe, ve, ae, [com(name) for name in links])
-        Tdv = np.einsum("nij,nj->ni", Td, np.atleast_2d(np.asarray(v, dtype=float))[:, self.dofs])
-        return first(Points(p.position, p.J @ T[:, None], None, p.Jdot_v + np.einsum("nlij,nj->nli", p.J, Tdv),
-                             p.acceleration), one)
+        Tdv = np.einsum("nij,nj->ni", Td, v[:, self.dofs])
+        return Points(p.position, p.J @ T[:, None], None, p.Jdot_v + np.einsum("nlij,nj->nli", p.J, Tdv),
+                      p.acceleration)
 
 
 def mapped_dynamics(M, f, g, forward, T, Tdv) -> Dynamics:
@@ -634,6 +645,31 @@ def mapped_dynamics(M, f, g, forward, T, Tdv) -> Dynamics:
     if forward is not None:
         forward = np.linalg.solve(T, (forward - Tdv)[..., None])[..., 0]
     return Dynamics(Tt @ M @ T, bias, np.einsum("nij,nj->ni", Tt, -g), forward)
+
+
+class Answers:
+    """An evaluator's last answers (a :class:`Dynamics` or :class:`Points`) by question and state arrays: a comparison
+    asks each evaluator the same question at the same states once per engine, case and pair of the referee. Called as
+    ``answers(what, arrays, make)``: ``make()``'s answer, its arrays made read-only, or the one kept for the same
+    ``what`` and arrays (compared by shape and bytes). An evaluator's model never changes after it is made, so an
+    answer stays right; at most :attr:`SIZE` are kept."""
+
+    SIZE = 8
+
+    def __init__(self):
+        self._kept: dict = {}
+
+    def __call__(self, what, arrays: tuple, make):
+        key = (what, *((a.shape, a.tobytes()) for a in arrays))
+        if key not in self._kept:
+            if len(self._kept) >= self.SIZE:
+                self._kept.clear()
+            answer = make()
+            for x in dataclasses.astuple(answer):
+                if isinstance(x, np.ndarray):
+                    x.flags.writeable = False
+            self._kept[key] = answer
+        return self._kept[key]
 
 
 def first(result, one: bool):

@@ -15,15 +15,13 @@ exactly as the engines' adapters map theirs.
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
 from relacc.core.cases import Case
 from relacc.core.tree import convert, tree_kinematics
 from relacc.core.tree.coordinates import reference_q, rotations
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
-from relacc.engines.base import Dynamics, Points, first, mapped_dynamics
+from relacc.engines.base import Answers, Dynamics, Points, first, mapped_dynamics
 from relacc.errors import RelaccError
 from relacc.validation.robots.reading import groups, structure
 
@@ -46,7 +44,7 @@ class TreeRobot:
         self.warnings: list[str] = list(reading.notes)
         self.links = {self.tree.bodies[b].name: members for b, members in groups(self.tree).items()}
         self._mapped: tuple | None = None  # the last states' map: dynamics and kinematics take the same states
-        self._answers: dict = {}  # the last states' answers: a comparison asks the reference once per engine
+        self.answers = Answers()  # a comparison asks the reference the same states once per engine and case
 
     def _match(self, reference) -> tuple[np.ndarray, np.ndarray]:
         """``(dofs, qdofs)``: the reference's speeds and positions of this tree's joints (by name, in order): a reading
@@ -80,20 +78,6 @@ class TreeRobot:
         """``(nq,)`` the reference configuration (hinges and slides at ``ref``, balls at identity, free bodies as
         placed: MuJoCo's ``qpos0``)."""
         return reference_q(self.tree, 2)
-
-    def _once(self, what, arrays, make):
-        """``make()``, or its answer for the same ``what`` at the same state arrays, kept read-only until the
-        states change: a comparison asks the reference the same question once per engine and per case."""
-        key = (what, *((a.shape, a.tobytes()) for a in arrays))
-        if key not in self._answers:
-            if len(self._answers) > 8:
-                self._answers.clear()
-            answer = make()
-            for a in dataclasses.astuple(answer):
-                if isinstance(a, np.ndarray):
-                    a.flags.writeable = False
-            self._answers[key] = answer
-        return self._answers[key]
 
     def _map(self, q, v):
         """``(q_c, u_c, T (n, nv, nv), T_dot v (n, nv))``: states ``(n, nq)``, ``(n, nv)`` in the case's coordinates
@@ -131,7 +115,7 @@ class TreeRobot:
         """:class:`Dynamics` at states ``q (n, nq)``, ``v (n, nv)`` (case 2; one state: no batch axis)."""
         one = np.ndim(q) == 1
         q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
-        return first(self._once("dynamics", (q, v), lambda: self._dynamics(q, v)), one)
+        return first(self.answers("dynamics", (q, v), lambda: self._dynamics(q, v)), one)
 
     def _dynamics(self, q, v) -> Dynamics:
         q_c, u_c, T, Tdv = self._map(*self._own(q, v))
@@ -148,7 +132,7 @@ class TreeRobot:
         """:class:`Points` ``(n, L, ...)`` of the named links' mass centres (one state: ``(L, ...)``)."""
         one = np.ndim(q) == 1
         q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
-        return first(self._once(("kinematics", tuple(links)), (q, v, a), lambda: self._kinematics(q, v, a, links)),
+        return first(self.answers(("kinematics", tuple(links)), (q, v, a), lambda: self._kinematics(q, v, a, links)),
                      one)
 
     def _kinematics(self, q, v, a, links) -> Points:
