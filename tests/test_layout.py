@@ -413,3 +413,11 @@ def test_the_command_line_finds_the_engines_the_registry_finds():
     from relacc.engines import ENGINES
 
     assert ENGINE_NAMES == ENGINES and len(ENGINES) >= 3
+
+
+def test_nothing_asks_whether_a_scene_is_the_chain():
+    """Issue 51: a scene's kind is asked once, when it picks relacc's side of it (``Scene.evaluator``: the note's chain
+    or a model's tree, one interface in relacc.simulate.subjects); no ``is_chain`` branch is left anywhere."""
+    found = [f"{path.relative_to(PACKAGE.parent)}:{i}" for path in sorted(PACKAGE.rglob("*.py"))
+             for i, line in enumerate(path.read_text().splitlines(), 1) if "is_chain" in line]
+    assert found == []

@@ -1,8 +1,8 @@
 """Ensembles: one scene from many initial states, on relacc and the engines' batched APIs.
 
-* ``relacc``: the compiled integrators of :mod:`relacc.kernels.dynamics`, in
-  parallel over the members (numba's threads), each member's steps in one
-  compiled loop;
+* ``relacc``: its side of the scene (:class:`relacc.simulate.subjects.NoteChain`: the chain's compiled
+  integrators of :mod:`relacc.kernels.dynamics`, in parallel over the members, each member's steps in one
+  compiled loop; :class:`relacc.simulate.subjects.ModelTree`: the tree stepper on every member at once);
 * an engine whose adapter offers :class:`relacc.engines.capabilities.Rollout`
   (MuJoCo: ``mujoco.rollout``, its own threaded rollouts, one ``MjData`` per
   thread, the scene's forces as ``xfrc_applied`` controls): that loop;
@@ -25,12 +25,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.core.cases import check_int, check_q, check_u
-from relacc.core.kinematics import g2_kinematics
+from relacc.core.cases import check_int
 from relacc.dynamics.steps import recorded_steps
 from relacc.errors import EngineError, IntegrationError
 from relacc.limits import require_memory
 from relacc.simulate.scenes import SIM_ENGINES, Scene
+from relacc.simulate.subjects import adapter, batched, check_done, reference_state
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,95 +104,25 @@ def ensemble(scene: Scene, q0: np.ndarray, u0: np.ndarray, *, engine: str = "rel
 
 
 def _checked(scene, q0, u0):
-    """Initial states checked as the scene's case takes them (the chain's, or a model's tree's)."""
-    if scene.is_chain:
-        return check_q(scene.case, q0), check_u("u0", u0)
-    from relacc.core.tree.coordinates import check_q as check_tree_q
-    from relacc.core.tree.coordinates import check_u as check_tree_u
+    """Initial states checked as the scene's case takes them on its tree (the chain's too)."""
+    from relacc.core.tree.coordinates import check_q, check_u
 
-    return check_tree_q(scene.tree, scene.case, q0), check_tree_u(scene.tree, "u0", u0)
-
-
-def _gaps(steps):
-    return np.diff(np.concatenate([[0], steps])).astype(np.int64)
+    return check_q(scene.subject_tree, scene.case, q0), check_u(scene.subject_tree, "u0", u0)
 
 
 def _relacc(scene, q0, u0, steps, threads, name):
-    if not scene.is_chain:
-        return _relacc_tree(scene, q0, u0, steps, threads, name)
-    from relacc.dynamics import accelerations
-    from relacc.kernels import dynamics as kernel
-    from relacc.kernels.jit import threads as kernel_threads
-
-    integrator, _ = scene.integrator_for("relacc")
-    if integrator not in kernel.INTEGRATORS:
-        raise EngineError(f"relacc integrators: {', '.join(kernel.INTEGRATORS)}; got {integrator!r}")
-    n, m = len(q0), len(steps)
-    Q, U, done = np.empty((n, m, q0.shape[1])), np.empty((n, m, 12)), np.empty(n, dtype=np.int64)
-    chain, case = scene.fixture.chain, scene.case
-    args = (int(case), kernel.INTEGRATORS[integrator], q0, u0, float(scene.dt), _gaps(steps),
-            kernel.chain_params(chain), kernel.effect_params(scene.effects), Q, U, done)
-    with kernel_threads(threads):
-        start = time.perf_counter()
-        with np.errstate(all="ignore"):
-            kernel.ensemble(*args)
-        seconds = time.perf_counter() - start
-    _check_done(done, m, steps, scene, "relacc")
-    flat_q, flat_u = Q.reshape(n * m, -1), U.reshape(n * m, 12)
-    k = g2_kinematics(chain, case, flat_q, flat_u, accelerations(chain, case, flat_q, flat_u, scene.effects))
-    if k.acceleration is None:  # given udot: never
-        raise AssertionError("relacc's G2 kinematics gave no acceleration")
-    return Ensemble("relacc", steps * scene.dt, Q, U, k.position.reshape(n, m, 3), k.velocity.reshape(n, m, 3),
-                    k.acceleration.reshape(n, m, 3), seconds, n * int(steps[-1]), threads)
-
-
-def _relacc_tree(scene, q0, u0, steps, threads, name):
-    """A model: relacc's tree stepper (:func:`relacc.simulate.subjects.tree_stepper`) on every member at once."""
-    from relacc.dynamics.tree import tree_accelerations
-    from relacc.kernels.jit import threads as kernel_threads
-    from relacc.simulate.subjects import tree_point, tree_stepper
-
-    integrator, _ = scene.integrator_for("relacc")
-    stepper = tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator)
-    with kernel_threads(threads):  # every stage's forward dynamics over the members, compiled, on these threads
-        Q, U, seconds = _batched(stepper, q0, u0, steps, scene, "relacc")
+    """relacc's own ensemble: its side of the scene (:attr:`Scene.evaluator`: the note's chain on its fused kernels, a
+    model's tree on its stepper) integrates every member, then gives the point at every record."""
+    Q, U, seconds = scene.evaluator.integrate(scene, q0, u0, steps, threads)
     n, m = Q.shape[:2]
-    flat_q, flat_u = Q.reshape(n * m, -1), U.reshape(n * m, -1)
-    t = np.tile(steps * scene.dt, n)
-    pos, vel, acc = tree_point(scene, flat_q, flat_u, tree_accelerations(scene.tree, scene.case, flat_q, flat_u,
-                                                                          effects=scene.effects, t=t))
+    pos, vel, acc = scene.evaluator.point(scene, Q.reshape(n * m, -1), U.reshape(n * m, -1),
+                                          np.tile(steps * scene.dt, n))
     return Ensemble("relacc", steps * scene.dt, Q, U, pos.reshape(n, m, 3), vel.reshape(n, m, 3),
                     acc.reshape(n, m, 3), seconds, n * int(steps[-1]), threads)
 
 
-def _batched(stepper, x, v, steps, scene, who):
-    """Every member at once through a stepper that takes batches of rows; ``(Q (n, m, .), V, seconds)``."""
-    n, m = len(x), len(steps)
-    Q, V = np.empty((n, m, x.shape[1])), np.empty((n, m, v.shape[1]))
-    Q[:, 0], V[:, 0] = x, v
-    seconds = 0.0
-    for j, gap in enumerate(_gaps(steps)[1:], start=1):
-        start = time.perf_counter()
-        with np.errstate(all="ignore"):  # a diverging member is reported by its record, not by warnings
-            x, v = stepper.advance(x, v, int(gap))
-        seconds += time.perf_counter() - start
-        Q[:, j], V[:, j] = x, v
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-            _check_done(np.where(np.all(np.isfinite(x), axis=1), m, j), m, steps, scene, who)
-    return Q, V, seconds
-
-
-def _check_done(done, m, steps, scene, who):
-    bad = np.flatnonzero(done < m)
-    if bad.size:
-        i, j = int(bad[0]), int(done[bad[0]])
-        raise IntegrationError(f"{who}: member {i} diverged between t = {steps[j - 1] * scene.dt if j else 0:.6g} s "
-                               f"and t = {steps[j] * scene.dt:.6g} s (dt = {scene.dt} s); reduce the step")
-
-
 def _engine_states(engine, scene, q0, u0):
     """Members' states in an engine's coordinates (its adapter's, from the reference's)."""
-    from relacc.simulate.subjects import reference_state
 
     states_e = engine.to_engine(*reference_state(scene, q0, u0))
 
@@ -215,7 +145,6 @@ def _observed(engine_name, engine, scene, Q, V, steps, seconds, threads):
 def _engine(scene, q0, u0, steps, threads, name):
     """An engine's fastest path its adapter offers (module docstring)."""
     from relacc.engines.capabilities import Rollout, ThreadedStepper
-    from relacc.simulate.subjects import adapter
 
     engine = adapter(scene, name)
     integrator, accuracy = scene.integrator_for(name)
@@ -227,12 +156,12 @@ def _engine(scene, q0, u0, steps, threads, name):
                 Q, V, first_bad, seconds = engine.rollout(qpos, qvel, np.asarray(steps), engine.work_data(threads))
             except IntegrationError as exc:
                 raise IntegrationError(f"{name}: {exc} (dt = {scene.dt} s)") from None
-            _check_done(first_bad, len(steps), steps, scene, name)
+            check_done(first_bad, len(steps), steps, scene, name)
             return _observed(name, engine, scene, Q, V, steps, seconds, threads)
     if isinstance(engine, ThreadedStepper) and integrator in engine.THREADED_INTEGRATORS and accuracy is None:
         x, v = _engine_states(engine, scene, q0, u0)
         stepper = engine.stepper(scene.engine_effects, scene.dt, integrator, threads=threads)
-        Q, V, seconds = _batched(stepper, x, v, steps, scene, name)
+        Q, V, seconds = batched(stepper, x, v, steps, scene, name)
         return _observed(name, engine, scene, Q, V, steps, seconds, threads)
     return _one_by_one(scene, q0, u0, steps, threads, name, engine)
 
@@ -240,7 +169,6 @@ def _engine(scene, q0, u0, steps, threads, name):
 def _one_by_one(scene, q0, u0, steps, threads, name, engine=None):
     """Any engine's own stepper, member after member (one thread); ``engine``: its adapter, if loaded already."""
     from relacc.dynamics.steps import blocks
-    from relacc.simulate.subjects import adapter
 
     engine = adapter(scene, name) if engine is None else engine
     integrator, accuracy = scene.integrator_for(name)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from relacc.core.cases import Case, check_int, check_q, check_u
+from relacc.core.cases import Case, check_int
 from relacc.core.rotations import quaternion_exp, quaternion_multiply
 from relacc.errors import EngineError
 from relacc.simulate.scenes import Scene
@@ -42,33 +42,11 @@ def perturbed(scene: Scene, n: int, spread: float, seed: int, start: int = 0) ->
         lo, hi = max(start - j * MEMBER_CHUNK, 0), min(start + n - j * MEMBER_CHUNK, MEMBER_CHUNK)
         qs.append(q[lo:hi])
         us.append(u[lo:hi])
-    if not scene.is_chain:
-        return np.concatenate(qs), np.concatenate(us)
-    return check_q(scene.case, np.concatenate(qs)), check_u("u0", np.concatenate(us))
+    return np.concatenate(qs), np.concatenate(us)
 
 
 def _chunk(scene, j, spread, seed):
-    if not scene.is_chain:
-        return _tree_chunk(scene, j, spread, seed)
-    rng = np.random.default_rng([seed, j])
-    m = MEMBER_CHUNK
-    q0 = np.repeat(scene.q[None].astype(float), m, axis=0)
-    u0 = np.repeat(scene.u[None].astype(float), m, axis=0)
-    if scene.case == Case.ANGLE_RATES:
-        q0 += spread * rng.normal(size=(m, 12))
-    else:
-        for sl in (slice(0, 3), slice(7, 10)):
-            q0[:, sl] += spread * rng.normal(size=(m, 3))
-        for sl in (slice(3, 7), slice(10, 14)):
-            q0[:, sl] = quaternion_multiply(q0[:, sl], quaternion_exp(spread * rng.normal(size=(m, 3))))
-    u0 += spread * rng.normal(size=(m, 12))
-    if j == 0:
-        q0[0], u0[0] = scene.q, scene.u
-    return q0, u0
-
-
-def _tree_chunk(scene, j, spread, seed):
-    """A model's chunk: every coordinate plus ``spread`` normals, quaternions (cases 1-2) turned by rotation
+    """Chunk ``j``: every coordinate plus ``spread`` normals, quaternions (cases 1-2) turned by rotation
     vectors of that size, speeds plus ``spread`` normals."""
     from relacc.core.tree.coordinates import rotations
 
@@ -76,7 +54,7 @@ def _tree_chunk(scene, j, spread, seed):
     m = MEMBER_CHUNK
     q0 = np.repeat(scene.q[None].astype(float), m, axis=0)
     u0 = np.repeat(scene.u[None].astype(float), m, axis=0)
-    quats = [a for _, _, a, _ in rotations(scene.tree, scene.case)] if scene.case != Case.ANGLE_RATES else []
+    quats = [a for _, _, a, _ in rotations(scene.subject_tree, scene.case)] if scene.case != Case.ANGLE_RATES else []
     plain = np.ones(q0.shape[1], dtype=bool)
     for a in quats:
         plain[a:a + 4] = False

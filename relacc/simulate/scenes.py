@@ -112,12 +112,16 @@ class Scene:
     def reference(self) -> str:
         """Whose acceleration the engines' are judged against, in words: ``"the note's"`` (its formulas, the chain),
         ``"relacc's"`` (its tree, a model); ``relacc simulate --json``'s ``reference``."""
-        return "the note's" if self.is_chain else "relacc's"
+        return self.evaluator.reference
 
     @property
-    def is_chain(self) -> bool:
-        """The note's chain (its compiled kernels, G2), rather than a model file's tree."""
-        return self.model_path is None
+    def evaluator(self):
+        """relacc's side of the scene (:mod:`relacc.simulate.subjects`): the note's chain (its formulas and fused
+        kernels, G2; :class:`relacc.simulate.subjects.NoteChain`) or a model file's tree
+        (:class:`relacc.simulate.subjects.ModelTree`), one interface."""
+        from relacc.simulate.subjects import MODEL_TREE, NOTE_CHAIN
+
+        return MODEL_TREE if self.model_path is not None else NOTE_CHAIN
 
     @property
     def chain(self) -> TwoBodyChain:

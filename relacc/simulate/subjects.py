@@ -2,13 +2,16 @@
 
 Every engine runs through its adapter (:mod:`relacc.engines.base`) from the scene's state in the reference's
 coordinates (the tree's case 2: MuJoCo's ``qpos``/``qvel``), under the scene's effects by joint and body name, and
-is observed at the scene's point (G2; a model's body or point). relacc's own run differs by model:
+is observed at the scene's point (G2; a model's body or point). relacc's own side of a scene is one of two objects
+with one interface (``adapter``, ``run``, ``acceleration``, ``integrate``, ``point``, ``reference``), which the scene
+picks (:attr:`relacc.simulate.scenes.Scene.evaluator`); nothing else asks which kind of scene it has:
 
-* the chain: its compiled kernels in the case's coordinates (:func:`relacc.dynamics.integrate.stepper`), G2 by the
-  note's formulas, energy and momenta by :mod:`relacc.dynamics`;
-* a model: its tree's forward dynamics (:func:`relacc.tree_accelerations`) integrated by the one RKMK4 on the
-  tree's manifold in the case's coordinates (:func:`tree_stepper`), the point by :func:`relacc.tree_kinematics`,
-  energy and momenta by :mod:`relacc.dynamics.tree_energy`.
+* :class:`NoteChain`, the chain: its compiled kernels in the case's coordinates
+  (:func:`relacc.dynamics.integrate.stepper`), G2 by the note's formulas, energy and momenta by
+  :mod:`relacc.dynamics`;
+* :class:`ModelTree`, a model: its tree's forward dynamics (:func:`relacc.tree_accelerations`) integrated by the
+  one RKMK4 on the tree's manifold in the case's coordinates (:func:`tree_stepper`), the point by
+  :func:`relacc.tree_kinematics`, energy and momenta by :mod:`relacc.dynamics.tree_energy`.
 
 An observation of a block of records ``(t, Q, U)`` is ``{position, velocity, acceleration (n, 3), energy,
 energy_scale (n,), momentum, angular_momentum (n, 3)}``, fixed-frame components.
@@ -41,11 +44,18 @@ def reference_state(scene, q, u, case=None) -> tuple[np.ndarray, np.ndarray]:
 
 
 def adapter(scene, name: str):
-    """Engine ``name``'s adapter of the scene's model (the chain: the quaternion route's, ``two_body.xml``)."""
-    from relacc.engines import load, load_engine
+    """Engine ``name``'s adapter of the scene's model (the chain: the quaternion route's, ``two_body.xml``).
 
-    if scene.is_chain:
-        return load_engine(name, scene.fixture).adapter
+    Raises:
+        EngineError: a model's engine whose reading lacks some of its joints, or whose forward dynamics at the initial
+            state is not finite.
+    """
+    return scene.evaluator.adapter(scene, name)
+
+
+def _tree_adapter(scene, name: str):
+    from relacc.engines import load
+
     engine = load(name, scene.model_path, scene.tree)
     shared = set(engine.dofs.tolist())
     lacks = [j.name for (_, j), a in zip(scene.tree.joints, scene.tree.dofadr) if not shared >= set(range(a, a + j.nv))]
@@ -67,7 +77,7 @@ def usable(scene) -> tuple[tuple[str, ...], tuple[tuple[str, str], ...]]:
     each that does not (a model's default scene runs without them and says so)."""
     kept, left = [], []
     for name in scene.engines:
-        if name == "relacc" or scene.is_chain:
+        if name == "relacc":
             kept.append(name)
             continue
         try:
@@ -111,28 +121,7 @@ def point_acceleration(engine, scene, qe, ve, t, pts) -> np.ndarray:
 
 def relacc_run(scene, integrator):
     """``(stepper, observe, applied)``: relacc's own run of the scene in its case's coordinates."""
-    if scene.is_chain:
-        return _chain_run(scene, integrator)
-    return (tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator), _tree_observer(scene),
-            {"equations": "Kane's equations of the tree (relacc.tree_accelerations), "
-                          + (", ".join(scene.effects.active()) or "no effects")})
-
-
-def _chain_run(scene, integrator):
-    from relacc import dynamics
-    from relacc.core.kinematics import g2_kinematics
-    from relacc.dynamics.integrate import stepper
-
-    chain, case, eff = scene.fixture.chain, scene.case, scene.effects
-
-    def observe(t, Q, U):
-        k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, eff))
-        T, g, s = dynamics.energy_terms(chain, case, Q, U, eff)
-        p, H = dynamics.momenta(chain, case, Q, U)
-        return _observation(k.position, k.velocity, k.acceleration, (T, g, s), p, H)
-
-    return (stepper(chain, case, eff, scene.dt, integrator), observe,
-            {"equations": "Newton-Euler per body (Kane's, solved), " + (", ".join(eff.active()) or "no effects")})
+    return scene.evaluator.run(scene, integrator)
 
 
 def tree_point(scene, Q, U, Udot, case=None):
@@ -213,7 +202,7 @@ def note_check(scene, states, engines: dict, case=None) -> dict:
     Q, U = np.array([s[0] for s in states]), np.array([s[1] for s in states])
     t = np.array([s[2] for s in states])
     case = scene.case if case is None else int(case)
-    mine, scale, M2 = _relacc_acceleration(scene, t, Q, U, case)
+    mine, scale, M2 = scene.evaluator.acceleration(scene, t, Q, U, case)
     bound = float(rounding_tolerance() * np.max(np.linalg.cond(M2)))
     q2, v2 = reference_state(scene, Q, U, case)
     out = {}
@@ -226,20 +215,7 @@ def note_check(scene, states, engines: dict, case=None) -> dict:
     return out
 
 
-def _relacc_acceleration(scene, t, Q, U, case):
-    """``(acceleration (n, 3), term scale (n,), M in case-2 speeds (n, nv, nv))`` of the point, by relacc, at states
-    of ``case``."""
-    if scene.is_chain:
-        from relacc import dynamics
-        from relacc.core.kinematics import g2_kinematics
-        from relacc.core.scales import term_scales
-        from relacc.core.speeds import to_body_speeds
-
-        chain, eff = scene.fixture.chain, scene.effects
-        Udot = dynamics.accelerations(chain, case, Q, U, eff)
-        q14, nu, _ = to_body_speeds(case, Q, U)
-        return (g2_kinematics(chain, case, Q, U, Udot).acceleration, term_scales(chain, case, Q, U, Udot).acceleration,
-                dynamics.equations_of_motion(chain, 2, q14, nu, eff)[0])
+def _tree_acceleration(scene, t, Q, U, case):
     from relacc.core.tree import convert
     from relacc.core.tree.scales import tree_scales
     from relacc.dynamics.tree import tree_accelerations, tree_dynamics
@@ -285,3 +261,171 @@ def _solve_scale(scene, q2, v2, udot, d) -> np.ndarray:
         V = tree_kinematics(tree, 2, q2, v2).required("V")[:, tree.body(name)]
     terms = np.abs(f).max(axis=-1) + velocity_terms(tree, q2, v2, extent(tree))
     return np.abs(V).max(axis=(-2, -1)) * (np.abs(udot).max(axis=-1) + terms / np.linalg.norm(M, 2, axis=(-2, -1)))
+
+
+def gaps(steps) -> np.ndarray:
+    """Steps between consecutive records ``(m,)`` (int64), the first from step 0."""
+    return np.diff(np.concatenate([[0], steps])).astype(np.int64)
+
+
+def check_done(done, m, steps, scene, who) -> None:
+    """Each member's records made ``done (N,)`` of ``m``; the first member that stopped short diverged.
+
+    Raises:
+        IntegrationError: which member, between which records, at which step.
+    """
+    from relacc.errors import IntegrationError
+
+    bad = np.flatnonzero(done < m)
+    if bad.size:
+        i, j = int(bad[0]), int(done[bad[0]])
+        raise IntegrationError(f"{who}: member {i} diverged between t = {steps[j - 1] * scene.dt if j else 0:.6g} s "
+                               f"and t = {steps[j] * scene.dt:.6g} s (dt = {scene.dt} s); reduce the step")
+
+
+def batched(stepper, x, v, steps, scene, who):
+    """Every member at once through a stepper that takes batches of rows; ``(Q (n, m, .), V, seconds)``."""
+    import time
+
+    n, m = len(x), len(steps)
+    Q, V = np.empty((n, m, x.shape[1])), np.empty((n, m, v.shape[1]))
+    Q[:, 0], V[:, 0] = x, v
+    seconds = 0.0
+    for j, gap in enumerate(gaps(steps)[1:], start=1):
+        start = time.perf_counter()
+        with np.errstate(all="ignore"):  # a diverging member is reported by its record, not by warnings
+            x, v = stepper.advance(x, v, int(gap))
+        seconds += time.perf_counter() - start
+        Q[:, j], V[:, j] = x, v
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            check_done(np.where(np.all(np.isfinite(x), axis=1), m, j), m, steps, scene, who)
+    return Q, V, seconds
+
+
+class NoteChain:
+    """relacc's side of a scene of the note's chain: its answer is the note's, G2 by its formulas
+    (:func:`relacc.g2_kinematics`) with Kane's accelerations of the chain (:mod:`relacc.dynamics`), its runs on the
+    chain's fused kernels (:mod:`relacc.kernels.dynamics`: 6.5-8x faster a step than the tree stepper on the chain's
+    tree, benchmarks/history.md); the engines read the chain's generated model files. The same methods as
+    :class:`ModelTree`."""
+
+    reference = "the note's"
+    """Whose acceleration the engines are judged against, in words (``relacc simulate --json``'s ``reference``)."""
+
+    def adapter(self, scene, name: str):
+        """Engine ``name``'s adapter of the chain's model file (the quaternion route's, ``two_body.xml``)."""
+        from relacc.engines import load_engine
+
+        return load_engine(name, scene.fixture).adapter
+
+    def run(self, scene, integrator):
+        """``(stepper, observe, applied)`` in the case's coordinates (:func:`relacc_run`)."""
+        from relacc import dynamics
+        from relacc.core.kinematics import g2_kinematics
+        from relacc.dynamics.integrate import stepper
+
+        chain, case, eff = scene.fixture.chain, scene.case, scene.effects
+
+        def observe(t, Q, U):
+            k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, eff))
+            T, g, s = dynamics.energy_terms(chain, case, Q, U, eff)
+            p, H = dynamics.momenta(chain, case, Q, U)
+            return _observation(k.position, k.velocity, k.acceleration, (T, g, s), p, H)
+
+        return (stepper(chain, case, eff, scene.dt, integrator), observe,
+                {"equations": "Newton-Euler per body (Kane's, solved), " + (", ".join(eff.active()) or "no effects")})
+
+    def acceleration(self, scene, t, Q, U, case):
+        """``(acceleration (n, 3), term scale (n,), M in case-2 speeds (n, nv, nv))`` of G2 at states of ``case``."""
+        from relacc import dynamics
+        from relacc.core.kinematics import g2_kinematics
+        from relacc.core.scales import term_scales
+        from relacc.core.speeds import to_body_speeds
+
+        chain, eff = scene.fixture.chain, scene.effects
+        Udot = dynamics.accelerations(chain, case, Q, U, eff)
+        q14, nu, _ = to_body_speeds(case, Q, U)
+        return (g2_kinematics(chain, case, Q, U, Udot).acceleration, term_scales(chain, case, Q, U, Udot).acceleration,
+                dynamics.equations_of_motion(chain, 2, q14, nu, eff)[0])
+
+    def integrate(self, scene, q0, u0, steps, threads):
+        """``(Q (N, m, nq), U (N, m, 12), seconds)``: every member ``q0 (N, nq)``, ``u0 (N, 12)`` to every record
+        ``steps (m,)``, in parallel on ``threads`` (one compiled loop a member).
+
+        Raises:
+            EngineError: an integrator the kernels lack. IntegrationError: a member diverged.
+        """
+        import time
+
+        from relacc.kernels import dynamics as kernel
+        from relacc.kernels.jit import threads as kernel_threads
+
+        integrator, _ = scene.integrator_for("relacc")
+        if integrator not in kernel.INTEGRATORS:
+            raise EngineError(f"relacc integrators: {', '.join(kernel.INTEGRATORS)}; got {integrator!r}")
+        n, m = len(q0), len(steps)
+        Q, U, done = np.empty((n, m, q0.shape[1])), np.empty((n, m, 12)), np.empty(n, dtype=np.int64)
+        args = (int(scene.case), kernel.INTEGRATORS[integrator], q0, u0, float(scene.dt), gaps(steps),
+                kernel.chain_params(scene.fixture.chain), kernel.effect_params(scene.effects), Q, U, done)
+        with kernel_threads(threads):
+            start = time.perf_counter()
+            with np.errstate(all="ignore"):
+                kernel.ensemble(*args)
+            seconds = time.perf_counter() - start
+        check_done(done, m, steps, scene, "relacc")
+        return Q, U, seconds
+
+    def point(self, scene, Q, U, t):
+        """``(position, velocity, acceleration)`` ``(n, 3)`` of G2 at states ``Q``, ``U`` of the scene's case and
+        times ``t (n,)``: the note's formulas with Kane's accelerations."""
+        from relacc import dynamics
+        from relacc.core.kinematics import g2_kinematics
+
+        chain, case = scene.fixture.chain, scene.case
+        k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, scene.effects))
+        if k.acceleration is None:  # given udot: never
+            raise AssertionError("relacc's G2 kinematics gave no acceleration")
+        return k.position, k.velocity, k.acceleration
+
+
+class ModelTree:
+    """relacc's side of a scene of a model file: its tree's forward dynamics (:func:`relacc.tree_accelerations`),
+    integrated by :func:`tree_stepper`, the point by :func:`relacc.tree_kinematics`. The same methods as
+    :class:`NoteChain`."""
+
+    reference = "relacc's"
+    """Whose acceleration the engines are judged against, in words (``relacc simulate --json``'s ``reference``)."""
+
+    def adapter(self, scene, name: str):
+        """Engine ``name``'s adapter of the model file, matched to relacc's tree of it (:func:`adapter`)."""
+        return _tree_adapter(scene, name)
+
+    def run(self, scene, integrator):
+        """``(stepper, observe, applied)`` in the case's coordinates (:func:`relacc_run`)."""
+        return (tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator), _tree_observer(scene),
+                {"equations": "Kane's equations of the tree (relacc.tree_accelerations), "
+                              + (", ".join(scene.effects.active()) or "no effects")})
+
+    def acceleration(self, scene, t, Q, U, case):
+        """As :meth:`NoteChain.acceleration`, of the scene's point."""
+        return _tree_acceleration(scene, t, Q, U, case)
+
+    def integrate(self, scene, q0, u0, steps, threads):
+        """As :meth:`NoteChain.integrate`: the tree stepper on every member at once, each stage's forward dynamics
+        over the members compiled, on ``threads``."""
+        from relacc.kernels.jit import threads as kernel_threads
+
+        integrator, _ = scene.integrator_for("relacc")
+        stepper = tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator)
+        with kernel_threads(threads):
+            return batched(stepper, q0, u0, steps, scene, "relacc")
+
+    def point(self, scene, Q, U, t):
+        """As :meth:`NoteChain.point`, of the scene's point, by relacc's tree."""
+        from relacc.dynamics.tree import tree_accelerations
+
+        return tree_point(scene, Q, U, tree_accelerations(scene.tree, scene.case, Q, U, effects=scene.effects, t=t))
+
+
+NOTE_CHAIN, MODEL_TREE = NoteChain(), ModelTree()
+"""The two sides relacc takes in a scene (:attr:`relacc.simulate.scenes.Scene.evaluator`)."""
