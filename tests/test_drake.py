@@ -139,4 +139,4 @@ def test_scenes_name_drakes_integrator(tmp_path):
     assert ctrl.differences()[0] < 1e-8
     assert "error-controlled" in ctrl.trajectories["drake"].applied["integrator"]
     with pytest.raises(EngineError, match="fixed-step integrators only"):
-        load_engine("mujoco").stepper(base.effects, 1e-3, "rk4", accuracy=1e-9)
+        load_engine("mujoco").adapter.stepper(base.engine_effects, 1e-3, "rk4", accuracy=1e-9)

@@ -20,9 +20,8 @@ the tree's (:meth:`relacc.dynamics.effects.Effects.for_tree`).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -184,56 +183,21 @@ class ChainEngine:
         """The quaternion route's adapter, which every dynamics and simulation uses."""
         return self.routes[Route.QUATERNION]
 
-    def dynamics(self, q: np.ndarray, v: np.ndarray, effects: Effects) -> tuple[np.ndarray, np.ndarray]:
-        """Engine equations ``M_e vdot_e = f_e`` ``((n, nv_e, nv_e), (n, nv_e))`` under exactly the chain's
-        ``effects`` (:class:`relacc.dynamics.effects.Effects`)."""
-        return self.adapter.equations(q, v, effects.for_tree())
-
-    def forward_dynamics(self, q: np.ndarray, v: np.ndarray, effects: Effects) -> np.ndarray:
-        """Engine accelerations ``vdot_e`` ``(n, nv_e)`` at ``(q, v)`` under exactly ``effects``."""
-        return self.adapter.forward(q, v, effects.for_tree())
-
     def equations_of_motion(self, case: int, q: np.ndarray, u: np.ndarray, effects: Effects
                             ) -> tuple[np.ndarray, np.ndarray]:
         """The engine's ``(M, f)`` mapped to a case's speeds: ``E^T M_e E`` and ``E^T (f_e - M_e E_dot u)``."""
         c = as_case(case)
         q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
         x = self.engine_input(Route.QUATERNION, c, np.atleast_2d(q), np.atleast_2d(u), None)
-        Me, fe = self.dynamics(np.ascontiguousarray(x.q), np.ascontiguousarray(x.v), effects)
+        Me, fe = self.adapter.equations(np.ascontiguousarray(x.q), np.ascontiguousarray(x.v), effects.for_tree())
         M = np.swapaxes(x.E, -1, -2) @ Me @ x.E
         f = np.einsum("nji,nj->ni", x.E, fe - np.einsum("nij,njk,nk->ni", Me, x.E_dot, np.atleast_2d(u)))
         return M.reshape(q.shape[:-1] + (12, 12)), f.reshape(q.shape[:-1] + (12,))
-
-    def stepper(self, effects: Effects, dt: float, integrator: str, accuracy: float | None = None) -> Any:
-        """The engine's integrator under exactly ``effects`` (:meth:`relacc.engines.base.Adapter.stepper`)."""
-        return self.adapter.stepper(effects.for_tree(), dt, integrator, accuracy)
-
-    def simulate(self, q: np.ndarray, v: np.ndarray, effects: Effects, dt: float, n_steps: int, integrator: str,
-                 record_every: int = 1, progress: Callable | None = None, accuracy: float | None = None
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(t, Q, V)`` from engine coordinates: times ``(m,)`` (s) and engine states every ``record_every`` steps
-        and at the last, the initial state first (:func:`relacc.dynamics.steps.collect`)."""
-        from relacc.dynamics.steps import collect
-
-        return collect(self.stepper(effects, dt, integrator, accuracy), q, v, dt, n_steps, record_every,
-                       who=self.name, integrator=integrator, progress=progress)
-
-    def applied(self, effects: Effects) -> dict:
-        return self.adapter.applied(effects.for_tree())
 
     def initial_state(self, case: int, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates ``(q_e (nq_e,), v_e (nv_e,))``."""
         x = self.engine_input(Route.QUATERNION, as_case(case), np.asarray(q)[None], np.asarray(u)[None], None)
         return x.q[0], x.v[0]
-
-    def energy_terms(self, chain: TwoBodyChain, q: np.ndarray, v: np.ndarray, effects: Effects
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(kinetic, gravity, spring)`` energies, J, ``(n,)`` each, of a batch of engine states."""
-        return self.adapter.energy(np.atleast_2d(q), np.atleast_2d(v), effects.for_tree())
-
-    def momenta(self, chain: TwoBodyChain, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Linear (kg m/s) and angular (kg m^2/s, about R's origin) momenta ``(n, 3)``, fixed components."""
-        return self.adapter.momenta(np.atleast_2d(q), np.atleast_2d(v))
 
 
 def chain_engine(name: str, fixture: Fixture, split: bool = True) -> ChainEngine:

@@ -141,7 +141,7 @@ def _rollout_engine(name: str, scene: Scene) -> tuple:
     adapter = engine.adapter
     if not isinstance(adapter, Rollout):  # its traits said so: never
         raise EngineError(f"{name}'s adapter offers no rollout, though its traits say so")
-    engine.stepper(scene.chain_effects, scene.dt, scene.integrator)
+    adapter.stepper(scene.engine_effects, scene.dt, scene.integrator)
     return engine, adapter
 
 

@@ -21,6 +21,7 @@ from relacc import dynamics
 from relacc.core.cases import Case
 from relacc.core.kinematics import g2_kinematics
 from relacc.dynamics.integrate import CaseSpace, solve_on_space
+from relacc.dynamics.steps import collect
 from relacc.engines import TRAITS, TRUTH_ENGINE, chain_engines, load_engine, with_capability, with_trait
 from relacc.engines.capabilities import ManifoldRates
 from relacc.errors import IntegrationError
@@ -52,7 +53,7 @@ def _final_g2(engine_name, engine, scene, x, v):
         return g2_kinematics(chain, scene.case, x, v).position, float(
             dynamics.energy(chain, scene.case, x, v, scene.effects))
     position = engine.points("quaternion", x[None], v[None], None).position[0]
-    return position, float(sum(e[0] for e in engine.energy_terms(chain, x[None], v[None], scene.effects)))
+    return position, float(sum(e[0] for e in engine.adapter.energy(x[None], v[None], scene.engine_effects)))
 
 
 def _adaptive(name, engine, scene, method, rtol):
@@ -66,7 +67,8 @@ def _adaptive(name, engine, scene, method, rtol):
         return solve_on_space(space, x0, v0, derivs, scene.duration, method, rtol, rtol * 1e-2, rotations)
     x0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
     if name in with_trait("error_controlled"):  # Drake's own error control, its largest step the whole run
-        _, X, V = engine.simulate(x0, v0, eff, scene.duration, 1, method, accuracy=rtol)
+        _, X, V = collect(engine.adapter.stepper(scene.engine_effects, scene.duration, method, rtol), x0, v0,
+                          scene.duration, 1, 1, who=name, integrator=method)
         return X[-1], V[-1], None
     adapter = engine.adapter
     if not isinstance(adapter, ManifoldRates):
@@ -84,8 +86,9 @@ def _fixed(name, engine, scene, integrator, dt):
         return tr.q[-1], tr.u[-1], tr.seconds
     q0, v0 = engine.initial_state(scene.case, scene.q, scene.u)
     start = time.perf_counter()
-    _, Q, V = engine.simulate(q0, v0, scene.effects, scene.duration / steps, steps, integrator,
-                              record_every=steps)  # the final state is all the sweep reads: no record between
+    dt = scene.duration / steps
+    _, Q, V = collect(engine.adapter.stepper(scene.engine_effects, dt, integrator), q0, v0, dt, steps,
+                      steps, who=name, integrator=integrator)  # the final state is all the sweep reads
     return Q[-1], V[-1], time.perf_counter() - start
 
 
