@@ -201,7 +201,8 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, cas
     itself. A case-3 run that comes within :data:`relacc.core.tolerances.CONDITION_WARNING` of the lock warns once
     per call (:class:`relacc.AccuracyWarning`, naming the joint), as the reference path warns at every stage. Making
     the stepper loads the compiled loop (compiles it, the first time on a machine), so that what a run then times is
-    its integration. The caller checks ``integrator`` (:data:`relacc.kernels.tree_step.INTEGRATORS`).
+    its integration; the batch loops are loaded when first asked for (:meth:`relacc.dynamics.steps.Stepper.load`).
+    The caller checks ``integrator`` (:data:`relacc.kernels.tree_step.INTEGRATORS`).
     """
     from relacc.core.tolerances import CONDITION_WARNING
     from relacc.dynamics.steps import Stepper
@@ -271,7 +272,17 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, cas
         clock[0] += done
         return X, V, got
 
+    def load():
+        """The batch loops, loaded (compiled the first time on a machine: 15-20 s, the parallel one most) when a
+        batch is first asked for rather than with the stepper, which a single trajectory never needs."""
+        if not loaded:
+            for loop in (kernel.advance_rows, lambda *a: kernel.advance_range(*a, 0, 1)):
+                loop(case, method, aba, x0[None].copy(), v0[None].copy(), 0.0, float(dt), 0, *fixed, width,
+                     np.zeros(1, dtype=np.int64), np.empty((1, 1 + nq + nv)), np.zeros((1, 1 + nq)))
+            loaded.append(True)
+
     def advance(x, v, k):
+        load()
         one = np.ndim(x) == 1
         X, V = np.array(np.atleast_2d(x), dtype=float), np.array(np.atleast_2d(v), dtype=float)
         start_x, start_v = X.copy(), V.copy()
@@ -291,15 +302,12 @@ def tree_stepper_compiled(tree, effects, dt: float, integrator: str, derivs, cas
         clock[0] += int(k)
         return (X[0], V[0]) if one else (X, V)
 
-    x0, v0 = np.zeros(nq), np.zeros(nv)
+    x0, v0, loaded = np.zeros(nq), np.zeros(nv), []
     for a, _ in space.quats:
         x0[a] = 1.0
     kernel.record(case, method, aba, x0, v0, 0.0, float(dt), np.zeros(0, dtype=np.int64), *fixed, np.empty((0, nq)),
-                  np.empty((0, nv)), width, np.empty(1 + nq + nv), np.zeros(1 + nq))  # load (or compile) both loops
-    for loop in (kernel.advance_rows, lambda *a: kernel.advance_range(*a, 0, 1)):
-        loop(case, method, aba, x0[None].copy(), v0[None].copy(), 0.0, float(dt), 0, *fixed, width,
-             np.zeros(1, dtype=np.int64), np.empty((1, 1 + nq + nv)), np.zeros((1, 1 + nq)))
-    return Stepper(advance, record)
+                  np.empty((0, nv)), width, np.empty(1 + nq + nv), np.zeros(1 + nq))  # load (or compile) the loop
+    return Stepper(advance, record, load)
 
 
 def solve_on_space(space, x0, v0, derivs, duration: float, method: str, rtol: float, atol: float,

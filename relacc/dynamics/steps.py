@@ -29,11 +29,19 @@ BLOCK = 512
 
 
 class Stepper:
-    """An integrator: ``advance(x, v, k)``, and ``record(x, v, gaps)`` (default: a loop over ``advance``)."""
+    """An integrator: ``advance(x, v, k)``, and ``record(x, v, gaps)`` (default: a loop over ``advance``); ``load()``
+    readies what ``advance`` runs (a compiled stepper compiles its batch loops there the first time on a machine), so
+    that a caller that times ``advance`` times the integration alone (default: nothing to ready)."""
 
-    def __init__(self, advance: Callable, record: Callable | None = None):
+    def __init__(self, advance: Callable, record: Callable | None = None, load: Callable | None = None):
         self.advance = advance
         self._record = record
+        self._load = load
+
+    def load(self) -> None:
+        """Ready :meth:`advance` (see the class docstring)."""
+        if self._load is not None:
+            self._load()
 
     @property
     def records_blocks(self) -> bool:

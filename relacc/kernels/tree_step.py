@@ -416,14 +416,16 @@ if HAVE_NUMBA:
                           free, g, E, W)
                 if st:
                     _failed_stage(case, W, failed)
-                    near[:] = W.near
+                    for c in range(near.shape[0]):  # element by element: no shape check to compile
+                        near[c] = W.near[c]
                     return j, st, done
                 done += 1
             for c in range(q.shape[0]):
                 Q[j, c] = q[c]
             for c in range(u.shape[0]):
                 U[j, c] = u[c]
-        near[:] = W.near
+        for c in range(near.shape[0]):
+            near[c] = W.near[c]
         return gaps.shape[0], OK, done
 
     @numba.njit(cache=True)
@@ -444,7 +446,8 @@ if HAVE_NUMBA:
                     status[i] = st
                     _failed_stage(case, W, failed[i])
                     break
-            near[i, :] = W.near
+            for c in range(near.shape[1]):
+                near[i, c] = W.near[c]
 
     @numba.njit(parallel=True, cache=True)
     def advance_rows(case, method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g, E,

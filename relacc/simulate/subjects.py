@@ -417,6 +417,7 @@ class ModelTree:
 
         integrator, _ = scene.integrator_for("relacc")
         stepper = tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator)
+        stepper.load()  # compiled before the integration is timed
         with kernel_threads(threads):
             return batched(stepper, q0, u0, steps, scene, "relacc")
 
