@@ -3,7 +3,7 @@
 Two uses of a forked child, one mechanism (and :func:`captured_output` for C code that writes to stderr or stdout
 in this process):
 
-* an engine's C++ abort contained (:func:`relacc.engines.contain.survives`): the child's output goes nowhere and
+* an engine's C++ abort contained (:class:`relacc.engines.contain.Probe`): the child's output goes nowhere and
   only how it ended matters;
 * a user's own code run apart from relacc's (``relacc grade``): whatever it does to the objects it is given, to the
   process (``os._exit``, a signal) or to file descriptor 1 (``os.write(1, ...)``, which would corrupt ``--json``)
@@ -86,17 +86,20 @@ def run(step, *, output: str = "stderr", timeout: float | None = None):
         except Exception as exc:  # noqa: BLE001 - the caller reports the step's failure
             return _raised(exc)
 
-    def encode(payload) -> bytes:
-        try:
-            return pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
-        except Exception as exc:  # noqa: BLE001 - a result that cannot travel is the step's failure
-            return pickle.dumps(("raised", Raised(type(exc).__name__, f"its result cannot be pickled: {exc}")))
-
-    got = _forked(step, encode, output, timeout)
+    got = _forked(step, pickled, output, timeout)
     if isinstance(got, Ended):
         return got
     _, value = pickle.loads(got)  # ("value", the step's value) or ("raised", a Raised)
     return value
+
+
+def pickled(payload) -> bytes:
+    """A child's ``("value", v)`` or ``("raised", Raised)`` for :func:`run`, pickled; a value that cannot travel is
+    the step's failure."""
+    try:
+        return pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
+    except Exception as exc:  # noqa: BLE001 - a result that cannot travel is the step's failure
+        return pickle.dumps(("raised", Raised(type(exc).__name__, f"its result cannot be pickled: {exc}")))
 
 
 RAISED = "isolate.raised"
@@ -180,54 +183,75 @@ def _forked(step, encode, output: str, timeout: float | None):
     """The mechanism of :func:`run` and :func:`run_plain`: ``step()`` in a forked child, whose
     ``("value", v)`` or ``("raised", Raised)`` is ``encode``-d to bytes and sent through a pipe; returns those bytes,
     or an :class:`Ended`."""
-    reader, writer = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # the child: the step, then out without Python's exit handlers (they are the parent's)
-        code = 0
-        try:
-            os.close(reader)
-            faulthandler.disable()  # its report of a crash would be the parent's news
-            signal.signal(signal.SIGINT, signal.SIG_DFL)
-            signal.signal(signal.SIGTERM, signal.SIG_DFL)
-            target = os.open(os.devnull, os.O_WRONLY) if output == "null" else 2
-            os.dup2(target, 1)
-            os.dup2(target, 2)
+    return Child(step, encode, output).wait(timeout)
+
+
+class Child:
+    """``step()`` started in a forked child when made; :meth:`wait` collects what it sent (:func:`_forked`), so that
+    several children can run while this process does other work (:class:`relacc.engines.contain.Probe`)."""
+
+    def __init__(self, step, encode, output: str):
+        self.reader, writer = os.pipe()
+        self.pid = os.fork()
+        if self.pid == 0:  # the child: the step, then out without Python's exit handlers (they are the parent's)
+            code = 0
             try:
-                payload = ("value", step())
-            except BaseException as exc:  # noqa: BLE001 - GeneratorExit, KeyboardInterrupt, SystemExit: the step's
-                payload = ("raised", _raised(exc))
-            view = memoryview(encode(payload))
-            while view:
-                view = view[os.write(writer, view):]
-        except BaseException:  # noqa: BLE001
-            code = 70
+                os.close(self.reader)
+                faulthandler.disable()  # its report of a crash would be the parent's news
+                signal.signal(signal.SIGINT, signal.SIG_DFL)
+                signal.signal(signal.SIGTERM, signal.SIG_DFL)
+                target = os.open(os.devnull, os.O_WRONLY) if output == "null" else 2
+                os.dup2(target, 1)
+                os.dup2(target, 2)
+                try:
+                    payload = ("value", step())
+                except BaseException as exc:  # noqa: BLE001 - GeneratorExit, KeyboardInterrupt, SystemExit: the step's
+                    payload = ("raised", _raised(exc))
+                view = memoryview(encode(payload))
+                while view:
+                    view = view[os.write(writer, view):]
+            except BaseException:  # noqa: BLE001
+                code = 70
+            finally:
+                os._exit(code)
+        os.close(writer)
+
+    def wait(self, timeout: float | None = None):
+        """The bytes the child sent, or an :class:`Ended`; ``timeout`` seconds from now at most (then the child is
+        stopped). An interrupt of this process kills the child and propagates."""
+        chunks, deadline = [], None if timeout is None else time.monotonic() + timeout
+        try:
+            while True:
+                wait = 0.05 if deadline is None else max(0.0, min(0.05, deadline - time.monotonic()))
+                ready, _, _ = select.select([self.reader], [], [], wait)
+                if ready:
+                    chunk = os.read(self.reader, 1 << 20)
+                    if not chunk:
+                        break
+                    chunks.append(chunk)
+                elif deadline is not None and time.monotonic() >= deadline:
+                    _kill(self.pid)
+                    return Ended(timeout=timeout)
+            _, status = os.waitpid(self.pid, 0)
+        except BaseException:
+            _kill(self.pid)  # interrupted (SIGTERM, Ctrl-C): the child goes too
+            raise
         finally:
-            os._exit(code)
-    os.close(writer)
-    chunks, deadline = [], None if timeout is None else time.monotonic() + timeout
-    try:
-        while True:
-            wait = 0.05 if deadline is None else max(0.0, min(0.05, deadline - time.monotonic()))
-            ready, _, _ = select.select([reader], [], [], wait)
-            if ready:
-                chunk = os.read(reader, 1 << 20)
-                if not chunk:
-                    break
-                chunks.append(chunk)
-            elif deadline is not None and time.monotonic() >= deadline:
-                _kill(pid)
-                return Ended(timeout=timeout)
-        _, status = os.waitpid(pid, 0)
-    except BaseException:
-        _kill(pid)  # interrupted (SIGTERM, Ctrl-C): the child goes too
-        raise
-    finally:
-        os.close(reader)
-    if chunks and os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0:
-        return b"".join(chunks)
-    if os.WIFSIGNALED(status):
-        return Ended(signal=signal_name(os.WTERMSIG(status)))
-    return Ended(status=os.WEXITSTATUS(status))
+            os.close(self.reader)
+            self.reader = -1  # collected: nothing left to stop
+        if chunks and os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0:
+            return b"".join(chunks)
+        if os.WIFSIGNALED(status):
+            return Ended(signal=signal_name(os.WTERMSIG(status)))
+        return Ended(status=os.WEXITSTATUS(status))
+
+    def stop(self) -> None:
+        """The child killed and its pipe closed, unless already collected."""
+        if self.reader >= 0:
+            with contextlib.suppress(OSError):
+                os.close(self.reader)
+            self.reader = -1
+            _kill(self.pid)
 
 
 def _raised(exc: BaseException) -> Raised:

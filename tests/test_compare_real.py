@@ -267,6 +267,47 @@ def test_an_engine_that_aborts_the_process_is_contained(tmp_path, monkeypatch):
     assert result.exit_code == 0
 
 
+def test_every_engines_load_is_probed_at_once_and_an_interrupt_leaves_no_probe(tmp_path, monkeypatch):
+    """compare forks a probe per engine before judging any (so they load side by side, while this process loads the
+    engines already judged), judges each before loading that engine here, and an interrupt on the way stops the
+    probes not yet judged: no child process is left."""
+    from relacc.engines.contain import Probe
+    from tests.test_compare import arm
+
+    xml, _ = arm(tmp_path)
+    events = []
+
+    class Recorded(Probe):
+        def __init__(self, what, step, timeout=600.0):
+            super().__init__(what, step, timeout)
+            events.append(("start", what))
+
+        def survived(self):
+            events.append(("judge", self.what))
+            super().survived()
+
+    monkeypatch.setattr(robots, "Probe", Recorded)
+    result = compare(xml, n_states=2, seed=8, engines=["pinocchio", "mujoco", "drake"])
+    assert result.compared == ["relacc", "pinocchio", "mujoco", "drake"]
+    kinds = [kind for kind, _ in events]
+    assert kinds == ["start"] * 3 + ["judge"] * 3, events
+    assert [what for _, what in events[3:]] == [what for _, what in events[:3]]
+
+    real = robots.load_robot
+
+    def interrupted(engine, *args, **kwargs):
+        if engine == "pinocchio" and os.getpid() == parent:  # this process's load of the first engine judged
+            raise KeyboardInterrupt
+        return real(engine, *args, **kwargs)
+
+    parent = os.getpid()
+    monkeypatch.setattr(robots, "load_robot", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        compare(xml, n_states=2, seed=8, engines=["pinocchio", "mujoco", "drake"])
+    with pytest.raises(ChildProcessError):  # every probe was collected or stopped: no child left to wait for
+        os.waitpid(-1, os.WNOHANG)
+
+
 def arm7(seed: int) -> str:
     """A 7-joint arm shaped like the real ones (robosuite's jaco and iiwa): axes alternating along and across its
     links, each link turned by a random rotation, random lengths and inertias, a hand welded at the end."""

@@ -31,7 +31,7 @@ import numpy as np
 from relacc.core.conventions import MODEL_QUANTITIES
 from relacc.engines import ENGINES, MESH_ENGINE, adapter_module, judges, readings, traits
 from relacc.engines import load as load_adapter
-from relacc.engines.contain import survives
+from relacc.engines.contain import Probe
 from relacc.errors import EngineError, ModelError
 from relacc.files import regular_file
 from relacc.limits import require_comparable
@@ -279,31 +279,47 @@ def _subtree(tree, b: int) -> list[int]:
 
 def _load(model, names, reading, urdf, reports) -> tuple[list, list]:
     """``(robots, unshared)``: each engine's adapter matched to relacc's reading (loaded first in a probe process, so
-    that a C++ abort ends only the probe), and those that read a user's URDF but share no speed with it."""
-    robots, unshared = [], []
-    for name in names:
-        try:
-            adapter_module(name)  # imported here once, not in the probe
-            survives(f"{model}: {name} cannot load it", lambda: load_robot(name, model, reading.tree, urdf))  # noqa: B023
-            robot = load_robot(name, model, reading.tree, urdf)
-        except ModelError as exc:
-            reports[name] = EngineReport(name, False, error=str(exc))
-            continue
-        except (Exception, SystemExit) as exc:  # whatever an engine raises is that engine not taking part
-            reports[name] = EngineReport(name, False, error=_one_line(name, "cannot load it", exc))
-            continue
-        if not len(robot.dofs):
-            reports[name] = EngineReport(name, False, robot.structure.nq, robot.structure.nv,
-                                         error=f"{name} shares no speed with relacc's reading: it read nq "
-                                               f"{robot.structure.nq}, nv {robot.structure.nv} and none of its "
-                                               "joints is one of the file's", warnings=tuple(robot.warnings))
-            if traits(name).own_urdf and urdf is not None and Path(urdf).resolve() != Path(model).resolve():
-                unshared.append(robot)
-            continue
-        robots.append(robot)
-        reports[name] = EngineReport(name, True, robot.structure.nq, robot.structure.nv,
-                                     warnings=tuple(robot.warnings))
+    that a C++ abort ends only the probe; the probes of all engines run at once, :class:`relacc.engines.contain.Probe`),
+    and those that read a user's URDF but share no speed with it."""
+    robots, unshared, probes = [], [], {}
+    try:
+        for name in names:  # every engine's load probed at once, each judged before this process loads it
+            try:
+                adapter_module(name)  # imported here once, not in the probe
+            except (Exception, SystemExit) as exc:  # whatever an engine raises is that engine not taking part
+                reports[name] = EngineReport(name, False, error=_one_line(name, "cannot load it", exc))
+                continue
+            probes[name] = Probe(f"{model}: {name} cannot load it",
+                                 lambda name=name: load_robot(name, model, reading.tree, urdf))
+        for name, probe in probes.items():
+            _load_one(name, probe, model, reading, urdf, reports, robots, unshared)
+    finally:
+        for probe in probes.values():
+            probe.stop()  # those not judged (an interrupt)
     return robots, unshared
+
+
+def _load_one(name, probe, model, reading, urdf, reports, robots, unshared) -> None:
+    """Engine ``name`` judged by its probe, then loaded here: into ``robots``, or ``unshared``, and ``reports``."""
+    try:
+        probe.survived()
+        robot = load_robot(name, model, reading.tree, urdf)
+    except ModelError as exc:
+        reports[name] = EngineReport(name, False, error=str(exc))
+        return
+    except (Exception, SystemExit) as exc:  # whatever an engine raises is that engine not taking part
+        reports[name] = EngineReport(name, False, error=_one_line(name, "cannot load it", exc))
+        return
+    if not len(robot.dofs):
+        reports[name] = EngineReport(name, False, robot.structure.nq, robot.structure.nv,
+                                     error=f"{name} shares no speed with relacc's reading: it read nq "
+                                           f"{robot.structure.nq}, nv {robot.structure.nv} and none of its "
+                                           "joints is one of the file's", warnings=tuple(robot.warnings))
+        if traits(name).own_urdf and urdf is not None and Path(urdf).resolve() != Path(model).resolve():
+            unshared.append(robot)
+        return
+    robots.append(robot)
+    reports[name] = EngineReport(name, True, robot.structure.nq, robot.structure.nv, warnings=tuple(robot.warnings))
 
 
 def _at_least_one(model, reports, robots) -> None:
