@@ -308,6 +308,49 @@ def test_every_engines_load_is_probed_at_once_and_an_interrupt_leaves_no_probe(t
         os.waitpid(-1, os.WNOHANG)
 
 
+TWO_ROOTS_KEYED = """<mujoco model="two_roots">
+  <worldbody>
+    <body name="base" pos="0 0 1">
+      <inertial pos="0 0 0" mass="2" diaginertia="0.1 0.2 0.3"/>
+      <joint name="hip" axis="0 1 0"/>
+      <body name="leg" pos="0 0 -0.4">
+        <inertial pos="0 0 -0.2" mass="1" diaginertia="0.02 0.03 0.01"/>
+        <joint name="knee" axis="0 1 0"/>
+      </body>
+    </body>
+    <body name="spare" pos="0 0 20">
+      <inertial pos="0 0 0" mass="0.1" diaginertia="0.1 0.1 0.1"/>
+      <joint name="spare_joint"/>
+    </body>
+  </worldbody>
+  <keyframe>
+    <key name="home" qpos="0.1
+      -0.2 0"/>
+  </keyframe>
+</mujoco>
+"""
+
+
+def test_a_keyframe_pinocchio_refuses_is_left_out_for_it_and_said(tmp_path):
+    """Unitree's H1 (unitree_mujoco) has a second body in <worldbody> and a keyframe of the whole model: Pinocchio's
+    parser, which reads only the first body, refused the file ("Keyframe size does not match model size") and took no
+    part. relacc now gives it the file without its keyframes (a named state, no part of the dynamics), says so, and
+    its reading of the first body alone is explained by the audit; the model's directory is left as it was."""
+    path = tmp_path / "two_roots.xml"
+    path.write_text(TWO_ROOTS_KEYED)
+    import pinocchio as pin
+
+    with pytest.raises(ValueError, match="Keyframe size does not match model size"):
+        pin.buildModelFromMJCF(str(path))  # the engine's own refusal, which this test is about
+    result = compare(path, n_states=2, seed=3, engines=["pinocchio", "mujoco"])
+    report = result.engines["pinocchio"]
+    assert report.loaded and (report.nq, report.nv) == (2, 2), report
+    assert any("left the file's 1 keyframe out of this engine's model" in w for w in report.warnings), report.warnings
+    assert any("spare_joint" in a.where for a in result.audit), result.audit
+    assert all("reads only the first <body>" in a.cause for a in result.audit), result.audit
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["two_roots.xml"]
+
+
 def arm7(seed: int) -> str:
     """A 7-joint arm shaped like the real ones (robosuite's jaco and iiwa): axes alternating along and across its
     links, each link turned by a random rotation, random lengths and inertias, a hand welded at the end."""

@@ -115,6 +115,39 @@ def without_equality(path) -> tuple[str, str]:
     path = Path(path)
     root = _read(path)
     _inline(root, path.parent, path)
+    _anywhere(root, path)
+    n = _drop_equality(root)
+    return ET.tostring(root, encoding="unicode"), _EQUALITY_NOTE.format(n=n, s="s" if n > 1 else "")
+
+
+def without_keyframes(path) -> tuple[str, str] | None:
+    """``(text, note)``: the MJCF at ``path`` without its ``<keyframe>`` elements (its includes left as they are: the
+    engine this is for expands none), its directories absolute as in :func:`without_equality`; None when it has no
+    keyframe. A keyframe is a named state, no part of the dynamics; Pinocchio's parser checks each against its own
+    reading of the file and refuses the file when they differ in size (its reading of only the first body of
+    ``<worldbody>`` leaves it fewer coordinates than the file has).
+
+    Raises:
+        ModelError: the file does not parse.
+    """
+    path = Path(path)
+    root = _read(path)
+    keys = [(parent, child) for parent in root.iter() for child in parent if child.tag == "keyframe"]
+    if not keys:
+        return None
+    for parent, child in keys:
+        parent.remove(child)
+    _anywhere(root, path)
+    n = sum(len(list(child)) for _, child in keys)
+    return ET.tostring(root, encoding="unicode"), (
+        f"relacc left the file's {n} keyframe{'s' if n != 1 else ''} out of this engine's model: its parser checks "
+        "each against its own reading of the file and refused them (a keyframe is a named state, no part of the "
+        "dynamics)")
+
+
+def _anywhere(root, path: Path) -> None:
+    """``root``'s ``meshdir`` (or ``assetdir``, ``texturedir``) made absolute, so that its text reads its files
+    wherever it is parsed from; the model named after the file where it has no name."""
     compilers = list(root.iter("compiler")) or [ET.SubElement(root, "compiler")]
     for compiler in compilers:
         for key in ("meshdir", "assetdir", "texturedir"):
@@ -123,8 +156,6 @@ def without_equality(path) -> tuple[str, str]:
                 compiler.set(key, str((path.parent / value).resolve()))
     if root.get("model") is None:
         root.set("model", path.stem)
-    n = _drop_equality(root)
-    return ET.tostring(root, encoding="unicode"), _EQUALITY_NOTE.format(n=n, s="s" if n > 1 else "")
 
 
 def _zero(inertial) -> bool:

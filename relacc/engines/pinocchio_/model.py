@@ -12,6 +12,7 @@ positions, velocities, Jacobians and classical accelerations are right.
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import pinocchio as pin
 
@@ -55,12 +56,39 @@ def parse(path, urdf=None, root_free: bool = False) -> tuple["pin.Model", list[s
                 model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer()) if root_free and not floating else \
                     pin.buildModelFromXML(text)
             else:
-                model = pin.buildModelFromMJCF(str(path))
+                model = _from_mjcf(path, printed)
         return model, printed
     except Exception as exc:  # Pinocchio raises ValueError/RuntimeError with its parser's message
         said = " ".join(" ".join(printed).split())
         raise ModelError(f"{urdf or path}: Pinocchio cannot read it: {' '.join(str(exc).split())}"
                          + (f" ({said})" if said else "")) from None
+
+
+KEYFRAME_REFUSED = "Keyframe size does not match model size"
+"""Pinocchio's MJCF parser's message for a ``<keyframe>`` whose size is not that of its own reading of the file."""
+
+
+def _from_mjcf(path, printed: list) -> "pin.Model":
+    """Pinocchio's reading of the MJCF at ``path``; where its parser refuses the file's keyframes alone
+    (:data:`KEYFRAME_REFUSED`), its reading of the file without them (:func:`relacc.engines.mjcf.without_keyframes`),
+    parsed from a temporary directory, the note saying so added to ``printed``."""
+    import tempfile
+
+    from relacc.engines.mjcf import without_keyframes
+
+    try:
+        return pin.buildModelFromMJCF(str(path))
+    except Exception as exc:  # noqa: BLE001 - Pinocchio's ValueError/RuntimeError: raised again unless it is that
+        stripped = without_keyframes(path) if KEYFRAME_REFUSED in str(exc) else None
+        if stripped is None:
+            raise
+    text, note = stripped
+    with tempfile.TemporaryDirectory(prefix="relacc-pinocchio-") as tmp:
+        copy = Path(tmp) / Path(path).name
+        copy.write_text(text)
+        model = pin.buildModelFromMJCF(str(copy))
+    printed.append(note)
+    return model
 
 
 def split_composites(model: "pin.Model") -> "pin.Model":
