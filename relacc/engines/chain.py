@@ -29,16 +29,14 @@ from relacc.core.cases import Case, as_case, check_q, check_u
 from relacc.core.conventions import Route
 from relacc.core.kinematics import G2Kinematics, check_finite_result
 from relacc.core.note.common import mv
-from relacc.core.rotations import angles_123_from_matrix, matrix_from_quaternion
 from relacc.core.scales import global_condition, offset_error, velocity_condition
-from relacc.core.speeds import body_speed_map, check_invertible, quaternion_coordinates
+from relacc.core.speeds import body_speed_map, quaternion_coordinates
 from relacc.core.tolerances import rounding_tolerance
 from relacc.engines.base import Adapter, point
 from relacc.errors import EngineError
 
 if TYPE_CHECKING:
     from relacc.core.chain import TwoBodyChain
-    from relacc.dynamics.effects import Effects
     from relacc.fixtures import Fixture
 
 ROUTES = (Route.QUATERNION, Route.EULER)
@@ -114,30 +112,6 @@ class ChainEngine:
         E, E_dot = T @ W, Td @ W + T @ W_dot
         return EngineInput(qe, mv(E, u), None if udot is None else mv(E, udot) + mv(E_dot, u), E, E_dot)
 
-    def note_coordinates(self, route: str, case: int, q_e: np.ndarray) -> np.ndarray:
-        """Engine positions ``(n, nq_e)`` back to the case's ``q`` (1-2-3 angles for case 3 on the quaternion
-        route, through :func:`relacc.core.rotations.angles_123_from_matrix`)."""
-        q, _ = self.routes[route].from_engine(q_e, np.zeros((len(q_e), self.routes[route].nv_e)))
-        if route == Route.EULER or as_case(case) is not Case.ANGLE_RATES:
-            return q
-        return np.concatenate([q[:, 0:3], angles_123_from_matrix(matrix_from_quaternion(q[:, 3:7])), q[:, 7:10],
-                               angles_123_from_matrix(matrix_from_quaternion(q[:, 10:14]))], 1)
-
-    def note_state(self, route: str, case: int, x: EngineInput
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-        """Inverse of :meth:`engine_input`: ``(q, u, udot)`` of the case; ``u = [E]^-1 v_e``,
-        ``udot = [E]^-1 (a_e - [E_dot] u)``; it serves round-trip tests, not comparisons.
-
-        Raises:
-            SingularityError: case 3 within ``MAX_CONDITION`` of gimbal lock.
-        """
-        c = as_case(case)
-        q = self.note_coordinates(route, c, x.q)
-        check_invertible(c, q)
-        u = np.linalg.solve(x.E, x.v[..., None])[..., 0]
-        udot = None if x.a is None else np.linalg.solve(x.E, (x.a - mv(x.E_dot, u))[..., None])[..., 0]
-        return q, u, udot
-
     def points(self, route: str, q: np.ndarray, v: np.ndarray, a: np.ndarray | None, *, jdot: bool = True
                ) -> EngineG2:
         """G2 at engine states ``(n, nq_e)``, ``(n, nv_e)``, rates ``a`` (or None); ``jdot=False`` leaves ``J_dot``
@@ -182,17 +156,6 @@ class ChainEngine:
     def adapter(self) -> Adapter:
         """The quaternion route's adapter, which every dynamics and simulation uses."""
         return self.routes[Route.QUATERNION]
-
-    def equations_of_motion(self, case: int, q: np.ndarray, u: np.ndarray, effects: Effects
-                            ) -> tuple[np.ndarray, np.ndarray]:
-        """The engine's ``(M, f)`` mapped to a case's speeds: ``E^T M_e E`` and ``E^T (f_e - M_e E_dot u)``."""
-        c = as_case(case)
-        q, u = check_q(c, q), check_u(f"u for case {int(c)}", u)
-        x = self.engine_input(Route.QUATERNION, c, np.atleast_2d(q), np.atleast_2d(u), None)
-        Me, fe = self.adapter.equations(np.ascontiguousarray(x.q), np.ascontiguousarray(x.v), effects.for_tree())
-        M = np.swapaxes(x.E, -1, -2) @ Me @ x.E
-        f = np.einsum("nji,nj->ni", x.E, fe - np.einsum("nij,njk,nk->ni", Me, x.E_dot, np.atleast_2d(u)))
-        return M.reshape(q.shape[:-1] + (12, 12)), f.reshape(q.shape[:-1] + (12,))
 
     def initial_state(self, case: int, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One state of a case, ``q (nq,)``, ``u (12,)``, in engine coordinates ``(q_e (nq_e,), v_e (nv_e,))``."""
