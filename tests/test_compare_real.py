@@ -275,12 +275,13 @@ def test_every_engines_load_is_probed_at_once_and_an_interrupt_leaves_no_probe(t
     from tests.test_compare import arm
 
     xml, _ = arm(tmp_path)
-    events = []
+    events, pids = [], []
 
     class Recorded(Probe):
         def __init__(self, what, step, timeout=600.0):
             super().__init__(what, step, timeout)
             events.append(("start", what))
+            pids.append(self.child.pid)
 
         def survived(self):
             events.append(("judge", self.what))
@@ -302,10 +303,13 @@ def test_every_engines_load_is_probed_at_once_and_an_interrupt_leaves_no_probe(t
 
     parent = os.getpid()
     monkeypatch.setattr(robots, "load_robot", interrupted)
+    pids.clear()
     with pytest.raises(KeyboardInterrupt):
         compare(xml, n_states=2, seed=8, engines=["pinocchio", "mujoco", "drake"])
-    with pytest.raises(ChildProcessError):  # every probe was collected or stopped: no child left to wait for
-        os.waitpid(-1, os.WNOHANG)
+    assert len(pids) == 3
+    for pid in pids:  # each probe was collected or stopped and reaped: none is left to wait for
+        with pytest.raises(ChildProcessError):
+            os.waitpid(pid, os.WNOHANG)
 
 
 TWO_ROOTS_KEYED = """<mujoco model="two_roots">
