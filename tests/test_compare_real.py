@@ -355,6 +355,35 @@ def test_a_keyframe_pinocchio_refuses_is_left_out_for_it_and_said(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["two_roots.xml"]
 
 
+FREE_DAMPED_ARMATURE = """<mujoco model="free_damped">
+  <worldbody>
+    <body name="torso" pos="0 0 1">
+      <inertial pos="0 0 0" mass="3" diaginertia="0.1 0.2 0.3"/>
+      <joint name="root" type="free" damping="1" armature="0.1"/>
+      <body name="arm" pos="0.2 0 0">
+        <inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.03"/>
+        <joint name="shoulder" axis="0 1 0" armature="0.1"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_a_dynamics_row_is_explained_by_the_readings_that_change_the_dynamics_alone(tmp_path):
+    """Unitree's R1 and H1-2: Drake's parser drops a free joint's damping and the armature of joints without an
+    actuator. The audit has both; the mass matrix's difference is the armature's alone (the compared dynamics leave
+    damping out), and its cause now names that reading only, where it had quoted every reading of the audit."""
+    path = tmp_path / "free_damped.xml"
+    path.write_text(FREE_DAMPED_ARMATURE)
+    result = compare(path, n_states=2, seed=4, engines=["mujoco", "drake"])
+    audit = " ".join(a.cause for a in result.audit)
+    assert "damping" in audit and "armature" in audit, result.audit  # both readings are in the audit
+    row = result.dynamics[Quantity.MASS_MATRIX]["drake"]
+    assert not row.passed and row.cause.startswith("explained by the audit: "), row.cause
+    assert "armature" in row.cause and "damping" not in row.cause, row.cause
+
+
 def arm7(seed: int) -> str:
     """A 7-joint arm shaped like the real ones (robosuite's jaco and iiwa): axes alternating along and across its
     links, each link turned by a random rotation, random lengths and inertias, a hand welded at the end."""

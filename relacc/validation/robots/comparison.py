@@ -456,11 +456,11 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
         return memo[key]
 
     engine = robot.engine
-    current, texts = once("read", lambda: _read_as_engine(reading, engine))
+    current, texts, moving = once("read", lambda: _read_as_engine(reading, engine))
     read_as = once("read_as", lambda: TreeRobot(current, 2, reading.tree)) if texts else None
     if read_as is not None and _explained(once("read_as rows", lambda: compare_dynamics(read_as, robot, states)),
                                           quantity, before):
-        return Cause(CauseKind.EXPLAINED, "explained by the audit: " + "; ".join(texts))
+        return Cause(CauseKind.EXPLAINED, "explained by the audit: " + "; ".join(moving or texts))
     for k, known in enumerate(readings(engine)):
         text = known.text
         fixed = once(("fixed", k), lambda: _changed(known, robot))  # noqa: B023 - called at once
@@ -503,16 +503,34 @@ def _dynamics_cause(quantity, before, reading, reference, robot, states, items=(
 
 
 def _read_as_engine(reading, engine: str) -> tuple:
-    """``(reading, texts)``: the file read as ``engine`` reads it (every known reading of
-    :data:`relacc.validation.robots.causes.READINGS` that applies, one after the other) and those readings' texts."""
-    current, texts = reading, []
+    """``(reading, texts, moving)``: the file read as ``engine`` reads it (every known reading of
+    :data:`relacc.validation.robots.causes.READINGS` that applies, one after the other), those readings' texts, and
+    the texts of those among them that change the tree's dynamics (a dropped damping, which the compared dynamics
+    leave out, changes none: it never explains a dynamics row)."""
+    current, texts, moving = reading, [], []
     for known in READINGS.get(engine, ()):
         if known.applies(current):
             try:
-                current, texts = known.change(current), texts + [known.text]
+                changed = known.change(current)
             except ModelError:
                 continue
-    return current, texts
+            texts.append(known.text)
+            if _dynamics_of(changed.tree) != _dynamics_of(current.tree):
+                moving.append(known.text)
+            current = changed
+    return current, texts, moving
+
+
+def _dynamics_of(tree) -> tuple:
+    """What of a tree its rigid-body dynamics depend on: each body's place, mass properties and joints (their kinds,
+    axes, anchors, reference positions and armature) and gravity, as plain values to compare."""
+    def values(a) -> tuple:
+        return () if a is None else tuple(np.asarray(a, dtype=float).ravel().tolist())
+
+    return values(tree.gravity), tuple(
+        (b.name, b.parent, values(b.pos), values(b.quat), float(b.mass), values(b.com), values(b.inertia),
+         tuple((j.name, j.type, values(j.pos), values(j.axis), float(j.ref), values(j.armature)) for j in b.joints))
+        for b in tree.bodies)
 
 
 def _changed(known, robot):
