@@ -384,6 +384,21 @@ def test_a_dynamics_row_is_explained_by_the_readings_that_change_the_dynamics_al
     assert "armature" in row.cause and "damping" not in row.cause, row.cause
 
 
+def test_a_scene_that_includes_its_robot_says_why_pinocchio_reads_no_body(tmp_path):
+    """Unitree's ``scene.xml`` files include the robot's file and have no body of their own: Pinocchio's MJCF parser,
+    which expands no <include>, says only "No such node (body)". relacc keeps it out and now says why, naming the
+    included file to compare instead; the other engines are compared."""
+    (tmp_path / "robot.xml").write_text(FREE_DAMPED_ARMATURE)
+    scene = tmp_path / "scene.xml"
+    scene.write_text('<mujoco model="scene">\n  <include file="robot.xml"/>\n  <worldbody>\n'
+                     '    <geom name="floor" type="plane" size="1 1 0.1"/>\n  </worldbody>\n</mujoco>\n')
+    result = compare(scene, n_states=2, seed=4, engines=["pinocchio", "mujoco"])
+    error = result.engines["pinocchio"].error
+    assert not result.engines["pinocchio"].loaded and "No such node (body)" in error, error
+    assert "expands no <include>" in error and "(robot.xml)" in error and "\n" not in error, error
+    assert result.compared == ["relacc", "mujoco"]
+
+
 def arm7(seed: int) -> str:
     """A 7-joint arm shaped like the real ones (robosuite's jaco and iiwa): axes alternating along and across its
     links, each link turned by a random rotation, random lengths and inertias, a hand welded at the end."""

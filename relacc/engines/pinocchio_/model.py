@@ -60,8 +60,26 @@ def parse(path, urdf=None, root_free: bool = False) -> tuple["pin.Model", list[s
         return model, printed
     except Exception as exc:  # Pinocchio raises ValueError/RuntimeError with its parser's message
         said = " ".join(" ".join(printed).split())
+        why = _bodies_included(path) if urdf is None and "No such node (body)" in str(exc) else ""
         raise ModelError(f"{urdf or path}: Pinocchio cannot read it: {' '.join(str(exc).split())}"
-                         + (f" ({said})" if said else "")) from None
+                         + (f" ({said})" if said else "") + why) from None
+
+
+def _bodies_included(path) -> str:
+    """Why Pinocchio's MJCF parser found no body in a file whose ``<worldbody>`` has none of its own but includes
+    others (a scene that includes its robot: Unitree's ``scene.xml``), or "" where that is not so."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError):
+        return ""
+    worlds = root.findall("worldbody")
+    if any(w.find("body") is not None for w in worlds) or root.find(".//include") is None:
+        return ""
+    names = [i.get("file", "") for i in root.iter("include")]
+    return (f": its MJCF parser expands no <include>, and this file's bodies are all in the files it includes "
+            f"({', '.join(names)}); the included file itself is what Pinocchio reads")
 
 
 KEYFRAME_REFUSED = "Keyframe size does not match model size"
