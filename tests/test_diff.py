@@ -14,6 +14,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from relacc.cli.main import main
 from relacc.validation.diff import diff, rounds_to, significant_digits
@@ -366,3 +367,23 @@ def test_the_engines_line_is_compare_s_verdict_on_each_file(tmp_path, capsys):
     out = capsys.readouterr().out.splitlines()
     assert out[1:3] == [f"  engines on A ({urdf}): every engine reads the file as relacc does and the dynamics agree",
                         f"  engines on B ({xml}): every engine reads the file as relacc does and the dynamics agree"]
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_a_robot_moved_and_printed_to_six_digits_is_found_moved_not_turned(seed):
+    """unitree_ros' G1: its MJCF is its URDF 0.793 m up, every number printed to 6 digits. The least-squares fit of the
+    matched points found the move and a turn of 1.9e-5 deg, which is only that rounding: a translation alone fits
+    every point within its tolerance, and is what the fit now gives, the rotation exactly the identity."""
+    from relacc.validation.diff import fit_placement
+
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(-0.5, 0.5, (30, 3))
+    t = np.array([0.0, 0.0, 0.793])
+    b = np.round(a - t, 6)  # B's points as its file prints them
+    a = np.round(a, 6)
+    R, p = fit_placement(a, b, np.full(len(a), 2e-6))  # 2e-6 m: twice a 6-digit rounding of a coordinate below 1 m
+    assert np.array_equal(R, np.eye(3)), (seed, R)
+    np.testing.assert_allclose(p, t, rtol=0, atol=1e-6, err_msg=f"seed {seed}")  # the rounding's mean, at most 5e-7
+    turned = Rotation.from_rotvec([0.0, 0.0, 0.5]).as_matrix()  # a real turn is still found as one
+    R, _ = fit_placement(a, np.round((a - t) @ turned, 6), np.full(len(a), 2e-6))
+    np.testing.assert_allclose(R, turned, rtol=0, atol=1e-5, err_msg=f"seed {seed}")

@@ -316,7 +316,9 @@ def _values(x):
 def fit_placement(points_a: np.ndarray, points_b: np.ndarray, tolerances: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(R, p)``: the rigid motion taking B's world points ``(n, 3)`` to A's, ``x_a = R x_b + p`` (Kabsch), refitted on
     the points within ``tolerances`` ``(n,)`` (m) of it, so that a few moved points do not spread over the rest; the
-    identity when it already fits every point, or when too few points remain."""
+    identity when it already fits every point, or when too few points remain; a translation alone (``R`` the identity)
+    when that fits those points within their tolerances, rather than the tiny turn the printed digits' rounding gives
+    a least-squares fit (unitree_ros' G1: its MJCF's robot 0.793 m up and "turned 1.9e-5 deg")."""
     if len(points_a) == 0 or np.all(np.linalg.norm(points_a - points_b, axis=1) <= tolerances):
         return np.eye(3), np.zeros(3)
     keep = np.ones(len(points_a), dtype=bool)
@@ -336,6 +338,9 @@ def fit_placement(points_a: np.ndarray, points_b: np.ndarray, tolerances: np.nda
         keep = inside
     if keep.sum() < max(3, (len(points_a) + 1) // 2):
         return np.eye(3), np.zeros(3)
+    shift = (points_a[keep] - points_b[keep]).mean(axis=0)  # the simplest motion that fits: a translation alone
+    if np.all(np.linalg.norm(points_a[keep] - (points_b[keep] + shift), axis=1) <= tolerances[keep]):
+        return np.eye(3), shift
     return R, p
 
 
@@ -444,8 +449,8 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         moved = -R.T @ p
         motion = {"turned_deg": float(np.degrees(angle)), "about": _values(about), "moved_m": _values(moved)}
         out.append(Difference("placement", "the robot", "placement", None, motion, None, ra.source, rb.source))
-        notes.append(f"B's robot is A's turned {np.degrees(angle):.6g} deg about {np.array2string(about, precision=6)} "
-                     f"and moved by {np.array2string(moved, precision=6)} m in the world"
+        turned = f"turned {np.degrees(angle):.6g} deg about {np.array2string(about, precision=6)} and " if angle else ""
+        notes.append(f"B's robot is A's {turned}moved by {np.array2string(moved, precision=6)} m in the world"
                      + (" (a floating base: its initial pose only)" if floating else "")
                      + "; B compared after taking that motion back")
     com_b = {k: R @ part.com + p for k, part in enumerate(parts_b)}
