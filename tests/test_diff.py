@@ -387,3 +387,56 @@ def test_a_robot_moved_and_printed_to_six_digits_is_found_moved_not_turned(seed)
     turned = Rotation.from_rotvec([0.0, 0.0, 0.5]).as_matrix()  # a real turn is still found as one
     R, _ = fit_placement(a, np.round((a - t) @ turned, 6), np.full(len(a), 2e-6))
     np.testing.assert_allclose(R, turned, rtol=0, atol=1e-5, err_msg=f"seed {seed}")
+
+
+FIXED_URDF = """<robot name="arm">
+  <link name="base"><inertial><origin xyz="0 0 0.05"/><mass value="2"/>
+    <inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.01"/></inertial></link>
+  <link name="upper"><inertial><origin xyz="0 0 0.2"/><mass value="1.5"/>
+    <inertia ixx="0.03" ixy="0" ixz="0" iyy="0.025" iyz="0" izz="0.004"/></inertial></link>
+  <link name="lower"><inertial><origin xyz="0.1 0 0.15"/><mass value="{mass}"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.012" iyz="0" izz="0.003"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.1"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="10" velocity="10"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="lower"/><origin xyz="0 0 0.4"/>
+    <axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="10" velocity="10"/></joint>
+</robot>
+"""
+
+FLOATING_MJCF = """<mujoco model="arm">
+  <worldbody>
+    <body name="base" pos="0 0 0.5">
+      <freejoint name="floating_base"/>
+      <inertial pos="0 0 0.05" mass="2" diaginertia="0.02 0.02 0.01"/>
+      <body name="upper" pos="0 0 0.1">
+        <joint name="shoulder" axis="0 1 0"/>
+        <inertial pos="0 0 0.2" mass="1.5" diaginertia="0.03 0.025 0.004"/>
+        <body name="lower" pos="0 0 0.4">
+          <joint name="elbow" axis="1 0 0"/>
+          <inertial pos="0.1 0 0.15" mass="1" diaginertia="0.01 0.012 0.003"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("mass, beyond", [("1", False), ("1.1", True)])
+def test_a_fixed_base_against_a_floating_one_compares_the_rest_with_the_free_joint_held(tmp_path, mass, beyond):
+    """unitree_ros' G1 pairs: the URDF's base is fixed (its floating joint commented out), the MJCF's free. The
+    dynamics were not compared at all ("parts without a counterpart"); they are now compared with the MJCF's free joint
+    held where it places its base: the same arm agrees within printing, and a link 10% heavier in the URDF is beyond
+    it in the mass matrix. The unmatched free joint and the placement stay differences."""
+    urdf, mjcf = tmp_path / "arm.urdf", tmp_path / "arm.xml"
+    urdf.write_text(FIXED_URDF.format(mass=mass))
+    mjcf.write_text(FLOATING_MJCF)
+    d = diff(urdf, mjcf)
+    kinds = sorted(x.kind for x in d.differences)
+    assert "unmatched" in kinds and "placement" in kinds, kinds
+    assert any("free joint floating_base held" in n for n in d.notes), d.notes
+    rows = {row["quantity"]: row for row in d.dynamics}
+    assert set(rows) == {"mass matrix", "bias forces", "forward dynamics"}, rows
+    assert rows["mass matrix"]["beyond"] is beyond, rows["mass matrix"]
+    if not beyond:
+        assert not any(row["beyond"] for row in d.dynamics), d.dynamics

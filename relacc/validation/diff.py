@@ -503,11 +503,41 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
 
     joints = {(i, k): joint_pairs(parts_a[i], parts_b[k]) for i, k, _ in m.pairs}
     dynamics, why = compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, states, seed)
+    held_a = _held_root(ra, parts_a, m.only_a, m.only_b)
+    held_b = _held_root(rb, parts_b, m.only_b, m.only_a)
+    held = held_a or held_b
+    if why and held is not None:  # one file's base fixed, the other's free: the rest compared with that joint held
+        label = "A" if held_a is not None else "B"
+        sub = diff_readings(held[0], rb, rtol=rtol, states=states, seed=seed) if label == "A" else \
+            diff_readings(ra, held[0], rtol=rtol, states=states, seed=seed)
+        if sub.dynamics:
+            dynamics, why = sub.dynamics, ""
+            notes.append(f"dynamics compared with {label}'s free joint {held[1]} held where it places its body "
+                         f"(the other file's base is fixed)")
     if why:
         notes.append(f"dynamics not compared: {why}")
     trees = {"a": _tree(parts_a, world_a), "b": _tree(parts_b, world_b),
              "pairs": [[i, k, how] for i, k, how in m.pairs]}
     return Diff(str(ra.source), str(rb.source), matched, out, notes, dynamics, rtol, trees)
+
+
+def _held_root(reading, parts: list[Part], only: list, others_only: list) -> tuple | None:
+    """``(reading with the joint removed, the joint's name)`` where the only part without a counterpart is this file's
+    root part on a free joint alone and the other file has none: a floating base against a fixed one (a URDF without
+    its floating joint, its MJCF with one). Else None."""
+    from dataclasses import replace
+
+    from relacc.core.tree.model import Tree
+
+    if len(only) != 1 or others_only:
+        return None
+    part = parts[only[0]]
+    if part.parent != -1 or len(part.joints) != 1 or part.joints[0].type != "free":
+        return None
+    t = reading.tree
+    bodies = tuple(replace(b, joints=()) if b.name == part.name else b for b in t.bodies)
+    return replace(reading, tree=Tree(t.name, bodies, gravity=t.gravity, points=t.points, source=t.source)), \
+        part.joints[0].name
 
 
 def _tree(parts: list[Part], world: Part) -> dict:
