@@ -336,7 +336,41 @@ def point(name: str) -> tuple[str, str]:
     return ("point", name)
 
 
-class Adapter(abc.ABC):
+class Answering:
+    """What a comparison asks an evaluator at reference states, each question answered once for the same states
+    (:class:`Answers`, in ``self.answers``): :meth:`dynamics` and :meth:`kinematics` of a batch, or of one state without
+    its batch axis. An evaluator gives ``_dynamics(q, v)`` and ``_kinematics(q, v, a, links)`` of batches: an engine's
+    :class:`Adapter`, relacc's own reading (:class:`relacc.validation.robots.tree.TreeRobot`)."""
+
+    answers: Answers
+
+    def dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
+        """:class:`Dynamics` at reference states ``q (n, nq)``, ``v (n, nv)`` (or one state, ``(nq,)``, ``(nv,)``:
+        then without the batch axis; speeds the evaluator lacks: zero), the model's own gravity as the evaluator read
+        it and nothing else; read-only, and evaluated once for the same states (:class:`Answers`)."""
+        one = np.ndim(q) == 1
+        q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
+        return first(self.answers("dynamics", (q, v), lambda: self._dynamics(q, v)), one)
+
+    def kinematics(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, links: Sequence[str]) -> Points:
+        """Each named link's centre of mass at reference states ``q (n, nq)``, ``v (n, nv)``, rates ``a (n, nv)``, over
+        the shared speeds: :class:`Points` ``(n, L, ...)`` (one state: ``(L, ...)``), ``J_dot v`` included; read-only,
+        and evaluated once for the same states (:class:`Answers`)."""
+        one = np.ndim(q) == 1
+        q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
+        return first(self.answers(("kinematics", tuple(links)), (q, v, a), lambda: self._kinematics(q, v, a, links)),
+                     one)
+
+    def _dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
+        """:meth:`dynamics` of a batch ``(n, nq)``, ``(n, nv)``, evaluated (the evaluator's own)."""
+        raise NotImplementedError
+
+    def _kinematics(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, links: Sequence[str]) -> Points:
+        """:meth:`kinematics` of a batch, evaluated (the evaluator's own)."""
+        raise NotImplementedError
+
+
+class Adapter(Answering, abc.ABC):
     """One model in one engine, matched to the reference (see the module docstring).
 
     Attributes:
@@ -600,14 +634,6 @@ class Adapter(abc.ABC):
                    np.array([c for _, _, c in scaled]))
         return joint_force_plan(self.reference, resolved), positions, factors, matrices
 
-    def dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
-        """:class:`Dynamics` at reference states ``q (n, nq)``, ``v (n, nv)`` (or one state, ``(nq,)``, ``(nv,)``:
-        then without the batch axis; speeds the engine lacks: zero), the model's own gravity as the engine read it
-        and nothing else; read-only, and evaluated once for the same states (:class:`Answers`)."""
-        one = np.ndim(q) == 1
-        q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
-        return first(self.answers("dynamics", (q, v), lambda: self._dynamics(q, v)), one)
-
     def _dynamics(self, q: np.ndarray, v: np.ndarray) -> Dynamics:
         x = self.to_engine(q, v)
         qe, ve, T, Td = x.q, x.v, x.T, x.T_dot
@@ -616,15 +642,6 @@ class Adapter(abc.ABC):
         Tdv = np.einsum("nij,nj->ni", Td, v[:, self.dofs])
         forward = self.forward(qe, ve) if self.extra_dofs == 0 else None
         return mapped_dynamics(Me, fe, ge, forward, T, Tdv)
-
-    def kinematics(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, links: Sequence[str]) -> Points:
-        """Each named link's centre of mass at reference states ``q (n, nq)``, ``v (n, nv)``, rates ``a (n, nv)``, over
-        the shared speeds: :class:`Points` ``(n, L, ...)`` (one state: ``(L, ...)``), ``J_dot v`` included; read-only,
-        and evaluated once for the same states (:class:`Answers`)."""
-        one = np.ndim(q) == 1
-        q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
-        return first(self.answers(("kinematics", tuple(links)), (q, v, a), lambda: self._kinematics(q, v, a, links)),
-                     one)
 
     def _kinematics(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, links: Sequence[str]) -> Points:
         x = self.to_engine(q, v, a)

@@ -9,6 +9,7 @@ probed.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 from relacc import isolate
 from relacc.errors import ModelError
@@ -42,7 +43,9 @@ class Probe:
             return
         ended = self.child.wait(max(0.0, self.deadline - time.monotonic()))
         if isinstance(ended, isolate.Ended):
-            how = isolate.Ended(ended.signal, ended.status, None if ended.timeout is None else self.timeout).sentence()
+            if ended.timeout is not None:  # stopped at its deadline: the whole time it was given
+                ended = replace(ended, timeout=self.timeout)
+            how = ended.sentence()
             if ended.signal is not None:
                 how += " (a C++ abort or crash, contained in a probe process)"
             raise ModelError(f"{self.what}: the engine {how}")

@@ -19,11 +19,13 @@ energy_scale (n,), momentum, angular_momentum (n, 3)}``, fixed-frame components.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from relacc.core.cases import Case
 from relacc.core.tolerances import rounding_tolerance
-from relacc.errors import EngineError, InputError, ModelError
+from relacc.errors import EngineError, InputError, IntegrationError, ModelError
 
 
 def _observation(position, velocity, acceleration, energy_terms, momentum, angular_momentum) -> dict:
@@ -144,23 +146,6 @@ def tree_point(scene, Q, U, Udot, case=None):
     return k.position[:, b], k.velocity[:, b], k.acceleration[:, b]
 
 
-def _tree_observer(scene):
-    from relacc.dynamics.tree import tree_accelerations
-    from relacc.dynamics.tree_energy import tree_energy, tree_momenta
-
-    tree, case, eff = scene.tree, scene.case, scene.effects
-
-    def observe(t, Q, U):
-        Udot = tree_accelerations(tree, case, Q, U, effects=eff, t=t)
-        pos, vel, acc = tree_point(scene, Q, U, Udot)
-        q2, v2 = reference_state(scene, Q, U)
-        T, g, s = tree_energy(tree, q2, v2, eff)
-        p, H = tree_momenta(tree, q2, v2)
-        return _observation(pos, vel, acc, (T, g, s), p, H)
-
-    return observe
-
-
 def tree_stepper(tree, case, effects, dt: float, integrator: str):
     """relacc's fixed-step integrator for a tree (:mod:`relacc.dynamics.integrate`: RKMK4 or semi-implicit Euler on
     the tree's manifold, :class:`relacc.dynamics.integrate.TreeSpace`) with Kane's accelerations under exactly
@@ -274,8 +259,6 @@ def check_done(done, m, steps, scene, who) -> None:
     Raises:
         IntegrationError: which member, between which records, at which step.
     """
-    from relacc.errors import IntegrationError
-
     bad = np.flatnonzero(done < m)
     if bad.size:
         i, j = int(bad[0]), int(done[bad[0]])
@@ -285,8 +268,6 @@ def check_done(done, m, steps, scene, who) -> None:
 
 def batched(stepper, x, v, steps, scene, who):
     """Every member at once through a stepper that takes batches of rows; ``(Q (n, m, .), V, seconds)``."""
-    import time
-
     n, m = len(x), len(steps)
     Q, V = np.empty((n, m, x.shape[1])), np.empty((n, m, v.shape[1]))
     Q[:, 0], V[:, 0] = x, v
@@ -321,16 +302,14 @@ class NoteChain:
     def run(self, scene, integrator):
         """``(stepper, observe, applied)`` in the case's coordinates (:func:`relacc_run`)."""
         from relacc import dynamics
-        from relacc.core.kinematics import g2_kinematics
         from relacc.dynamics.integrate import stepper
 
         chain, case, eff = scene.fixture.chain, scene.case, scene.effects
 
         def observe(t, Q, U):
-            k = g2_kinematics(chain, case, Q, U, dynamics.accelerations(chain, case, Q, U, eff))
             T, g, s = dynamics.energy_terms(chain, case, Q, U, eff)
             p, H = dynamics.momenta(chain, case, Q, U)
-            return _observation(k.position, k.velocity, k.acceleration, (T, g, s), p, H)
+            return _observation(*self.point(scene, Q, U, t), (T, g, s), p, H)
 
         return (stepper(chain, case, eff, scene.dt, integrator), observe,
                 {"equations": "Newton-Euler per body (Kane's, solved), " + (", ".join(eff.active()) or "no effects")})
@@ -355,8 +334,6 @@ class NoteChain:
         Raises:
             EngineError: an integrator the kernels lack. IntegrationError: a member diverged.
         """
-        import time
-
         from relacc.kernels import dynamics as kernel
         from relacc.kernels.jit import threads as kernel_threads
 
@@ -375,7 +352,7 @@ class NoteChain:
         check_done(done, m, steps, scene, "relacc")
         return Q, U, seconds
 
-    def point(self, scene, Q, U, t):
+    def point(self, scene, Q, U, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(position, velocity, acceleration)`` ``(n, 3)`` of G2 at states ``Q``, ``U`` of the scene's case and
         times ``t (n,)``: the note's formulas with Kane's accelerations."""
         from relacc import dynamics
@@ -402,9 +379,18 @@ class ModelTree:
 
     def run(self, scene, integrator):
         """``(stepper, observe, applied)`` in the case's coordinates (:func:`relacc_run`)."""
-        return (tree_stepper(scene.tree, scene.case, scene.effects, scene.dt, integrator), _tree_observer(scene),
+        from relacc.dynamics.tree_energy import tree_energy, tree_momenta
+
+        tree, eff = scene.tree, scene.effects
+
+        def observe(t, Q, U):
+            q2, v2 = reference_state(scene, Q, U)
+            p, H = tree_momenta(tree, q2, v2)
+            return _observation(*self.point(scene, Q, U, t), tree_energy(tree, q2, v2, eff), p, H)
+
+        return (tree_stepper(tree, scene.case, eff, scene.dt, integrator), observe,
                 {"equations": "Kane's equations of the tree (relacc.tree_accelerations), "
-                              + (", ".join(scene.effects.active()) or "no effects")})
+                              + (", ".join(eff.active()) or "no effects")})
 
     def acceleration(self, scene, t, Q, U, case):
         """As :meth:`NoteChain.acceleration`, of the scene's point."""
@@ -421,7 +407,7 @@ class ModelTree:
         with kernel_threads(threads):
             return batched(stepper, q0, u0, steps, scene, "relacc")
 
-    def point(self, scene, Q, U, t):
+    def point(self, scene, Q, U, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """As :meth:`NoteChain.point`, of the scene's point, by relacc's tree."""
         from relacc.dynamics.tree import tree_accelerations
 

@@ -21,12 +21,12 @@ from relacc.core.cases import Case
 from relacc.core.tree import convert, tree_kinematics
 from relacc.core.tree.coordinates import reference_q, rotations
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
-from relacc.engines.base import Answers, Dynamics, Points, first, mapped_dynamics
+from relacc.engines.base import Answering, Answers, Dynamics, Points, mapped_dynamics
 from relacc.errors import RelaccError
 from relacc.validation.robots.reading import groups, structure
 
 
-class TreeRobot:
+class TreeRobot(Answering):
     """relacc's reading of a file (a :class:`relacc.reading.Reading`), evaluated in ``case`` and answered in its
     case-2 coordinates (the interface of :class:`relacc.engines.base.Adapter` that a comparison uses:
     ``structure``, ``dynamics``, ``kinematics``, ``default_q``)."""
@@ -111,13 +111,9 @@ class TreeRobot:
         self._mapped = (key, (q_c, u_c, T, Tdv))
         return q_c, u_c, T, Tdv
 
-    def dynamics(self, q, v) -> Dynamics:
-        """:class:`Dynamics` at states ``q (n, nq)``, ``v (n, nv)`` (case 2; one state: no batch axis)."""
-        one = np.ndim(q) == 1
-        q, v = np.atleast_2d(np.asarray(q, dtype=float)), np.atleast_2d(np.asarray(v, dtype=float))
-        return first(self.answers("dynamics", (q, v), lambda: self._dynamics(q, v)), one)
-
     def _dynamics(self, q, v) -> Dynamics:
+        """:class:`Dynamics` at states ``q (n, nq)``, ``v (n, nv)`` of the reference (case 2), evaluated in this case
+        (:meth:`relacc.engines.base.Answering.dynamics` answers them once)."""
         q_c, u_c, T, Tdv = self._map(*self._own(q, v))
         n = len(q_c)
         # the states and the same states at rest (the gravity terms) in one evaluation
@@ -128,14 +124,9 @@ class TreeRobot:
             forward = np.full(u_c.shape, np.nan)
         return mapped_dynamics(d.M[:n], d.f[:n], d.f[n:], forward, T, Tdv)
 
-    def kinematics(self, q, v, a, links) -> Points:
-        """:class:`Points` ``(n, L, ...)`` of the named links' mass centres (one state: ``(L, ...)``)."""
-        one = np.ndim(q) == 1
-        q, v, a = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, v, a))
-        return first(self.answers(("kinematics", tuple(links)), (q, v, a), lambda: self._kinematics(q, v, a, links)),
-                     one)
-
     def _kinematics(self, q, v, a, links) -> Points:
+        """:class:`Points` ``(n, L, ...)`` of the named links' mass centres at states ``(n, ...)`` of the reference
+        (:meth:`relacc.engines.base.Answering.kinematics` answers them once)."""
         q, v = self._own(q, v)
         a = a if self.reference is self.tree else a[:, self.dofs]
         q_c, u_c, T, Tdv = self._map(q, v)
