@@ -355,6 +355,51 @@ def test_a_keyframe_pinocchio_refuses_is_left_out_for_it_and_said(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["two_roots.xml"]
 
 
+TWO_DEFAULTS = """<mujoco model="two_defaults">
+  <default>
+    <default class="arm"><geom type="capsule" size="0.02"/></default>
+  </default>
+  <default>
+    <default class="servo"><joint damping="0.6" armature="0.3"/></default>
+  </default>
+  <worldbody>
+    <body name="upper" pos="0 0 1" childclass="arm">
+      <inertial pos="0 0 -0.2" mass="2" diaginertia="0.1 0.2 0.3"/>
+      <joint name="shoulder" axis="0 1 0" class="servo"/>
+      <body name="lower" pos="0 0 -0.4">
+        <inertial pos="0 0 -0.2" mass="1" diaginertia="0.02 0.03 0.01"/>
+        <joint name="elbow" axis="0 1 0" class="servo"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_classes_in_a_second_top_level_default_are_given_to_pinocchio_in_one(tmp_path):
+    """SO-ARM100's SO-101 MJCFs (TheRobotStudio/SO-ARM100) have two top-level <default> elements, the servo's class
+    (armature 0.028) in the second. MuJoCo reads both; Pinocchio's parser reads the first alone and refused the file
+    with C++'s bare "unordered_map::at", taking no part. relacc now gives it the file with the two as one and says so;
+    its mass matrix then agrees with relacc's and MuJoCo's to rounding, the servo's armature included (0.3 here, of
+    diagonal entries about 0.6: without it the difference would be half the largest entry); the model's directory
+    is left as it was."""
+    path = tmp_path / "two_defaults.xml"
+    path.write_text(TWO_DEFAULTS)
+    import pinocchio as pin
+
+    with pytest.raises(IndexError, match="unordered_map::at"):
+        pin.buildModelFromMJCF(str(path))  # the engine's own refusal, which this test is about
+    result = compare(path, n_states=2, seed=5, engines=["pinocchio", "mujoco"])
+    report = result.engines["pinocchio"]
+    assert report.loaded and (report.nq, report.nv) == (2, 2), report
+    assert any("2 top-level <default> elements as one" in w and "(servo)" in w for w in report.warnings), \
+        report.warnings
+    assert result.audit == [], result.audit
+    rows = result.dynamics["mass matrix"]
+    assert set(rows) >= {"pinocchio", "mujoco"} and all(r.passed for r in rows.values()), rows
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["two_defaults.xml"]
+
+
 FREE_DAMPED_ARMATURE = """<mujoco model="free_damped">
   <worldbody>
     <body name="torso" pos="0 0 1">

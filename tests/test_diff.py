@@ -440,3 +440,73 @@ def test_a_fixed_base_against_a_floating_one_compares_the_rest_with_the_free_joi
     assert rows["mass matrix"]["beyond"] is beyond, rows["mass matrix"]
     if not beyond:
         assert not any(row["beyond"] for row in d.dynamics), d.dynamics
+
+
+@pytest.mark.parametrize("plant", ["mass", "armature", "anchor"])
+def test_a_dynamics_row_beyond_printing_says_whether_the_listed_masses_and_armatures_explain_it(tmp_path, plant):
+    """SO-ARM100's SO-101 pair (TheRobotStudio/SO-ARM100): the MJCF adds armature 0.028 to every joint, and the mass
+    matrix differs by 0.78 of its largest entry. The rows said "BEYOND" and nothing of why. Each row beyond printing is
+    now compared again with A given B's masses, mass centres, inertias, armatures and gravity: a mass or an armature
+    planted alone is then within printing (MuJoCo printed 6 digits: about 1e-6 of the largest entry, as in
+    test_mujoco_s_own_conversion_is_the_same_robot), and an anchor moved 2 cm is not (the geometry differs)."""
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+
+    def edit(root):
+        if plant == "mass":  # 10 % more
+            inertial = body(root, "l2").find("inertial")
+            inertial.set("mass", repr(float(inertial.get("mass")) * 1.1))
+        elif plant == "armature":
+            joint(root, "j2").set("armature", "0.5")
+        else:  # l3's joint 2 cm further along l2
+            l3 = body(root, "l3")
+            pos = np.array([float(x) for x in l3.get("pos").split()])
+            l3.set("pos", " ".join(repr(float(x)) for x in pos + [0.0, 0.0, 0.02]))
+
+    result = diff(urdf, edited(xml, edit))
+    beyond = [row for row in result.dynamics if row["beyond"]]
+    assert {row["quantity"] for row in beyond} >= {"mass matrix"}, result.dynamics
+    for row in beyond:
+        again = row["explained"]
+        if plant == "anchor":
+            assert again["beyond"] and again["normalized"] > 1e-3, row  # 2 cm on a 0.4 m link: percents
+        else:
+            assert not again["beyond"] and again["normalized"] < 1e-5, row
+    for row in result.dynamics:
+        assert ("explained" in row) is row["beyond"], row
+    text = main_output(["diff", str(urdf), str(xml.with_name("edited.xml"))])
+    said = "so the geometry differs too" if plant == "anchor" else "so those differences explain it"
+    assert any(line.startswith("  dynamics: mass matrix") and said in line for line in text), text
+
+
+def test_a_dynamics_row_printing_cannot_decide_says_so(tmp_path):
+    """unitree_rl_gym's H1-2 pair: its fingers' links weigh grams, the mass matrix's condition number makes the
+    forward dynamics' allowance 2.8e4 times its largest entry, and the row read "printing allows 2.8e+04" as if it had
+    passed. A row whose allowance reaches its entries says that it cannot tell the files apart; a well-conditioned
+    arm's rows decide."""
+    light = URDF.replace('<mass value="2.275"/>', '<mass value="2.275e-05"/>').replace(
+        'ixx="0.0311796" ixy="0" ixz="0" iyy="0.0311796" iyz="0" izz="0.004095"',
+        'ixx="3.11796e-13" ixy="0" ixz="0" iyy="3.11796e-13" iyz="0" izz="4.095e-14"').replace(
+        '<mass value="0.1879"/>', '<mass value="1.879e-06"/>').replace(
+        'ixx="0.0001" ixy="0" ixz="0" iyy="0.0002" iyz="0" izz="0.00015"',
+        'ixx="1e-13" ixy="0" ixz="0" iyy="2e-13" iyz="0" izz="1.5e-13"')
+    assert light != URDF
+    for text, decides in ((URDF, True), (light, False)):
+        urdf, xml = saved_by_mujoco(tmp_path, text, "light" if not decides else "arm")
+        rows = {row["quantity"]: row for row in diff(urdf, xml).dynamics}
+        fd = rows["forward dynamics"]
+        assert fd["decides"] is decides and (fd["tolerance"] >= 1.0) is not decides, fd
+        assert rows["mass matrix"]["decides"], rows
+        out = main_output(["diff", str(urdf), str(xml)])
+        line = next(x for x in out if x.startswith("  dynamics: forward dynamics"))
+        assert ("cannot tell the files apart" in line) is not decides, line
+
+
+def main_output(argv) -> list[str]:
+    """The text ``relacc diff`` prints, its lines."""
+    import contextlib
+    import io
+
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        main(argv)
+    return buffer.getvalue().splitlines()

@@ -102,10 +102,14 @@ def text(result) -> list[str]:
     lines += [d.line() for d in ordered[:SHOWN]]
     if len(ordered) > SHOWN:
         lines.append(f"  {len(ordered) - SHOWN} more in --json")
+    from relacc.validation.diff_dynamics import row_words
+
     for row in result.dynamics:
+        words = row_words(row)
         lines.append(f"  dynamics: {row['quantity']}: worst of {row['states']} states (state {row['worst_state']}; 0 "
                      f"is the reference) {row['normalized']:.2g} of its largest entry, printing allows "
-                     f"{row['tolerance']:.2g}" + ("  BEYOND" if row["beyond"] else ""))
+                     f"{row['tolerance']:.2g}" + ("  BEYOND" if row["beyond"] else "")
+                     + (f"; {words}" if words else ""))
     return lines
 
 

@@ -145,6 +145,32 @@ def without_keyframes(path) -> tuple[str, str] | None:
         "dynamics)")
 
 
+def with_defaults_merged(path) -> tuple[str, str] | None:
+    """``(text, note)``: the MJCF at ``path`` with its top-level ``<default>`` elements made one (the later ones'
+    classes moved into the first, in order), its directories absolute as in :func:`without_equality`; None when it has
+    one such element, or when a later one sets defaults of its own (elements other than classes), which a merge could
+    reorder. MuJoCo reads every top-level ``<default>`` as the main class's; Pinocchio's parser reads the first alone
+    and refuses a class defined in a later one with C++'s bare ``unordered_map::at`` (SO-ARM100's SO-101 files).
+
+    Raises:
+        ModelError: the file does not parse.
+    """
+    path = Path(path)
+    root = _read(path)
+    tops = root.findall("default")
+    if len(tops) < 2 or any(child.tag != "default" for top in tops[1:] for child in top):
+        return None
+    classes = [child for top in tops[1:] for child in top]
+    for top in tops[1:]:
+        root.remove(top)
+    tops[0].extend(classes)
+    _anywhere(root, path)
+    names = ", ".join(str(c.get("class")) for c in classes)
+    return ET.tostring(root, encoding="unicode"), (
+        f"relacc gave this engine the file's {len(tops)} top-level <default> elements as one: its parser reads only "
+        f"the first, and refused the classes of the others ({names}); MuJoCo reads them all as the main class's")
+
+
 def _anywhere(root, path: Path) -> None:
     """``root``'s ``meshdir`` (or ``assetdir``, ``texturedir``) made absolute, so that its text reads its files
     wherever it is parsed from; the model named after the file where it has no name."""

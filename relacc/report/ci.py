@@ -141,6 +141,8 @@ def diff_results(result) -> list[Result]:
     """Every result of ``relacc diff A B`` (a :class:`relacc.validation.diff.Diff`): one :data:`RULES` RELACC010 per
     difference, at its place in B (the file a conversion or an edit wrote; A's place in the message), and one per
     dynamics row beyond printing, at B."""
+    from relacc.validation.diff_dynamics import row_words
+
     model = result.b
     out = []
     for d in result.differences:
@@ -148,9 +150,10 @@ def diff_results(result) -> list[Result]:
                           model, d.where_b, f"{d.kind}|{d.element}|{d.quantity}"))
     for row in result.dynamics:
         if row["beyond"]:
+            words = row_words(row)
             out.append(Result("RELACC010", f"the {row['quantity']} of A and B differ by {row['normalized']:.3g} of its "
-                              f"largest entry (printing allows {row['tolerance']:.3g})", model, model,
-                              f"dynamics|{row['quantity']}"))
+                              f"largest entry (printing allows {row['tolerance']:.3g})"
+                              + (f"; {words}" if words else ""), model, model, f"dynamics|{row['quantity']}"))
     return out
 
 

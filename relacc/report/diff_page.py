@@ -103,8 +103,11 @@ def page_data(result) -> dict:
               "how": None, "marks": marks.get(0, [])}]
     shown += [{"a": cell("a", row["a"]), "b": cell("b", row["b"]), "how": row["how"], "marks": marks.get(n, [])}
               for n, row in enumerate(table, start=1)]
+    from relacc.validation.diff_dynamics import row_words
+
     return {"a": data["a"], "b": data["b"], "same": data["same"], "headline": result.verdict(), "rows": shown,
-            "differences": differences, "dynamics": data["dynamics"], "notes": data["notes"],
+            "differences": differences, "dynamics": [{**row, "words": row_words(row)} for row in data["dynamics"]],
+            "notes": data["notes"],
             "engines": data["engines"], "rtol": data["rtol"],
             "created": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
 

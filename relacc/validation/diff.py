@@ -503,6 +503,12 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
 
     joints = {(i, k): joint_pairs(parts_a[i], parts_b[k]) for i, k, _ in m.pairs}
     dynamics, why = compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, states, seed)
+    if any(row["beyond"] for row in dynamics):  # are the listed masses, inertias and armatures the whole of it?
+        from relacc.validation.diff_dynamics import explain, with_inertials_of
+
+        a_with_b = with_inertials_of(ra, rb, parts_a, parts_b, m, R, p, joints)
+        explain(dynamics, compare_dynamics(a_with_b, rb, parts_of(a_with_b)[0], parts_b, m, R, p, signs, joints,
+                                           rtol, states, seed)[0])
     held_a = _held_root(ra, parts_a, m.only_a, m.only_b)
     held_b = _held_root(rb, parts_b, m.only_b, m.only_a)
     held = held_a or held_b

@@ -11,12 +11,19 @@ dynamics ``udot_A`` with ``T^T udot_B``: MuJoCo's speeds (case 2), relacc's own 
 Each quantity's difference is normalized by its largest entry over A and B at that state, and is *beyond* printing
 when it exceeds :func:`relacc.core.tolerances.printed_tolerance` of ``1 + 2 pi d`` (``d`` the deepest part's depth: each
 orientation on a path may be off by ``rtol pi`` rad and moves an inertia's entries by twice that), times the mass
-matrix's condition number for the forward dynamics.
+matrix's condition number for the forward dynamics. A row whose allowance reaches the largest entry itself
+(``decides`` false: an ill-conditioned mass matrix) cannot tell two files apart, and says so.
+
+A row beyond printing is then *explained* or not: the same comparison with A's parts given B's masses, mass centres,
+inertias and joint armatures, and B's gravity (:func:`with_inertials_of`). Within printing then, the listed
+differences of those numbers are the whole of the dynamics' difference; beyond it still, the geometry differs too
+(axes, anchors, placements: the joints move the masses differently).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
@@ -142,6 +149,54 @@ def compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, sta
         worst = int(np.argmax(err / tolerance))
         rows.append({"quantity": name, "worst_state": worst, "normalized": float(err[worst]),
                      "tolerance": float(tolerance[worst]), "beyond": bool(err[worst] > tolerance[worst]),
-                     "states": n})
+                     "decides": bool(tolerance[worst] < 1.0), "states": n})
     rows.sort(key=lambda r: -float(r["normalized"]) / float(r["tolerance"]))
     return rows, ""
+
+
+def with_inertials_of(ra, rb, parts_a, parts_b, m, R, p, joints):
+    """A's reading with each matched part's mass, mass centre and inertia B's (B's world values at the reference
+    configuration, taken to A's world by the placement ``x_A = R x_B + p``, put in the part's first body; its other
+    bodies massless), each matched joint's armature B's, and B's gravity: A as it would be if the differences of
+    those numbers were all there is (module docstring). ``joints`` as in :func:`coordinate_map`."""
+    from relacc.core.tree.model import Tree
+
+    t = ra.tree
+    bodies = list(t.bodies)
+    for i, k, _ in m.pairs:
+        a, b = parts_a[i], parts_b[k]
+        for name in a.bodies[1:]:
+            n = t.body(name)
+            bodies[n] = replace(bodies[n], mass=0.0, com=np.zeros(3), inertia=np.zeros((3, 3)), written=0.0)
+        first = t.body(a.name)
+        armature = {ja: b.joints[jb].armature for ja, jb in joints[(i, k)][0]}
+        inertia = a.R.T @ (R @ b.inertia @ R.T) @ a.R
+        bodies[first] = replace(
+            bodies[first], mass=b.mass, com=a.R.T @ (R @ b.com + p - a.origin), inertia=0.5 * (inertia + inertia.T),
+            joints=tuple(replace(j, armature=armature.get(n, j.armature)) for n, j in enumerate(bodies[first].joints)))
+    tree = Tree(t.name, tuple(bodies), gravity=rb.tree.gravity, points=t.points, source=t.source)
+    return replace(ra, tree=tree)
+
+
+def explain(rows: list, again: list) -> None:
+    """Each row of ``rows`` beyond printing given ``"explained"``: ``{"normalized", "tolerance", "beyond"}`` of the
+    same quantity in ``again``, the comparison with A's inertial numbers B's (:func:`with_inertials_of`); ``beyond``
+    false there means the listed differences of masses, inertias, armatures and gravity explain the row."""
+    by = {row["quantity"]: row for row in again}
+    for row in rows:
+        other = by.get(row["quantity"])
+        if row["beyond"] and other is not None:
+            row["explained"] = {k: other[k] for k in ("normalized", "tolerance", "beyond")}
+
+
+def row_words(row: dict) -> str:
+    """What a dynamics row adds to its numbers, in words (empty where nothing): that it cannot tell the files apart
+    (``decides`` false), or whether the listed masses, inertias, armatures and gravity explain it (:func:`explain`)."""
+    if not row.get("decides", True):
+        return "more than its entries: this row cannot tell the files apart (an ill-conditioned mass matrix)"
+    again = row.get("explained")
+    if again is None:
+        return ""
+    return (f"A given B's masses, inertias, armatures and gravity: {'still ' if again['beyond'] else ''}"
+            f"{again['normalized']:.2g}, " + ("so the geometry differs too" if again["beyond"]
+                                             else "so those differences explain it"))

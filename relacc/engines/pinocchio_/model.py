@@ -87,26 +87,42 @@ KEYFRAME_REFUSED = "Keyframe size does not match model size"
 
 
 def _from_mjcf(path, printed: list) -> "pin.Model":
-    """Pinocchio's reading of the MJCF at ``path``; where its parser refuses the file's keyframes alone
-    (:data:`KEYFRAME_REFUSED`), its reading of the file without them (:func:`relacc.engines.mjcf.without_keyframes`),
-    parsed from a temporary directory, the note saying so added to ``printed``."""
+    """Pinocchio's reading of the MJCF at ``path``; where its parser refuses what is no part of the dynamics, its
+    reading of the file made acceptable (each of :data:`REMEDIES` that applies, in turn), parsed from a temporary
+    directory, the notes saying so added to ``printed``."""
     import tempfile
 
-    from relacc.engines.mjcf import without_keyframes
-
-    try:
-        return pin.buildModelFromMJCF(str(path))
-    except Exception as exc:  # noqa: BLE001 - Pinocchio's ValueError/RuntimeError: raised again unless it is that
-        stripped = without_keyframes(path) if KEYFRAME_REFUSED in str(exc) else None
-        if stripped is None:
-            raise
-    text, note = stripped
+    source, notes = Path(path), []
     with tempfile.TemporaryDirectory(prefix="relacc-pinocchio-") as tmp:
-        copy = Path(tmp) / Path(path).name
-        copy.write_text(text)
-        model = pin.buildModelFromMJCF(str(copy))
-    printed.append(note)
-    return model
+        for step in range(len(REMEDIES) + 1):
+            try:
+                model = pin.buildModelFromMJCF(str(source))
+            except Exception as exc:  # noqa: BLE001 - Pinocchio's ValueError/RuntimeError/IndexError: raised unless
+                remedy = next((r for refused, r in REMEDIES if refused in str(exc)), None)  # a remedy mends it
+                mended = remedy(source) if remedy is not None else None
+                if mended is None or step == len(REMEDIES):
+                    raise
+                source = Path(tmp) / str(step) / Path(path).name
+                source.parent.mkdir()
+                source.write_text(mended[0])
+                notes.append(mended[1])
+            else:
+                printed.extend(notes)
+                return model
+    raise AssertionError("unreachable")  # pragma: no cover - the last step returns or raises
+
+
+def _remedies() -> tuple:
+    from relacc.engines.mjcf import with_defaults_merged, without_keyframes
+
+    return ((KEYFRAME_REFUSED, without_keyframes), ("unordered_map::at", with_defaults_merged))
+
+
+REMEDIES = _remedies()
+"""``(Pinocchio's message, remedy)``: what its MJCF parser refuses that is no part of the dynamics, and the function
+giving ``(text, note)`` of the file without it (or None where it does not apply): the file's keyframes
+(:func:`relacc.engines.mjcf.without_keyframes`), classes in a second top-level ``<default>``
+(:func:`relacc.engines.mjcf.with_defaults_merged`)."""
 
 
 def split_composites(model: "pin.Model") -> "pin.Model":
