@@ -340,19 +340,29 @@ def test_a_keyframe_pinocchio_refuses_is_left_out_for_it_and_said(tmp_path):
     parser, which reads only the first body, refused the file ("Keyframe size does not match model size") and took no
     part. relacc now gives it the file without its keyframes (a named state, no part of the dynamics), says so, and
     its reading of the first body alone is explained by the audit; the model's directory is left as it was."""
-    path = tmp_path / "two_roots.xml"
-    path.write_text(TWO_ROOTS_KEYED)
-    import pinocchio as pin
-
-    with pytest.raises(ValueError, match="Keyframe size does not match model size"):
-        pin.buildModelFromMJCF(str(path))  # the engine's own refusal, which this test is about
-    result = compare(path, n_states=2, seed=3, engines=["pinocchio", "mujoco"])
-    report = result.engines["pinocchio"]
-    assert report.loaded and (report.nq, report.nv) == (2, 2), report
-    assert any("left the file's 1 keyframe out of this engine's model" in w for w in report.warnings), report.warnings
+    result = _pinocchio_mended(tmp_path, "two_roots.xml", TWO_ROOTS_KEYED, ValueError,
+                               "Keyframe size does not match model size", 3,
+                               "left the file's 1 keyframe out of this engine's model")
     assert any("spare_joint" in a.where for a in result.audit), result.audit
     assert all("reads only the first <body>" in a.cause for a in result.audit), result.audit
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["two_roots.xml"]
+
+
+def _pinocchio_mended(tmp_path, name: str, text: str, error, message: str, seed: int, said: str):
+    """``relacc compare`` of ``text`` (written as ``name``) with Pinocchio and MuJoCo, after checking that Pinocchio's
+    own parser refuses the file (``error`` matching ``message``): Pinocchio takes part on relacc's mended file (2
+    speeds), its warnings saying ``said``, and the model's directory holds the file alone afterwards."""
+    path = tmp_path / name
+    path.write_text(text)
+    import pinocchio as pin
+
+    with pytest.raises(error, match=message):
+        pin.buildModelFromMJCF(str(path))  # the engine's own refusal, which these tests are about
+    result = compare(path, n_states=2, seed=seed, engines=["pinocchio", "mujoco"])
+    report = result.engines["pinocchio"]
+    assert report.loaded and (report.nq, report.nv) == (2, 2), report
+    assert any(said in w for w in report.warnings), report.warnings
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]
+    return result
 
 
 TWO_DEFAULTS = """<mujoco model="two_defaults">
@@ -383,21 +393,12 @@ def test_classes_in_a_second_top_level_default_are_given_to_pinocchio_in_one(tmp
     its mass matrix then agrees with relacc's and MuJoCo's to rounding, the servo's armature included (0.3 here, of
     diagonal entries about 0.6: without it the difference would be half the largest entry); the model's directory
     is left as it was."""
-    path = tmp_path / "two_defaults.xml"
-    path.write_text(TWO_DEFAULTS)
-    import pinocchio as pin
-
-    with pytest.raises(IndexError, match="unordered_map::at"):
-        pin.buildModelFromMJCF(str(path))  # the engine's own refusal, which this test is about
-    result = compare(path, n_states=2, seed=5, engines=["pinocchio", "mujoco"])
-    report = result.engines["pinocchio"]
-    assert report.loaded and (report.nq, report.nv) == (2, 2), report
-    assert any("2 top-level <default> elements as one" in w and "(servo)" in w for w in report.warnings), \
-        report.warnings
+    result = _pinocchio_mended(tmp_path, "two_defaults.xml", TWO_DEFAULTS, IndexError, "unordered_map::at", 5,
+                               "2 top-level <default> elements as one")
+    assert any("(servo)" in w for w in result.engines["pinocchio"].warnings), result.engines["pinocchio"].warnings
     assert result.audit == [], result.audit
     rows = result.dynamics["mass matrix"]
     assert set(rows) >= {"pinocchio", "mujoco"} and all(r.passed for r in rows.values()), rows
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["two_defaults.xml"]
 
 
 FREE_DAMPED_ARMATURE = """<mujoco model="free_damped">

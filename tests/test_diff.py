@@ -93,6 +93,12 @@ def joint(root, name):
     return next(j for j in root.iter("joint") if j.get("name") == name)
 
 
+def heavier(root, name, factor):
+    """Body ``name``'s mass times ``factor``, written back by ``repr`` (read exactly)."""
+    inertial = body(root, name).find("inertial")
+    inertial.set("mass", repr(float(inertial.get("mass")) * factor))
+
+
 def kinds(result):
     return sorted((d.kind, d.element, d.quantity) for d in result.differences)
 
@@ -132,8 +138,7 @@ def test_each_planted_change_is_found_named_and_classified_and_nothing_else(tmp_
 
     def edit(root):
         if plant == "mass":  # 1 % more
-            inertial = body(root, "l2").find("inertial")
-            inertial.set("mass", repr(float(inertial.get("mass")) * 1.01))
+            heavier(root, "l2", 1.01)
         elif plant == "armature":
             joint(root, "j1").set("armature", "0.1")
         elif plant == "rounded":  # the mass centre to 3 significant digits
@@ -453,8 +458,7 @@ def test_a_dynamics_row_beyond_printing_says_whether_the_listed_masses_and_armat
 
     def edit(root):
         if plant == "mass":  # 10 % more
-            inertial = body(root, "l2").find("inertial")
-            inertial.set("mass", repr(float(inertial.get("mass")) * 1.1))
+            heavier(root, "l2", 1.1)
         elif plant == "armature":
             joint(root, "j2").set("armature", "0.5")
         else:  # l3's joint 2 cm further along l2
