@@ -528,9 +528,9 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
 
 
 def _held_root(reading, parts: list[Part], only: list, others_only: list) -> tuple | None:
-    """``(reading with the joint removed, the joint's name)`` where the only part without a counterpart is this file's
-    root part on a free joint alone and the other file has none: a floating base against a fixed one (a URDF without
-    its floating joint, its MJCF with one). Else None."""
+    """``(reading with the joint removed, the joint's name and body in words)`` where the only part without a
+    counterpart is this file's root part on a free joint alone and the other file has none: a floating base against a
+    fixed one (a URDF without its floating joint, its MJCF with one). Else None."""
     from dataclasses import replace
 
     from relacc.core.tree.model import Tree
@@ -543,7 +543,7 @@ def _held_root(reading, parts: list[Part], only: list, others_only: list) -> tup
     t = reading.tree
     bodies = tuple(replace(b, joints=()) if b.name == part.name else b for b in t.bodies)
     return replace(reading, tree=Tree(t.name, bodies, gravity=t.gravity, points=t.points, source=t.source)), \
-        part.joints[0].name
+        f"{part.joints[0].name!r} (of {part.name})"
 
 
 def _tree(parts: list[Part], world: Part) -> dict:
