@@ -163,26 +163,28 @@ class ChainEngine:
         return x.q[0], x.v[0]
 
 
-def chain_engine(name: str, fixture: Fixture, split: bool = True) -> ChainEngine:
+def chain_engine(name: str, fixture: Fixture, **options) -> ChainEngine:
     """The chain of ``fixture`` in engine ``name``, both routes, through the registry's adapters
-    (:func:`relacc.engines.load`); ``split=False`` keeps Pinocchio's composite joint as loaded (the composite-joint
-    finding, for the referee's tests).
+    (:func:`relacc.engines.load`), each route's file and options as the engine's card declares them
+    (:attr:`relacc.engines.traits.Traits.chain_files`); ``options`` go to the quaternion route's loader as well
+    (``split=False`` keeps Pinocchio's composite joint as loaded: the composite-joint finding, for the referee's
+    tests).
 
     Raises:
         FixtureError: unreadable or stale model files. ModelError: an engine that cannot read them.
     """
-    from relacc.engines import load
+    from relacc.engines import TRAITS, load
     from relacc.reading import read_tree
 
     with fixture.engine_files() as paths:
-        xml, euler_xml, urdf = paths["two_body.xml"], paths["two_body_euler.xml"], paths["two_body_euler.urdf"]
         # every engine, MuJoCo too, is matched to relacc's own reading of the generated files: no engine is the judge
-        quaternion, euler = read_tree(xml), read_tree(euler_xml)
-        if name == "mujoco":
-            routes = {Route.QUATERNION: load(name, xml, quaternion), Route.EULER: load(name, euler_xml, euler)}
-        elif name == "pinocchio":
-            routes = {Route.QUATERNION: load(name, xml, quaternion, split=split),
-                      Route.EULER: load(name, urdf, euler, urdf=urdf)}
-        else:
-            routes = {Route.QUATERNION: load(name, xml, quaternion, build=True), Route.EULER: load(name, urdf, euler)}
+        references = {Route.QUATERNION: read_tree(paths["two_body.xml"]),
+                      Route.EULER: read_tree(paths["two_body_euler.xml"])}
+        routes = {}
+        for route, (file, declared) in TRAITS[name].chain_files.items():
+            given = {key: paths[value] if isinstance(value, str) and value in paths else value
+                     for key, value in declared.items()}
+            if route == Route.QUATERNION:
+                given.update(options)
+            routes[route] = load(name, paths[file], references[route], **given)
         return ChainEngine(name, routes)

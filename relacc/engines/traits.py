@@ -34,6 +34,9 @@ class Traits:
             not relacc's integrators around its dynamics.
         chain_routes: how the note's chain is written in it, route by route (``quaternion``, ``euler``): its model,
             coordinates, speeds and G2 calls (the report's conventions section).
+        chain_files: how its package's ``load`` reads the chain, route by route: ``(the fixture's file, options)``,
+            an option naming a fixture file (``"two_body_euler.urdf"``) given that file's path
+            (:func:`relacc.engines.chain.chain_engine`).
         truth: the engine the pytest plugin's truth and the tree hard-case search use unless told (one engine:
             MuJoCo, which reads an MJCF natively and gives every body's kinematics).
         mesh_source: relacc's reading may ask its compiler for a mesh's mass properties it does not compute itself
@@ -63,6 +66,7 @@ class Traits:
     integrators: tuple[str, ...]
     speeds: str
     chain_routes: dict[str, str]
+    chain_files: dict[str, tuple[str, dict]] = field(default_factory=dict)
     capabilities: frozenset[str] = frozenset()
     calls: dict[str, str] = field(default_factory=dict)
     adaptive: tuple[str, ...] = ()

@@ -25,6 +25,7 @@ TRAITS = Traits(
             "two_body_euler.urdf through Drake's URDF parser; q = case-3 q, v = case-3 u; no map"
         ),
     },
+    chain_files={Route.QUATERNION: ("two_body.xml", {"build": True}), Route.EULER: ("two_body_euler.urdf", {})},
     capabilities=frozenset({"PointLoop"}), adaptive=("runge_kutta3", "runge_kutta5"),
     error_controlled=True, own_steppers=True)
 

@@ -18,6 +18,7 @@ TRAITS = Traits(
             'two_body_euler.xml; qpos = case-3 q, qvel = case-3 u (slides, hinges x, y, z); no map'
         ),
     },
+    chain_files={Route.QUATERNION: ("two_body.xml", {}), Route.EULER: ("two_body_euler.xml", {})},
     capabilities=frozenset({"PointLoop", "KinematicsLoops", "Rollout", "BodyMotion", "AccelerationRoutine"}),
     calls={"rollout": "rollout", "step": "mj_step per call", "jacobians": "mj_jac/mj_jacDot loop",
            "motion": "mj_kinematics/mj_comVel loop"},

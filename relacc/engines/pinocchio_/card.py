@@ -19,6 +19,8 @@ TRAITS = Traits(
             'two_body_euler.urdf; q = case-3 q, v = case-3 u (prismatic, revolute x, y, z); no map'
         ),
     },
+    chain_files={Route.QUATERNION: ("two_body.xml", {"split": True}),
+                 Route.EULER: ("two_body_euler.urdf", {"urdf": "two_body_euler.urdf"})},
     capabilities=frozenset({"PointLoop", "KinematicsLoops", "BatchedForward", "ThreadedStepper", "ManifoldRates"}),
     calls={"batched_forward": "abaInParallel", "jacobians": "jacobians loop", "motion": "forwardKinematics loop"},
     own_urdf=True, compiled_loops=True, in_scenes=True)
