@@ -37,6 +37,7 @@ from relacc.errors import EngineError
 
 if TYPE_CHECKING:
     from relacc.core.chain import TwoBodyChain
+    from relacc.core.tree import Tree
     from relacc.fixtures import Fixture
 
 ROUTES = (Route.QUATERNION, Route.EULER)
@@ -178,8 +179,8 @@ def chain_engine(name: str, fixture: Fixture, **options) -> ChainEngine:
 
     with fixture.engine_files() as paths:
         # every engine, MuJoCo too, is matched to relacc's own reading of the generated files: no engine is the judge
-        references = {Route.QUATERNION: read_tree(paths["two_body.xml"]),
-                      Route.EULER: read_tree(paths["two_body_euler.xml"])}
+        references: dict[str, Tree] = {Route.QUATERNION: read_tree(paths["two_body.xml"]),
+                                       Route.EULER: read_tree(paths["two_body_euler.xml"])}
         routes = {}
         for route, (file, declared) in TRAITS[name].chain_files.items():
             given = {key: paths[value] if isinstance(value, str) and value in paths else value

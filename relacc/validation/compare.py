@@ -38,7 +38,7 @@ def routes_for(case) -> tuple[str, ...]:
 @dataclass(frozen=True, eq=False)
 class Comparison:
     """One evaluator x route x case x quantity, state by state: the one comparison result, for the chain and for
-    any model.
+    any model (a model's rows carry what explains them too: :class:`ModelComparison`).
 
     Attributes:
         case: 1, 2 or 3.
@@ -53,11 +53,6 @@ class Comparison:
             times a condition, plus any offset the engine's model loses).
         finite: every value the evaluator returned is finite.
         tolerance: ``c eps``, the error model's bound for a condition of 1.
-        max_difference: the largest absolute difference over the states, in the quantity's units (models).
-        cause: why it differs, reproduced (models; empty where it agrees).
-        singular: ``{evaluator: [joints]}`` where a mass matrix over the shared speeds is exactly singular.
-        per_link: ``{link: worst normalized error over the states}`` for a model's quantities of each link's mass
-            centre (empty otherwise).
     """
 
     case: int
@@ -68,13 +63,6 @@ class Comparison:
     bounds: np.ndarray = field(repr=False)
     finite: bool = True
     tolerance: float = field(default_factory=rounding_tolerance)
-    max_difference: float = 0.0
-    cause: str = ""
-    singular: dict = field(default_factory=dict)
-    per_link: dict = field(default_factory=dict)
-    cause_kind: str = ""
-    """What kind of cause ``cause`` is (:mod:`relacc.validation.robots.causes`): ``explained``, ``not explained``,
-    ``finding``, ``taken``, ``singular``, ``urdf`` or empty."""
 
     @property
     def evaluator(self) -> str:
@@ -127,6 +115,31 @@ class Comparison:
             out["convention"] = CONVENTIONS[self.quantity]
         return out
 
+def _finite(x: float) -> float | None:
+    """JSON has no infinity: an undefined or infinite error or difference is written ``null``."""
+    return x if np.isfinite(x) else None
+
+
+@dataclass(frozen=True, eq=False)
+class ModelComparison(Comparison):
+    """A model file's :class:`Comparison` (``relacc compare``, ``relacc check --model``), with what explains it.
+
+    Attributes:
+        max_difference: the largest absolute difference over the states, in the quantity's units.
+        cause: why it differs, reproduced (empty where it agrees).
+        singular: ``{evaluator: [joints]}`` where a mass matrix over the shared speeds is exactly singular.
+        per_link: ``{link: worst normalized error over the states}`` for the quantities of each link's mass centre
+            (empty otherwise).
+        cause_kind: what kind of cause ``cause`` is (:mod:`relacc.validation.robots.causes`): ``explained``, ``not
+            explained``, ``finding``, ``taken``, ``singular``, ``urdf`` or empty.
+    """
+
+    max_difference: float = 0.0
+    cause: str = ""
+    singular: dict = field(default_factory=dict)
+    per_link: dict = field(default_factory=dict)
+    cause_kind: str = ""
+
     def as_row(self) -> dict:
         """A model's row (``relacc compare --json``): worst error and state, tolerance, largest difference, cause."""
         row: dict[str, object] = {"max_error": _finite(self.max_error), "tolerance": self.tolerance, "ok": self.passed,
@@ -135,11 +148,6 @@ class Comparison:
         if self.singular:
             row["singular"] = self.singular
         return row
-
-
-def _finite(x: float) -> float | None:
-    """JSON has no infinity: an undefined or infinite error or difference is written ``null``."""
-    return x if np.isfinite(x) else None
 
 
 def compare_values(case, engine: str, route: str, quantity: str, value, reference, scale, bounds) -> Comparison:

@@ -35,11 +35,11 @@ from relacc.core.tolerances import robot_tolerance
 from relacc.core.tree.coordinates import reference_q
 from relacc.errors import InputError
 from relacc.limits import CHUNK_STATES
-from relacc.validation.compare import Comparison
+from relacc.validation.compare import ModelComparison
 from relacc.validation.robots.audit import Scales, inertia_slack
 
 KINEMATIC = MODEL_QUANTITIES[4:]
-"""The quantities of each link's mass centre, which are also measured link by link (``Comparison.per_link``)."""
+"""The quantities of each link's mass centre, which are also measured link by link (``ModelComparison.per_link``)."""
 CHUNK = CHUNK_STATES
 """States evaluated in one batched call of each evaluator (bounds the memory of Jacobians on a large model)."""
 
@@ -121,7 +121,7 @@ def inertialess(reference, M, dofs) -> list[str]:
 
 
 def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
-    """``{quantity: Comparison}`` for ``robot`` against ``reference`` (MuJoCo, or relacc's tree): per state the
+    """``{quantity: ModelComparison}`` for ``robot`` against ``reference`` (MuJoCo, or relacc's tree): per state the
     normalized error (state 0: the reference configuration), the tolerance, and ``max_difference``, the largest
     absolute difference over the states in the quantity's units. Quantities a robot cannot give (no shared link)
     are left out. ``reading``: relacc's reading of the file, which the evaluators' own inertia allowances are taken
@@ -236,8 +236,9 @@ def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
             continue
         errors_k = np.asarray(e, dtype=float)
         tolerances = tol + np.asarray(allowed[k], dtype=float)
-        out[k] = Comparison(2, robot.engine, "model", k, errors_k, tolerances, True, float(tolerances.max()), diffs[k],
-                            singular=singular if k == Quantity.FORWARD_DYNAMICS else {}, per_link=per_link.get(k, {}))
+        out[k] = ModelComparison(2, robot.engine, "model", k, errors_k, tolerances, True, float(tolerances.max()),
+                                 diffs[k], singular=singular if k == Quantity.FORWARD_DYNAMICS else {},
+                                 per_link=per_link.get(k, {}))
     return out
 
 
