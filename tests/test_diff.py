@@ -447,13 +447,15 @@ def test_a_fixed_base_against_a_floating_one_compares_the_rest_with_the_free_joi
         assert not any(row["beyond"] for row in d.dynamics), d.dynamics
 
 
-@pytest.mark.parametrize("plant", ["mass", "armature", "anchor"])
+@pytest.mark.parametrize("plant", ["mass", "armature", "anchor", "not physical"])
 def test_a_dynamics_row_beyond_printing_says_whether_the_listed_masses_and_armatures_explain_it(tmp_path, plant):
     """SO-ARM100's SO-101 pair (TheRobotStudio/SO-ARM100): the MJCF adds armature 0.028 to every joint, and the mass
     matrix differs by 0.78 of its largest entry. The rows said "BEYOND" and nothing of why. Each row beyond printing is
     now compared again with A given B's masses, mass centres, inertias, armatures and gravity: a mass or an armature
     planted alone is then within printing (MuJoCo printed 6 digits: about 1e-6 of the largest entry, as in
-    test_mujoco_s_own_conversion_is_the_same_robot), and an anchor moved 2 cm is not (the geometry differs)."""
+    test_mujoco_s_own_conversion_is_the_same_robot), and an anchor moved 2 cm is not (the geometry differs). An
+    inertia no rigid body has (B's l2 breaking the triangle inequality) is given to A as written: the first version
+    held it to A's physical checks and the command failed."""
     urdf, xml = saved_by_mujoco(tmp_path, URDF)
 
     def edit(root):
@@ -461,6 +463,8 @@ def test_a_dynamics_row_beyond_printing_says_whether_the_listed_masses_and_armat
             heavier(root, "l2", 1.1)
         elif plant == "armature":
             joint(root, "j2").set("armature", "0.5")
+        elif plant == "not physical":  # 0.01 + 0.01 < 0.5: relacc reads it and names it, MuJoCo would refuse it
+            body(root, "l2").find("inertial").set("diaginertia", "0.01 0.01 0.5")
         else:  # l3's joint 2 cm further along l2
             l3 = body(root, "l3")
             pos = np.array([float(x) for x in l3.get("pos").split()])

@@ -171,8 +171,9 @@ def with_inertials_of(ra, rb, parts_a, parts_b, m, R, p, joints):
         first = t.body(a.name)
         armature = {ja: b.joints[jb].armature for ja, jb in joints[(i, k)][0]}
         inertia = a.R.T @ (R @ b.inertia @ R.T) @ a.R
-        bodies[first] = replace(
+        bodies[first] = replace(  # B's numbers as written: not held to A's body's physical checks (B's may fail them)
             bodies[first], mass=b.mass, com=a.R.T @ (R @ b.com + p - a.origin), inertia=0.5 * (inertia + inertia.T),
+            physical=False,
             joints=tuple(replace(j, armature=armature.get(n, j.armature)) for n, j in enumerate(bodies[first].joints)))
     tree = Tree(t.name, tuple(bodies), gravity=rb.tree.gravity, points=t.points, source=t.source)
     return replace(ra, tree=tree)
