@@ -518,3 +518,15 @@ def main_output(argv) -> list[str]:
     with contextlib.redirect_stdout(buffer):
         main(argv)
     return buffer.getvalue().splitlines()
+
+
+@pytest.mark.parametrize("written, kind", [("8", "changed"), ("8.4", "rounded"), ("8.39", "rounded")])
+def test_a_number_written_with_one_digit_is_a_change_not_a_rounding(tmp_path, written, kind):
+    """example-robot-data's SO-101 against SO-ARM100's SO-100: the gripper's range ``-0.2 2`` against ``-0.174533
+    1.74533`` read as "rounded", each the other to one significant digit, though 13% apart (two ranges chosen apart).
+    A number of one significant digit no longer counts as another rounded; two or more still do. Here l2's mass,
+    8.393 kg, written 8, 8.4 and 8.39."""
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+    result = diff(urdf, edited(xml, lambda root: body(root, "l2").find("inertial").set("mass", written)))
+    assert [(d.kind, d.quantity) for d in result.differences if d.quantity == "mass"] == [(kind, "mass")], \
+        [d.line() for d in result.differences]

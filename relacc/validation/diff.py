@@ -286,10 +286,17 @@ def significant_digits(x: float) -> int:
     return next(d for d in range(1, 18) if float(f"{x:.{d - 1}e}") == x)  # 17 digits always read back
 
 
+ROUNDED_DIGITS = 2
+"""The fewest significant digits a number may be written with to count as another rounded: one digit (``0.2`` for
+``0.1745``, ``2`` for ``1.745``) is too coarse to tell a rounding from a change (SO-101's gripper range ``-0.2 2``
+against SO-100's ``-0.174533 1.74533``: two ranges chosen apart, 13% off)."""
+
+
 def rounds_to(x: float, y: float) -> bool:
-    """Whether ``y`` is ``x`` rounded to the significant digits ``y`` is written with (fewer than ``x``'s)."""
+    """Whether ``y`` is ``x`` rounded to the significant digits ``y`` is written with (fewer than ``x``'s, and at
+    least :data:`ROUNDED_DIGITS`)."""
     d = significant_digits(y)
-    return d < significant_digits(x) and float(f"{x:.{d - 1}e}") == y
+    return ROUNDED_DIGITS <= d < significant_digits(x) and float(f"{x:.{d - 1}e}") == y
 
 
 def rounded_pair(a, b) -> bool:
