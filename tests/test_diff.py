@@ -530,3 +530,32 @@ def test_a_number_written_with_one_digit_is_a_change_not_a_rounding(tmp_path, wr
     result = diff(urdf, edited(xml, lambda root: body(root, "l2").find("inertial").set("mass", written)))
     assert [(d.kind, d.quantity) for d in result.differences if d.quantity == "mass"] == [(kind, "mass")], \
         [d.line() for d in result.differences]
+
+
+def test_a_part_only_one_file_has_is_held_and_the_rest_s_dynamics_compared(tmp_path):
+    """mujoco_menagerie's Z1 arm against example-robot-data's, whose URDF has a gripper (a jaw on a hinge) the MJCF
+    lacks: the dynamics were not compared at all ("parts without a counterpart"). The jaw's joint is now held where the
+    URDF places it and the rest compared: the jaw's 0.4 kg makes the mass matrix differ beyond printing, and A given
+    B's masses agrees within printing (MuJoCo printed 6 digits), so the listed differences explain it; without the jaw
+    in either file the arm is the same robot."""
+    jaw = URDF.replace("</robot>", """  <joint name="grip" type="revolute">
+    <parent link="tool"/><child link="jaw"/><origin xyz="0 0.02 0.05"/><axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <link name="jaw">
+    <inertial><origin xyz="0 0 0.03"/><mass value="0.4"/>
+      <inertia ixx="0.0003" ixy="0" ixz="0" iyy="0.0003" iyz="0" izz="0.0001"/></inertial>
+  </link>
+</robot>""")
+    assert jaw != URDF
+    _, xml = saved_by_mujoco(tmp_path, URDF)  # B: the arm without the jaw
+    urdf = tmp_path / "with_jaw.urdf"
+    urdf.write_text(jaw)
+    d = diff(urdf, xml)
+    assert ("unmatched", "jaw", "part") in kinds(d), kinds(d)
+    assert any("held where that file places them (grip)" in n for n in d.notes), d.notes
+    rows = {row["quantity"]: row for row in d.dynamics}
+    assert rows["mass matrix"]["beyond"], rows
+    for row in d.dynamics:
+        if row["beyond"]:
+            assert not row["explained"]["beyond"] and row["explained"]["normalized"] < 1e-5, row

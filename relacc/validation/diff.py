@@ -536,6 +536,14 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
             dynamics, why = sub.dynamics, ""
             notes.append(f"dynamics compared with {label}'s free joint {held[1]} held where it places its body "
                          f"(the other file's base is fixed)")
+    if why and held is None and (m.only_a or m.only_b) and m.pairs:  # parts one file alone has: held as placed
+        welded_a, names_a = _welded(ra, parts_a, m.only_a)
+        welded_b, names_b = _welded(rb, parts_b, m.only_b)
+        sub = diff_readings(welded_a, welded_b, rtol=rtol, states=states, seed=seed)
+        if sub.dynamics:
+            dynamics, why = sub.dynamics, ""
+            notes.append("dynamics compared with the joints of the parts only one file has held where that file places "
+                         f"them ({', '.join(names_a + names_b)}): their masses move with their parents'")
     if why:
         notes.append(f"dynamics not compared: {why}")
     trees = {"a": _tree(parts_a, world_a), "b": _tree(parts_b, world_b),
@@ -560,6 +568,23 @@ def _held_root(reading, parts: list[Part], only: list, others_only: list) -> tup
     bodies = tuple(replace(b, joints=()) if b.name == part.name else b for b in t.bodies)
     return replace(reading, tree=Tree(t.name, bodies, gravity=t.gravity, points=t.points, source=t.source)), \
         f"{part.joints[0].name!r} (of {part.name})"
+
+
+def _welded(reading, parts: list[Part], only: list) -> tuple:
+    """``(reading, joint names)``: the reading with the joints of the parts ``only`` (indices into ``parts``) removed,
+    their bodies held where the file places them (at the joints' zero), and those joints' names (A's gripper against
+    an MJCF without one: mujoco_menagerie's Z1 arm against example-robot-data's)."""
+    from dataclasses import replace
+
+    from relacc.core.tree.model import Tree
+
+    if not only:
+        return reading, []
+    held = {parts[i].name for i in only}
+    t = reading.tree
+    names = [j.name or f"(unnamed, of {b.name})" for b in t.bodies if b.name in held for j in b.joints]
+    bodies = tuple(replace(b, joints=()) if b.name in held else b for b in t.bodies)
+    return replace(reading, tree=Tree(t.name, bodies, gravity=t.gravity, points=t.points, source=t.source)), names
 
 
 def _tree(parts: list[Part], world: Part) -> dict:
