@@ -115,6 +115,7 @@ class Comparison:
             out["convention"] = CONVENTIONS[self.quantity]
         return out
 
+
 def _finite(x: float) -> float | None:
     """JSON has no infinity: an undefined or infinite error or difference is written ``null``."""
     return x if np.isfinite(x) else None

@@ -555,19 +555,12 @@ def _held_root(reading, parts: list[Part], only: list, others_only: list) -> tup
     """``(reading with the joint removed, the joint's name and body in words)`` where the only part without a
     counterpart is this file's root part on a free joint alone and the other file has none: a floating base against a
     fixed one (a URDF without its floating joint, its MJCF with one). Else None."""
-    from dataclasses import replace
-
-    from relacc.core.tree.model import Tree
-
     if len(only) != 1 or others_only:
         return None
     part = parts[only[0]]
     if part.parent != -1 or len(part.joints) != 1 or part.joints[0].type != "free":
         return None
-    t = reading.tree
-    bodies = tuple(replace(b, joints=()) if b.name == part.name else b for b in t.bodies)
-    return replace(reading, tree=Tree(t.name, bodies, gravity=t.gravity, points=t.points, source=t.source)), \
-        f"{part.joints[0].name!r} (of {part.name})"
+    return _welded(reading, parts, only)[0], f"{part.joints[0].name!r} (of {part.name})"
 
 
 def _welded(reading, parts: list[Part], only: list) -> tuple:

@@ -157,8 +157,9 @@ def compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, sta
 def with_inertials_of(ra, rb, parts_a, parts_b, m, R, p, joints):
     """A's reading with each matched part's mass, mass centre and inertia B's (B's world values at the reference
     configuration, taken to A's world by the placement ``x_A = R x_B + p``, put in the part's first body; its other
-    bodies massless), each matched joint's armature B's, and B's gravity: A as it would be if the differences of
-    those numbers were all there is (module docstring). ``joints`` as in :func:`coordinate_map`."""
+    bodies massless), each matched joint's armature B's, and B's gravity as B writes it (in its own world: a placement
+    that turns the robot stays a difference of geometry): A as it would be if the differences of those numbers were
+    all there is (module docstring). ``joints`` as in :func:`coordinate_map`."""
     from relacc.core.tree.model import Tree
 
     t = ra.tree

@@ -17,6 +17,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from relacc.engines.base import NQ, NV, Match, by_order
+from relacc.engines.mjcf import with_defaults_merged, without_keyframes
 from relacc.engines.urdf import dynamics_text
 from relacc.errors import ModelError
 
@@ -112,13 +113,7 @@ def _from_mjcf(path, printed: list) -> "pin.Model":
     raise AssertionError("unreachable")  # pragma: no cover - the last step returns or raises
 
 
-def _remedies() -> tuple:
-    from relacc.engines.mjcf import with_defaults_merged, without_keyframes
-
-    return ((KEYFRAME_REFUSED, without_keyframes), ("unordered_map::at", with_defaults_merged))
-
-
-REMEDIES = _remedies()
+REMEDIES = ((KEYFRAME_REFUSED, without_keyframes), ("unordered_map::at", with_defaults_merged))
 """``(Pinocchio's message, remedy)``: what its MJCF parser refuses that is no part of the dynamics, and the function
 giving ``(text, note)`` of the file without it (or None where it does not apply): the file's keyframes
 (:func:`relacc.engines.mjcf.without_keyframes`), classes in a second top-level ``<default>``
