@@ -415,3 +415,36 @@ def test_an_interrupt_a_finalizer_drops_before_the_command_starts_is_one_line_an
     assert proc.returncode == 130 and len(lines) == 1, (proc.returncode, proc.stdout[-300:], proc.stderr[-2000:])
     assert lines[0] == "relacc check: interrupted; no output file was changed"
     assert proc.stdout == "" and list(tmp_path.iterdir()) == []
+
+
+def test_a_finalizer_failing_after_an_interrupt_stays_off_stderr(tmp_path):
+    """A clean clone's run interrupted `relacc check` 1.6 s in, while numba compiled: exit 130 and the one line, but
+    also "Exception ignored in: <function ObjectRef.__del__ ...> AttributeError: 'TargetMachine' object has no
+    attribute '_as_parameter_'": llvmlite's object, left half-built by the interrupt, failed in its finalizer. Here an
+    object whose finalizer fails the same way is freed while the interrupt unwinds: stderr holds the one line alone."""
+    script = textwrap.dedent("""
+        import importlib, os, signal, sys
+        entry_module = importlib.import_module("relacc.cli.main")
+
+        command = entry_module.main
+
+        class HalfBuilt:
+            def __del__(self):
+                raise AttributeError("'TargetMachine' object has no attribute '_as_parameter_'")
+
+        def main(argv=None):
+            half = HalfBuilt()  # freed as the interrupt unwinds this frame
+            os.kill(os.getpid(), signal.SIGTERM)
+            for _ in range(10 ** 7):  # the handler raises here
+                pass
+            return command(argv)
+
+        entry_module.main = main
+        sys.argv = ["relacc", "check", "--states", "3", "--quiet"]
+        entry_module.entry()
+    """)
+    proc = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 130 and len(lines) == 1, (proc.returncode, proc.stdout[-300:], proc.stderr[-2000:])
+    assert lines[0] == "relacc check: interrupted; no output file was changed"
+    assert proc.stdout == "" and list(tmp_path.iterdir()) == []
