@@ -417,6 +417,7 @@ def test_an_interrupt_a_finalizer_drops_before_the_command_starts_is_one_line_an
     assert proc.stdout == "" and list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_a_finalizer_failing_after_an_interrupt_stays_off_stderr(tmp_path):
     """A clean clone's run interrupted `relacc check` 1.6 s in, while numba compiled: exit 130 and the one line, but
     also "Exception ignored in: <function ObjectRef.__del__ ...> AttributeError: 'TargetMachine' object has no
