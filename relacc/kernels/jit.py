@@ -75,6 +75,18 @@ if HAVE_NUMBA:
     _tolerate_damaged_caches()
 
 
+def read_only(*arrays):
+    """Read-only views of ``arrays`` (no copy), for a compiled kernel's inputs: numba compiles a kernel once per
+    signature, and a writable and a read-only array are two (a frozen :class:`relacc.core.states.States` hands out
+    read-only ones). Every input passed as read-only is one signature, one compilation, one cache file."""
+    views = []
+    for a in arrays:
+        v = a.view()
+        v.flags.writeable = False
+        views.append(v)
+    return views
+
+
 def jitable(fn=None, *, inline=False):
     """Plain Python when called from Python (the numpy backend); compiled when called from numba code.
 

@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from relacc.kernels import trig
-from relacc.kernels.jit import unfused
+from relacc.kernels.jit import read_only, unfused
 from relacc.kernels.perstate import (
     ANGLES,
     HAVE_NUMBA,
@@ -172,7 +172,7 @@ def acceleration(case: int, q, u, udot, q2p, r2p, backend: str | None = None, ou
     """
     if (backend or BACKEND) == "numba":
         out = np.empty((q.shape[0], 3)) if out is None else out
-        bad, bad_in = _run(_acc_loop, (int(case), q, u, udot, q2p, r2p, out), ACC_US_PER_STATE)
+        bad, bad_in = _run(_acc_loop, (int(case), *read_only(q, u, udot, q2p, r2p), out), ACC_US_PER_STATE)
         return out, bad, bad_in
     acc = np.stack(acceleration_of(int(case), q.T, u.T, udot.T, q2p, r2p, _numpy_trig(int(case), q.T)), -1)
     if out is not None:
@@ -198,7 +198,7 @@ def kinematics(case: int, q, u, udot, q2p, r2p, backend: str | None = None, out=
             out = (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)) if with_acc else None, np.empty((n, 3, 12)),
                    np.empty((n, 3, 12)))
         pos, vel, acc, V, Vd = out
-        bad, bad_in = _run(_full_loop, (int(case), q, u, d, q2p, r2p, pos, vel,
+        bad, bad_in = _run(_full_loop, (int(case), *read_only(q, u, d, q2p, r2p), pos, vel,
                                         acc if with_acc else np.empty((1, 3)), V, Vd, with_acc), FULL_US_PER_STATE)
         return (pos, vel, (acc if with_acc else None), V, Vd), bad, bad_in
     result = _numpy_kinematics(int(case), q, u, d, q2p, r2p, with_acc)

@@ -237,7 +237,7 @@ if HAVE_NUMBA:
                 for c in range(nv):
                     out[i, c] = np.nan
             elif mode == ANGLES_CASE2:
-                accelerate(T, g, free, S, C, U, uu, Dinv, acc, 0, X1)
+                accelerate(T, g, free, S, C, U, uu, Dinv, acc, np.int64(0), X1)  # int64: one compilation
                 row_to_rates(q, u, i, X1, 0, T, out, trig)
             else:
                 accelerate(T, g, free, S, C, U, uu, Dinv, acc, i, out)

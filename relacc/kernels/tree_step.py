@@ -264,7 +264,8 @@ if HAVE_NUMBA:
         for c in range(nv):
             W.U[0, c] = u[c]
             W.rates[0, c] = u[c]  # case 3's speeds, kept for a caller that asks why a stage failed
-        if bad_inputs(case, W.Q, W.U, 0, T, qadr):
+        r0 = np.int64(0)  # the one row, as a variable: a literal 0 would compile each callee a second time
+        if bad_inputs(case, W.Q, W.U, r0, T, qadr):
             return BAD_INPUT
         mode = case
         if case == 3:
@@ -279,9 +280,9 @@ if HAVE_NUMBA:
                         W.near[0] = (1.0 + s2) / c2
                         for c in range(nq):
                             W.near[1 + c] = q[c]
-            row_to_speeds(W.Q, W.rates, W.zeros, 0, T, W.U, W.tau2, 0, W.Bm)  # Bm: case 1's, free here
+            row_to_speeds(W.Q, W.rates, W.zeros, r0, T, W.U, W.tau2, 0, W.Bm)  # Bm: case 1's, free here
             mode = ANGLES_CASE2
-        forward(mode, W.Q, W.U, 0, T, qadr, mass, com, inertia, W.S, W.C, W.o, W.R, W.V, W.IA, W.pA)
+        forward(mode, W.Q, W.U, r0, T, qadr, mass, com, inertia, W.S, W.C, W.o, W.R, W.V, W.IA, W.pA)
         if case == 1:  # each rotation's B = R_after^T R_parent: the joint forces act on case-2 speeds B u
             for b in range(T.parent.shape[0]):
                 p = T.parent[b]
@@ -312,21 +313,21 @@ if HAVE_NUMBA:
             for b in range(W.IA.shape[0]):
                 for c in range(21):
                     W.Ic[b, c] = W.IA[b, c]
-            if backward(mode, W.Q, W.U, W.tau, 0, T, qadr, arm, free, W.S, W.C, W.R, W.V, W.IA, W.pA, W.Ub, W.uu,
+            if backward(mode, W.Q, W.U, W.tau, r0, T, qadr, arm, free, W.S, W.C, W.R, W.V, W.IA, W.pA, W.Ub, W.uu,
                         W.Dinv, W.tmp, W.Ic, W.cd, PIVOT_FLOOR) == 1:
                 return SINGULAR
-            accelerate(T, g, free, W.S, W.C, W.Ub, W.uu, W.Dinv, W.acc, 0, W.out)
+            accelerate(T, g, free, W.S, W.C, W.Ub, W.uu, W.Dinv, W.acc, r0, W.out)
             for c in range(nv):
                 W.a2[0, c] = W.out[0, c]
         else:
-            mass_matrix(mode, W.Q, W.U, W.tau, 0, T, qadr, anc, depth, arm, free, g, W.S, W.C, W.R, W.V, W.IA, W.pA,
+            mass_matrix(mode, W.Q, W.U, W.tau, r0, T, qadr, anc, depth, arm, free, g, W.S, W.C, W.R, W.V, W.IA, W.pA,
                         W.A, W.f, W.M, W.x, W.tmp)
             if factor_solve(W.M, W.x, anc, depth, W.diag, PIVOT_FLOOR) == 1:
                 return SINGULAR
             for c in range(nv):
                 W.a2[0, c] = W.x[c]
         if case == 3:
-            row_to_rates(W.Q, W.rates, 0, W.a2, 0, T, W.out, W.Bm)
+            row_to_rates(W.Q, W.rates, r0, W.a2, 0, T, W.out, W.Bm)
             for c in range(nv):
                 a[c] = W.out[0, c]
         else:
@@ -455,7 +456,7 @@ if HAVE_NUMBA:
         """:func:`advance_range` over every row, rows in parallel."""
         for i in numba.prange(Q0.shape[0]):
             advance_range(case, method, aba, Q0, U0, t0, h, k, T, qadr, anc, depth, mass, com, inertia, arm, free, g,
-                          E, width, status, failed, near, i, i + 1)
+                          E, width, status, failed, near, np.int64(i), np.int64(i) + 1)  # int64, as from Python
 
 
 __all__ = ["EULER", "INTEGRATORS", "RK4", "EffectArrays", "effect_arrays"]
