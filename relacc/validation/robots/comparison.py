@@ -40,7 +40,7 @@ from relacc.reading.read import format_of
 from relacc.validation.robots.agreement import compare_dynamics, random_states
 from relacc.validation.robots.audit import Item, Scales, differences, inertia_slack, merge
 from relacc.validation.robots.causes import READINGS, Cause, CauseKind
-from relacc.validation.robots.reading import structure
+from relacc.validation.robots.reading import BACKEND, structure
 from relacc.validation.robots.referee import referee, voters
 from relacc.validation.robots.tree import TreeRobot
 
@@ -558,7 +558,7 @@ def findings_as_read(reading, robot):
     names = {f.body for f in reading.findings}
     if any(n not in theirs or n not in ours or ours[n].bodies != (n,) or theirs[n].bodies != (n,) for n in names):
         return None
-    k = tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv))
+    k = tree_kinematics(tree, 2, reference_q(tree, 2), np.zeros(tree.nv), backend=BACKEND)
     at = {body.name: b for b, body in enumerate(tree.bodies)}
 
     def as_engine(body):

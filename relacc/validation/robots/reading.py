@@ -16,6 +16,12 @@ from relacc.core.tree import tree_kinematics
 from relacc.core.tree.coordinates import reference_q
 from relacc.engines.base import BuiltJoint, Link, Structure, combine, moving_mass
 
+BACKEND = "reference"
+"""The tree walk ``relacc compare`` evaluates its reading with (:func:`relacc.tree_kinematics`'s plain-numpy
+backend): a comparison evaluates one state and a few dozen, where numpy takes milliseconds, while the fused kernel
+costs 0.4 s to load from numba's cache in each process and 8-9 s to compile on the first run (gymnasium's humanoid,
+benchmarks/history.md); a pre-commit hook's fresh environment paid that compilation at every install."""
+
 
 def groups(tree) -> dict[int, list[int]]:
     """``{moving body index: [it and the bodies welded to it]}``; bodies welded to the world left out."""
@@ -32,7 +38,7 @@ def structure(reading) -> Structure:
     """The reading as a :class:`relacc.engines.base.Structure` (module docstring)."""
     tree = reading.tree
     q = reference_q(tree, 2)
-    k = tree_kinematics(tree, 2, q, np.zeros(tree.nv))
+    k = tree_kinematics(tree, 2, q, np.zeros(tree.nv), backend=BACKEND)
     R = k.rotation
     origin = k.position - np.einsum("bij,bj->bi", R, np.array([b.com for b in tree.bodies]))
     joints = []

@@ -23,7 +23,7 @@ from relacc.core.tree.coordinates import reference_q, rotations
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
 from relacc.engines.base import Answering, Answers, Dynamics, Points, mapped_dynamics
 from relacc.errors import RelaccError
-from relacc.validation.robots.reading import groups, structure
+from relacc.validation.robots.reading import BACKEND, groups, structure
 
 
 class TreeRobot(Answering):
@@ -130,7 +130,7 @@ class TreeRobot(Answering):
         q, v = self._own(q, v)
         a = a if self.reference is self.tree else a[:, self.dofs]
         q_c, u_c, T, Tdv = self._map(q, v)
-        k = tree_kinematics(self.tree, self.case, q_c, u_c, np.einsum("nij,nj->ni", T, a) + Tdv)
+        k = tree_kinematics(self.tree, self.case, q_c, u_c, np.einsum("nij,nj->ni", T, a) + Tdv, backend=BACKEND)
         mass = np.array([b.mass for b in self.tree.bodies])
         n, L = len(q), len(links)
         pos, J = np.zeros((n, L, 3)), np.zeros((n, L, 3, self.tree.nv))
