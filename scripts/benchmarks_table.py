@@ -113,7 +113,7 @@ def _ensembles(d) -> str:
 
 
 def _first_run(d) -> str:
-    return ", ".join(f"{k} {v:.0f} s" for k, v in d["seconds"].items())
+    return ", ".join(f"{k} {v:.0f} s" if v >= 10 else f"{k} {v:.1f} s" for k, v in d["seconds"].items())
 
 
 def _waits(d) -> str:
