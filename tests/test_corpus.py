@@ -9,11 +9,13 @@ docs show, exit 2 with exactly one line on stderr and nothing else, and leave th
 
 import importlib.util
 import json
+import warnings
 from pathlib import Path
 
 import pytest
 
 from relacc.cli import main
+from relacc.errors import AccuracyWarning
 
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "corpus.py"
 _spec = importlib.util.spec_from_file_location("corpus", SCRIPT)
@@ -40,8 +42,11 @@ def test_the_table_has_every_file_of_the_pinned_wheels(roots):
 def test_each_row_is_what_compare_gives_now(roots, package, shown, tmp_path, monkeypatch, capfd):
     root = roots[package]
     monkeypatch.chdir(tmp_path)
-    code = main(["compare", str(root / shown), "--states", str(corpus.STATES), "--json"])
+    with warnings.catch_warnings(record=True) as caught:  # what the command would print on stderr, pytest records
+        warnings.simplefilter("always", AccuracyWarning)
+        code = main(["compare", str(root / shown), "--states", str(corpus.STATES), "--json"])
     out, err = capfd.readouterr()
+    assert [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)] == []
     row = corpus.summarize(code, out, err, root)
     assert not row["traceback"] and row["stderr_lines"] == (1 if code == 2 else 0), err
     assert list(tmp_path.iterdir()) == []

@@ -37,6 +37,31 @@ def test_check_takes_a_model_file(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_check_holds_the_compiled_kernels_to_the_engines_and_compare_the_numpy_walk(monkeypatch):
+    """`relacc check --model` evaluates relacc's tree with the compiled kernels a user's call runs (it holds them to
+    the engines); `relacc compare` with the plain-numpy walk and Kane's equations, which need no compilation for its
+    few states (relacc.validation.robots.reading.BACKEND). Counted at the two kernels' entries, on the hopper."""
+    from relacc.core.tree import kinematics as tk
+    from relacc.dynamics import tree as td
+    from relacc.validation.robots import compare
+    from relacc.validation.treecheck import check_tree
+
+    calls = {"kinematics": 0, "dynamics": 0}
+
+    def counted(key, fn):
+        def wrapper(*args, **kwargs):
+            calls[key] += 1
+            return fn(*args, **kwargs)
+        return wrapper
+
+    monkeypatch.setattr(tk, "_fast", counted("kinematics", tk._fast))
+    monkeypatch.setattr(td, "_fast", counted("dynamics", td._fast))
+    compare(ASSETS / "hopper.xml", n_states=2, engines=["mujoco"])
+    assert calls == {"kinematics": 0, "dynamics": 0}
+    check_tree(ASSETS / "hopper.xml", engines=["mujoco"], n_states=2, cases=(2,))
+    assert calls["kinematics"] > 0 and calls["dynamics"] > 0, calls
+
+
 @pytest.mark.slow
 def test_check_on_ant_agrees_in_every_case(tmp_path):
     out = _relacc("check", "--model", str(ASSETS / "ant.xml"), "--states", "3", "--cases", "1,3", "--quiet",

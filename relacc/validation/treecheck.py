@@ -68,7 +68,7 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
     states = random_states(TreeRobot(reading, 2), n_states, seed)
     rows = []
     for case in cases:
-        tree = TreeRobot(reading, case)
+        tree = TreeRobot(reading, case, backend="auto")  # the compiled kernels a user's call runs
         for robot in robots:
             if progress:
                 progress(f"case {case}: {robot.engine}")

@@ -17,10 +17,12 @@ from relacc.core.tree.coordinates import reference_q
 from relacc.engines.base import BuiltJoint, Link, Structure, combine, moving_mass
 
 BACKEND = "reference"
-"""The tree walk ``relacc compare`` evaluates its reading with (:func:`relacc.tree_kinematics`'s plain-numpy
-backend): a comparison evaluates one state and a few dozen, where numpy takes milliseconds, while the fused kernel
-costs 0.4 s to load from numba's cache in each process and 8-9 s to compile on the first run (gymnasium's humanoid,
-benchmarks/history.md); a pre-commit hook's fresh environment paid that compilation at every install."""
+"""The backend ``relacc compare`` evaluates its reading with, kinematics and forward dynamics alike (plain numpy:
+:func:`relacc.tree_kinematics`'s walk, :func:`relacc.tree_accelerations`' Kane's equations solved by Cholesky; each
+agrees with the compiled kernels to rounding). A comparison evaluates one state and a few dozen, where numpy takes
+milliseconds, while the compiled kernels cost 0.4 s to load from numba's cache in each process and, on the first
+run, 8-9 s to compile (gymnasium's humanoid's kinematics) or 20 s (example-robot-data's romeo, a tree beyond the
+lanes kernel: CRBA): a pre-commit hook's fresh environment paid that at every install (benchmarks/history.md)."""
 
 
 def groups(tree) -> dict[int, list[int]]:

@@ -15,6 +15,8 @@ exactly as the engines' adapters map theirs.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from relacc.core.cases import Case
@@ -22,17 +24,20 @@ from relacc.core.tree import convert, tree_kinematics
 from relacc.core.tree.coordinates import reference_q, rotations
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
 from relacc.engines.base import Answering, Answers, Dynamics, Points, mapped_dynamics
-from relacc.errors import RelaccError
+from relacc.errors import AccuracyWarning, RelaccError
 from relacc.validation.robots.reading import BACKEND, groups, structure
 
 
 class TreeRobot(Answering):
     """relacc's reading of a file (a :class:`relacc.reading.Reading`), evaluated in ``case`` and answered in its
     case-2 coordinates (the interface of :class:`relacc.engines.base.Adapter` that a comparison uses:
-    ``structure``, ``dynamics``, ``kinematics``, ``default_q``)."""
+    ``structure``, ``dynamics``, ``kinematics``, ``default_q``). ``backend``: how its kinematics and forward
+    dynamics are evaluated (:data:`relacc.validation.robots.reading.BACKEND`, plain numpy, for a comparison;
+    ``"auto"``, relacc's compiled kernels, for ``relacc check --model``, which holds them to the engines)."""
 
-    def __init__(self, reading, case: int = 2, matched_to=None):
+    def __init__(self, reading, case: int = 2, matched_to=None, *, backend: str = BACKEND):
         self.case = int(case)
+        self.backend = backend
         self.engine = "relacc" if self.case == Case.BODY_FRAME else f"relacc (case {self.case})"
         self.reading = reading
         self.tree = reading.tree
@@ -119,7 +124,9 @@ class TreeRobot(Answering):
         # the states and the same states at rest (the gravity terms) in one evaluation
         d = tree_dynamics(self.tree, self.case, np.concatenate([q_c, q_c]), np.concatenate([u_c, np.zeros_like(u_c)]))
         try:
-            forward = tree_accelerations(self.tree, self.case, q_c, u_c)
+            with warnings.catch_warnings():  # an ill-conditioned M is in the row's scale already (||M^-1||, module
+                warnings.simplefilter("ignore", AccuracyWarning)  # relacc.validation.robots.agreement), not on stderr
+                forward = tree_accelerations(self.tree, self.case, q_c, u_c, backend=self.backend)
         except RelaccError:  # a singular M: the comparison solves the shared speeds itself and says so
             forward = np.full(u_c.shape, np.nan)
         return mapped_dynamics(d.M[:n], d.f[:n], d.f[n:], forward, T, Tdv)
@@ -130,7 +137,8 @@ class TreeRobot(Answering):
         q, v = self._own(q, v)
         a = a if self.reference is self.tree else a[:, self.dofs]
         q_c, u_c, T, Tdv = self._map(q, v)
-        k = tree_kinematics(self.tree, self.case, q_c, u_c, np.einsum("nij,nj->ni", T, a) + Tdv, backend=BACKEND)
+        k = tree_kinematics(self.tree, self.case, q_c, u_c, np.einsum("nij,nj->ni", T, a) + Tdv,
+                           backend=self.backend)
         mass = np.array([b.mass for b in self.tree.bodies])
         n, L = len(q), len(links)
         pos, J = np.zeros((n, L, 3)), np.zeros((n, L, 3, self.tree.nv))
