@@ -465,13 +465,12 @@ def test_speed_maps_are_the_engines_velocities_along_mujocos_motion(name):
     from relacc.core.tolerances import central_difference_bound
     from relacc.engines import load
     from relacc.reading import read
-    from relacc.validation.robots.agreement import random_states
     from relacc.validation.robots.tree import TreeRobot
 
     path = models_dir() / name if name == "two_body.xml" else gym_assets() / name
     reference = load("mujoco", path)  # MuJoCo moves the configuration; relacc's reading orders it as MuJoCo does
     engines = [load("pinocchio", path, reference.reference), load("drake", path, reference.reference)]
-    states, h, H = random_states(TreeRobot(read(path)), 4, seed=11), 1e-5, 1e-3
+    states, h, H = TreeRobot(read(path)).states(4, seed=11), 1e-5, 1e-3
     m = reference.model
 
     def moved(q, v, t):

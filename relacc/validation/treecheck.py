@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 
 from relacc.engines import judges
 from relacc.errors import ModelError
-from relacc.validation.robots.agreement import compare_dynamics, random_states
+from relacc.validation.robots.agreement import compare_dynamics
 from relacc.validation.robots.tree import TreeRobot
 
 
@@ -65,7 +65,7 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
             robots.append(load_robot(name, model, reading.tree))
         except ModelError as exc:
             not_loaded[name] = str(exc)
-    states = random_states(TreeRobot(reading, 2), n_states, seed)
+    states = TreeRobot(reading, 2).states(n_states, seed)
     rows = []
     for case in cases:
         tree = TreeRobot(reading, case, backend="auto")  # the compiled kernels a user's call runs

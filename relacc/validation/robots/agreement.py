@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from relacc.core.cases import Case
 from relacc.core.conventions import MODEL_QUANTITIES, Quantity
 from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
@@ -43,22 +42,6 @@ KINEMATIC = MODEL_QUANTITIES[4:]
 CHUNK = CHUNK_STATES
 """States evaluated in one batched call of each evaluator (bounds the memory of Jacobians on a large model)."""
 
-
-
-def random_states(reference, n: int, seed: int) -> States:
-    """The reference configuration at rest, then ``n`` random states of the reference's tree in case 2: the tree's
-    draw (:func:`relacc.core.tree.coordinates.random_states`, ``numpy.random.default_rng(seed)``) with each limited
-    hinge or slide uniform in the range the file gives it and the model's size the largest distance of a link's mass
-    centre from its frame (at least 1 m). ``reference``: relacc's reading as an evaluator
-    (:class:`relacc.validation.robots.tree.TreeRobot`)."""
-    from relacc.core.tree.coordinates import random_states as tree_states
-
-    tree = reference.tree
-    size = float(max([np.linalg.norm(link.com) for link in reference.structure.links] + [1.0]))
-    s = tree_states(tree, 2, n, seed, size=size, ranges=reference.reading.ranges)
-    rest = States(Case.BODY_FRAME, reference.default_q()[None], np.zeros((1, tree.nv)), np.zeros((1, tree.nv)),
-                  seed, tree)
-    return rest.and_then(s, seed)
 
 
 def own_columns(evaluator, dofs) -> np.ndarray:

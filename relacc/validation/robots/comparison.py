@@ -37,7 +37,7 @@ from relacc.files import regular_file
 from relacc.limits import require_comparable
 from relacc.reading import read_moving
 from relacc.reading.read import format_of
-from relacc.validation.robots.agreement import compare_dynamics, random_states
+from relacc.validation.robots.agreement import compare_dynamics
 from relacc.validation.robots.audit import Item, Scales, differences, inertia_slack, merge
 from relacc.validation.robots.causes import READINGS, Cause, CauseKind
 from relacc.validation.robots.reading import BACKEND, structure
@@ -203,7 +203,7 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
                                        warnings=tuple(reading.notes))}
     robots, unshared = _load(model, names, reading, urdf, reports)
     other_file = urdf is not None and Path(urdf).resolve() != Path(model).resolve()
-    states = random_states(reference, n_states, seed)
+    states = reference.states(n_states, seed)
     scales = Scales.of(reference.structure)
     audits, dynamics = [], {q: {} for q in MODEL_QUANTITIES}
     for robot in unshared:  # the user's URDF describes another robot: what differs, element by element

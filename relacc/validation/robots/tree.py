@@ -20,6 +20,7 @@ import warnings
 import numpy as np
 
 from relacc.core.cases import Case
+from relacc.core.states import States
 from relacc.core.tree import convert, tree_kinematics
 from relacc.core.tree.coordinates import reference_q, rotations
 from relacc.dynamics.tree import tree_accelerations, tree_dynamics
@@ -83,6 +84,19 @@ class TreeRobot(Answering):
         """``(nq,)`` the reference configuration (hinges and slides at ``ref``, balls at identity, free bodies as
         placed: MuJoCo's ``qpos0``)."""
         return reference_q(self.tree, 2)
+
+    def states(self, n: int, seed: int) -> States:
+        """The reference configuration at rest, then ``n`` random states of this reading's tree in case 2 (the
+        states every comparison of the file evaluates): the tree's draw (:func:`relacc.core.tree.random_states`,
+        ``numpy.random.default_rng(seed)``) with each limited hinge or slide uniform in the range the file gives it,
+        and the model's size the largest distance of a link's mass centre from its frame (at least 1 m)."""
+        from relacc.core.tree.coordinates import random_states
+
+        size = float(max([np.linalg.norm(link.com) for link in self.structure.links] + [1.0]))
+        drawn = random_states(self.tree, 2, n, seed, size=size, ranges=self.reading.ranges)
+        nv = self.tree.nv
+        rest = States(Case.BODY_FRAME, self.default_q()[None], np.zeros((1, nv)), np.zeros((1, nv)), seed, self.tree)
+        return rest.and_then(drawn, seed)
 
     def _map(self, q, v):
         """``(q_c, u_c, T (n, nv, nv), T_dot v (n, nv))``: states ``(n, nq)``, ``(n, nv)`` in the case's coordinates
