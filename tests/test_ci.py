@@ -224,3 +224,42 @@ def test_a_file_a_xacro_includes_is_an_input(repo, capsys):
     out, err = capsys.readouterr()
     assert len(err.strip().splitlines()) == 1 and "inertial.xacro" in err, err
     assert (robots / "inertial.xacro").read_bytes() == before
+
+
+def test_find_and_package_uris_name_the_package_its_package_xml_names(tmp_path, monkeypatch, capsys):
+    """ROS finds a package by the <name> of its package.xml, not by its folder's name: a description repository
+    cloned under another name (a CI checkout is named after the repository) is still that package. Found on
+    Makabeyuuat/cooperative_transportation_4ws_description (`063dd2c`), whose xacro includes
+    $(find cooperative_transportation_4ws_description)/urdf/...: relacc refused it unless the clone's folder had the
+    package's name. Here the folder is `checkout`; the xacro includes its inertial macro by $(find), and a package://
+    mesh resolves there. A package that nothing names is one line naming it, not xacro's wrapping of relacc's
+    message."""
+    from relacc.reading.urdf import package_folders, resolve_uri
+
+    checkout = tmp_path / "checkout"
+    (checkout / "urdf").mkdir(parents=True)
+    (checkout / "meshes").mkdir()
+    (checkout / "meshes" / "part.stl").write_bytes(b"solid part\nendsolid part\n")
+    (checkout / "package.xml").write_text('<?xml version="1.0"?>\n<package format="3"><name>arm_description</name>'
+                                          "<version>1.0.0</version></package>\n")
+    (checkout / "urdf" / "inertial.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="box_inertial" params="m x y z">\n'
+        '    <inertial><origin xyz="${x/2} 0 0"/><mass value="${m}"/>\n'
+        '      <inertia ixx="${m*(y*y+z*z)/12}" ixy="0" ixz="0" iyy="${m*(x*x+z*z)/12}" iyz="0" '
+        'izz="${m*(x*x+y*y)/12}"/></inertial>\n  </xacro:macro>\n</robot>\n')
+    arm = checkout / "urdf" / "arm.urdf.xacro"
+    arm.write_text(XACRO.replace('<xacro:macro name="box_inertial"',
+                                 '<xacro:include filename="$(find arm_description)/urdf/inertial.xacro"/>'
+                                 '<xacro:macro name="unused"').replace("${IZZ}", "0"))
+    assert list(package_folders("arm_description", arm)) == [checkout]
+    assert resolve_uri("package://arm_description/meshes/part.stl", arm) == checkout / "meshes" / "part.stl"
+    assert resolve_uri("package://arm_description/meshes/none.stl", arm) is None
+    monkeypatch.chdir(tmp_path)
+    assert main(["compare", str(arm), "--states", "2", "--engines", "mujoco", "--json"]) == 0, capsys.readouterr()
+    capsys.readouterr()
+    arm.write_text(arm.read_text().replace("$(find arm_description)", "$(find other_description)"))
+    assert main(["compare", str(arm), "--states", "2", "--engines", "mujoco"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.count("other_description") == 2, err
+    assert "no package 'other_description' above the file" in err and "<class" not in err, err

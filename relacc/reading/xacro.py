@@ -3,7 +3,8 @@
 The expansion is the ``xacro`` package's (PyPI; ROS's own macro processor, without ROS): properties, macros,
 conditionals, includes and ``$(arg name)`` with the arguments given (``relacc compare --xacro-arg name:=value``,
 :data:`ARGUMENTS`). ``$(find pkg)`` is resolved without ROS as a URDF's ``package://`` is
-(:func:`relacc.reading.urdf.resolve_uri`'s rule: the nearest directory above the file that is ``pkg`` or holds it).
+(:func:`relacc.reading.urdf.package_folders`: the nearest folder above the file that is ``pkg``, holds it, or holds
+the ``package.xml`` that names it).
 The text stays in memory: relacc's reader and every engine read the same expansion, and nothing is written.
 
 Places: xacro keeps no line numbers, so an element of the expansion is placed in the source where its ``name`` is
@@ -64,11 +65,15 @@ def expand(path) -> str:
     from relacc.isolate import captured_output
 
     written = io.StringIO()  # xacro's warnings through Python's stream (where a caller replaced it, not fd 2)
-    with _LOCK, _find_without_ros(subst, path), captured_output() as said, contextlib.redirect_stderr(written):
+    failed: list = []
+    with _LOCK, _find_without_ros(subst, path, failed), captured_output() as said, \
+            contextlib.redirect_stderr(written):
         del xacro.all_includes[:]  # the files this expansion includes (xacro's own record of them)
         try:
             doc = xacro.process_file(str(path), mappings=dict(ARGUMENTS))
         except Exception as exc:  # xacro raises XacroException, and whatever a macro's Python raises
+            if failed:  # relacc's own word on a package it cannot find, not xacro's wrapping of it
+                raise failed[0] from None
             text = " ".join(str(exc).split())
             where = " ".join((" ".join(said) + " " + written.getvalue()).split())
             raise ModelError(f"{path}: xacro cannot expand it: {text}" + (f" ({where[:300]})" if where else ""))
@@ -81,18 +86,20 @@ def expand(path) -> str:
 
 
 @contextlib.contextmanager
-def _find_without_ros(subst, path: Path):
-    """``$(find pkg)`` resolved as a ``package://`` target is, for the expansion's duration."""
+def _find_without_ros(subst, path: Path, failed: list):
+    """``$(find pkg)`` resolved as a ``package://`` target is, for the expansion's duration; the error of one that
+    cannot be resolved is kept in ``failed`` (xacro wraps what it raises in its own message)."""
+    from relacc.reading.urdf import package_folders
+
     saved = subst._eval_find
 
     def find(pkg):
-        for folder in path.resolve().parents:
-            if folder.name == pkg:
-                return str(folder)
-            if (folder / pkg).is_dir():
-                return str(folder / pkg)
-        raise ModelError(f"{path}: $(find {pkg}): no directory {pkg!r} above the file (relacc finds a package as "
-                         "ROS's layout puts it, without ROS)")
+        folder = next(package_folders(pkg, path), None)
+        if folder is not None:
+            return str(folder)
+        failed.append(ModelError(f"{path}: $(find {pkg}): no package {pkg!r} above the file: no folder so named, and "
+                                 "no package.xml naming it (relacc finds a package as ROS does, without ROS)"))
+        raise failed[-1]
 
     subst._eval_find = find
     try:
