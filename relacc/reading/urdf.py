@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -60,7 +61,16 @@ def package_folders(package: str, path: Path):
 
 
 def _package_name(manifest: Path) -> str | None:
-    """The ``<name>`` of a ROS ``package.xml``, or None (no such file, or not one that parses)."""
+    """The ``<name>`` of a ROS ``package.xml``, or None (no such file, or not one that parses); read once per version
+    of the file in a process (a URDF's meshes ask for every ``package.xml`` beside its package's, each)."""
+    try:
+        return _read_package_name(str(manifest), manifest.stat().st_mtime_ns)
+    except OSError:
+        return None
+
+
+@functools.lru_cache(maxsize=1024)
+def _read_package_name(manifest: str, mtime_ns: int) -> str | None:
     from xml.etree import ElementTree
 
     try:
