@@ -234,7 +234,8 @@ def test_find_and_package_uris_name_the_package_its_package_xml_names(tmp_path, 
     package's name. Here the folder is `checkout`; the xacro includes its inertial macro by $(find), and a package://
     mesh resolves there. A package that nothing names is one line naming it, not xacro's wrapping of relacc's
     message."""
-    from relacc.reading.urdf import package_folders, resolve_uri
+    from relacc.reading.packages import package_folders
+    from relacc.reading.urdf import resolve_uri
 
     checkout = tmp_path / "checkout"
     (checkout / "urdf").mkdir(parents=True)

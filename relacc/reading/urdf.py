@@ -22,7 +22,6 @@
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,6 +32,7 @@ from relacc.errors import ModelError
 from relacc.files import note_input
 from relacc.reading import frames, physical
 from relacc.reading.model import Reading
+from relacc.reading.packages import package_folders
 from relacc.reading.xacro import is_xacro
 from relacc.reading.xml import Node, number, numbers, parse_file, parse_text, rounding
 
@@ -45,45 +45,11 @@ JOINTS = {"revolute": "hinge", "continuous": "hinge", "prismatic": "slide", "flo
 specification's, MuJoCo's and pybullet's extension, a ball about the joint frame's origin as MuJoCo reads it)."""
 
 
-def package_folders(package: str, path: Path):
-    """The folders that may be the ROS package ``package`` for a file at ``path``, nearest first, found as ROS finds a
-    package but without ROS: each folder above the file that is named ``package``, holds a folder so named, or holds
-    a ``package.xml`` whose ``<name>`` is ``package``, itself or one folder down (ROS finds a package by that name, not
-    by its folder's: a repository cloned under another name, as a CI checkout is, is still the package)."""
-    seen = set()
-    for folder in path.resolve().parents:
-        named = [manifest.parent for manifest in [folder / "package.xml", *sorted(folder.glob("*/package.xml"))]
-                 if _package_name(manifest) == package]
-        for found in [folder] * (folder.name == package) + [folder / package] * (folder / package).is_dir() + named:
-            if found not in seen:
-                seen.add(found)
-                yield found
-
-
-def _package_name(manifest: Path) -> str | None:
-    """The ``<name>`` of a ROS ``package.xml``, or None (no such file, or not one that parses); read once per version
-    of the file in a process (a URDF's meshes ask for every ``package.xml`` beside its package's, each)."""
-    try:
-        return _read_package_name(str(manifest), manifest.stat().st_mtime_ns)
-    except OSError:
-        return None
-
-
-@functools.lru_cache(maxsize=1024)
-def _read_package_name(manifest: str, mtime_ns: int) -> str | None:
-    from xml.etree import ElementTree
-
-    try:
-        name = ElementTree.parse(manifest).getroot().find("name")
-    except (OSError, ElementTree.ParseError):
-        return None
-    return None if name is None or name.text is None else name.text.strip()
-
-
 def resolve_uri(uri: str, path: Path) -> Path | None:
     """The file a URDF at ``path`` names by ``uri`` (a ``<mesh filename>``), where it can be found: a relative name
     from the URDF's directory, ``file://`` as it says, ``package://PKG/REST`` in the nearest of ``PKG``'s
-    folders that has it (:func:`package_folders`: ROS's layout, without ROS); None when it is not found."""
+    folders that has it (:func:`relacc.reading.packages.package_folders`: ROS's
+    layout, without ROS); None when it is not found."""
     if uri.startswith("file://"):
         target = Path(uri[len("file://"):])
         return target if target.is_file() else None

@@ -3,7 +3,7 @@
 The expansion is the ``xacro`` package's (PyPI; ROS's own macro processor, without ROS): properties, macros,
 conditionals, includes and ``$(arg name)`` with the arguments given (``relacc compare --xacro-arg name:=value``,
 :data:`ARGUMENTS`). ``$(find pkg)`` is resolved without ROS as a URDF's ``package://`` is
-(:func:`relacc.reading.urdf.package_folders`: the nearest folder above the file that is ``pkg``, holds it, or holds
+(:func:`relacc.reading.packages.package_folders`: the nearest folder above the file that is ``pkg``, holds it, or holds
 the ``package.xml`` that names it).
 The text stays in memory: relacc's reader and every engine read the same expansion, and nothing is written.
 
@@ -89,7 +89,7 @@ def expand(path) -> str:
 def _find_without_ros(subst, path: Path, failed: list):
     """``$(find pkg)`` resolved as a ``package://`` target is, for the expansion's duration; the error of one that
     cannot be resolved is kept in ``failed`` (xacro wraps what it raises in its own message)."""
-    from relacc.reading.urdf import package_folders
+    from relacc.reading.packages import package_folders
 
     saved = subst._eval_find
 
