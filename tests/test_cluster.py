@@ -173,6 +173,7 @@ def test_ensemble_on_the_cluster(cluster, capsys):
     assert remote["members"] == local["members"] == 1100
 
 
+@pytest.mark.slow
 def test_version_mismatch_is_one_line(cluster, capsys, monkeypatch):
     """Workers at another relacc version than the client's: one line naming both, exit 2."""
     import relacc

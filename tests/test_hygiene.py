@@ -53,13 +53,20 @@ def unmarked_heavy_tests(source: str, name: str = "<source>") -> list[str]:
         return []
     helpers = {n.name: ast.get_source_segment(source, n) for n in tree.body
                if isinstance(n, ast.FunctionDef) and not n.name.startswith("test_")}
+
+    def heavy(n) -> bool:
+        called = {c.func.id for c in ast.walk(n) if isinstance(c, ast.Call) and isinstance(c.func, ast.Name)}
+        return bool(HEAVY.search(ast.get_source_segment(source, n) + "".join(helpers.get(c, "") for c in called)))
+
+    # a module's fixture that starts one (a cluster's scheduler and workers) makes every test taking it heavy
+    fixtures = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)
+                and any("fixture" in ast.unparse(d) for d in n.decorator_list) and heavy(n)}
     bad = []
     for n in tree.body:
         if not (isinstance(n, ast.FunctionDef) and n.name.startswith("test_")):
             continue
-        called = {c.func.id for c in ast.walk(n) if isinstance(c, ast.Call) and isinstance(c.func, ast.Name)}
-        text = ast.get_source_segment(source, n) + "".join(helpers.get(c, "") for c in called)
-        if HEAVY.search(text) and not any("mark.slow" in ast.unparse(d) for d in n.decorator_list):
+        takes = {a.arg for a in n.args.args} & fixtures
+        if (heavy(n) or takes) and not any("mark.slow" in ast.unparse(d) for d in n.decorator_list):
             bad.append(f"{name}::{n.name}")
     return bad
 
@@ -75,6 +82,9 @@ def test_the_slow_marker_follows_its_rule():
     assert unmarked_heavy_tests(planted) == ["<source>::test_a"]
     assert unmarked_heavy_tests("import pytest\n@pytest.mark.slow\n" + planted.split("\n", 3)[3].replace(
         "def test_a", "def test_b")) == []
+    by_fixture = (f"import pytest, subprocess\n@pytest.fixture\ndef server():\n    {call}\n"
+                  "def test_c(server):\n    pass\n")
+    assert unmarked_heavy_tests(by_fixture) == ["<source>::test_c"]
 
 
 def unexplained_tolerances(source: str, name: str = "<source>") -> list[str]:
