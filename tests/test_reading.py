@@ -266,16 +266,41 @@ def test_unphysical_bodies_are_findings_and_mujocos_refusal_is_one_line(tmp_path
     assert {"pinocchio", "drake"} <= set(result.compared) and result.exit_code == 1
 
 
-def _tetrahedron_stl(path):
-    """A binary STL of the unit tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1), its faces turned outwards."""
+def _tetrahedron_stl(path, side: float = 1.0):
+    """A binary STL of the tetrahedron (0,0,0), (side,0,0), (0,side,0), (0,0,side) (the unit one by default), its
+    faces turned outwards."""
     import struct
 
     tri = [((0, 0, 0), (0, 1, 0), (1, 0, 0)), ((0, 0, 0), (1, 0, 0), (0, 0, 1)), ((0, 0, 0), (0, 0, 1), (0, 1, 0)),
            ((1, 0, 0), (0, 1, 0), (0, 0, 1))]
     data = bytearray(80) + struct.pack("<I", len(tri))
     for t in tri:
-        data += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *v) for v in t) + b"\0\0"
+        data += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *(side * x for x in v)) for v in t) + b"\0\0"
     path.write_bytes(bytes(data))
+
+
+@pytest.mark.parametrize("where", ["main", "included", "both"])
+def test_an_included_files_mesh_is_found_where_mujoco_finds_it(tmp_path, where):
+    """MuJoCo reads a <mesh file> from the main file's directory (under meshdir) and, where no such file is there,
+    from the directory of the <include>d file that names it; with both, the main file's (measured on MuJoCo 3.14.0
+    and 4.0.0). Qualot/Open_ball_joint_mjcf (`ce110ee`) keeps its meshes beside its included asset files: MuJoCo read
+    it, relacc refused it ("no such file"). The reference: the tetrahedron's closed form, mass 1000 a^3 / 6, side
+    a = 0.2 m in the main file's directory and 0.4 m in the included file's (the unit and the side-2 STL scaled by
+    0.2, which tells them apart), and MuJoCo's
+    compiled model (c eps)."""
+    (tmp_path / "parts").mkdir()
+    if where in ("main", "both"):
+        _tetrahedron_stl(tmp_path / "tet.stl")
+    if where in ("included", "both"):
+        _tetrahedron_stl(tmp_path / "parts" / "tet.stl", side=2.0)  # exact in the STL's float32, as the unit one
+    (tmp_path / "parts" / "assets.xml").write_text(
+        '<mujoco><asset><mesh name="tet" file="tet.stl" scale="0.2 0.2 0.2"/></asset></mujoco>')
+    path = tmp_path / "robot.xml"
+    path.write_text('<mujoco><include file="parts/assets.xml"/><worldbody><body name="a"><joint name="ja"/>'
+                    '<geom type="mesh" mesh="tet"/></body></worldbody></mujoco>')
+    reading = agrees_with_mujoco(path)
+    a = 0.4 if where == "included" else 0.2
+    np.testing.assert_allclose(reading.tree.bodies[0].mass, 1000.0 * a ** 3 / 6, rtol=ROUNDING_FACTOR * EPS, atol=0)
 
 
 def test_a_mesh_body_is_relacc_s_own_reading(tmp_path):

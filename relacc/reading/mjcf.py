@@ -166,6 +166,19 @@ def read(path, meshes=None, variant=frozenset()) -> Reading:
     return reader.reading()
 
 
+def mesh_file(path: Path, meshdir: str, asset: Node) -> Path:
+    """The file a ``<mesh file>`` asset of the MJCF at ``path`` is read from, by MuJoCo's rule (measured on MuJoCo
+    3.14.0 and 4.0.0 alike): ``meshdir`` (or ``assetdir``) under the main file's directory; where no such file exists
+    and the asset is written in an ``<include>``d file, the name from that file's own directory (without
+    ``meshdir``). Both present: the main file's. Qualot/Open_ball_joint_mjcf keeps its meshes beside the included
+    files that name them, which MuJoCo reads and relacc refused."""
+    first = path.parent / meshdir / asset.get("file")
+    own = Path(asset.file).parent / asset.get("file")
+    if not first.is_file() and Path(asset.file).resolve() != path.resolve() and own.is_file():
+        return own
+    return first
+
+
 def note_files(path: Path) -> None:
     """The files the MJCF at ``path`` reads, noted as inputs (:func:`relacc.reading.read.note_files`): the file and
     its includes (each noted as it is parsed), and each mesh asset's file under ``meshdir`` (or ``assetdir``)."""
@@ -178,7 +191,7 @@ def note_files(path: Path) -> None:
     for asset in root.findall("asset"):
         for mesh in asset.findall("mesh"):
             if mesh.get("file"):
-                note_input(path.parent / meshdir / mesh.get("file"))
+                note_input(mesh_file(path, meshdir, mesh))
 
 
 def _inline(node: Node, directory: Path, depth: int, seen: set | None = None) -> None:
@@ -709,10 +722,10 @@ class _Reader:
             asset = self.assets.get(name)
             asset = None if asset is None else self.attrs(asset, asset.get("class") or "main")
             if asset is not None and asset.get("file"):  # what the mesh is read from: an input of the command, and a
-                mesh_file = self.path.parent / self.meshdir / asset.get("file")  # regular file (a FIFO would hang it)
-                note_input(mesh_file)
+                found = mesh_file(self.path, self.meshdir, asset)  # a regular file (a FIFO would hang the read)
+                note_input(found)
                 try:
-                    regular_file(mesh_file, ModelError, "mesh file")
+                    regular_file(found, ModelError, "mesh file")
                 except ModelError as exc:
                     raise ModelError(f"{asset.place}: <mesh file={asset.get('file')!r}>: {exc}") from None
             self.mesh_geoms += 1
@@ -772,7 +785,7 @@ class _Reader:
             return None
         place = asset.place
         if asset.get("file"):
-            path = self.path.parent / self.meshdir / asset.get("file")
+            path = mesh_file(self.path, self.meshdir, asset)
             vertices, objects = mesh.cached(path, place, quads="mesh_inertia_exact" not in self.variant)
             if len(objects) > 1:
                 self.multi_object_meshes.append(asset.get("file"))
