@@ -17,13 +17,20 @@ def package_folders(package: str, path: Path) -> Iterator[Path]:
     a ``package.xml`` whose ``<name>`` is ``package``, itself or one folder down (ROS finds a package by that name, not
     by its folder's: a repository cloned under another name, as a CI checkout is, is still the package)."""
     seen: set[Path] = set()
+
+    def new(found: Path) -> bool:
+        fresh = found not in seen
+        seen.add(found)
+        return fresh
+
     for folder in path.resolve().parents:
-        named = [manifest.parent for manifest in [folder / "package.xml", *sorted(folder.glob("*/package.xml"))]
-                 if _package_name(manifest) == package]
-        for found in [folder] * (folder.name == package) + [folder / package] * (folder / package).is_dir() + named:
-            if found not in seen:
-                seen.add(found)
-                yield found
+        if folder.name == package and new(folder):
+            yield folder
+        if (folder / package).is_dir() and new(folder / package):
+            yield folder / package
+        for manifest in [folder / "package.xml", *sorted(folder.glob("*/package.xml"))]:  # read only when asked on
+            if _package_name(manifest) == package and new(manifest.parent):
+                yield manifest.parent
 
 
 def _package_name(manifest: Path) -> str | None:

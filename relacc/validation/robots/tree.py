@@ -23,7 +23,7 @@ from relacc.core.cases import Case
 from relacc.core.states import States
 from relacc.core.tree import convert, tree_kinematics
 from relacc.core.tree.coordinates import reference_q, rotations
-from relacc.dynamics.tree import tree_accelerations, tree_dynamics
+from relacc.dynamics.tree import solve, tree_accelerations, tree_dynamics
 from relacc.engines.base import Answering, Answers, Dynamics, Points, mapped_dynamics
 from relacc.errors import AccuracyWarning, RelaccError
 from relacc.validation.robots.reading import BACKEND, groups, structure
@@ -86,10 +86,12 @@ class TreeRobot(Answering):
         return reference_q(self.tree, 2)
 
     def states(self, n: int, seed: int) -> States:
-        """The reference configuration at rest, then ``n`` random states of this reading's tree in case 2 (the
-        states every comparison of the file evaluates): the tree's draw (:func:`relacc.core.tree.random_states`,
-        ``numpy.random.default_rng(seed)``) with each limited hinge or slide uniform in the range the file gives it,
-        and the model's size the largest distance of a link's mass centre from its frame (at least 1 m)."""
+        """The reference configuration at rest, then ``n`` random states of this reading's tree in case 2: ``n + 1``
+        states, ``q (n + 1, nq)`` (m, rad, unit quaternions), ``u`` and ``udot (n + 1, nv)`` (m/s, rad/s and their
+        rates; zero at rest), the states every comparison of the file evaluates: the tree's draw
+        (:func:`relacc.core.tree.random_states`, ``numpy.random.default_rng(seed)``) with each limited hinge or slide
+        uniform in the range the file gives it, and the model's size the largest distance of a link's mass centre from
+        its frame (at least 1 m)."""
         from relacc.core.tree.coordinates import random_states
 
         size = float(max([np.linalg.norm(link.com) for link in self.structure.links] + [1.0]))
@@ -140,7 +142,10 @@ class TreeRobot(Answering):
         try:
             with warnings.catch_warnings():  # an ill-conditioned M is in the row's scale already (||M^-1||, module
                 warnings.simplefilter("ignore", AccuracyWarning)  # relacc.validation.robots.agreement), not on stderr
-                forward = tree_accelerations(self.tree, self.case, q_c, u_c, backend=self.backend)
+                if self.backend == "reference" and self.case != Case.ANGLE_RATES:  # the M and f above, solved as
+                    forward = solve(self.tree, d.M[:n], d.f[:n])  # tree_accelerations' reference path solves them
+                else:  # case 3's rates are solved in case-2 speeds (tree_accelerations), or the compiled kernels
+                    forward = tree_accelerations(self.tree, self.case, q_c, u_c, backend=self.backend)
         except RelaccError:  # a singular M: the comparison solves the shared speeds itself and says so
             forward = np.full(u_c.shape, np.nan)
         return mapped_dynamics(d.M[:n], d.f[:n], d.f[n:], forward, T, Tdv)
