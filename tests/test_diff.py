@@ -240,7 +240,8 @@ def test_the_command_line(tmp_path, capsys):
     assert any(line.split()[:3] == ["changed", "j1:", "damping:"] for line in rest), out
     assert main(["diff", str(urdf), str(xml), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"same", "a", "b", "rtol", "matched", "differences", "notes", "dynamics", "trees", "engines"}
+    assert set(data) == {"same", "a", "b", "rtol", "matched", "differences", "notes", "dynamics", "trees", "engines",
+                         "not_compared"}
     assert data["engines"] == {}  # not asked for (--engines)
     assert [p["name"] for p in data["trees"]["b"]["parts"]] == ["l1", "l2", "l3"]
     assert [p["parent"] for p in data["trees"]["b"]["parts"]] == [-1, 0, 1]
@@ -559,3 +560,81 @@ def test_a_part_only_one_file_has_is_held_and_the_rest_s_dynamics_compared(tmp_p
     for row in d.dynamics:
         if row["beyond"]:
             assert not row["explained"]["beyond"] and row["explained"]["normalized"] < 1e-5, row
+
+
+def _line_of(path, text: str) -> int:
+    """The 1-based line of ``path`` on which ``text`` first appears."""
+    return next(n for n, line in enumerate(path.read_text().splitlines(), 1) if text in line)
+
+
+def test_gravity_compensation_is_a_difference_at_its_body_and_constraints_are_said(tmp_path, capsys):
+    """Trossen's arm (trossen_arm_mujoco `77aba5d`, against trossen_arm_description `8834f2e`): its MJCF puts
+    gravcomp="1" on every body, so that MuJoCo holds up each body's whole weight, and couples the gripper's carriages
+    by an <equality><joint>, where its URDF has a <mimic>. diff named neither: with only those in B it would have called
+    the files the same robot. Now the compensation of each part is a difference at its body's line, the fraction of
+    the part's weight (1: all of it), and every element beyond the tree that no comparison evaluates is a note of its
+    file's, in the JSON's "not_compared" and counted in the verdict."""
+    urdf, xml = saved_by_mujoco(tmp_path, URDF)
+
+    def compensated(root):
+        body(root, "l2").set("gravcomp", "1")
+
+    def coupled(root):
+        ET.SubElement(ET.SubElement(root, "equality"), "joint", joint1="j2", joint2="j3")
+
+    b = edited(xml, compensated)
+    d = diff(urdf, b)
+    assert kinds(d) == [("added", "l2", "gravity compensation")], [x.line() for x in d.differences]
+    (g,) = d.differences
+    assert (g.a, g.b) == (0.0, 1.0)
+    assert g.where_b == f"{b}:{_line_of(b, 'name=' + chr(34) + 'l2')}"
+    assert not any(row["beyond"] for row in d.dynamics)  # the bodies' own dynamics: the same
+    assert [n for n in d.notes if n.startswith("B: gravity compensation")], d.notes
+
+    b = edited(xml, coupled)
+    assert main(["diff", str(xml), str(b), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["same"] is True and data["differences"] == []
+    assert data["not_compared"] == ["B: 1 equality constraint (joint): the comparisons are the tree's without "
+                                    "constraints"]
+    assert main(["diff", str(xml), str(b)]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert "the same robot within printing" in first and "1 kind of element beyond the tree not compared" in first
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_one_changed_part_does_not_make_the_robot_moved(seed):
+    """Trossen's follower arm (trossen_arm_mujoco `77aba5d`): its MJCF's link_6 differs from the URDF's (mass centre
+    3e-5 to 2.4e-4 m), and every other number is the URDF's 8 digits printed to 6. The fit left link_6's points out,
+    then returned the mean of the others' rounding as a translation: "B's robot is A's moved by [-2.85e-06 2.5e-10
+    7.4e-09] m", a placement difference that is only printing. When the points it keeps fit without a motion, there is
+    none: the rotation and the translation are exactly the identity and zero."""
+    from relacc.validation.diff import fit_placement
+
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(-0.5, 0.5, (16, 3))
+    b = np.round(a, 6)  # B prints A's points to 6 digits
+    b[:2] += 1e-5  # and one part (two points: its mass centre, its foot on the axis) moved 5 times the tolerance
+    R, p = fit_placement(a, b, np.full(len(a), 2e-6))
+    assert np.array_equal(R, np.eye(3)) and np.array_equal(p, np.zeros(3)), (seed, R, p)
+
+
+def test_a_floating_base_s_children_are_matched_to_the_fixed_base_s_by_structure(tmp_path):
+    """Trossen's mobile AI: the URDF's arms hang from its base welded to the world and are named
+    `follower_left/joint_0`, the MJCF's from a free base and named `follower_left_joint_0`. No joint or body name was
+    shared, the structure was matched from the world's children only, so the 16 arm parts were 32 unmatched ones and
+    the dynamics were compared without the arms. The unmatched free root of one file is now the other's world for the
+    structure: the arms match, the free joint is held and the dynamics compared."""
+    urdf, mjcf = tmp_path / "arm.urdf", tmp_path / "arm.xml"
+    renamed = FIXED_URDF.format(mass="1")
+    for old in ("upper", "lower", "shoulder", "elbow"):
+        renamed = renamed.replace(f'"{old}"', f'"arm/{old}"')
+    urdf.write_text(renamed)
+    mjcf.write_text(FLOATING_MJCF)
+    d = diff(urdf, mjcf)
+    assert [(p["a"], p["b"], p["how"]) for p in d.matched["parts"]] == [
+        ("arm/upper", "upper", "structure"), ("arm/lower", "lower", "structure")]
+    assert d.matched["only_b"] == ["base"] and d.matched["only_a"] == []
+    assert any("free joint 'floating_base' (of base) held" in n for n in d.notes), d.notes
+    assert {row["quantity"] for row in d.dynamics} == {"mass matrix", "bias forces", "forward dynamics"}
+    assert not any(row["beyond"] for row in d.dynamics), d.dynamics

@@ -311,6 +311,7 @@ class _Reader:
         self.visual_geoms = self.stacked = self.unactuated = self.damped_free = self.damped_balls = 0
         self.friction: list[str] = []  # joints with a frictionloss (dry friction, a constraint in MuJoCo)
         self.frictionloss: dict[str, float] = {}  # their frictionloss (N m or N)
+        self.gravcomp: dict[str, float] = {}  # bodies with gravity compensation: the fraction of their weight
         self.driven = {a.get("joint") for s in root.findall("actuator") for a in s.children
                        if a.tag in ("motor", "position") and a.get("joint")}
 
@@ -502,7 +503,8 @@ class _Reader:
                  "springdamper": tuple(self.springdamper)}
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
                        self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
-                       tuple(self.findings), facts=facts, variant=self.variant, friction=self.frictionloss)
+                       tuple(self.findings), facts=facts, variant=self.variant, friction=self.frictionloss,
+                       gravcomp=self.gravcomp)
 
     def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         """Bodies and frames directly in ``node`` (a body, a frame or the world), placed by ``(at, R)`` in the parent
@@ -526,6 +528,8 @@ class _Reader:
         if ("body", name) in self.places:
             raise ModelError(f"{node.place}: a second body named {name!r} (the first: {self.places[('body', name)]})")
         self.places[("body", name)] = node.place
+        if number(node, "gravcomp", 0.0):
+            self.gravcomp[name] = number(node, "gravcomp", 0.0)
         cls = node.get("childclass") or childclass
         pos, Rb = self.pose(node)
         pos, Rb = at + R @ pos, R @ Rb
@@ -858,7 +862,7 @@ class _Reader:
         if dynamic:
             out.append(f"{len(dynamic)} actuator{'s' if len(dynamic) > 1 else ''} with activation dynamics: their "
                        "states are not evaluated")
-        compensated = [b.get("name") or "(unnamed)" for b in self.root.iter("body") if number(b, "gravcomp", 0.0)]
+        compensated = list(self.gravcomp)
         if compensated:
             n = len(compensated)
             out.append(f"gravity compensation (gravcomp) on {n} bod{'ies' if n > 1 else 'y'} "

@@ -58,6 +58,9 @@ class Reading:
             empty: the format's).
         friction: ``{joint name: dry friction}`` (MJCF ``frictionloss``, URDF ``<dynamics friction>``; N m or N) of the
             joints that have one: compared by ``relacc diff``, not evaluated by the dynamics.
+        gravcomp: ``{body name: factor}`` (MJCF ``gravcomp``: MuJoCo applies ``factor`` times the body's weight
+            upward at its mass centre) of the bodies that have one: compared by ``relacc diff``, not evaluated by the
+            dynamics.
     """
 
     tree: Tree
@@ -75,6 +78,7 @@ class Reading:
     facts: dict = field(default_factory=dict)
     variant: frozenset = frozenset()
     friction: dict = field(default_factory=dict)
+    gravcomp: dict = field(default_factory=dict)
 
     def place(self, kind: str, name: str) -> str:
         """``file:line`` of an element, or the file when unknown."""

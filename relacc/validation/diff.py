@@ -7,10 +7,12 @@ the physics depends on, in a way that does not depend on either file's choice of
   joints) make one *part*: its mass, its mass centre and its inertia about the mass centre are the composite's. Bodies
   welded to the world make the world's part: on a fixed base their mass moves nothing, and is said once (a note).
 * **At the reference configuration** (every joint at its ``ref``: a file's zero), in world components: each part's
-  mass centre and inertia, each joint's axis and (hinge, ball) anchor, zero, armature, damping, friction loss,
-  spring and range, a hinge's anchor compared as its distance from
-  the other file's axis line (where on the line a file puts it is a choice of frame). How either file chose its link
-  frames and inertial frames, principal axes or full tensors, drops out.
+  mass centre, inertia and gravity compensation (MJCF ``gravcomp``: the fraction of its weight MuJoCo holds up), each
+  joint's axis and (hinge, ball) anchor, zero, armature, damping, friction loss, spring and range, a hinge's anchor
+  compared as its distance from the other file's axis line (where on the line a file puts it is a choice of frame).
+  How either file chose its link frames and inertial frames, principal axes or full tensors, drops out.
+* **Beyond the tree.** Each file's elements that no comparison evaluates (:attr:`relacc.reading.Reading.unevaluated`:
+  equality constraints, tendons, mimic joints ...) are notes of that file's, and :attr:`Diff.beyond`.
 * **Placement.** A whole robot placed or rotated differently in the world is one rigid motion, found from the parts'
   mass centres and their feet on the joint axes (a fit that leaves out points beyond the tolerance, so that one moved
   mass centre does not spread over the others), one ``placement`` entry; B is compared after it.
@@ -52,7 +54,8 @@ KINDS = ("changed", "added", "dropped", "rounded", "placement", "convention", "u
 UNITS = {"mass": "kg", "mass centre": "m", "inertia": "kg m^2", "axis": "unit vector", "anchor": "m",
          "armature": "kg m^2 or kg", "damping": "N m s/rad or N s/m", "friction loss": "N m or N", "range": "rad or m",
          "stiffness": "N m/rad or N/m", "spring reference": "rad or m", "type": "", "gravity": "m/s^2",
-         "placement": "deg, unit axis, m", "part": "", "joint": "", "zero": "rad or m"}
+         "placement": "deg, unit axis, m", "part": "", "joint": "", "zero": "rad or m",
+         "gravity compensation": "of the part's weight"}
 """Units of each quantity a difference names (world components for vectors and tensors, at the reference
 configuration; ``mass centre (body frame)`` in the body's own components)."""
 
@@ -238,14 +241,16 @@ def match(parts_a: list[Part], parts_b: list[Part]) -> Match:
     changed = True
     while changed:  # by structure, a matched parent's children in order
         changed = False
-        counterpart = {i: k for i, k, _ in pairs}
-        counterpart[-1] = -1
+        counterpart = {i: {k} for i, k, _ in pairs}
+        world_a, world_b = _world_like(parts_a, used_a, parts_b, used_b), _world_like(parts_b, used_b, parts_a, used_a)
+        for i in world_a:
+            counterpart[i] = world_b
         for i, part in enumerate(parts_a):
             if i in used_a or part.parent not in counterpart:
                 continue
             kinds = tuple(j.type for j in part.joints)
             for k, other in enumerate(parts_b):
-                if k not in used_b and other.parent == counterpart[part.parent] and \
+                if k not in used_b and other.parent in counterpart[part.parent] and \
                         tuple(j.type for j in other.joints) == kinds:
                     pair(i, k, "structure")
                     changed = True
@@ -253,6 +258,18 @@ def match(parts_a: list[Part], parts_b: list[Part]) -> Match:
     pairs.sort()
     return Match(pairs, [i for i in range(len(parts_a)) if i not in used_a],
                  [k for k in range(len(parts_b)) if k not in used_b])
+
+
+def _world_like(parts: list[Part], used: set, others: list[Part], others_used: set) -> set:
+    """The world (-1) and, where the other file has no such part, this file's unmatched root part on a free joint
+    alone: a floating base whose counterpart is the other file's fixed base (Trossen's mobile AI: its MJCF's arms
+    hang from a free base, its URDF's from the world). Their children are matched to the world's children of the
+    other file by structure."""
+    def free_roots(ps, taken):
+        return {k for k, part in enumerate(ps) if k not in taken and part.parent == -1
+                and [j.type for j in part.joints] == ["free"]}
+
+    return {-1} | (free_roots(parts, used) if not free_roots(others, others_used) else set())
 
 
 def joint_pairs(a: Part, b: Part) -> tuple[list, list, list]:
@@ -345,6 +362,8 @@ def fit_placement(points_a: np.ndarray, points_b: np.ndarray, tolerances: np.nda
         keep = inside
     if keep.sum() < max(3, (len(points_a) + 1) // 2):
         return np.eye(3), np.zeros(3)
+    if np.all(np.linalg.norm(points_a[keep] - points_b[keep], axis=1) <= tolerances[keep]):
+        return np.eye(3), np.zeros(3)  # not moved: the points left out are parts that changed (Trossen's follower arm)
     shift = (points_a[keep] - points_b[keep]).mean(axis=0)  # the simplest motion that fits: a translation alone
     if np.all(np.linalg.norm(points_a[keep] - (points_b[keep] + shift), axis=1) <= tolerances[keep]):
         return np.eye(3), shift
@@ -364,6 +383,9 @@ class Diff:
     rtol: float
     trees: dict = field(default_factory=dict)
     engines: dict = field(default_factory=dict)
+    beyond: list = field(default_factory=list)
+    """Each file's elements beyond the tree that no comparison evaluates (``"A: 2 tendons: ..."``, from
+    :attr:`relacc.reading.Reading.unevaluated`), also in ``notes``."""
 
     @property
     def same(self) -> bool:
@@ -379,7 +401,9 @@ class Diff:
         matched = f"{len(pairs)} moving parts matched ({', '.join(f'{n} by {k}' for k, n in how.items())})" \
             if pairs else "no moving part matched"
         if self.same:
-            return f"the same robot within printing to 6 significant digits (rtol {self.rtol:g}): {matched}"
+            left = f"; {len(self.beyond)} kind{'s' if len(self.beyond) > 1 else ''} of element beyond the tree not " \
+                "compared (the notes say which)" if self.beyond else ""
+            return f"the same robot within printing to 6 significant digits (rtol {self.rtol:g}){left}: {matched}"
         kinds: dict = {}
         for d in self.differences:
             kinds[d.kind] = kinds.get(d.kind, 0) + 1
@@ -387,12 +411,13 @@ class Diff:
         said = ", ".join(f"{n} {k}" for k, n in kinds.items()) or "none in the description"
         n = len(self.differences)
         return (f"not the same robot: {n} difference{'s' if n != 1 else ''} ({said})"
-                + (f"; the {', '.join(beyond)} differ beyond printing" if beyond else "") + f"; {matched}")
+                + (f"; the {', '.join(beyond)} differ{'s' if len(beyond) == 1 else ''} beyond printing" if beyond
+                   else "") + f"; {matched}")
 
     def as_json(self) -> dict:
         return {"same": self.same, "a": self.a, "b": self.b, "rtol": self.rtol, "matched": self.matched,
                 "differences": [d.as_json() for d in self.differences], "notes": self.notes,
-                "dynamics": self.dynamics, "trees": self.trees, "engines": self.engines}
+                "dynamics": self.dynamics, "trees": self.trees, "engines": self.engines, "not_compared": self.beyond}
 
 
 def diff(path_a, path_b, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: int = 0) -> Diff:
@@ -431,6 +456,8 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         if world.bodies and world.mass > 0:
             notes.append(f"{label}: {', '.join(world.bodies)} ({world.mass:.6g} kg) welded to the world: on a fixed "
                          "base its mass moves nothing")
+    beyond = [f"{label}: {line}" for reading, label in ((ra, "A"), (rb, "B")) for line in reading.unevaluated]
+    notes.extend(beyond)
 
     # placement: B's world points taken to A's
     pa, pb, pt = [], [], []
@@ -474,6 +501,7 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         el = name_of(a, b)
         wa, wb = ra.place("body", a.name), rb.place("body", b.name)
         _part_terms(out, a, b, el, wa, wb, com_b[k], inertia_b[k], R, p, tol, ra, rb, tuple(absorbed.get(k, ())))
+        _compensation(out, el, ra, rb, [a, *absorbed.get(k, ())], b, tol)
         jp, only_ja, only_jb = joint_pairs(a, b)
         for ja, jb in jp:
             signs[(i, ja)] = _joint_terms(out, ra, rb, a, b, ja, jb, R, p, tol)
@@ -548,7 +576,7 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         notes.append(f"dynamics not compared: {why}")
     trees = {"a": _tree(parts_a, world_a), "b": _tree(parts_b, world_b),
              "pairs": [[i, k, how] for i, k, how in m.pairs]}
-    return Diff(str(ra.source), str(rb.source), matched, out, notes, dynamics, rtol, trees)
+    return Diff(str(ra.source), str(rb.source), matched, out, notes, dynamics, rtol, trees, beyond=beyond)
 
 
 def _held_root(reading, parts: list[Part], only: list, others_only: list) -> tuple | None:
@@ -651,6 +679,24 @@ def _part_terms(out, a: Part, b: Part, el, wa, wb, com_b, inertia_b, R, p, tol, 
                     return
         out.append(Difference("changed", el, "inertia", _values(inertia_a), _values(inertia_b),
                               _relative(inertia_a, inertia_b), wia, wib))
+
+
+def _compensation(out, el, ra, rb, a_parts: list, b: Part, tol) -> None:
+    """The gravity compensation of two matched parts (MJCF ``gravcomp``, :attr:`relacc.reading.Reading.gravcomp`):
+    the fraction of the part's weight MuJoCo holds up, ``sum(gravcomp m) / sum(m)`` over its bodies; placed at the
+    line of the first body that has one."""
+    def fraction(reading, parts):
+        pairs = [(reading.gravcomp.get(name, 0.0), mass) for part in parts for name, mass in
+                 zip(part.bodies, part.masses)]
+        total = sum(m for _, m in pairs)
+        held = sum(g * m for g, m in pairs)
+        where = next((reading.place("body", name) for part in parts for name in part.bodies
+                      if name in reading.gravcomp), reading.place("body", parts[0].name))
+        return (held / total if total > 0 else 0.0), where
+
+    fa, wa = fraction(ra, a_parts)
+    fb, wb = fraction(rb, [b])
+    _number(out, el, "gravity compensation", fa, fb, tol, wa, wb)
 
 
 def _world_rotation(tree, b: int) -> np.ndarray:

@@ -31,6 +31,15 @@ def version() -> str:
     return distribution_version("pybullet")
 
 
+def disconnect(client: int) -> None:
+    """``pb.disconnect(client)`` with what Bullet's C++ prints on standard output meanwhile dropped: freeing a client
+    that loaded a URDF through its in-memory file reader can print "Error: InMemoryFile::~InMemoryFileIO (numAllocs
+    35 numFrees 36" (Bullet's allocation count, about Bullet and not the model: Trossen's ``stationary_ai.urdf``),
+    which at the end of ``relacc compare --json`` landed before the JSON document in a file or a pipe."""
+    with captured_output(stdout=True):
+        pb.disconnect(client)
+
+
 class PyBulletAdapter(FixedBaseAdapter):
     """A URDF in PyBullet, its root fixed, in a client of its own; ``inertia_from_file``: loaded with
     ``URDF_USE_INERTIA_FROM_FILE`` (else as users call ``loadURDF``, inertias from the collision shapes)."""
@@ -60,7 +69,7 @@ class PyBulletAdapter(FixedBaseAdapter):
             else:
                 failure = None
         if failure is not None:
-            pb.disconnect(self.client)
+            disconnect(self.client)
             said = "; ".join(m.removeprefix("PyBullet: ") for m in _messages(printed)
                              if "No inertial data" not in m)  # why it failed, without its notes on the links
             raise ModelError(f"{path}: PyBullet cannot load it: {failure}" + (f" ({said})" if said else ""))
@@ -78,14 +87,14 @@ class PyBulletAdapter(FixedBaseAdapter):
             try:
                 self.structure = self._structure()
             except pb.error as exc:  # tiago_dual (129 joints): the actual-state request fails on every link
-                pb.disconnect(self.client)
+                disconnect(self.client)
                 raise ModelError(f"{path}: PyBullet loads it but answers no link state ({exc}) for its "
                                  f"{len(joints)} "
                                  "joints: relacc cannot read what it built") from None
 
     def __del__(self):
         try:
-            pb.disconnect(self.client)
+            disconnect(self.client)
         except Exception:  # noqa: BLE001 - a client already gone at interpreter exit
             pass
 
@@ -128,7 +137,7 @@ class PyBulletAdapter(FixedBaseAdapter):
             info = pb.getJointInfo(self.body, j, physicsClientId=self.client)
             name, kind, child = info[1].decode(), info[2], info[12].decode()
             if kind not in KINDS:
-                pb.disconnect(self.client)
+                disconnect(self.client)
                 raise ModelError(f"{path}: PyBullet's joint {name} "
                                  f"is of its type {kind}, which relacc does not match (revolute, prismatic, fixed)")
             links[child] = j

@@ -98,7 +98,10 @@ def stepper(adapter, effects, dt, integrator, accuracy=None) -> Stepper:
 
 
 def _disconnect(client: int) -> None:
+    """The stepper's client freed, Bullet's word on its allocations dropped
+    (:func:`relacc.engines.pybullet_.adapter.disconnect`)."""
     try:
-        pb.disconnect(client)
+        with captured_output(stdout=True):
+            pb.disconnect(client)
     except pb.error:  # already gone (interpreter exit)
         pass
