@@ -608,3 +608,36 @@ def test_a_fifo_named_as_a_mesh_is_one_line(tmp_path):
                     '<joint type="hinge"/><geom type="mesh" mesh="tet"/></body></worldbody></mujoco>')
     with pytest.raises(ModelError, match=r"fifo\.xml:1: <mesh file='tet\.obj'>: .*a FIFO, not a regular file"):
         read(path)
+
+
+def test_a_replicate_is_its_copies_as_mujoco_compiles_them(tmp_path):
+    """hello-robot's stretch_mujoco (`d107e09`) rings its laser with `<replicate count="360" euler="0 0 0.0174533">`
+    of a site: relacc refused the whole robot ("<replicate> builds bodies procedurally"). Copy k is turned by the
+    Euler angles k euler and placed at sum_{i<k} R(i euler) offset, each name suffixed with `sep` and k in as many
+    digits as `count` has, an inner replicate's suffix first (measured on MuJoCo 4.0.0: turning by R(euler) k times
+    instead differs once the angles turn about two axes). The closed form: four copies turned a quarter each and
+    offset 1 m are the corners of a square, (0, 0), (1, 0), (1, 1), (0, 1). MuJoCo's compiled model agrees, body by
+    body and joint by joint, on nested replicates turning about three axes."""
+    square = tmp_path / "square.xml"
+    square.write_text('<mujoco><worldbody><replicate count="4" offset="1 0 0" euler="0 0 90" sep="_">'
+                      '<body name="b"><joint name="j"/><geom type="sphere" size="0.1"/></body>'
+                      '</replicate></worldbody></mujoco>')
+    reading = agrees_with_mujoco(square)
+    assert [b.name for b in reading.tree.bodies] == ["b_0", "b_1", "b_2", "b_3"]
+    np.testing.assert_allclose([b.pos for b in reading.tree.bodies], [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],
+                               rtol=0, atol=4 * EPS)  # sums of up to 3 unit steps, each cos/sin rounded once
+    nested = tmp_path / "nested.xml"
+    nested.write_text(
+        '<mujoco><compiler eulerseq="zYx"/><worldbody><body name="base" pos="0 0 1"><joint name="yaw"/>'
+        '<geom type="box" size="0.1 0.1 0.1"/>'
+        '<replicate count="3" offset="0.1 0.05 0.02" euler="20 40 -30" sep="-">'
+        '<body name="leg" pos="0 0.2 0.1" euler="5 6 7"><joint name="hip" axis="1 0 0"/>'
+        '<geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.02"/>'
+        '<replicate count="11" offset="0 0 0.05"><body name="toe"><joint name="t" axis="0 1 0"/>'
+        '<geom type="sphere" size="0.02"/></body></replicate></body></replicate>'
+        '<replicate count="360" euler="0 0 1"><site name="lidar" zaxis="1 0 0"/></replicate>'
+        '</body></worldbody></mujoco>')
+    reading = agrees_with_mujoco(nested)
+    names = [b.name for b in reading.tree.bodies]
+    assert names[:4] == ["base", "leg-0", "toe00-0", "toe01-0"] and names[-1] == "toe10-2" and len(names) == 37
+    assert [p.name for p in reading.tree.points][::359] == ["lidar000", "lidar359"]
