@@ -36,6 +36,12 @@ class ModelError(FixtureError):
     """A robot model cannot be loaded or compared (the file, and the element when the parser names one)."""
 
 
+class NotARobot(ModelError):
+    """A description with no robot to compare in it: no ``<link>`` (a xacro file of macros), a xacro fragment whose
+    joints name links another file defines, or nothing that moves. ``relacc compare --models-only`` (what a pre-commit
+    hook runs) skips such a file with a word; elsewhere it is the ModelError it is."""
+
+
 class EngineError(RelaccError):
     """An engine cannot be used as asked (unknown engine, unsupported case)."""
 

@@ -264,3 +264,37 @@ def test_find_and_package_uris_name_the_package_its_package_xml_names(tmp_path, 
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and err.count("other_description") == 2, err
     assert "no package 'other_description' above the file" in err and "<class" not in err, err
+
+
+def test_models_only_skips_the_files_of_a_description_repository_that_hold_no_robot(tmp_path, monkeypatch, capsys):
+    """A ROS description repository keeps its xacro macros and fragments beside the robots that include them:
+    frankaemika/franka_description (`b299b39`: robots/common/franka_arm.xacro, utils.xacro, ...; a rigid tool,
+    cobot_pump.urdf.xacro, whose one joint is fixed) and hello-robot's stretch_urdf (`c8c6e27`: stretch_aruco.xacro,
+    whose joint names the base_link the main xacro defines). With the pre-commit hook's `--models-only`, each was
+    "cannot be compared" (exit 2): the hook failed on every such repository whatever its robots. Now a xacro of
+    macros (no <link>), a xacro fragment (joints naming links another file defines) and a description in which
+    nothing moves are skipped, named on one line of stderr; a plain URDF whose joint names a missing link is still
+    an error (exit 2), and without --models-only each is the error it was."""
+    monkeypatch.chdir(tmp_path)
+    head = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+    (tmp_path / "macros.xacro").write_text(head + '<xacro:macro name="m" params="n"><link name="${n}"/></xacro:macro>'
+                                           '\n</robot>\n')
+    (tmp_path / "fragment.xacro").write_text(head + '<link name="camera"/><joint name="mount" type="fixed">'
+                                             '<parent link="base_link"/><child link="camera"/></joint>\n</robot>\n')
+    (tmp_path / "tool.urdf").write_text('<robot name="tool"><link name="a"/><link name="b"/><joint name="w" '
+                                        'type="fixed"><parent link="a"/><child link="b"/></joint></robot>')
+    (tmp_path / "arm.urdf").write_text(GOOD)
+    (tmp_path / "broken.urdf").write_text(GOOD.replace('<parent link="base"/>', '<parent link="nowhere"/>'))
+    skipped = ["macros.xacro", "fragment.xacro", "tool.urdf"]
+    assert main(["compare", "--models-only", "--states", "2", *skipped, "arm.urdf", "broken.urdf"]) == 2
+    out, err = capsys.readouterr()
+    assert err.count("\n") == 1 and "skipped 3 files with no robot to compare" in err, err
+    assert all(name in err for name in skipped), err
+    assert "arm.urdf" in out and "broken.urdf" in out and "macros.xacro" not in out, out
+    assert main(["compare", "--models-only", "--states", "2", *skipped, "arm.urdf"]) == 0
+    assert main(["compare", "--models-only", "--states", "2", "macros.xacro"]) == 0
+    capsys.readouterr()
+    for name in skipped:
+        assert main(["compare", "--states", "2", name]) == 2, name
+        said = capsys.readouterr().err
+        assert said.startswith("relacc compare: error: ") and said.count("\n") == 1, said

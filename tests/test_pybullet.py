@@ -266,3 +266,20 @@ def test_bullets_word_on_freeing_a_client_stays_off_standard_output(tmp_path, ca
     ctypes.CDLL(None).fflush(None)
     out, _ = capfd.readouterr()
     assert out == "", out
+
+
+def test_a_mesh_missing_beside_the_file_is_not_found_from_the_working_directory(tmp_path, monkeypatch):
+    """hello-robot's stretch_urdf (`c8c6e27`): `SE3/xacro/stretch_main.xacro` names `./meshes/base_link.STL`, which
+    is beside the folder above it, not beside the file. relacc's copy for PyBullet left the name relative, and Bullet
+    looks in the working directory too: PyBullet took part when relacc ran from `SE3/` and not from anywhere else. A
+    relative name is now the file's directory's, found or not, so that the answer is the same in every directory:
+    here a mesh in the first working directory and not beside the file is named, in PyBullet's copy, where the file
+    puts it, from both working directories."""
+    from relacc.engines.pybullet_.files import text_for_pybullet
+
+    (tmp_path / "robots").mkdir()
+    cube, _ = cube_files(tmp_path)  # tmp_path/cube.obj: in the first working directory, not beside the file
+    urdf = arm(tmp_path / "robots" / "arm.urdf", [body(shapes=collision(f'<mesh filename="./{cube.name}"/>'))])
+    for where in (tmp_path, tmp_path / "robots"):
+        monkeypatch.chdir(where)
+        assert f'filename="{tmp_path / "robots" / cube.name}"' in text_for_pybullet(urdf)

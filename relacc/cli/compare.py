@@ -36,6 +36,22 @@ def cmd_compare(args) -> int:
         return _compare(args)
 
 
+def _robots(results: list, args) -> list:
+    """``results`` (``[(model, result or error)]``) without the files that hold no robot to compare
+    (:class:`relacc.errors.NotARobot`: a xacro of macros, a xacro fragment, nothing that moves) where
+    ``--models-only`` asks for robots only; those said in one line on stderr."""
+    from relacc.errors import NotARobot
+
+    if not getattr(args, "models_only", False):
+        return results
+    skipped = [args.shown.get(m, m) for m, r in results if isinstance(r, NotARobot)]
+    if skipped:
+        print(f"relacc compare: skipped {len(skipped)} file{'s' if len(skipped) > 1 else ''} with no robot to compare "
+              f"(no <link>: a xacro of macros; a xacro fragment, its joints naming another file's links; nothing that "
+              f"moves): {', '.join(skipped[:5])}{', ...' if len(skipped) > 5 else ''}", file=sys.stderr)
+    return [(m, r) for m, r in results if not isinstance(r, NotARobot)]
+
+
 def _urdf_is_diff(args) -> int:
     """``compare MODEL.xml --urdf MODEL.urdf``: two files of one robot, which ``relacc diff`` compares (issue 47: one
     way to compare two files); said in one line on stderr, then ``diff URDF MJCF``'s answer and exit code."""
@@ -78,7 +94,14 @@ def _compare(args) -> int:
                          "detail, and --json, are whole already")
     if many:
         return _many(args)
-    result = compare(args.model[0], urdf=args.urdf, engines=args.engines, n_states=args.states, seed=args.seed)
+    from relacc.errors import NotARobot
+
+    try:
+        result = compare(args.model[0], urdf=args.urdf, engines=args.engines, n_states=args.states, seed=args.seed)
+    except NotARobot as exc:
+        if not _robots([(args.model[0], exc)], args):
+            return 0
+        raise
     if out is not None:
         from relacc.report.robot import write
 
@@ -146,6 +169,10 @@ def _with_ci(args, out, accepted) -> int:
 
             outcome = Internal(internal_error(exc))
         outcomes.append((model, outcome, time.perf_counter() - start))
+    kept = {m for m, _ in _robots([(m, o) for m, o, _ in outcomes], args)}
+    outcomes = [(m, o, t) for m, o, t in outcomes if m in kept]
+    if not outcomes:
+        return 0
     per_model = [(m, ci.results(m, o), t) for m, o, t in outcomes]
     found = [r for _, rs, _ in per_model for r in rs]
     if args.junit is not None:
@@ -214,6 +241,9 @@ def _many(args) -> int:
                 from relacc.cli.main import internal_error
 
                 results.append((model, Internal(internal_error(exc))))
+    results = _robots(results, args)
+    if not results:
+        return 0
     if args.out is not None and len(results) == 1:  # one model on a cluster: its own page
         from relacc.report.robot import write
 

@@ -350,8 +350,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "several")
     p.add_argument("--models-only", action="store_true",
                    help="skip, and say so in one line, the files given that are not robot descriptions (an XML whose "
-                        "root is neither <mujoco> nor <robot>: a ROS package.xml, a launch file, an MJCF fragment): "
-                        "what a pre-commit hook passes")
+                        "root is neither <mujoco> nor <robot>: a ROS package.xml, a launch file, an MJCF fragment) or "
+                        "hold no robot to compare (a xacro of macros or a fragment, nothing that moves): what a "
+                        "pre-commit hook passes")
     p.add_argument("--junit", metavar="FILE.xml",
                    help="also write JUnit XML: one testcase per model, failing with each result at file:line "
                         "(docs/ci.md)")

@@ -8,7 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from relacc.errors import ModelError
+from relacc.errors import ModelError, NotARobot
 from relacc.reading.model import Reading
 
 if TYPE_CHECKING:
@@ -155,7 +155,7 @@ def read_moving(path: str | os.PathLike, purpose: str) -> Reading:
     if reading.tree.nv == 0:
         fixed = sum(1 for kind, _ in reading.places if kind == "joint")
         which = f"its {fixed} joint{'s are' if fixed > 1 else ' is'} fixed" if fixed else "no joint in it"
-        raise ModelError(f"{path}: nothing moves in relacc's reading ({which}), so {purpose}")
+        raise NotARobot(f"{path}: nothing moves in relacc's reading ({which}), so {purpose}")
     return reading
 
 

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from relacc.core.tree.model import Body, Joint, Tree
-from relacc.errors import ModelError
+from relacc.errors import ModelError, NotARobot
 from relacc.files import note_input
 from relacc.reading import frames, physical
 from relacc.reading.model import Reading
@@ -133,7 +133,8 @@ def read(path) -> Reading:
             raise ModelError(f"{link.place}: a second link named {name!r} (the first: {links[name].place})")
         links[name] = link
     if not links:
-        raise ModelError(f"{root.place}: the URDF has no <link>")
+        raise NotARobot(f"{root.place}: the URDF has no <link>" + (" (a xacro file of macros for others to include)"
+                                                                   if is_xacro(path) else ""))
     joints, parent_of, children = {}, {}, {name: [] for name in links}
     for joint in root.findall("joint"):
         name, kind = joint.get("name"), joint.get("type")
@@ -151,6 +152,9 @@ def read(path) -> Reading:
             links["world"] = Node("link", {"name": "world"}, joint.file, joint.line)
             children["world"] = []
         for end in (parent, child):
+            if end not in links and is_xacro(path):  # a piece of a robot: the xacro that includes it defines the link
+                raise NotARobot(f"{joint.place}: joint {name!r} names link {end!r}, which the file does not define (a "
+                                "xacro fragment for another xacro to include)")
             if end not in links:
                 raise ModelError(f"{joint.place}: joint {name!r} names link {end!r}, which the file does not define")
         if child in parent_of:

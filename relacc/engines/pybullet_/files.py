@@ -15,8 +15,10 @@ from pathlib import Path
 
 def text_for_pybullet(path: Path, unlimited: bool = False) -> str:
     """The URDF (or a ``.xacro``'s expansion, :mod:`relacc.reading.xacro`) at ``path`` with its meshes named by
-    absolute path; ``unlimited``: its revolute joints made continuous and its prismatic joints given ``lower > upper``
-    (Bullet's importer then makes no limit constraint)."""
+    absolute path, a relative name from the file's directory even where it is missing there (Bullet would look for it
+    in the working directory too: hello-robot's ``stretch_main.xacro`` names ``./meshes/...`` from the folder above
+    its own, and PyBullet read it from there and failed from anywhere else); ``unlimited``: its revolute joints made
+    continuous and its prismatic joints given ``lower > upper`` (Bullet's importer then makes no limit constraint)."""
     from relacc.reading.urdf import resolve_uri
     from relacc.reading.xacro import expand, is_xacro
 
@@ -32,7 +34,10 @@ def text_for_pybullet(path: Path, unlimited: bool = False) -> str:
                 limit.set("lower", "1")
                 limit.set("upper", "-1")
     for mesh in root.iter("mesh"):
-        target = resolve_uri(mesh.get("filename") or "", path)
+        uri = mesh.get("filename") or ""
+        target = resolve_uri(uri, path)
+        if target is None and "://" not in uri:  # not beside the file: named there all the same, so that Bullet does
+            target = path.parent / uri  # not find it from the working directory (it looks there too)
         if target is not None:
             mesh.set("filename", str(target.resolve()))
     return ET.tostring(root, encoding="unicode")
