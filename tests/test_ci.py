@@ -293,6 +293,12 @@ def test_models_only_skips_the_files_of_a_description_repository_that_hold_no_ro
     assert "arm.urdf" in out and "broken.urdf" in out and "macros.xacro" not in out, out
     assert main(["compare", "--models-only", "--states", "2", *skipped, "arm.urdf"]) == 0
     assert main(["compare", "--models-only", "--states", "2", "macros.xacro"]) == 0
+    # every file skipped: the CI files asked for are written all the same (a CI step publishing them finds them)
+    assert main(["compare", "--models-only", "--states", "2", "macros.xacro", "--junit", "j.xml", "--sarif",
+                 "s.sarif"]) == 0
+    suite = ET.parse(tmp_path / "j.xml").getroot().find("testsuite")
+    assert suite.get("tests") == "0" and suite.get("failures") == "0"
+    assert json.loads((tmp_path / "s.sarif").read_text())["runs"][0]["results"] == []
     capsys.readouterr()
     for name in skipped:
         assert main(["compare", "--states", "2", name]) == 2, name

@@ -28,8 +28,9 @@ def cmd_compare(args) -> int:
             print(f"relacc compare: skipped {len(skipped)} file{'s' if len(skipped) > 1 else ''} that "
                   f"{'are' if len(skipped) > 1 else 'is'} not a robot description: {', '.join(skipped[:5])}"
                   f"{', ...' if len(skipped) > 5 else ''}", file=sys.stderr)
-        if not found:
-            return 0
+        if not found and not any(getattr(args, flag, None) is not None for flag in ("junit", "sarif",
+                                                                                      "write_baseline")):
+            return 0  # nothing to compare; with CI outputs asked for, they are written, empty
     args.model = [path for path, _ in found]
     args.shown = {path: shown for path, shown in found}
     with files.inputs(args.model):  # a directory's files are inputs too: --out may be none of them
@@ -170,9 +171,7 @@ def _with_ci(args, out, accepted) -> int:
             outcome = Internal(internal_error(exc))
         outcomes.append((model, outcome, time.perf_counter() - start))
     kept = {m for m, _ in _robots([(m, o) for m, o, _ in outcomes], args)}
-    outcomes = [(m, o, t) for m, o, t in outcomes if m in kept]
-    if not outcomes:
-        return 0
+    outcomes = [(m, o, t) for m, o, t in outcomes if m in kept]  # none left: the CI files written all the same, empty
     per_model = [(m, ci.results(m, o), t) for m, o, t in outcomes]
     found = [r for _, rs, _ in per_model for r in rs]
     if args.junit is not None:
@@ -186,7 +185,9 @@ def _with_ci(args, out, accepted) -> int:
     if accepted is not None:  # what the baseline accepts fails nothing
         codes = [code if code == INTERNAL or ci.failing(rs, accepted) else 0
                  for code, (_, rs, _) in zip(codes, per_model)]
-    if len(results_) == 1 and not isinstance(results_[0][1], Exception):
+    if not results_:
+        pass  # every file skipped (said on stderr)
+    elif len(results_) == 1 and not isinstance(results_[0][1], Exception):
         result = results_[0][1]
         if out is not None:
             from relacc.report.robot import write
@@ -214,7 +215,7 @@ def _with_ci(args, out, accepted) -> int:
             said.insert(0, f"baseline {args.baseline}: {new} new result{'s' if new != 1 else ''} (the accepted ones "
                            "do not fail the run)")
         print("\n".join(said))
-    return max(codes)
+    return max(codes, default=0)
 
 
 def _many(args) -> int:
