@@ -304,3 +304,20 @@ def test_models_only_skips_the_files_of_a_description_repository_that_hold_no_ro
         assert main(["compare", "--states", "2", name]) == 2, name
         said = capsys.readouterr().err
         assert said.startswith("relacc compare: error: ") and said.count("\n") == 1, said
+
+
+def test_an_xacro_arg_xacro_cannot_substitute_is_named_with_the_flag_that_gives_it(tmp_path, monkeypatch, capsys):
+    """UniversalRobots' Universal_Robots_ROS2_Description (`2221ec0`): `ur.urdf.xacro` writes `<robot
+    name="$(arg name)">` and declares `<xacro:arg name="name" default="ur"/>` inside it, after xacro has read the
+    root's attributes: expanded without `name:=...`, as its own tests never do, xacro stops at "Undefined substitution
+    argument name". relacc said only xacro's words; it now adds the flag that gives the argument, and with it the robot
+    is compared."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "arm.urdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot name="$(arg prefix)robot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '<xacro:arg name="prefix" default=""/>\n' + GOOD.split(">", 1)[1])
+    assert main(["compare", "arm.urdf.xacro", "--states", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "give it with --xacro-arg prefix:=VALUE" in err, err
+    assert main(["compare", "arm.urdf.xacro", "--states", "2", "--json", "--xacro-arg", "prefix:=left_"]) == 0
+    json.loads(capsys.readouterr().out)

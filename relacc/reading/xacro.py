@@ -76,6 +76,9 @@ def expand(path) -> str:
                 raise failed[0] from None
             text = " ".join(str(exc).split())
             where = " ".join((" ".join(said) + " " + written.getvalue()).split())
+            missing = text.removeprefix("Undefined substitution argument ").strip()
+            if missing != text and missing.isidentifier():  # $(arg X) with no value yet where it is used
+                text += f" (xacro has no value for it where it is used: give it with --xacro-arg {missing}:=VALUE)"
             raise ModelError(f"{path}: xacro cannot expand it: {text}" + (f" ({where[:300]})" if where else ""))
         included = list(xacro.all_includes)
     from relacc.files import note_input
