@@ -74,15 +74,15 @@ def run_json(args, capsys):
     return code, json.loads(out)
 
 
-CHECK = ["check", "--states", "60000", "--cases", "1", "--engines", "mujoco", "--json", "--quiet"]
+CHECK = ["check", "--states", "15000", "--cases", "1", "--engines", "mujoco", "--json", "--quiet"]
 
 
 @pytest.mark.slow
 def test_check_on_the_cluster_is_the_local_run(cluster, capsys, monkeypatch):
-    """relacc check --scheduler tcp://... --json equals the in-process run, over three tasks of 20,000 states."""
+    """relacc check --scheduler tcp://... --json equals the in-process run, over three tasks of 5,000 states."""
     from relacc.cluster import sweeps
 
-    monkeypatch.setattr(sweeps, "CHECK_STATES", 20_000)  # three tasks, merged on the workers
+    monkeypatch.setattr(sweeps, "CHECK_STATES", 5_000)  # three tasks, merged on the workers
     local_code, local = run_json(CHECK, capsys)
     code, remote = run_json(CHECK + ["--scheduler", cluster["address"]], capsys)
     assert (code, remote) == (local_code, local)
@@ -94,8 +94,8 @@ def test_a_worker_killed_mid_run_changes_nothing(cluster, capsys, monkeypatch):
     import relacc.cluster.client as cluster_module
     from relacc.cluster import sweeps
 
-    monkeypatch.setattr(sweeps, "CHECK_STATES", 20_000)
-    args = ["check", "--states", "120000", "--cases", "2", "--engines", "mujoco", "--json", "--quiet"]
+    monkeypatch.setattr(sweeps, "CHECK_STATES", 5_000)  # eight tasks: the victim is at work on one when killed
+    args = ["check", "--states", "40000", "--cases", "2", "--engines", "mujoco", "--json", "--quiet"]
     _, local = run_json(args, capsys)
     victim = cluster["workers"][1]
     original = cluster_module.run
