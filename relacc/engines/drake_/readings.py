@@ -78,6 +78,12 @@ FILE_READINGS = (
         unphysical_inertia,
         water_spheres,
     ),
+    KnownBehaviour(
+        "replicate",
+        "Drake's MJCF parser skips a <replicate> and everything in it (its copies absent, without a word)",
+        lambda r: mjcf(r) and r.facts.get("replicates", 0) > 0,
+        reread("replicate_skipped"),
+    ),
 )
 """How drake's parsers read a file differently, as changes to relacc's reading (:mod:`relacc.engines.known`):
 the audit applies those that apply, whichever engine reads the file."""

@@ -122,6 +122,12 @@ FILE_READINGS = (
         lambda r: mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
         reread("gravity_default"),
     ),
+    KnownBehaviour(
+        "replicate",
+        "Pinocchio's MJCF parser skips a <replicate> and everything in it (its copies absent)",
+        lambda r: mjcf(r) and r.facts.get("replicates", 0) > 0,
+        reread("replicate_skipped"),
+    ),
 )
 """How pinocchio's parsers read a file differently, as changes to relacc's reading (:mod:`relacc.engines.known`):
 the audit applies those that apply, whichever engine reads the file."""
