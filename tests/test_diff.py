@@ -572,15 +572,16 @@ def test_gravity_compensation_is_a_difference_at_its_body_and_constraints_are_sa
     gravcomp="1" on every body, so that MuJoCo holds up each body's whole weight, and couples the gripper's carriages
     by an <equality><joint>, where its URDF has a <mimic>. diff named neither: with only those in B it would have called
     the files the same robot. Now the compensation of each part is a difference at its body's line, the fraction of
-    the part's weight (1: all of it), and every element beyond the tree that no comparison evaluates is a note of its
-    file's, in the JSON's "not_compared" and counted in the verdict."""
+    the part's weight (1: all of it); joint couplings are compared (the next test); and every other element beyond the
+    tree that no comparison evaluates (here a <connect> equality) is a note of its file's, in the JSON's
+    "not_compared" and counted in the verdict."""
     urdf, xml = saved_by_mujoco(tmp_path, URDF)
 
     def compensated(root):
         body(root, "l2").set("gravcomp", "1")
 
-    def coupled(root):
-        ET.SubElement(ET.SubElement(root, "equality"), "joint", joint1="j2", joint2="j3")
+    def connected(root):
+        ET.SubElement(ET.SubElement(root, "equality"), "connect", body1="l3", body2="l1", anchor="0 0 0.1")
 
     b = edited(xml, compensated)
     d = diff(urdf, b)
@@ -589,17 +590,68 @@ def test_gravity_compensation_is_a_difference_at_its_body_and_constraints_are_sa
     assert (g.a, g.b) == (0.0, 1.0)
     assert g.where_b == f"{b}:{_line_of(b, 'name=' + chr(34) + 'l2')}"
     assert not any(row["beyond"] for row in d.dynamics)  # the bodies' own dynamics: the same
-    assert [n for n in d.notes if n.startswith("B: gravity compensation")], d.notes
+    assert d.beyond == [] and not any("gravity compensation" in n for n in d.notes), d.notes  # compared: no note
 
-    b = edited(xml, coupled)
+    b = edited(xml, connected)
     assert main(["diff", str(xml), str(b), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["same"] is True and data["differences"] == []
-    assert data["not_compared"] == ["B: 1 equality constraint (joint): the comparisons are the tree's without "
+    assert data["not_compared"] == ["B: 1 equality constraint (connect): the comparisons are the tree's without "
                                     "constraints"]
     assert main(["diff", str(xml), str(b)]) == 0
     first = capsys.readouterr().out.splitlines()[0]
     assert "the same robot within printing" in first and "1 kind of element beyond the tree not compared" in first
+
+
+MIMIC = '<mimic joint="j2" multiplier="-0.5" offset="0.1"/>'
+"""j3 follows j2 in the URDF: q3 = 0.1 - 0.5 q2 (MuJoCo's URDF reader writes it as an <equality><joint>)."""
+
+
+@pytest.mark.parametrize("edit, expected", [
+    (None, []),
+    ("multiplier", [("changed", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], [0.1, -0.4, 0.0, 0.0, 0.0])]),
+    ("inverted", []),
+    ("removed", [("dropped", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], None)]),
+    ("no mimic in A", [("added", "j3", "coupling", None, [0.1, -0.5, 0.0, 0.0, 0.0])]),
+])
+def test_a_joint_coupling_is_compared_whichever_way_each_file_writes_it(tmp_path, edit, expected):
+    """A URDF's <mimic> and an MJCF's <equality><joint> are one relation, q_follower = offset + multiplier q_leader
+    (MuJoCo's polycoef, relative to each joint's ref; 0 here): compared between matched joints, not left to a note.
+    The MJCF MuJoCo saves from the URDF couples j3 to j2 as the URDF does: no difference. Each planted edit is found:
+    the multiplier -0.5 -> -0.4 (changed); the same relation written the other way, j2 = 0.2 - 2 q3 (by hand: q3 =
+    0.1 - 0.5 q2 <=> q2 = (0.1 - q3) / 0.5), no difference; the equality removed (dropped); the mimic removed from A
+    (added)."""
+    limit = '<limit lower="-3" upper="3" effort="10" velocity="1"/>'
+    text = URDF.replace(f'{limit}\n  </joint>\n  <link name="l3">', f'{limit}{MIMIC}\n  </joint>\n  <link name="l3">')
+    assert MIMIC in text
+    urdf, xml = saved_by_mujoco(tmp_path, text)
+
+    def change(root):
+        (eq,) = root.find("equality")
+        if edit == "multiplier":
+            eq.set("polycoef", "0.1 -0.4 0 0 0")
+        elif edit == "inverted":
+            eq.set("joint1", "j2")
+            eq.set("joint2", "j3")
+            eq.set("polycoef", "0.2 -2 0 0 0")
+        elif edit == "removed":
+            root.remove(root.find("equality"))
+
+    b = edited(xml, change) if edit in ("multiplier", "inverted", "removed") else xml
+    a = urdf
+    if edit == "no mimic in A":
+        a = tmp_path / "plain.urdf"
+        a.write_text(text.replace(MIMIC, ""))
+    d = diff(a, b)
+    found = [(x.kind, x.element, x.quantity, x.a, x.b) for x in d.differences]
+    assert len(found) == len(expected), [x.line() for x in d.differences]
+    for (kind, el, q, va, vb), (ek, eel, eq_, ea, eb) in zip(found, expected):
+        assert (kind, el, q) == (ek, eel, eq_)
+        for got, want in ((va, ea), (vb, eb)):
+            assert (got is None) == (want is None)
+            if want is not None:  # the inverted relation's numbers: one division each, c eps
+                np.testing.assert_allclose(got, want, rtol=0, atol=4 * np.finfo(float).eps)
+    assert d.beyond == [] and not any("mimic" in n or "equality" in n for n in d.notes), d.notes
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])

@@ -46,7 +46,7 @@ from relacc.core.tree.model import Body, Joint, Point, Tree
 from relacc.errors import ModelError
 from relacc.files import note_input, regular_file
 from relacc.reading import frames, inertia, physical
-from relacc.reading.model import Reading
+from relacc.reading.model import Coupling, Reading
 from relacc.reading.xml import Node, number, numbers, parse_file, real, required_numbers, rounding
 
 MAX_INCLUDE_DEPTH = 20
@@ -561,10 +561,13 @@ class _Reader:
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
                  "default_joint_pos": self.default_joint_pos, "default_geom_pose": self.default_geom_pose,
                  "springdamper": tuple(self.springdamper), "replicates": self.replicates}
+        unevaluated = self._unevaluated()
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
-                       self.taken, tuple(self._unevaluated()), tuple(self.notes + self.normalized.notes("MJCF")),
+                       self.taken, tuple(line for _, line in unevaluated),
+                       tuple(self.notes + self.normalized.notes("MJCF")),
                        tuple(self.findings), facts=facts, variant=self.variant, friction=self.frictionloss,
-                       gravcomp=self.gravcomp)
+                       gravcomp=self.gravcomp, couplings=self._couplings(),
+                       unevaluated_kinds=tuple(kind for kind, _ in unevaluated))
 
     def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         """Bodies and frames directly in ``node`` (a body, a frame or the world), placed by ``(at, R)`` in the parent
@@ -906,37 +909,58 @@ class _Reader:
         self.bodies = [Body(b.name, b.parent, pos=b.pos, quat=b.quat, joints=b.joints, mass=m, com=b.com, inertia=I,
                             physical=b.physical) for b, (m, I) in zip(self.bodies, changed)]
 
-    def _unevaluated(self) -> list[str]:
+    def _couplings(self) -> tuple:
+        """A :class:`relacc.reading.model.Coupling` per active ``<equality><joint>``: MuJoCo's ``q1 - q1_0 =
+        polycoef(q2 - q2_0)``, ``q_0`` each joint's ``ref``, its constant and linear terms made absolute (``offset =
+        q1_0 + c0 - c1 q2_0``, ``multiplier = c1``), the higher ones as written."""
+        refs = {j.name: j.ref for b in self.bodies for j in b.joints}
+        out = []
+        for s in self.root.findall("equality"):
+            for e in s.children:
+                if e.tag != "joint" or e.get("active", "true") == "false" or e.get("joint1") not in refs:
+                    continue
+                c = numbers(e, "polycoef", 5, [0.0, 1.0, 0.0, 0.0, 0.0])
+                leader = e.get("joint2")
+                y0, x0 = refs[e.get("joint1")], refs.get(leader, 0.0) if leader else 0.0
+                out.append(Coupling(e.get("joint1"), leader, y0 + c[0] - (c[1] * x0 if leader else 0.0),
+                                    c[1] if leader else 0.0, tuple(c[2:]) if leader else (0.0, 0.0, 0.0),
+                                    "equality", e.place))
+        return tuple(out)
+
+    def _unevaluated(self) -> list[tuple[str, str]]:
+        """``[(kind, line)]``: what the file has that the comparisons leave out, one line per kind
+        (:data:`relacc.reading.model.UNEVALUATED_KINDS`)."""
         out = []
         equality = [e for s in self.root.findall("equality") for e in s.children]
         if equality:
             kinds = sorted({e.tag for e in equality})
-            out.append(f"{len(equality)} equality constraint{'s' if len(equality) > 1 else ''} ({', '.join(kinds)}): "
-                       "the comparisons are the tree's without constraints")
+            out.append(("coupling" if kinds == ["joint"] else "constraint",
+                        f"{len(equality)} equality constraint{'s' if len(equality) > 1 else ''} ({', '.join(kinds)}): "
+                        "the comparisons are the tree's without constraints"))
         tendons = [t for s in self.root.findall("tendon") for t in s.children]
         if tendons:
-            out.append(f"{len(tendons)} tendon{'s' if len(tendons) > 1 else ''}: their lengths, springs and "
-                       "dampers are not evaluated")
+            out.append(("tendon", f"{len(tendons)} tendon{'s' if len(tendons) > 1 else ''}: their lengths, springs "
+                        "and dampers are not evaluated"))
         dynamic = [a for s in self.root.findall("actuator") for a in s.children
                    if a.tag in DYNAMIC_ACTUATORS or (a.tag == "general" and a.get("dyntype", "none") != "none")]
         if dynamic:
-            out.append(f"{len(dynamic)} actuator{'s' if len(dynamic) > 1 else ''} with activation dynamics: their "
-                       "states are not evaluated")
+            out.append(("actuator", f"{len(dynamic)} actuator{'s' if len(dynamic) > 1 else ''} with activation "
+                        "dynamics: their states are not evaluated"))
         compensated = list(self.gravcomp)
         if compensated:
             n = len(compensated)
-            out.append(f"gravity compensation (gravcomp) on {n} bod{'ies' if n > 1 else 'y'} "
-                       f"({', '.join(compensated[:5])}{', ...' if n > 5 else ''}): a force MuJoCo's "
-                       "step applies against gravity, not evaluated (the dynamics compared are the bodies' own)")
+            out.append(("gravcomp", f"gravity compensation (gravcomp) on {n} bod{'ies' if n > 1 else 'y'} "
+                        f"({', '.join(compensated[:5])}{', ...' if n > 5 else ''}): a force MuJoCo's "
+                        "step applies against gravity, not evaluated (the dynamics compared are the bodies' own)"))
         fluid = [f"{k} {o.get(k)}" for o in self.root.findall("option") for k in ("density", "viscosity", "wind")
                  if any(x != 0 for x in (numbers(o, k) or []))]
         fluid += [f"fluidshape on {g.get('name') or 'a geom'}" for g in self.root.iter("geom")
                   if g.get("fluidshape", "none") != "none"]
         if fluid:
-            out.append(f"fluid forces ({', '.join(fluid)}): MuJoCo's step applies them, not evaluated")
+            out.append(("fluid", f"fluid forces ({', '.join(fluid)}): MuJoCo's step applies them, not evaluated"))
         if self.friction:
             n = len(self.friction)
-            out.append(f"dry friction (frictionloss) on {n} joint{'s' if n > 1 else ''} "
-                       f"({', '.join(self.friction[:5])}{', ...' if n > 5 else ''}): a constraint in MuJoCo's step, "
-                       "not evaluated")
+            out.append(("friction", f"dry friction (frictionloss) on {n} joint{'s' if n > 1 else ''} "
+                        f"({', '.join(self.friction[:5])}{', ...' if n > 5 else ''}): a constraint in MuJoCo's step, "
+                        "not evaluated"))
         return out

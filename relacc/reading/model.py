@@ -34,6 +34,28 @@ class Finding:
         return {"body": self.body, "condition": self.condition, "numbers": self.numbers, "place": self.place}
 
 
+UNEVALUATED_KINDS = ("coupling", "constraint", "tendon", "actuator", "gravcomp", "fluid", "friction")
+"""What a line of :attr:`Reading.unevaluated` is about: joints coupled (every URDF ``<mimic>``, MJCF equality
+constraints that are all joint equalities), other constraints (loops, connect, weld...), tendons, actuators with
+dynamics, gravity compensation, fluid forces, dry friction."""
+
+
+@dataclass(frozen=True)
+class Coupling:
+    """A joint that follows another: ``q_follower = offset + multiplier q_leader`` (rad or m; positions as the file
+    measures them), ``higher`` the coefficients of ``q_leader^2 ..`` (an MJCF ``polycoef``'s last three; zeros for a
+    URDF ``<mimic>``); ``leader`` None for a joint held at ``offset`` (an MJCF joint equality without ``joint2``).
+    ``kind``: ``"mimic"`` or ``"equality"``; ``place``: the element's ``file:line``."""
+
+    follower: str
+    leader: str | None
+    offset: float
+    multiplier: float
+    higher: tuple = (0.0, 0.0, 0.0)
+    kind: str = "mimic"
+    place: str = ""
+
+
 @dataclass(frozen=True, eq=False)
 class Reading:
     """relacc's own reading of a description file (see the module docstring).
@@ -61,6 +83,9 @@ class Reading:
         gravcomp: ``{body name: factor}`` (MJCF ``gravcomp``: MuJoCo applies ``factor`` times the body's weight
             upward at its mass centre) of the bodies that have one: compared by ``relacc diff``, not evaluated by the
             dynamics.
+        couplings: :class:`Coupling` per URDF ``<mimic>`` and active MJCF joint equality: compared by ``relacc diff``,
+            not evaluated by the dynamics (said in ``unevaluated``).
+        unevaluated_kinds: the kind of each line of ``unevaluated`` (:data:`UNEVALUATED_KINDS`).
     """
 
     tree: Tree
@@ -79,6 +104,8 @@ class Reading:
     variant: frozenset = frozenset()
     friction: dict = field(default_factory=dict)
     gravcomp: dict = field(default_factory=dict)
+    couplings: tuple = ()
+    unevaluated_kinds: tuple = ()
 
     def place(self, kind: str, name: str) -> str:
         """``file:line`` of an element, or the file when unknown."""

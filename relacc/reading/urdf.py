@@ -31,7 +31,7 @@ from relacc.core.tree.model import Body, Joint, Tree
 from relacc.errors import ModelError, NotARobot
 from relacc.files import note_input
 from relacc.reading import frames, physical
-from relacc.reading.model import Reading
+from relacc.reading.model import Coupling, Reading
 from relacc.reading.packages import package_folders
 from relacc.reading.xacro import is_xacro
 from relacc.reading.xml import Node, number, numbers, parse_file, parse_text, rounding
@@ -175,12 +175,17 @@ def read(path) -> Reading:
     index: dict[str, int] = {}
     bodies, places, ranges, damping, findings, turned, friction = [], {}, {}, {}, [], {}, {}
     geometry = {name: link_geometry(links[name], path, normalized) for name in order}
-    unevaluated = []
+    unevaluated, kinds = [], []
     mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None and j.get("type") != "fixed"]
+    couplings = tuple(Coupling(name, joints[name].find("mimic").get("joint"),
+                               number(joints[name].find("mimic"), "offset", 0.0),
+                               number(joints[name].find("mimic"), "multiplier", 1.0), place=joints[name].place)
+                      for name in mimics)
     if mimics:
         unevaluated.append(f"{len(mimics)} mimic joint{'s' if len(mimics) > 1 else ''} ({', '.join(mimics)}): "
                            "a constraint coupling joints; the comparisons are the tree's without constraints, every "
                            "joint free")
+        kinds.append("coupling")
     fixed_mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None and j.get("type") == "fixed"]
     if fixed_mimics:  # a fixed joint has no coordinate to couple: nothing is freed
         notes.append(f"{len(fixed_mimics)} fixed joint{'s' if len(fixed_mimics) > 1 else ''} with a <mimic> "
@@ -192,6 +197,7 @@ def read(path) -> Reading:
         unevaluated.append(f"{len(loops)} loop joint{'s' if len(loops) > 1 else ''} ({', '.join(names[:5])}"
                            f"{', ...' if len(loops) > 5 else ''}): a constraint closing a loop; the comparisons are "
                            "the tree's without constraints")
+        kinds.append("constraint")
     spherical = [j.get("name") for j in joints.values() if j.get("type") == "spherical"]
     if spherical:
         notes.append(f"{len(spherical)} spherical joint{'s' if len(spherical) > 1 else ''} ({', '.join(spherical[:3])}"
@@ -241,7 +247,8 @@ def read(path) -> Reading:
     tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array(GRAVITY), source=str(path))
     notes += normalized.notes("URDF")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
-                   tuple(findings), turned, facts={"geometry": geometry}, friction=friction)
+                   tuple(findings), turned, facts={"geometry": geometry}, friction=friction, couplings=couplings,
+                   unevaluated_kinds=tuple(kinds))
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,8 @@ the physics depends on, in a way that does not depend on either file's choice of
 * **At the reference configuration** (every joint at its ``ref``: a file's zero), in world components: each part's
   mass centre, inertia and gravity compensation (MJCF ``gravcomp``: the fraction of its weight MuJoCo holds up), each
   joint's axis and (hinge, ball) anchor, zero, armature, damping, friction loss, spring and range, a hinge's anchor
-  compared as its distance from the other file's axis line (where on the line a file puts it is a choice of frame).
+  compared as its distance from the other file's axis line (where on the line a file puts it is a choice of frame);
+  joint couplings (URDF ``<mimic>``, MJCF ``<equality><joint>``: :class:`relacc.reading.model.Coupling`).
   How either file chose its link frames and inertial frames, principal axes or full tensors, drops out.
 * **Beyond the tree.** Each file's elements that no comparison evaluates (:attr:`relacc.reading.Reading.unevaluated`:
   equality constraints, tendons, mimic joints ...) are notes of that file's, and :attr:`Diff.beyond`.
@@ -41,12 +42,17 @@ and at seeded random states: the consequence of the differences, worst state fir
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from relacc.core.rotations import matrix_from_quaternion
 from relacc.core.tolerances import PRINTED_RTOL, printed_tolerance
+
+COMPARED = ("coupling", "gravcomp", "friction")
+"""The kinds of a reading's unevaluated elements (:data:`relacc.reading.model.UNEVALUATED_KINDS`) that ``diff``
+compares itself: joint couplings, gravity compensation, dry friction; the others are notes (:attr:`Diff.beyond`)."""
 
 KINDS = ("changed", "added", "dropped", "rounded", "placement", "convention", "unmatched")
 """The kinds of a :class:`Difference` (module docstring)."""
@@ -55,7 +61,8 @@ UNITS = {"mass": "kg", "mass centre": "m", "inertia": "kg m^2", "axis": "unit ve
          "armature": "kg m^2 or kg", "damping": "N m s/rad or N s/m", "friction loss": "N m or N", "range": "rad or m",
          "stiffness": "N m/rad or N/m", "spring reference": "rad or m", "type": "", "gravity": "m/s^2",
          "placement": "deg, unit axis, m", "part": "", "joint": "", "zero": "rad or m",
-         "gravity compensation": "of the part's weight"}
+         "gravity compensation": "of the part's weight",
+         "coupling": "offset rad or m, multiplier, higher coefficients"}
 """Units of each quantity a difference names (world components for vectors and tensors, at the reference
 configuration; ``mass centre (body frame)`` in the body's own components)."""
 
@@ -456,7 +463,9 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         if world.bodies and world.mass > 0:
             notes.append(f"{label}: {', '.join(world.bodies)} ({world.mass:.6g} kg) welded to the world: on a fixed "
                          "base its mass moves nothing")
-    beyond = [f"{label}: {line}" for reading, label in ((ra, "A"), (rb, "B")) for line in reading.unevaluated]
+    beyond = [f"{label}: {line}" for reading, label in ((ra, "A"), (rb, "B"))
+              for line, kind in itertools.zip_longest(reading.unevaluated, reading.unevaluated_kinds, fillvalue="")
+              if kind not in COMPARED]
     notes.extend(beyond)
 
     # placement: B's world points taken to A's
@@ -525,6 +534,7 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         b = parts_b[k]
         out.append(Difference("unmatched", b.name, "part", None, ", ".join(j.name for j in b.joints), None,
                               ra.source, rb.place("body", b.name)))
+    _coupling_terms(out, ra, rb, parts_a, parts_b, m, signs, tol)
     ga, gb = ra.tree.gravity, rb.tree.gravity
     if np.linalg.norm(ga - gb) > tol(max(np.linalg.norm(ga), np.linalg.norm(gb))):
         out.append(Difference("rounded" if rounded_pair(ga, gb) else "changed", "world", "gravity", _values(ga),
@@ -679,6 +689,50 @@ def _part_terms(out, a: Part, b: Part, el, wa, wb, com_b, inertia_b, R, p, tol, 
                     return
         out.append(Difference("changed", el, "inertia", _values(inertia_a), _values(inertia_b),
                               _relative(inertia_a, inertia_b), wia, wib))
+
+
+def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], m: Match, signs: dict, tol) -> None:
+    """Each joint coupling of A (a URDF ``<mimic>``, an MJCF joint equality: :class:`relacc.reading.model.Coupling`)
+    against B's between the matched joints, in A's coordinates (a reversed joint's sign applied, a coupling B writes
+    the other way round inverted): ``(offset, multiplier)`` compared as printed numbers, ``changed`` or ``rounded``;
+    a coupling only one file has is ``dropped`` or ``added``. Couplings of joints without a counterpart are left to
+    those joints' ``unmatched`` entries."""
+    to_b: dict = {}
+    for i, k, _ in m.pairs:
+        for ja, jb in joint_pairs(parts_a[i], parts_b[k])[0]:
+            to_b[parts_a[i].joints[ja].name] = (parts_b[k].joints[jb].name, signs.get((i, ja), 1.0))
+    to_a = {b: (a, sign) for a, (b, sign) in to_b.items()}
+    theirs = {(c.follower, c.leader): c for c in rb.couplings}
+    seen = set()
+    for c in ra.couplings:
+        if c.follower not in to_b or (c.leader is not None and c.leader not in to_b):
+            continue
+        (fb, sf), (lb, sl) = to_b[c.follower], to_b[c.leader] if c.leader is not None else (None, 1.0)
+        el = c.follower if c.follower == fb else f"{c.follower} / {fb}"
+        mine = [c.offset, c.multiplier, *c.higher]
+        other, flipped = theirs.get((fb, lb)), False
+        if other is None and lb is not None:
+            other, flipped = theirs.get((lb, fb)), True
+        if other is None:
+            out.append(Difference("dropped", el, "coupling", mine, None, None, c.place, rb.source))
+            continue
+        seen.add((other.follower, other.leader))
+        if flipped:  # B writes q_l = o + m q_f: A's q_f = (q_l - o) / m, in A's signs
+            if other.multiplier == 0 or any(other.higher):
+                out.append(Difference("changed", el, "coupling", mine, [other.offset, other.multiplier,
+                                                                          *other.higher], None, c.place, other.place))
+                continue
+            theirs_in_a = [-other.offset / (sf * other.multiplier), 1.0 / (sl * sf * other.multiplier), 0.0, 0.0, 0.0]
+        else:
+            theirs_in_a = [sf * other.offset, sf * sl * other.multiplier,
+                           *(sf * sl ** (p + 2) * h for p, h in enumerate(other.higher))]
+        _number(out, el, "coupling", mine, theirs_in_a, tol, c.place, other.place)
+    for c in rb.couplings:
+        if (c.follower, c.leader) in seen or c.follower not in to_a or (c.leader is not None and c.leader not in to_a):
+            continue
+        el = c.follower if to_a[c.follower][0] == c.follower else f"{to_a[c.follower][0]} / {c.follower}"
+        out.append(Difference("added", el, "coupling", None, [c.offset, c.multiplier, *c.higher], None, ra.source,
+                              c.place))
 
 
 def _compensation(out, el, ra, rb, a_parts: list, b: Part, tol) -> None:
