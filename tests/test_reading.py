@@ -641,3 +641,28 @@ def test_a_replicate_is_its_copies_as_mujoco_compiles_them(tmp_path):
     names = [b.name for b in reading.tree.bodies]
     assert names[:4] == ["base", "leg-0", "toe00-0", "toe01-0"] and names[-1] == "toe10-2" and len(names) == 37
     assert [p.name for p in reading.tree.points][::359] == ["lidar000", "lidar359"]
+
+
+@pytest.mark.parametrize("polycoef", [None, "", "0.1", "0.1 2", "0.1 2 0.3 0.4 0.5", "0 1 2 3 4 5"])
+def test_a_joint_equality_is_read_as_mujoco_compiles_it(tmp_path, polycoef):
+    """An <equality><joint>'s polycoef may give fewer than its 5 numbers: MuJoCo takes the rest from the default
+    "0 1 0 0 0" (measured on MuJoCo 4.0: "0.1" is 0.1 + 1 q2), and refuses more than 5. relacc's reading (now that
+    relacc diff compares couplings) refused any other count, on files MuJoCo reads. The reference is MuJoCo's compiled
+    eq_data, exact: the numbers are copied, not computed (each joint's ref is 0)."""
+    import mujoco
+
+    written = "" if polycoef is None else f' polycoef="{polycoef}"'
+    path = tmp_path / "coupled.xml"
+    path.write_text('<mujoco><worldbody><body name="a"><joint name="j1"/><geom size="0.1"/><body name="b" pos="0 0 '
+                    '0.3"><joint name="j2"/><geom size="0.1"/></body></body></worldbody><equality><joint joint1="j2" '
+                    f'joint2="j1"{written}/></equality></mujoco>')
+    if polycoef is not None and len(polycoef.split()) > 5:
+        with pytest.raises(ValueError):
+            mujoco.MjModel.from_xml_path(str(path))
+        with pytest.raises(ModelError, match="at most 5"):
+            read(path)
+        return
+    eq = mujoco.MjModel.from_xml_path(str(path)).eq_data[0][:5]
+    (c,) = read(path).couplings
+    assert (c.follower, c.leader) == ("j2", "j1")
+    assert [c.offset, c.multiplier, *c.higher] == list(eq)

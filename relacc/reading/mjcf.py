@@ -919,7 +919,11 @@ class _Reader:
             for e in s.children:
                 if e.tag != "joint" or e.get("active", "true") == "false" or e.get("joint1") not in refs:
                     continue
-                c = numbers(e, "polycoef", 5, [0.0, 1.0, 0.0, 0.0, 0.0])
+                given = numbers(e, "polycoef", None, [])
+                if len(given) > 5:
+                    raise ModelError(f"{e.place}: <joint> polycoef={e.get('polycoef')!r} has {len(given)} numbers; "
+                                     "at most 5 (MuJoCo refuses more)")
+                c = given + [0.0, 1.0, 0.0, 0.0, 0.0][len(given):]  # the ones not written: the default's (MuJoCo)
                 leader = e.get("joint2")
                 y0, x0 = refs[e.get("joint1")], refs.get(leader, 0.0) if leader else 0.0
                 out.append(Coupling(e.get("joint1"), leader, y0 + c[0] - (c[1] * x0 if leader else 0.0),
