@@ -612,6 +612,7 @@ MIMIC = '<mimic joint="j2" multiplier="-0.5" offset="0.1"/>'
     ("multiplier", [("changed", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], [0.1, -0.4, 0.0, 0.0, 0.0])]),
     ("inverted", []),
     ("removed", [("dropped", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], None)]),
+    ("inactive", [("dropped", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], None)]),
     ("no mimic in A", [("added", "j3", "coupling", None, [0.1, -0.5, 0.0, 0.0, 0.0])]),
 ])
 def test_a_joint_coupling_is_compared_whichever_way_each_file_writes_it(tmp_path, edit, expected):
@@ -619,8 +620,8 @@ def test_a_joint_coupling_is_compared_whichever_way_each_file_writes_it(tmp_path
     (MuJoCo's polycoef, relative to each joint's ref; 0 here): compared between matched joints, not left to a note.
     The MJCF MuJoCo saves from the URDF couples j3 to j2 as the URDF does: no difference. Each planted edit is found:
     the multiplier -0.5 -> -0.4 (changed); the same relation written the other way, j2 = 0.2 - 2 q3 (by hand: q3 =
-    0.1 - 0.5 q2 <=> q2 = (0.1 - q3) / 0.5), no difference; the equality removed (dropped); the mimic removed from A
-    (added)."""
+    0.1 - 0.5 q2 <=> q2 = (0.1 - q3) / 0.5), no difference; the equality removed, or made inactive (dropped; the
+    inactive one said as not compared); the mimic removed from A (added)."""
     limit = '<limit lower="-3" upper="3" effort="10" velocity="1"/>'
     text = URDF.replace(f'{limit}\n  </joint>\n  <link name="l3">', f'{limit}{MIMIC}\n  </joint>\n  <link name="l3">')
     assert MIMIC in text
@@ -636,8 +637,10 @@ def test_a_joint_coupling_is_compared_whichever_way_each_file_writes_it(tmp_path
             eq.set("polycoef", "0.2 -2 0 0 0")
         elif edit == "removed":
             root.remove(root.find("equality"))
+        elif edit == "inactive":  # MuJoCo starts without it (eq_active0 0): no coupling, and said as not compared
+            eq.set("active", "false")
 
-    b = edited(xml, change) if edit in ("multiplier", "inverted", "removed") else xml
+    b = edited(xml, change) if edit in ("multiplier", "inverted", "removed", "inactive") else xml
     a = urdf
     if edit == "no mimic in A":
         a = tmp_path / "plain.urdf"
@@ -651,7 +654,10 @@ def test_a_joint_coupling_is_compared_whichever_way_each_file_writes_it(tmp_path
             assert (got is None) == (want is None)
             if want is not None:  # the inverted relation's numbers: one division each, c eps
                 np.testing.assert_allclose(got, want, rtol=0, atol=4 * np.finfo(float).eps)
-    assert d.beyond == [] and not any("mimic" in n or "equality" in n for n in d.notes), d.notes
+    if edit == "inactive":
+        assert d.beyond == ["B: 1 equality constraint (joint): the comparisons are the tree's without constraints"]
+    else:
+        assert d.beyond == [] and not any("mimic" in n or "equality" in n for n in d.notes), d.notes
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])

@@ -561,12 +561,13 @@ class _Reader:
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
                  "default_joint_pos": self.default_joint_pos, "default_geom_pose": self.default_geom_pose,
                  "springdamper": tuple(self.springdamper), "replicates": self.replicates}
-        unevaluated = self._unevaluated()
+        couplings = self._couplings()
+        unevaluated = self._unevaluated(len(couplings))
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
                        self.taken, tuple(line for _, line in unevaluated),
                        tuple(self.notes + self.normalized.notes("MJCF")),
                        tuple(self.findings), facts=facts, variant=self.variant, friction=self.frictionloss,
-                       gravcomp=self.gravcomp, couplings=self._couplings(),
+                       gravcomp=self.gravcomp, couplings=couplings,
                        unevaluated_kinds=tuple(kind for kind, _ in unevaluated))
 
     def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
@@ -931,14 +932,15 @@ class _Reader:
                                     "equality", e.place))
         return tuple(out)
 
-    def _unevaluated(self) -> list[tuple[str, str]]:
+    def _unevaluated(self, coupled: int) -> list[tuple[str, str]]:
         """``[(kind, line)]``: what the file has that the comparisons leave out, one line per kind
-        (:data:`relacc.reading.model.UNEVALUATED_KINDS`)."""
+        (:data:`relacc.reading.model.UNEVALUATED_KINDS`); ``coupled``: how many of its equalities are couplings
+        (:meth:`_couplings`): the equalities' kind is ``coupling`` where all of them are."""
         out = []
         equality = [e for s in self.root.findall("equality") for e in s.children]
         if equality:
             kinds = sorted({e.tag for e in equality})
-            out.append(("coupling" if kinds == ["joint"] else "constraint",
+            out.append(("coupling" if coupled == len(equality) else "constraint",
                         f"{len(equality)} equality constraint{'s' if len(equality) > 1 else ''} ({', '.join(kinds)}): "
                         "the comparisons are the tree's without constraints"))
         tendons = [t for s in self.root.findall("tendon") for t in s.children]

@@ -12,8 +12,9 @@ the physics depends on, in a way that does not depend on either file's choice of
   compared as its distance from the other file's axis line (where on the line a file puts it is a choice of frame);
   joint couplings (URDF ``<mimic>``, MJCF ``<equality><joint>``: :class:`relacc.reading.model.Coupling`).
   How either file chose its link frames and inertial frames, principal axes or full tensors, drops out.
-* **Beyond the tree.** Each file's elements that no comparison evaluates (:attr:`relacc.reading.Reading.unevaluated`:
-  equality constraints, tendons, mimic joints ...) are notes of that file's, and :attr:`Diff.beyond`.
+* **Beyond the tree.** Each file's elements that no comparison evaluates (:attr:`relacc.reading.Reading.unevaluated`
+  of the kinds not in :data:`COMPARED`: equality constraints other than joint couplings, tendons, loop joints, fluid
+  forces ...) are notes of that file's, and :attr:`Diff.beyond`.
 * **Placement.** A whole robot placed or rotated differently in the world is one rigid motion, found from the parts'
   mass centres and their feet on the joint axes (a fit that leaves out points beyond the tolerance, so that one moved
   mass centre does not spread over the others), one ``placement`` entry; B is compared after it.
