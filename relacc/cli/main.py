@@ -29,7 +29,23 @@ INTERNAL = 3
 
 
 def main(argv=None) -> int:
-    """Run ``relacc`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code (see ``--help``)."""
+    """Run ``relacc`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code (see ``--help``).
+
+    An interrupt stays pending (:data:`relacc.files.PENDING`) until the command has said its one line and let go of
+    the exception: what the interrupt left half-built is freed while ``Exception ignored`` reports are still kept off
+    stderr (llvmlite's ``PassBuilder`` interrupted while numba compiled the report's kernels on a clean clone printed
+    "AttributeError: 'PassBuilder' object has no attribute '_as_parameter_'" and its stack after the line)."""
+    try:
+        return _main(argv)
+    finally:
+        if files.PENDING[0] is not None:
+            import gc
+
+            gc.collect()  # what the interrupt left half-built, in reference cycles too, freed while it is pending
+            files.clear_interrupt()
+
+
+def _main(argv) -> int:
     from relacc.cli.parser import build_parser
 
     try:
@@ -61,8 +77,7 @@ def main(argv=None) -> int:
     except MemoryError:
         print(f"{name}: error: not enough memory for this request; ask for fewer states", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        files.clear_interrupt()
+    except KeyboardInterrupt:  # the pending interrupt is cleared once this exception is gone (main)
         end_line()
         print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
         return 130
@@ -77,7 +92,6 @@ def main(argv=None) -> int:
             end_line()
             print(f"{name}: internal error: {internal_error(exc)}", file=sys.stderr)
             return INTERNAL
-        files.clear_interrupt()
         end_line()
         print(f"{name}: interrupted; no output file was changed", file=sys.stderr)
         return 130
