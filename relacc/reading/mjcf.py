@@ -27,8 +27,11 @@ short:
   reference configuration, as MuJoCo's compiler does); ``<freejoint>``; a ``mocap`` body is welded to the world.
 * **Gravity**: ``<option gravity>``, zero with ``<flag gravity="disable"/>``. **Points**: every ``<site>``.
 * Left out, and said (``unevaluated``): ``<equality>`` constraints, ``<tendon>`` elements, actuators with activation
-  dynamics. Refused: ``<attach>``, ``<composite>``, ``<flexcomp>``, ``<compiler coordinate="global">`` (relacc
-  cannot read them yet: the message says so).
+  dynamics. Refused: ``<composite>``, ``<flexcomp>``, ``<compiler coordinate="global">`` (relacc cannot read them
+  yet: the message says so).
+* **Attach**: ``<attach model body prefix>`` is the ``<model>`` asset's body ``body`` (or its world's bodies), read
+  with that model's own compiler, defaults and assets, placed where the element is, names prefixed
+  (:meth:`_Reader._attach`).
 * **Replicate**: ``<replicate count offset euler sep>`` is ``count`` copies of what it holds, copy ``k`` turned by the
   Euler angles ``k euler`` and placed at ``sum_{i<k} R(i euler) offset``, each name in it suffixed with ``sep`` and
   ``k`` in as many digits as ``count`` has (nested: the inner suffix first), as MuJoCo 4.0 compiles it (measured).
@@ -52,7 +55,7 @@ from relacc.reading.xml import Node, number, numbers, parse_file, real, required
 MAX_INCLUDE_DEPTH = 20
 """Includes nested deeper than this are refused (a file that includes itself)."""
 
-REFUSED = ("attach", "composite", "flexcomp")
+REFUSED = ("composite", "flexcomp")
 """Elements that build bodies procedurally: relacc does not read them yet."""
 
 DYNAMIC_ACTUATORS = ("cylinder", "muscle", "adhesion")
@@ -83,7 +86,7 @@ VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored
             "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
             "unnamed_siblings_dropped", "default_joint_pos_ignored", "default_geom_pose_ignored",
             "springdamper_ignored", "ball_damping_dropped", "mesh_obj_first_object", "mesh_inertia_exact",
-            "replicate_skipped")
+            "replicate_skipped", "attach_skipped")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
@@ -115,6 +118,8 @@ Pinocchio's:
 * ``settotalmass_ignored`` (Pinocchio's and Drake's): no scaling by ``<compiler settotalmass>``.
 * ``replicate_skipped`` (Pinocchio's and Drake's): a ``<replicate>`` and everything in it left out (measured on
   pin 4.1 and Drake 1.51: a body with two replicated arms read without them, Drake without a word).
+* ``attach_skipped`` (Pinocchio's and Drake's): an ``<attach>`` left out (measured on pin 4.1 and Drake 1.51: a mount
+  with two attached arms read as the mount alone; Drake warns that the tag is unsupported).
 
 Drake's:
 
@@ -185,9 +190,10 @@ def mesh_file(path: Path, meshdir: str, asset: Node) -> Path:
     return first
 
 
-def note_files(path: Path) -> None:
+def note_files(path: Path, depth: int = 0) -> None:
     """The files the MJCF at ``path`` reads, noted as inputs (:func:`relacc.reading.read.note_files`): the file and
-    its includes (each noted as it is parsed), and each mesh asset's file under ``meshdir`` (or ``assetdir``)."""
+    its includes (each noted as it is parsed), each mesh asset's file under ``meshdir`` (or ``assetdir``), and each
+    ``<model>`` asset's file with its own (an ``<attach>``ed model)."""
     root = parse_file(path)
     _inline(root, path.parent, 0)
     compiler: dict = {}
@@ -198,6 +204,9 @@ def note_files(path: Path) -> None:
         for mesh in asset.findall("mesh"):
             if mesh.get("file"):
                 note_input(mesh_file(path, meshdir, mesh))
+        for model in asset.findall("model"):
+            if model.get("file") and depth < MAX_INCLUDE_DEPTH:
+                note_files(path.parent / model.get("file"), depth + 1)
 
 
 def _inline(node: Node, directory: Path, depth: int, seen: set | None = None) -> None:
@@ -267,6 +276,20 @@ def _written_in(node: Node, file: str) -> Node:
                 [_written_in(c, file) for c in node.children if c.file == file])
 
 
+_COUNTERS = ("njoints", "mesh_geoms", "legacy_meshes", "default_masses", "visual_geoms", "stacked", "unactuated",
+             "damped_free", "damped_balls", "broken_defaults", "default_joint_pos", "default_geom_pose",
+             "unnamed_dropped", "replicates", "attaches")
+"""The reading's counts that an attached model's reading adds to (:meth:`_Reader._attach`)."""
+
+
+def _prefixed(node: Node, prefix: str) -> Node:
+    """A copy of ``node`` and everything below it, each ``name`` after ``prefix`` (an ``<attach>``'s)."""
+    attrib = dict(node.attrib)
+    if "name" in attrib:
+        attrib["name"] = prefix + attrib["name"]
+    return Node(node.tag, attrib, node.file, node.line, [_prefixed(c, prefix) for c in node.children])
+
+
 def _renamed(node: Node, suffix: str, replica_of: dict) -> Node:
     """A copy of ``node`` and everything below it, each ``name`` with ``suffix`` (a ``<replicate>``'s copy), and
     ``replica_of[new name]`` the name as written (through nested replicates)."""
@@ -282,9 +305,19 @@ class _Reader:
     """One file's reading in progress (the module docstring, step by step)."""
 
     def __init__(self, path: Path, root: Node, notes: list, meshes, variant=frozenset()):
-        self.path, self.root, self.notes, self.meshes = path, root, notes, meshes
+        self.notes, self.meshes = notes, meshes
         self.variant = variant
         self.normalized = frames.Normalized()
+        self.replica_of: dict[str, str] = {}  # each name a <replicate> made: the name written
+        self.replicates = 0  # <replicate> elements in the file
+        self.attaches = 0  # <attach> elements in the file (and the models it attaches)
+        self._settings(path, root)
+        self._accumulators()
+
+    def _settings(self, path: Path, root: Node) -> None:
+        """What one model file sets for the elements written in it: its compiler, defaults, mesh and model assets and
+        actuated joints (an ``<attach>``ed model's own, :meth:`_attach`)."""
+        self.path, self.root = path, root
         self.compiler = {}
         for node in root.findall("compiler"):
             self.compiler.update(node.attrib)
@@ -295,8 +328,6 @@ class _Reader:
         self.eulerseq = self.compiler.get("eulerseq", "xyz")
         if len(self.eulerseq) != 3 or any(c not in "xyzXYZ" for c in self.eulerseq):
             raise ModelError(f"{path}: <compiler eulerseq={self.eulerseq!r}>: expected three of x, y, z, X, Y, Z")
-        self.replica_of: dict[str, str] = {}  # each name a <replicate> made: the name written
-        self.replicates = 0  # <replicate> elements in the file
         self._replicate(root)
         self.fromgeom = self.compiler.get("inertiafromgeom", "auto")
         groups = self._compiler_numbers("inertiagrouprange", [0, 5])
@@ -314,6 +345,15 @@ class _Reader:
         self.springdamper: dict[str, tuple] = {}  # joint: (timeconst, dampratio, springref) of a springdamper
         self.assets = {m.get("name") or Path(m.get("file", "")).stem: m
                        for a in root.findall("asset") for m in a.findall("mesh")}
+        self.models = {m.get("name") or Path(m.get("file", "")).stem: m
+                       for a in root.findall("asset") for m in a.findall("model")}
+        self.driven = {a.get("joint") for s in root.findall("actuator") for a in s.children
+                       if a.tag in ("motor", "position") and a.get("joint")}
+        # an actuator naming a joint a <replicate> copied drives every copy (MuJoCo replicates the actuator too)
+        self.driven |= {name for name, written in self.replica_of.items() if written in self.driven}
+
+    def _accumulators(self) -> None:
+        """What the reading gathers over every body it reads, the attached models' included."""
         self.bodies: list[Body] = []
         self.points: list[Point] = []
         self.places, self.ranges, self.damping, self.stiffness, self.taken = {}, {}, {}, {}, {}
@@ -332,10 +372,6 @@ class _Reader:
         self.friction: list[str] = []  # joints with a frictionloss (dry friction, a constraint in MuJoCo)
         self.frictionloss: dict[str, float] = {}  # their frictionloss (N m or N)
         self.gravcomp: dict[str, float] = {}  # bodies with gravity compensation: the fraction of their weight
-        self.driven = {a.get("joint") for s in root.findall("actuator") for a in s.children
-                       if a.tag in ("motor", "position") and a.get("joint")}
-        # an actuator naming a joint a <replicate> copied drives every copy (MuJoCo replicates the actuator too)
-        self.driven |= {name for name, written in self.replica_of.items() if written in self.driven}
 
     def _compiler_numbers(self, key, default):
         text = self.compiler.get(key)
@@ -560,7 +596,8 @@ class _Reader:
                  "damped_balls": self.damped_balls,
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
                  "default_joint_pos": self.default_joint_pos, "default_geom_pose": self.default_geom_pose,
-                 "springdamper": tuple(self.springdamper), "replicates": self.replicates}
+                 "springdamper": tuple(self.springdamper), "replicates": self.replicates,
+                 "attaches": self.attaches}
         couplings = self._couplings()
         unevaluated = self._unevaluated(len(couplings))
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
@@ -586,6 +623,56 @@ class _Reader:
             elif child.tag == "frame":
                 pos, Rf = self.pose(child)
                 self._children(child, parent, at + R @ pos, R @ Rf, child.get("childclass") or childclass)
+            elif child.tag == "attach":
+                self.attaches += 1
+                if "attach_skipped" not in self.variant:
+                    self._attach(child, parent, at, R)
+
+    def _attach(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray) -> None:
+        """An ``<attach model body prefix>``: the ``<model>`` asset's file (from this file's directory) read with its
+        own compiler, defaults and assets, and its body ``body`` with everything in it (without ``body``: every body
+        of its world) placed here, at that body's own pose, each name prefixed with ``prefix`` (as MuJoCo 4.0
+        compiles it, measured); the attached model's joints that its own actuators drive are driven.
+
+        Raises:
+            ModelError: no such model asset, its file unreadable, or no such body in it.
+        """
+        import copy
+
+        asset = self.models.get(node.get("model"))
+        if asset is None:
+            raise ModelError(f"{node.place}: <attach model={node.get('model')!r}>: no <model> asset of that name "
+                             f"(the file declares {', '.join(sorted(self.models)) or 'none'})")
+        file = self.path.parent / asset.get("file", "")
+        root = parse_file(file, self.notes)
+        if root.tag != "mujoco":
+            raise ModelError(f"{root.place}: the root element is <{root.tag}>; an attached model's is <mujoco>")
+        _inline(root, file.parent, 0)
+        for element in root.iter():
+            if element.tag in REFUSED:
+                raise ModelError(f"{element.place}: <{element.tag}> builds bodies procedurally; relacc does not read "
+                                 "it yet (compare the file MuJoCo writes out, mujoco.MjSpec.to_xml, instead)")
+        prefix = node.get("prefix", "")
+        worlds = root.findall("worldbody")
+        wanted = node.get("body")
+        if wanted is None:
+            held = [c for w in worlds for c in w.children if c.tag in ("body", "frame", "attach")]
+        else:
+            held = [b for w in worlds for b in w.iter("body") if b.get("name") == wanted][:1]
+            if not held:
+                raise ModelError(f"{node.place}: <attach body={wanted!r}>: {file} has no body of that name")
+        sub = copy.copy(self)  # this reading's gatherings, shared; the attached model's own settings
+        sub._settings(file, root)
+        sub.driven = {prefix + j for j in sub.driven}
+        sub._children(Node("attach", {}, node.file, node.line, [_prefixed(c, prefix) for c in held]), parent, at, R,
+                      "main")
+        for counter in _COUNTERS:
+            setattr(self, counter, getattr(sub, counter))
+        self.driven |= sub.driven
+        left = sorted({e.tag for tag in ("equality", "tendon") for s in root.findall(tag) for e in s.children})
+        if left:
+            self.notes.append(f"{node.place}: the attached model {node.get('model')!r} ({file.name}) has "
+                              f"{', '.join(left)} elements, which relacc does not read there")
 
     def _body(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         name = node.get("name") or f"body {len(self.bodies) + 1}"  # MuJoCo's index: the world is body 0

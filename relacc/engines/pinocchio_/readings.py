@@ -128,6 +128,12 @@ FILE_READINGS = (
         lambda r: mjcf(r) and r.facts.get("replicates", 0) > 0,
         reread("replicate_skipped"),
     ),
+    KnownBehaviour(
+        "attach",
+        "Pinocchio's MJCF parser skips an <attach> (the attached bodies absent)",
+        lambda r: mjcf(r) and r.facts.get("attaches", 0) > 0,
+        reread("attach_skipped"),
+    ),
 )
 """How pinocchio's parsers read a file differently, as changes to relacc's reading (:mod:`relacc.engines.known`):
 the audit applies those that apply, whichever engine reads the file."""
