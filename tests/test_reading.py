@@ -670,7 +670,8 @@ def test_a_joint_equality_is_read_as_mujoco_compiles_it(tmp_path, polycoef):
 
 ATTACHED = """<mujoco model="arm"><compiler angle="radian"/>
 <default><joint damping="0.5" armature="0.01"/><default class="big"><geom size="0.05"/></default></default>
-<worldbody><body name="link0" pos="0.1 0 0.2" euler="0 0 0.5"><joint name="j0" axis="0 0 1"/>
+<worldbody><geom type="box" size="0.1 0.1 0.1" pos="0 0 -0.5"/>
+<body name="link0" pos="0.1 0 0.2" euler="0 0 0.5"><joint name="j0" axis="0 0 1"/>
   <geom class="big" type="sphere" mass="1"/>
   <body name="link1" pos="0 0 0.3"><joint name="j1" axis="0 1 0"/>
     <geom type="capsule" fromto="0 0 0 0 0 0.2" size="0.02" mass="0.5"/></body></body>
@@ -685,13 +686,16 @@ ATTACHED = """<mujoco model="arm"><compiler angle="radian"/>
      '<frame pos="0 1 0"><attach model="arm" body="link0" prefix="right_"/></frame>',
      ["mount", "left_link0", "left_link1", "right_link0", "right_link1"]),
     ('<attach model="arm" prefix="w_"/>', ["w_link0", "w_link1", "w_other"]),
+    ('<attach model="arm" body="world" prefix="w_"/>', ["w_world", "w_link0", "w_link1", "w_other"]),
 ])
 def test_an_attached_model_is_read_as_mujoco_compiles_it(tmp_path, attach, names):
     """<attach model body prefix> (MuJoCo's model composition) was refused. It places the <model> asset's body
     ``body`` with everything in it (without ``body``: every body of its world) where it is written, at that body's own
     pose, each name prefixed, read with the attached model's own compiler (radians here, the main file's degrees)
     and defaults (damping 0.5 and armature 0.01 on every joint, measured on MuJoCo 4.0.0). MuJoCo's compiled model
-    agrees, body by body and joint by joint, and the damping is the attached model's default."""
+    agrees, body by body and joint by joint, and the damping is the attached model's default. ``body="world"`` is a
+    body named ``world`` holding the attached model's world, whose 0.2 m box of density 1000 gives it 8 kg (MuJoCo's
+    reading too)."""
     (tmp_path / "arm.xml").write_text(ATTACHED)
     path = tmp_path / "scene.xml"
     path.write_text(f'<mujoco model="scene"><asset><model name="arm" file="arm.xml"/></asset><worldbody>{attach}'
@@ -700,3 +704,5 @@ def test_an_attached_model_is_read_as_mujoco_compiles_it(tmp_path, attach, names
     assert [b.name for b in reading.tree.bodies] == names
     assert all(float(reading.joint_damping(j.name, j.nv)[0]) == 0.5 for b in reading.tree.bodies[1:]
                for j in b.joints if b.name != "mount")
+    if "w_world" in names:
+        np.testing.assert_allclose(reading.tree.bodies[0].mass, 1000 * 0.2 ** 3, rtol=0, atol=8 * 4 * EPS)

@@ -631,8 +631,9 @@ class _Reader:
     def _attach(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray) -> None:
         """An ``<attach model body prefix>``: the ``<model>`` asset's file (from this file's directory) read with its
         own compiler, defaults and assets, and its body ``body`` with everything in it (without ``body``: every body
-        of its world) placed here, at that body's own pose, each name prefixed with ``prefix`` (as MuJoCo 4.0
-        compiles it, measured); the attached model's joints that its own actuators drive are driven.
+        of its world; ``body="world"``: a body named ``world`` holding its world, geoms included) placed here, at
+        that body's own pose, each name prefixed with ``prefix`` (as MuJoCo 4.0 compiles it, measured); the attached
+        model's joints that its own actuators drive are driven.
 
         Raises:
             ModelError: no such model asset, its file unreadable, or no such body in it.
@@ -657,6 +658,8 @@ class _Reader:
         wanted = node.get("body")
         if wanted is None:
             held = [c for w in worlds for c in w.children if c.tag in ("body", "frame", "attach")]
+        elif wanted == "world":  # a body named world holding the model's world: its geoms give it mass (MuJoCo)
+            held = [Node("body", {"name": "world"}, node.file, node.line, [c for w in worlds for c in w.children])]
         else:
             held = [b for w in worlds for b in w.iter("body") if b.get("name") == wanted][:1]
             if not held:
