@@ -96,6 +96,17 @@ def settotalmass_ignored(engine: str, said: str = "") -> KnownBehaviour:
     )
 
 
+def element_skipped(engine: str, element: str, fact: str, what: str) -> KnownBehaviour:
+    """``engine``'s MJCF parser skipping every ``<element>`` (counted in the reading's ``facts[fact]``; ``what``: what
+    is then absent, and what it says), read again with the variant ``<element>_skipped``."""
+    return KnownBehaviour(
+        element,
+        f"{engine}'s MJCF parser skips {'an' if element[0] in 'aeiou' else 'a'} <{element}> ({what})",
+        lambda r: mjcf(r) and r.facts.get(fact, 0) > 0,
+        reread(f"{element}_skipped"),
+    )
+
+
 def springdamper_ignored(engine: str) -> KnownBehaviour:
     """``engine``'s MJCF parser keeping the written stiffness and damping of a joint with ``springdamper`` (Pinocchio's
     and Drake's, measured on pin 4.1 and Drake 1.51)."""

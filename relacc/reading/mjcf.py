@@ -159,6 +159,20 @@ def read(path, meshes=None, variant=frozenset()) -> Reading:
     """
     path = Path(path)
     notes: list[str] = []
+    root = _model_root(path, notes)
+    unknown = set(variant) - set(VARIANTS)
+    if unknown:
+        raise ModelError(f"unknown reading variants {sorted(unknown)}: accepted are {', '.join(VARIANTS)}")
+    reader = _Reader(path, root, notes, meshes, frozenset(variant))
+    return reader.reading()
+
+
+def _model_root(path: Path, notes: list) -> Node:
+    """The root of the MJCF at ``path`` (the main file, or a model an ``<attach>`` names), its includes inlined.
+
+    Raises:
+        ModelError: not a model (a ``<mujocoinclude>`` fragment, another root), or an element relacc does not read.
+    """
     root = parse_file(path, notes)
     if root.tag == "mujocoinclude":
         raise ModelError(f"{root.place}: <mujocoinclude>: a fragment for other files to <include>, not a model "
@@ -170,11 +184,7 @@ def read(path, meshes=None, variant=frozenset()) -> Reading:
         if node.tag in REFUSED:
             raise ModelError(f"{node.place}: <{node.tag}> builds bodies procedurally; relacc does not read it yet "
                              "(compare the file MuJoCo writes out, mujoco.MjSpec.to_xml, instead)")
-    unknown = set(variant) - set(VARIANTS)
-    if unknown:
-        raise ModelError(f"unknown reading variants {sorted(unknown)}: accepted are {', '.join(VARIANTS)}")
-    reader = _Reader(path, root, notes, meshes, frozenset(variant))
-    return reader.reading()
+    return root
 
 
 def mesh_file(path: Path, meshdir: str, asset: Node) -> Path:
@@ -645,14 +655,7 @@ class _Reader:
             raise ModelError(f"{node.place}: <attach model={node.get('model')!r}>: no <model> asset of that name "
                              f"(the file declares {', '.join(sorted(self.models)) or 'none'})")
         file = self.path.parent / asset.get("file", "")
-        root = parse_file(file, self.notes)
-        if root.tag != "mujoco":
-            raise ModelError(f"{root.place}: the root element is <{root.tag}>; an attached model's is <mujoco>")
-        _inline(root, file.parent, 0)
-        for element in root.iter():
-            if element.tag in REFUSED:
-                raise ModelError(f"{element.place}: <{element.tag}> builds bodies procedurally; relacc does not read "
-                                 "it yet (compare the file MuJoCo writes out, mujoco.MjSpec.to_xml, instead)")
+        root = _model_root(file, self.notes)
         prefix = node.get("prefix", "")
         worlds = root.findall("worldbody")
         wanted = node.get("body")

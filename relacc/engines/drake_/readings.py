@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from relacc.engines.base import KnownBehaviour
 from relacc.engines.known import (
+    element_skipped,
     massless_get_a_kilogram,
     massless_with_inertia,
     mjcf,
@@ -78,18 +79,8 @@ FILE_READINGS = (
         unphysical_inertia,
         water_spheres,
     ),
-    KnownBehaviour(
-        "replicate",
-        "Drake's MJCF parser skips a <replicate> and everything in it (its copies absent, without a word)",
-        lambda r: mjcf(r) and r.facts.get("replicates", 0) > 0,
-        reread("replicate_skipped"),
-    ),
-    KnownBehaviour(
-        "attach",
-        "Drake's MJCF parser skips an <attach> (the attached bodies absent; it warns that the tag is unsupported)",
-        lambda r: mjcf(r) and r.facts.get("attaches", 0) > 0,
-        reread("attach_skipped"),
-    ),
+    element_skipped("Drake", "replicate", "replicates", "and everything in it: its copies absent, without a word"),
+    element_skipped("Drake", "attach", "attaches", "the attached bodies absent; it warns that the tag is unsupported"),
 )
 """How drake's parsers read a file differently, as changes to relacc's reading (:mod:`relacc.engines.known`):
 the audit applies those that apply, whichever engine reads the file."""

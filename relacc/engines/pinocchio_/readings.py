@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from relacc.engines.base import KnownBehaviour
 from relacc.engines.known import (
+    element_skipped,
     mjcf,
     reread,
     settotalmass_ignored,
@@ -122,18 +123,8 @@ FILE_READINGS = (
         lambda r: mjcf(r) and list(r.tree.gravity) != [0.0, 0.0, -9.81],
         reread("gravity_default"),
     ),
-    KnownBehaviour(
-        "replicate",
-        "Pinocchio's MJCF parser skips a <replicate> and everything in it (its copies absent)",
-        lambda r: mjcf(r) and r.facts.get("replicates", 0) > 0,
-        reread("replicate_skipped"),
-    ),
-    KnownBehaviour(
-        "attach",
-        "Pinocchio's MJCF parser skips an <attach> (the attached bodies absent)",
-        lambda r: mjcf(r) and r.facts.get("attaches", 0) > 0,
-        reread("attach_skipped"),
-    ),
+    element_skipped("Pinocchio", "replicate", "replicates", "and everything in it: its copies absent"),
+    element_skipped("Pinocchio", "attach", "attaches", "the attached bodies absent"),
 )
 """How pinocchio's parsers read a file differently, as changes to relacc's reading (:mod:`relacc.engines.known`):
 the audit applies those that apply, whichever engine reads the file."""
