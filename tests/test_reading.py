@@ -706,3 +706,21 @@ def test_an_attached_model_is_read_as_mujoco_compiles_it(tmp_path, attach, names
                for j in b.joints if b.name != "mount")
     if "w_world" in names:
         np.testing.assert_allclose(reading.tree.bodies[0].mass, 1000 * 0.2 ** 3, rtol=0, atol=8 * 4 * EPS)
+
+
+@pytest.mark.parametrize("asset, attach, message", [
+    ('<model name="arm" file="arm.xml"/>', '<attach model="leg" prefix="a_"/>', "no <model> asset of that name"),
+    ('<model name="arm"/>', '<attach model="arm" prefix="a_"/>', "names no file to attach"),
+    ('<model name="arm" file="arm.xml"/>', '<attach model="arm" body="hand" prefix="a_"/>', "has no body of that name"),
+    ('<model name="me" file="scene.xml"/>', '<body name="b"><joint name="j"/><geom size="0.1"/>'
+     '<attach model="me" body="b" prefix="x_"/></body>', "a second body named 'x_b'"),
+])
+def test_an_attach_relacc_cannot_place_is_one_error_naming_it(tmp_path, asset, attach, message):
+    """An <attach> naming a model asset the file lacks, a model asset without a file, a body the model lacks, or the
+    file attaching itself (MuJoCo 4.0.0 ends the process on that one, a segmentation fault) is a ModelError naming
+    the element, never a traceback or a loop."""
+    (tmp_path / "arm.xml").write_text(ATTACHED)
+    path = tmp_path / "scene.xml"
+    path.write_text(f"<mujoco><asset>{asset}</asset><worldbody>{attach}</worldbody></mujoco>")
+    with pytest.raises(ModelError, match=message):
+        read(path)

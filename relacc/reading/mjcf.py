@@ -39,6 +39,7 @@ short:
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -292,23 +293,13 @@ _COUNTERS = ("njoints", "mesh_geoms", "legacy_meshes", "default_masses", "visual
 """The reading's counts that an attached model's reading adds to (:meth:`_Reader._attach`)."""
 
 
-def _prefixed(node: Node, prefix: str) -> Node:
-    """A copy of ``node`` and everything below it, each ``name`` after ``prefix`` (an ``<attach>``'s)."""
+def _renamed(node: Node, rename) -> Node:
+    """A copy of ``node`` and everything below it, each ``name`` given as ``rename(name)`` (an ``<attach>``'s prefix, a
+    ``<replicate>`` copy's suffix)."""
     attrib = dict(node.attrib)
     if "name" in attrib:
-        attrib["name"] = prefix + attrib["name"]
-    return Node(node.tag, attrib, node.file, node.line, [_prefixed(c, prefix) for c in node.children])
-
-
-def _renamed(node: Node, suffix: str, replica_of: dict) -> Node:
-    """A copy of ``node`` and everything below it, each ``name`` with ``suffix`` (a ``<replicate>``'s copy), and
-    ``replica_of[new name]`` the name as written (through nested replicates)."""
-    attrib = dict(node.attrib)
-    if "name" in attrib:
-        written = replica_of.get(attrib["name"], attrib["name"])
-        attrib["name"] += suffix
-        replica_of[attrib["name"]] = written
-    return Node(node.tag, attrib, node.file, node.line, [_renamed(c, suffix, replica_of) for c in node.children])
+        attrib["name"] = rename(attrib["name"])
+    return Node(node.tag, attrib, node.file, node.line, [_renamed(c, rename) for c in node.children])
 
 
 class _Reader:
@@ -488,10 +479,15 @@ class _Reader:
                 pose = {"pos": " ".join(repr(float(x)) for x in p),
                         "quat": " ".join(repr(float(x)) for x in frames.quaternion_of(R))}
                 copies.append(Node("frame", pose, child.file, child.line,
-                                   [_renamed(c, suffix, self.replica_of) for c in child.children]))
+                                   [_renamed(c, functools.partial(self._replica, suffix)) for c in child.children]))
                 p = p + R @ offset
             node.children[k:k + 1] = copies
             k += len(copies)
+
+    def _replica(self, suffix: str, name: str) -> str:
+        """``name`` in a ``<replicate>``'s copy, remembered with the name as written (through nested replicates)."""
+        self.replica_of[name + suffix] = self.replica_of.get(name, name)
+        return name + suffix
 
     def angle(self, x: float) -> float:
         return np.deg2rad(x) if self.degree else x
@@ -654,7 +650,9 @@ class _Reader:
         if asset is None:
             raise ModelError(f"{node.place}: <attach model={node.get('model')!r}>: no <model> asset of that name "
                              f"(the file declares {', '.join(sorted(self.models)) or 'none'})")
-        file = self.path.parent / asset.get("file", "")
+        if not asset.get("file"):
+            raise ModelError(f"{asset.place}: <model name={node.get('model')!r}> names no file to attach")
+        file = self.path.parent / asset.get("file")
         root = _model_root(file, self.notes)
         prefix = node.get("prefix", "")
         worlds = root.findall("worldbody")
@@ -670,8 +668,8 @@ class _Reader:
         sub = copy.copy(self)  # this reading's gatherings, shared; the attached model's own settings
         sub._settings(file, root)
         sub.driven = {prefix + j for j in sub.driven}
-        sub._children(Node("attach", {}, node.file, node.line, [_prefixed(c, prefix) for c in held]), parent, at, R,
-                      "main")
+        sub._children(Node("attach", {}, node.file, node.line, [_renamed(c, prefix.__add__) for c in held]), parent,
+                      at, R, "main")
         for counter in _COUNTERS:
             setattr(self, counter, getattr(sub, counter))
         self.driven |= sub.driven
@@ -685,8 +683,9 @@ class _Reader:
         if ("body", name) in self.places:
             raise ModelError(f"{node.place}: a second body named {name!r} (the first: {self.places[('body', name)]})")
         self.places[("body", name)] = node.place
-        if number(node, "gravcomp", 0.0):
-            self.gravcomp[name] = number(node, "gravcomp", 0.0)
+        compensated = number(node, "gravcomp", 0.0)
+        if compensated:
+            self.gravcomp[name] = compensated
         cls = node.get("childclass") or childclass
         pos, Rb = self.pose(node)
         pos, Rb = at + R @ pos, R @ Rb

@@ -152,11 +152,11 @@ def read(path) -> Reading:
             links["world"] = Node("link", {"name": "world"}, joint.file, joint.line)
             children["world"] = []
         for end in (parent, child):
-            if end not in links and is_xacro(path):  # a piece of a robot: the xacro that includes it defines the link
-                raise NotARobot(f"{joint.place}: joint {name!r} names link {end!r}, which the file does not define (a "
-                                "xacro fragment for another xacro to include)")
-            if end not in links:
-                raise ModelError(f"{joint.place}: joint {name!r} names link {end!r}, which the file does not define")
+            if end not in links:  # in a xacro, a piece of a robot: the xacro that includes it defines the link
+                fragment = is_xacro(path)
+                raise (NotARobot if fragment else ModelError)(
+                    f"{joint.place}: joint {name!r} names link {end!r}, which the file does not define"
+                    + (" (a xacro fragment for another xacro to include)" if fragment else ""))
         if child in parent_of:
             raise ModelError(f"{joint.place}: link {child!r} is the child of two joints ({parent_of[child][0]!r} "
                              f"and {name!r}): a URDF is a tree")
@@ -177,10 +177,9 @@ def read(path) -> Reading:
     geometry = {name: link_geometry(links[name], path, normalized) for name in order}
     unevaluated, kinds = [], []
     mimics = [j.get("name") for j in joints.values() if j.find("mimic") is not None and j.get("type") != "fixed"]
-    couplings = tuple(Coupling(name, joints[name].find("mimic").get("joint"),
-                               number(joints[name].find("mimic"), "offset", 0.0),
-                               number(joints[name].find("mimic"), "multiplier", 1.0), place=joints[name].place)
-                      for name in mimics)
+    couplings = tuple(Coupling(name, mimic.get("joint"), number(mimic, "offset", 0.0), number(mimic, "multiplier", 1.0),
+                               place=joints[name].place)
+                      for name in mimics for mimic in [joints[name].find("mimic")])
     if mimics:
         unevaluated.append(f"{len(mimics)} mimic joint{'s' if len(mimics) > 1 else ''} ({', '.join(mimics)}): "
                            "a constraint coupling joints; the comparisons are the tree's without constraints, every "

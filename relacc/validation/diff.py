@@ -469,6 +469,8 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
               if kind not in COMPARED]
     notes.extend(beyond)
 
+    joints = {(i, k): joint_pairs(parts_a[i], parts_b[k]) for i, k, _ in m.pairs}  # each matched pair's joints
+
     # placement: B's world points taken to A's
     pa, pb, pt = [], [], []
     for i, k, _ in m.pairs:
@@ -477,7 +479,7 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
             pa.append(a.com)
             pb.append(b.com)
             pt.append(tol(max(a.com_scale, b.com_scale)))
-            for ja, jb in joint_pairs(a, b)[0]:
+            for ja, jb in joints[(i, k)][0]:
                 if a.joints[ja].type == "hinge" and b.joints[jb].type == "hinge":
                     pa.append(_foot(a.com, a.anchors[ja], a.axes[ja]))
                     pb.append(_foot(b.com, b.anchors[jb], b.axes[jb]))
@@ -512,7 +514,7 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         wa, wb = ra.place("body", a.name), rb.place("body", b.name)
         _part_terms(out, a, b, el, wa, wb, com_b[k], inertia_b[k], R, p, tol, ra, rb, tuple(absorbed.get(k, ())))
         _compensation(out, el, ra, rb, [a, *absorbed.get(k, ())], b, tol)
-        jp, only_ja, only_jb = joint_pairs(a, b)
+        jp, only_ja, only_jb = joints[(i, k)]
         for ja, jb in jp:
             signs[(i, ja)] = _joint_terms(out, ra, rb, a, b, ja, jb, R, p, tol)
         for ja in only_ja:
@@ -535,7 +537,7 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         b = parts_b[k]
         out.append(Difference("unmatched", b.name, "part", None, ", ".join(j.name for j in b.joints), None,
                               ra.source, rb.place("body", b.name)))
-    _coupling_terms(out, ra, rb, parts_a, parts_b, m, signs, tol)
+    _coupling_terms(out, ra, rb, parts_a, parts_b, joints, signs, tol)
     ga, gb = ra.tree.gravity, rb.tree.gravity
     if np.linalg.norm(ga - gb) > tol(max(np.linalg.norm(ga), np.linalg.norm(gb))):
         out.append(Difference("rounded" if rounded_pair(ga, gb) else "changed", "world", "gravity", _values(ga),
@@ -547,7 +549,6 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
                "only_a": [parts_a[i].name for i in m.only_a], "only_b": [parts_b[k].name for k in m.only_b]}
     from relacc.validation.diff_dynamics import compare_dynamics
 
-    joints = {(i, k): joint_pairs(parts_a[i], parts_b[k]) for i, k, _ in m.pairs}
     dynamics, why = compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, states, seed)
     if any(row["beyond"] for row in dynamics):  # are the listed masses, inertias and armatures the whole of it?
         from relacc.errors import RelaccError
@@ -692,16 +693,15 @@ def _part_terms(out, a: Part, b: Part, el, wa, wb, com_b, inertia_b, R, p, tol, 
                               _relative(inertia_a, inertia_b), wia, wib))
 
 
-def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], m: Match, signs: dict, tol) -> None:
+def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joints: dict, signs: dict, tol) -> None:
     """Each joint coupling of A (a URDF ``<mimic>``, an MJCF joint equality: :class:`relacc.reading.model.Coupling`)
     against B's between the matched joints, in A's coordinates (a reversed joint's sign applied, a coupling B writes
     the other way round inverted): ``(offset, multiplier)`` compared as printed numbers, ``changed`` or ``rounded``;
     a coupling only one file has is ``dropped`` or ``added``. Couplings of joints without a counterpart are left to
-    those joints' ``unmatched`` entries."""
-    to_b: dict = {}
-    for i, k, _ in m.pairs:
-        for ja, jb in joint_pairs(parts_a[i], parts_b[k])[0]:
-            to_b[parts_a[i].joints[ja].name] = (parts_b[k].joints[jb].name, signs.get((i, ja), 1.0))
+    those joints' ``unmatched`` entries. ``joints``: each matched pair of parts' :func:`joint_pairs`; ``signs``: each
+    matched joint's (-1 where B reverses its axis)."""
+    to_b = {parts_a[i].joints[ja].name: (parts_b[k].joints[jb].name, signs[(i, ja)])
+            for (i, k), (pairs, _, _) in joints.items() for ja, jb in pairs}
     to_a = {b: (a, sign) for a, (b, sign) in to_b.items()}
     theirs = {(c.follower, c.leader): c for c in rb.couplings}
     seen = set()

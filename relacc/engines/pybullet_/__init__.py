@@ -1,5 +1,6 @@
-"""PyBullet adapter: imports only ``pybullet`` (its ``import`` prints its build time on standard output, which the
-adapter's import swallows). Conventions converted here and nowhere else:
+"""PyBullet adapter: imports only ``pybullet`` (its ``import`` prints its build time on standard output, and freeing
+a client can print Bullet's allocation count there: :mod:`.client` keeps both off it). Conventions converted here
+and nowhere else:
 
 * a URDF only (``loadURDF``; PyBullet's ``loadMJCF`` is a partial reader: on the chain's MJCF it skips the
   ``<freejoint>`` ("unknown field") and the ball joint ("joint without axis attribute") and keeps the inertias in

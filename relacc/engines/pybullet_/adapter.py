@@ -13,13 +13,11 @@ from relacc.core.tolerances import BULLET_JACOBI_THRESHOLD
 from relacc.core.tree.coordinates import reference_q
 from relacc.engines.base import BuiltJoint, Link, Points, Structure, combine, moving_mass
 from relacc.engines.fixed_base import GRAVITY, FixedBaseAdapter
+from relacc.engines.pybullet_.client import disconnect, pb
 from relacc.engines.pybullet_.files import placed_copy
 from relacc.engines.urdf import is_urdf
 from relacc.errors import EngineError, ModelError
 from relacc.isolate import captured_output
-
-with captured_output(stdout=True):  # "pybullet build time: ..." on standard output, a word about the build only
-    import pybullet as pb
 
 __all__ = ["PyBulletAdapter", "load", "version"]
 
@@ -29,15 +27,6 @@ KINDS = {pb.JOINT_REVOLUTE: "hinge", pb.JOINT_PRISMATIC: "slide", pb.JOINT_FIXED
 
 def version() -> str:
     return distribution_version("pybullet")
-
-
-def disconnect(client: int) -> None:
-    """``pb.disconnect(client)`` with what Bullet's C++ prints on standard output meanwhile dropped: freeing a client
-    that loaded a URDF through its in-memory file reader can print "Error: InMemoryFile::~InMemoryFileIO (numAllocs
-    35 numFrees 36" (Bullet's allocation count, about Bullet and not the model: Trossen's ``stationary_ai.urdf``),
-    which at the end of ``relacc compare --json`` landed before the JSON document in a file or a pipe."""
-    with captured_output(stdout=True):
-        pb.disconnect(client)
 
 
 class PyBulletAdapter(FixedBaseAdapter):

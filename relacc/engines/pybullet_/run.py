@@ -31,12 +31,10 @@ import numpy as np
 
 from relacc.dynamics.steps import Stepper
 from relacc.engines.base import fixed_step_only
+from relacc.engines.pybullet_.client import disconnect, pb
 from relacc.engines.pybullet_.files import placed_copy
 from relacc.errors import EngineError, IntegrationError
 from relacc.isolate import captured_output
-
-with captured_output(stdout=True):
-    import pybullet as pb
 
 
 def _load_for_run(adapter, c: int) -> int:
@@ -98,10 +96,7 @@ def stepper(adapter, effects, dt, integrator, accuracy=None) -> Stepper:
 
 
 def _disconnect(client: int) -> None:
-    """The stepper's client freed, Bullet's word on its allocations dropped
-    (:func:`relacc.engines.pybullet_.adapter.disconnect`)."""
     try:
-        with captured_output(stdout=True):
-            pb.disconnect(client)
+        disconnect(client)
     except pb.error:  # already gone (interpreter exit)
         pass
