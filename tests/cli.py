@@ -2,6 +2,7 @@
 
 import subprocess
 import sys
+from pathlib import Path
 
 
 def run_relacc(*argv, cwd, timeout=300, env=None) -> subprocess.CompletedProcess:
@@ -23,3 +24,11 @@ def formula_module(tmp_path, body: str, name: str = "formula") -> str:
     path = tmp_path / f"{name}.py"
     path.write_text("import numpy as np\n" + body)
     return f"{path}:fn"
+
+
+def borrowed_site_dirs() -> list[str]:
+    """This environment's site directories: those on ``sys.path`` under ``sys.prefix`` (site-packages and the ones its
+    own ``.pth`` files add, such as cmeel's prefix for Pinocchio), for a new environment that installs relacc alone
+    and borrows its dependencies. The checkout's editable hook is not among them: ``.pth`` files are not read from a
+    directory named on ``PYTHONPATH`` or in another ``.pth``."""
+    return [p for p in sys.path if p.startswith(sys.prefix) and Path(p).is_dir()]

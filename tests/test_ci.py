@@ -9,6 +9,7 @@ from sarif_pydantic import Sarif
 
 from relacc.cli import main
 from relacc.report.ci import RULES
+from tests.cli import borrowed_site_dirs
 
 GOOD = """<robot name="good"><link name="base"/>
   <link name="arm"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
@@ -152,7 +153,11 @@ def test_the_pre_commit_hook_fails_on_a_non_physical_link_and_passes_once_it_is_
     --all-files` fails and names the link's file and line, skipping package.xml with a word; with the link fixed it
     passes. pre-commit installs relacc into its own environment once (its cache kept apart, in the test's directory)
     from a snapshot of this checkout, its uncommitted changes committed there as `pre-commit try-repo` does (which
-    installs afresh at every call: two installs and two first compilations, 93-166 s of the test command)."""
+    installs afresh at every call: two installs and two first compilations, 93-166 s of the test command).
+
+    relacc alone is installed there (``PIP_NO_DEPS``); its dependencies are borrowed from this environment through
+    ``PYTHONPATH``, as tests/test_installed.py borrows them. Installing them too took 1.5 GB of /tmp and 25 s, and
+    once failed the CI run on a full disk; the dependency ranges are pip's to resolve, tested by the README's setup."""
     import os
     import shutil
     import subprocess
@@ -160,7 +165,8 @@ def test_the_pre_commit_hook_fails_on_a_non_physical_link_and_passes_once_it_is_
     from pathlib import Path
 
     root = Path(__file__).resolve().parents[1]
-    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home"), "GIT_AUTHOR_NAME": "t",
+    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home"), "PIP_NO_DEPS": "1",
+           "PYTHONPATH": os.pathsep.join(borrowed_site_dirs()), "GIT_AUTHOR_NAME": "t",
            "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t", "GIT_COMMITTER_EMAIL": "t@t"}
 
     def git(where, *args):

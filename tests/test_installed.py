@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.cli import borrowed_site_dirs
+
 REPO = Path(__file__).resolve().parents[1]
 
 
@@ -30,7 +32,7 @@ def installed(tmp_path_factory):
     python = venv / "bin" / "python"
     purelib = subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
                              capture_output=True, text=True, check=True).stdout.strip()
-    borrowed = [p for p in sys.path if p.startswith(sys.prefix) and Path(p).is_dir()]
+    borrowed = borrowed_site_dirs()
     assert sysconfig.get_paths()["purelib"] in borrowed
     (Path(purelib) / "borrowed_dependencies.pth").write_text("\n".join(borrowed) + "\n")
     subprocess.run([sys.executable, "-m", "pip", "--python", str(python), "install", "--no-deps", "-q", str(wheel)],
