@@ -10,6 +10,8 @@ import json
 import re
 from pathlib import Path
 
+from relacc.fixtures.shipped import latest_recorded
+
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
 DOC = ROOT / "docs" / "benchmarks.md"
@@ -116,6 +118,11 @@ def _first_run(d) -> str:
     return ", ".join(f"{k} {v:.0f} s" if v >= 10 else f"{k} {v:.1f} s" for k, v in d["seconds"].items())
 
 
+def _compile_seconds(d) -> str:
+    return "first compilation on a cold numba cache: " + ", ".join(
+        f"{k} {v['seconds']:.0f} s ({len(v['kernels'])} kernels)" for k, v in d["commands"].items() if v["kernels"])
+
+
 def _waits(d) -> str:
     calls = ", ".join(f"{Path(r['model'].split()[-1]).name} {r['median_s']:.1f} s"
                       + (f" ({r['files']} files, {r['median_s_per_file']:.2f} s a file)" if "files" in r else "")
@@ -139,18 +146,17 @@ BENCHMARKS = {"throughput": ("benchmarks/throughput.py", _throughput), "batched"
               "cluster": ("benchmarks/cluster.py", _cluster), "ensembles": ("benchmarks/ensembles.py", _ensembles),
               "first-run": ("benchmarks/first_run.py", _first_run), "waits": ("benchmarks/waits.py", _waits),
               "flops": ("benchmarks/flops.py", _flops), "kernels-ab": ("benchmarks/kernels_ab.py", _kernels_ab),
-              "tiers": ("benchmarks/tiers.py", _tiers)}
+              "tiers": ("benchmarks/tiers.py", _tiers),
+              "compile-seconds": ("benchmarks/first_compile.py", _compile_seconds)}
 """Each benchmark's result prefix, its script and its headline."""
 
 
 def latest(prefix: str) -> Path:
     """The latest recorded run of a benchmark: the latest date, then the highest run number."""
-    def key(p: Path):
-        m = re.match(rf"{re.escape(prefix)}-(\d{{4}}-\d\d-\d\d)-run(\d+)\.json$", p.name)
-        return (m.group(1), int(m.group(2))) if m else ("", -1)
-
-    found = [p for p in RESULTS.glob(f"{prefix}-*.json") if key(p)[1] >= 0]
-    return max(found, key=key)
+    found = latest_recorded(prefix, RESULTS)
+    if found is None:
+        raise SystemExit(f"no recorded run of {prefix} in {RESULTS}")
+    return found
 
 
 def _machine(d) -> tuple[str, str, str]:

@@ -123,39 +123,85 @@ def test_unknown_keys_in_an_eval_state_are_refused(tmp_path):
     assert "udott" in one_line(run_relacc("eval", str(state), cwd=tmp_path))
 
 
-def test_the_first_compilation_of_a_kernel_is_said_once(capsys):
-    """Issue 49 item 9: the first simulate --model after install compiled for 444 s with no word. When numba starts
-    compiling one of relacc's kernels (its compile event), the command line says so on stderr, once per process;
-    numba compiling anything else, or a quiet command, says nothing."""
+def test_the_first_compilation_of_kernels_is_a_bar_with_an_estimate(capsys, monkeypatch):
+    """Issues 49 and 52: the first simulate --model after install compiled for 444 s with no word. While numba compiles
+    relacc's kernels (its compile events), stderr shows a bar with the seconds so far and an estimate: the recorded
+    seconds of the kernels still expected, scaled by this run's pace. Numba compiling anything else, or a quiet
+    command, says nothing. Here with a clock the test moves and a record of two kernels, 10 s and 30 s: f takes 20 s
+    (twice the record), so g's 30 s are estimated at 60 s; g then takes 30 s, and the whole is said to take 50.4 s,
+    the time outside compilation (70 s) not counted. An outermost compilation shorter than a second shows no bar."""
     from types import SimpleNamespace
 
     from numba.core import event
 
-    from relacc.cli.progress import COMPILE_NOTICE, NOTICE, compile_notice
+    from relacc.cli import progress
+    from relacc.kernels import jit
 
-    def compiled(module):
-        fn = SimpleNamespace(py_func=SimpleNamespace(__module__=module))
+    now = [0.0]
+
+    def compiled(module, name, seconds, inner=()):
+        fn = SimpleNamespace(py_func=SimpleNamespace(__module__=module, __qualname__=name))
         event.start_event("numba:compile", data={"dispatcher": fn})
+        for args in inner:
+            compiled(*args)
+        now[0] += seconds
         event.end_event("numba:compile", data={"dispatcher": fn})
 
+    def last_line(err):
+        return err.split("\r")[-1].rstrip("\n").rstrip()
+
     before = {k: list(v) for k, v in event._registered.items()}
-    state = dict(NOTICE)
-    NOTICE.update(listening=False, said=False, quiet=False)
+    state, counted = dict(progress.NOTICE), dict(jit.COMPILING)
+    progress.NOTICE.update(listening=False)
+    jit.COMPILING.update(clock=lambda: now[0], spent=0.0)
+    monkeypatch.setattr(progress, "recorded_compile_seconds",
+                        lambda key: {"relacc.k.f": 10.0, "relacc.k.g": 30.0} if key == "simulate --model" else {})
     try:
-        compile_notice(quiet=True)
-        compiled("relacc.kernels.tree_step")
+        progress.compile_notice(quiet=True, key="simulate --model")
+        compiled("relacc.k", "f", 20.0)
         assert capsys.readouterr().err == ""
-        compile_notice(quiet=False)
-        compiled("numba.cpython.builtins")
+        progress.compile_notice(quiet=False, key="simulate --model")
+        compiled("numba.cpython.builtins", "impl", 5.0)
         assert capsys.readouterr().err == ""
-        compiled("relacc.kernels.tree_step")
-        compiled("relacc.kernels.tree_aba")
-        assert capsys.readouterr().err.splitlines() == [COMPILE_NOTICE]
-        compile_notice(quiet=False)  # a second main() in the same process (the CI run's corpus test saw six)
-        compiled("relacc.kernels.tree_crba")
+        compiled("relacc.k", "f", 16.0, inner=[("numba.np.arrayobj", "impl", 4.0)])
+        err = capsys.readouterr().err
+        assert err.endswith("\n") and err.count("\n") == 1, err
+        assert last_line(err) == f"{progress.COMPILE_LABEL} [#####               ] 20 s so far, about 60 s more"
+        now[0] += 70.0  # the command runs
+        compiled("relacc.k", "short", 0.4)  # an outermost compilation under SHOWN_AFTER: no bar
         assert capsys.readouterr().err == ""
+        compiled("relacc.k", "g", 28.0, inner=[("relacc.k", "h", 2.0)])  # h is not in the record
+        err = capsys.readouterr().err
+        live = f"{progress.COMPILE_LABEL} [#####               ] 22 s, about 67 s left"  # 30 s at pace 22.4 / 10
+        assert err.split("\r")[1].rstrip() == live, err
+        assert last_line(err) == f"{progress.COMPILE_LABEL}: compiled in 50 s"  # 20 + 0.4 + 30 s
+        progress.compile_notice(quiet=False, key="check")  # a command without a record: seconds and kernels
+        compiled("relacc.k", "h", 3.0, inner=[("relacc.k", "i", 1.0)])
+        assert last_line(capsys.readouterr().err) == f"{progress.COMPILE_LABEL}: 4 s, 2 kernels so far"
     finally:
         event._registered.clear()
         event._registered.update(before)
-        NOTICE.clear()
-        NOTICE.update(state)
+        progress.NOTICE.clear()
+        progress.NOTICE.update(state)
+        jit.COMPILING.update(counted)
+
+
+def test_the_recorded_first_compilations_name_kernels_and_commands_that_exist():
+    """The compile bar's record (benchmarks/first_compile.py) names each kernel by module and qualified name and each
+    command as the command line keys it: a renamed kernel or command would leave the bar without its estimate."""
+    import argparse
+    import importlib
+
+    from relacc.cli.parser import build_parser
+    from relacc.cli.progress import COMPILE_RECORD, compile_key
+    from relacc.fixtures.shipped import latest_recorded
+
+    (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]
+    keys = {compile_key(name, model) for name in sub.choices for model in (None, "m.xml")}
+    record = json.loads(latest_recorded(COMPILE_RECORD).read_text())
+    assert set(record["commands"]) <= keys
+    assert record["commands"]["simulate --model"]["kernels"], "the first simulate --model compiles kernels"
+    for command in record["commands"].values():
+        for name in command["kernels"]:  # module.function
+            module, function = name.rsplit(".", 1)
+            assert callable(getattr(importlib.import_module(module), function, None)), name

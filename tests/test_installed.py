@@ -51,6 +51,7 @@ def test_wheel_carries_the_shipped_models_and_scenes(installed):
     assert shipped and shipped <= names
     assert {"relacc/fixtures/templates/two_body.xml.j2", "relacc/report/templates/report.html.j2"} <= names
     assert any(n.startswith("relacc/recorded/throughput-") for n in names)
+    assert any(n.startswith("relacc/recorded/compile-seconds-") for n in names)  # the compile bar's estimate
 
 
 @pytest.mark.slow

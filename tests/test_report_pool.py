@@ -91,6 +91,23 @@ def test_the_estimate_is_the_expected_rest_scaled_by_how_the_phases_since_the_fi
     assert est.left() == 2 * (10.0 - 6.0)
 
 
+def test_compiling_after_the_first_phase_does_not_stretch_the_estimate(monkeypatch):
+    """Issue 52: a first report compiled the scenes' kernels after the first phase, and its estimate read "about 160 s
+    left" with 20 s to go. Seconds spent compiling relacc's kernels in this process are left out of the pace: here a
+    4 s phase took 24 s, 16 of them compiling, so the 4 s left are estimated at 4 * (24 - 16) / 4 = 8 s."""
+    from relacc.kernels import jit
+
+    now, compiling = [100.0], [0.0]
+    monkeypatch.setattr(pool, "compiling_seconds", lambda: compiling[0])
+    est = pool.Estimate(lambda text: None, first=2.0, rest=8.0, clock=lambda: now[0])
+    now[0] = 110.0
+    est.add(2.0)
+    now[0], compiling[0] = 134.0, 16.0
+    est.add(4.0)
+    assert est.left() == 4.0 * (24.0 - 16.0) / 4.0
+    assert pool.compiling_seconds is not jit.compiling_seconds  # the test's own count, not this process's
+
+
 def test_every_job_that_ends_is_counted_once_on_either_process():
     """``finished`` sees each job once, whichever process ran it (the estimate adds each job's cost)."""
     jobs = [pool.Job(f"pow {k}", pow, (3, k), cost=float(k)) for k in range(7)]

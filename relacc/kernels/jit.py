@@ -71,8 +71,49 @@ def _tolerate_damaged_caches() -> None:
 _SAID: set[str] = set()
 """The damaged cache files said in this process (each once)."""
 
+COMPILING: dict = {"depth": 0, "since": 0.0, "spent": 0.0, "clock": None}
+"""Numba compiling relacc's kernels in this process: how deep in nested compilations, when the outermost began,
+and the seconds spent in those that ended (``clock``: ``time.perf_counter`` unless a test sets one)."""
+
+
+def compiling_seconds() -> float:
+    """Seconds this process has spent with numba compiling relacc's kernels (the current compilation included): a
+    progress estimate subtracts them from the time so far, a first run's compiling being no measure of the rest."""
+    now = COMPILING["clock"]() - COMPILING["since"] if COMPILING["depth"] else 0.0
+    return COMPILING["spent"] + now
+
+
+def _count_compiling() -> None:
+    """Keep :data:`COMPILING` from numba's compile events for relacc's kernels (a cached kernel is loaded: no event)."""
+    import time
+
+    from numba.core import event
+
+    COMPILING["clock"] = time.perf_counter
+
+    def ours(ev) -> bool:
+        fn = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
+        return (getattr(fn, "__module__", "") or "").startswith("relacc.")
+
+    class Count(event.Listener):
+        def on_start(self, ev) -> None:
+            if ours(ev):
+                if COMPILING["depth"] == 0:
+                    COMPILING["since"] = COMPILING["clock"]()
+                COMPILING["depth"] += 1
+
+        def on_end(self, ev) -> None:
+            if ours(ev):
+                COMPILING["depth"] -= 1
+                if COMPILING["depth"] == 0:
+                    COMPILING["spent"] += COMPILING["clock"]() - COMPILING["since"]
+
+    event.register("numba:compile", Count())
+
+
 if HAVE_NUMBA:
     _tolerate_damaged_caches()
+    _count_compiling()
 
 
 def read_only(*arrays):

@@ -20,6 +20,8 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
+from relacc.kernels.jit import compiling_seconds
+
 QUEUED = 1
 """Jobs in the second process's queue: each one done hands it the next from the front (a callback of its future), so
 that it never waits for this process to hand on the next, and none waits there that this process could take."""
@@ -44,8 +46,9 @@ class Estimate:
     The run's expected seconds on this project's 2-core machine with its kernels compiled are ``first`` (the first
     phase: where kernels are compiled or loaded) and ``rest`` (the phases after it); ``done`` is the expected seconds
     of the phases finished so far (:meth:`add`). Until the first phase is done what is left is the expected rest of
-    the run; after it, that rest scaled by how much longer or shorter the phases since took than expected, so that a
-    slower or busier machine gets a longer estimate and a first run's compiling does not count against the rest."""
+    the run; after it, that rest scaled by how much longer or shorter the phases since took than expected, less the
+    seconds this process spent compiling kernels (:func:`relacc.kernels.jit.compiling_seconds`), so that a slower or
+    busier machine gets a longer estimate and a first run's compiling does not count against the rest."""
 
     say: Callable[[str], object]
     first: float
@@ -53,7 +56,7 @@ class Estimate:
     done: float = 0.0
     clock: Callable[[], float] = time.perf_counter
     start: float = -1.0  # the clock when made (default)
-    _calibrated: tuple[float, float] | None = None  # (time, done) when the first phase ended
+    _calibrated: tuple[float, float, float] | None = None  # (time, done, compiling) when the first phase ended
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     def __post_init__(self) -> None:
@@ -65,7 +68,7 @@ class Estimate:
         with self._lock:
             self.done += seconds
             if self._calibrated is None and self.done >= self.first - 1e-9:
-                self._calibrated = (self.clock(), self.done)
+                self._calibrated = (self.clock(), self.done, compiling_seconds())
 
     def drop(self, seconds: float) -> None:
         """``seconds`` of the expected rest that will not be run after all (done in the first phase); thread-safe."""
@@ -78,7 +81,8 @@ class Estimate:
             rest, mark = max(self.first + self.rest - self.done, 0.0), self._calibrated
             if mark is None:
                 return rest
-            spent, expected = self.clock() - mark[0], self.done - mark[1]
+            spent = self.clock() - mark[0] - (compiling_seconds() - mark[2])  # compiling this process's kernels
+            expected = self.done - mark[1]                                 # is no measure of the rest
         return rest * (spent / expected) if expected > 0.5 else rest
 
     def __call__(self, label: str) -> None:
