@@ -87,10 +87,11 @@ def files(package: str, root: Path) -> list[tuple[str, Path]]:
 
 def summarize(code: int, stdout: str, stderr: str, root: Path) -> dict:
     """The row of one run, from its exit code and output (the package's folder written as ``...``)."""
-    from relacc.cli.progress import COMPILE_NOTICE
+    from relacc.cli.progress import COMPILE_LABEL
 
-    # numba's first compile in a process is announced once: a word about this machine, not about the file
-    lines = [line for line in stderr.splitlines() if line != COMPILE_NOTICE]
+    # numba's first compilation in a process shows a bar (a line rewritten after each \r): a word about this
+    # machine, not about the file
+    lines = [line for line in stderr.splitlines() if not line.split("\r")[-1].startswith(COMPILE_LABEL)]
     stderr = "\n".join(lines)
     row = {"exit": code, "stderr_lines": len(lines), "traceback": "Traceback" in stderr}
     if code == 2 or not stdout.strip():

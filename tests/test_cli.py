@@ -187,8 +187,9 @@ def test_the_first_compilation_of_kernels_is_a_bar_with_an_estimate(capsys, monk
 
 
 def test_the_recorded_first_compilations_name_kernels_and_commands_that_exist():
-    """The compile bar's record (written by the benchmark first_compile.py) names each kernel by module and qualified name and each
-    command as the command line keys it: a renamed kernel or command would leave the bar without its estimate."""
+    """The compile bar's record (written by the benchmark first_compile.py) names each kernel by module and qualified
+    name and each command as the command line keys it: a renamed kernel or command would leave the bar without its
+    estimate."""
     import argparse
     import importlib
 
