@@ -57,33 +57,3 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
 )
 settings.load_profile("relacc")
-
-
-def pytest_sessionstart(session):
-    """On a cold numba cache, with workers to come (``-n``), compile the kernels first, once, in two real commands
-    run side by side: ``relacc simulate --model`` (the trees' stepper, 41 s of compiling on the 2-core VM) and
-    ``relacc tradeoff --quick`` (the chain's kernels); together they compile 103 of the 105 kernels the commands
-    compile (benchmarks/first_compile.py's record). Otherwise each worker met them cold in whichever test came first
-    and both compiled the same kernels at once. The tests of a first compilation keep their own caches
-    (tests/test_installed.py, test_lanes.py's damaged caches). Nothing is run on a warm cache or in one process."""
-    import os
-    import subprocess
-    import sys
-    import tempfile
-    from pathlib import Path
-
-    workers = getattr(session.config.option, "numprocesses", None)
-    if hasattr(session.config, "workerinput") or not workers:
-        return
-    where = Path(os.environ["NUMBA_CACHE_DIR"]) if os.environ.get("NUMBA_CACHE_DIR") else \
-        Path(relacc.__file__).parent / "kernels" / "__pycache__"
-    if any(where.rglob("tree_step.record-*.nbi")):
-        return
-    model = str(Path(__file__).resolve().parents[1] / "models" / "two_body.xml")
-    with tempfile.TemporaryDirectory(prefix="relacc-warm-") as tmp:
-        commands = [["simulate", "--model", model, "--duration", "0.02", "--quiet", "--out", f"{tmp}/sim"],
-                    ["tradeoff", "--quick", "--quiet"]]
-        procs = [subprocess.Popen([sys.executable, "-m", "relacc", *argv], cwd=tmp, stdout=subprocess.DEVNULL,
-                                  stderr=subprocess.DEVNULL) for argv in commands]
-        for proc in procs:
-            proc.wait(timeout=1800)
