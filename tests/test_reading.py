@@ -2,6 +2,7 @@
 MuJoCo's compiled model where MuJoCo reads the file right, to an independent computation where it does not, and to
 physics where the file is wrong."""
 
+import functools
 import json
 from pathlib import Path
 
@@ -641,6 +642,31 @@ def test_a_replicate_is_its_copies_as_mujoco_compiles_them(tmp_path):
     names = [b.name for b in reading.tree.bodies]
     assert names[:4] == ["base", "leg-0", "toe00-0", "toe01-0"] and names[-1] == "toe10-2" and len(names) == 37
     assert [p.name for p in reading.tree.points][::359] == ["lidar000", "lidar359"]
+
+
+def test_an_equality_or_tendon_naming_replicated_joints_is_replicated_as_mujoco_compiles_it(tmp_path):
+    """An <equality> or <tendon> written outside a <replicate> that names joints inside it is one element per copy in
+    MuJoCo 4.0.0, its name and references suffixed (measured: e00, e10, e20, e01, e11, e21 for a 3-in-2 nested
+    replicate). relacc counted it once and read no coupling from it (its joint j is named j00 ... once replicated):
+    compare said "1 equality constraint" where MuJoCo has 12, and diff would have read a coupling MuJoCo applies as
+    none. MuJoCo's compiled model is the reference: its counts, and which joints each equality couples."""
+    path = tmp_path / "rings.xml"
+    path.write_text(
+        '<mujoco><worldbody><replicate count="2" offset="0.3 0 0"><replicate count="3" offset="0 0.3 0">'
+        '<body name="b"><joint name="j" axis="0 1 0"/><geom size="0.05"/><body name="c" pos="0 0 -0.2">'
+        '<joint name="k"/><geom size="0.05"/></body></body></replicate></replicate>'
+        '<body name="x" pos="0 1 0"><joint name="free_x"/><geom size="0.1"/></body></worldbody>'
+        '<equality><joint name="e" joint1="k" joint2="j" polycoef="0.1 0.5"/><joint joint1="k"/>'
+        '<joint joint1="free_x"/></equality>'
+        '<tendon><fixed name="t"><joint joint="j" coef="1"/><joint joint="k" coef="-1"/></fixed></tendon></mujoco>')
+    m = mujoco.MjModel.from_xml_path(str(path))
+    name = functools.partial(mujoco.mj_id2name, m, mujoco.mjtObj.mjOBJ_JOINT)
+    compiled = {(name(m.eq_obj1id[i]), name(m.eq_obj2id[i]) if m.eq_obj2id[i] >= 0 else None) for i in range(m.neq)}
+    assert (m.neq, m.ntendon) == (13, 6)
+    reading = read(path)
+    assert {(c.follower, c.leader) for c in reading.couplings} == compiled and len(reading.couplings) == 13
+    assert any(x.startswith("13 equality constraints") for x in reading.unevaluated), reading.unevaluated
+    assert any(x.startswith("6 tendons") for x in reading.unevaluated), reading.unevaluated
 
 
 @pytest.mark.parametrize("polycoef", [None, "", "0.1", "0.1 2", "0.1 2 0.3 0.4 0.5", "0 1 2 3 4 5"])

@@ -302,6 +302,19 @@ def _renamed(node: Node, rename) -> Node:
     return Node(node.tag, attrib, node.file, node.line, [_renamed(c, rename) for c in node.children])
 
 
+def _walk(node: Node):
+    """``node`` and every element below it."""
+    yield node
+    for c in node.children:
+        yield from _walk(c)
+
+
+def _referring(node: Node, names: set, suffix: str) -> Node:
+    """A copy of ``node`` and everything below it whose ``name`` and references to ``names`` end with ``suffix``."""
+    attrib = {k: v + suffix if (k == "name" or v in names) and k != "class" else v for k, v in node.attrib.items()}
+    return Node(node.tag, attrib, node.file, node.line, [_referring(c, names, suffix) for c in node.children])
+
+
 class _Reader:
     """One file's reading in progress (the module docstring, step by step)."""
 
@@ -310,6 +323,7 @@ class _Reader:
         self.variant = variant
         self.normalized = frames.Normalized()
         self.replica_of: dict[str, str] = {}  # each name a <replicate> made: the name written
+        self.renamed_again: set[str] = set()  # names an inner <replicate> made that an outer one copied
         self.replicates = 0  # <replicate> elements in the file
         self.attaches = 0  # <attach> elements in the file (and the models it attaches)
         self._settings(path, root)
@@ -330,6 +344,7 @@ class _Reader:
         if len(self.eulerseq) != 3 or any(c not in "xyzXYZ" for c in self.eulerseq):
             raise ModelError(f"{path}: <compiler eulerseq={self.eulerseq!r}>: expected three of x, y, z, X, Y, Z")
         self._replicate(root)
+        self._replicate_references(root)
         self.fromgeom = self.compiler.get("inertiafromgeom", "auto")
         groups = self._compiler_numbers("inertiagrouprange", [0, 5])
         self.groups = (int(groups[0]), int(groups[1]))
@@ -486,8 +501,32 @@ class _Reader:
 
     def _replica(self, suffix: str, name: str) -> str:
         """``name`` in a ``<replicate>``'s copy, remembered with the name as written (through nested replicates)."""
+        if name in self.replica_of:
+            self.renamed_again.add(name)
         self.replica_of[name + suffix] = self.replica_of.get(name, name)
         return name + suffix
+
+    def _replicate_references(self, root: Node) -> None:
+        """Each ``<equality>`` and ``<tendon>`` element outside the ``<replicate>``s that names replicated elements
+        replaced by one copy per copy of them, its name and those references given that copy's suffix, as MuJoCo
+        4.0.0 compiles it (measured: an equality of ``j`` and ``k`` in a 3-in-2 nested replicate is six, ``e00`` to
+        ``e21``; a tendon of ``j`` in two copies is ``t0`` and ``t1``). An element naming both a replicated and an
+        unreplicated element, which MuJoCo refuses ("unknown element"), is copied with the unreplicated name as it is.
+        """
+        suffixes: dict[str, set[str]] = {}
+        for name, written in self.replica_of.items():
+            if name not in self.renamed_again:
+                suffixes.setdefault(written, set()).add(name[len(written):])
+        if not suffixes:
+            return
+        for section in (s for tag in ("equality", "tendon") for s in root.findall(tag)):
+            copies = []
+            for e in section.children:
+                named = {v for n in _walk(e) for k, v in n.attrib.items()
+                         if k not in ("name", "class") and v in suffixes}
+                common = set.intersection(*(suffixes[v] for v in named)) if named else set()
+                copies += [_referring(e, named, x) for x in sorted(common, key=lambda x: x[::-1])] if common else [e]
+            section.children[:] = copies
 
     def angle(self, x: float) -> float:
         return np.deg2rad(x) if self.degree else x
