@@ -607,6 +607,46 @@ MIMIC = '<mimic joint="j2" multiplier="-0.5" offset="0.1"/>'
 """j3 follows j2 in the URDF: q3 = 0.1 - 0.5 q2 (MuJoCo's URDF reader writes it as an <equality><joint>)."""
 
 
+@pytest.mark.parametrize("offset, expected", [(0.0, None), (0.05, [0.15, -0.5, 0.0, 0.0, 0.0])])
+def test_a_coupling_written_through_another_joint_is_the_relation_it_implies(tmp_path, offset, expected):
+    """pollen-robotics' Reachy 2 couples a finger's distal joint to its proximal one in the URDF and to the finger
+    joint in the MJCF: diff said "dropped" and "added", two differences where the files may mean one relation. A
+    coupling is now compared, where the other file has no coupling of those two joints, with the relation that
+    file's linear couplings imply through other joints. Here A (the URDF) has q2 = 0.2 + 2 q1 and q3 = 0.1 - 0.5 q2;
+    B (MuJoCo's MJCF of it) keeps the first and writes q3 = offset - q1. By hand, with offset 0: q3 = 0.1 - 0.5 (0.2
+    + 2 q1) = -q1, the same relation (no difference); with offset 0.05, B's q3 = 0.05 - q1 = 0.15 - 0.5 q2. Each
+    file's couplings are held to the other's: A's q3 on q2, (0.1, -0.5) against B's implied (0.15, -0.5), and B's q3
+    on q1, A's implied (0, -1) against (0.05, -1): two "changed" at j3, each at its own file's line, nothing dropped
+    or added."""
+    limit = '<limit lower="-3" upper="3" effort="10" velocity="1"/>'
+    text = URDF.replace(f'{limit}\n  </joint>\n  <link name="l2">',
+                        f'{limit}<mimic joint="j1" multiplier="2" offset="0.2"/>\n  </joint>\n  <link name="l2">')
+    text = text.replace(f'{limit}\n  </joint>\n  <link name="l3">', f'{limit}{MIMIC}\n  </joint>\n  <link name="l3">')
+    assert text.count("<mimic") == 2
+    urdf, xml = saved_by_mujoco(tmp_path, text)
+
+    def through_j1(root):
+        (eq,) = [e for e in root.find("equality") if e.get("joint1") == "j3"]
+        eq.set("joint2", "j1")
+        eq.set("polycoef", f"{offset} -1 0 0 0")
+
+    b = edited(xml, through_j1)
+    d = diff(urdf, b)
+    found = [(x.kind, x.element, x.quantity) for x in d.differences]
+    if expected is None:
+        assert found == [], [x.line() for x in d.differences]
+        return
+    assert found == [("changed", "j3", "coupling")] * 2, [x.line() for x in d.differences]
+    (on_q2, on_q1), eps = d.differences, np.finfo(float).eps
+    np.testing.assert_allclose(on_q2.a, [0.1, -0.5, 0.0, 0.0, 0.0], rtol=0, atol=0)  # A's, as written
+    np.testing.assert_allclose(on_q2.b, expected, rtol=0, atol=4 * eps)  # a few products and sums of printed numbers
+    np.testing.assert_allclose(on_q1.a, [0.0, -1.0, 0.0, 0.0, 0.0], rtol=0, atol=4 * eps)  # likewise
+    np.testing.assert_allclose(on_q1.b, [offset, -1.0, 0.0, 0.0, 0.0], rtol=0, atol=0)  # B's, as written
+    # each at its own file's line; the relation implied through other joints at the other file, which has no one line
+    assert on_q2.where_a.startswith(f"{urdf}:") and on_q2.where_b == str(b)
+    assert on_q1.where_a == str(urdf) and on_q1.where_b.startswith(f"{b}:")
+
+
 @pytest.mark.parametrize("edit, expected", [
     (None, []),
     ("multiplier", [("changed", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], [0.1, -0.4, 0.0, 0.0, 0.0])]),

@@ -697,14 +697,17 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
     """Each joint coupling of A (a URDF ``<mimic>``, an MJCF joint equality: :class:`relacc.reading.model.Coupling`)
     against B's between the matched joints, in A's coordinates (a reversed joint's sign applied, a coupling B writes
     the other way round inverted): ``(offset, multiplier)`` compared as printed numbers, ``changed`` or ``rounded``;
-    a coupling only one file has is ``dropped`` or ``added``. Couplings of joints without a counterpart are left to
-    those joints' ``unmatched`` entries. ``joints``: each matched pair of parts' :func:`joint_pairs`; ``signs``: each
-    matched joint's (-1 where B reverses its axis)."""
+    a coupling the other file writes only through other joints (``q_f = o1 + m1 q_m`` and ``q_m = o2 + m2 q_l``, or
+    both tied to a third) compared with the relation those imply (:func:`_through`, its linear couplings as one
+    system); a coupling the other file does not tie at all is ``dropped`` or ``added``. Couplings of joints without a
+    counterpart are left to those joints' ``unmatched`` entries. ``joints``: each matched pair of parts'
+    :func:`joint_pairs`; ``signs``: each matched joint's (-1 where B reverses its axis)."""
     to_b = {parts_a[i].joints[ja].name: (parts_b[k].joints[jb].name, signs[(i, ja)])
             for (i, k), (pairs, _, _) in joints.items() for ja, jb in pairs}
     to_a = {b: (a, sign) for a, (b, sign) in to_b.items()}
     theirs = {(c.follower, c.leader): c for c in rb.couplings}
-    seen = set()
+    roots_a, roots_b = _roots(ra.couplings), _roots(rb.couplings)
+    seen: set = set()
     for c in ra.couplings:
         if c.follower not in to_b or (c.leader is not None and c.leader not in to_b):
             continue
@@ -715,7 +718,12 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
         if other is None and lb is not None:
             other, flipped = theirs.get((lb, fb)), True
         if other is None:
-            out.append(Difference("dropped", el, "coupling", mine, None, None, c.place, rb.source))
+            through = _through(roots_b, fb, lb) if lb is not None else None
+            if through is None:
+                out.append(Difference("dropped", el, "coupling", mine, None, None, c.place, rb.source))
+                continue
+            o, m = through  # B ties the two through other joints: its couplings' lines are in B's own entries
+            _number(out, el, "coupling", mine, [sf * o, sf * sl * m, 0.0, 0.0, 0.0], tol, c.place, rb.source)
             continue
         seen.add((other.follower, other.leader))
         if flipped:  # B writes q_l = o + m q_f: A's q_f = (q_l - o) / m, in A's signs
@@ -732,8 +740,48 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
         if (c.follower, c.leader) in seen or c.follower not in to_a or (c.leader is not None and c.leader not in to_a):
             continue
         el = c.follower if to_a[c.follower][0] == c.follower else f"{to_a[c.follower][0]} / {c.follower}"
+        (fa, sf), (la, sl) = to_a[c.follower], to_a[c.leader] if c.leader is not None else (None, 1.0)
+        through = _through(roots_a, fa, la) if la is not None else None
+        if through is not None:  # A ties the two through other joints
+            _number(out, el, "coupling", list(through) + [0.0, 0.0, 0.0], [sf * c.offset, sf * sl * c.multiplier,
+                    *(sf * sl ** (p + 2) * h for p, h in enumerate(c.higher))], tol, ra.source, c.place)
+            continue
         out.append(Difference("added", el, "coupling", None, [c.offset, c.multiplier, *c.higher], None, ra.source,
                               c.place))
+
+
+def _roots(couplings) -> dict:
+    """``{joint: (root, offset, multiplier)}``: each joint the linear couplings tie together as ``offset + multiplier
+    q_root``, ``root`` one joint of those tied to it (each coupling ``q_f = o + m q_l``, ``m`` not zero, read either
+    way). A coupling with higher terms, or that fixes a joint (``m`` 0), ties nothing; where the couplings tie a joint
+    twice the first way found is kept."""
+    edges: dict = {}
+    for c in couplings:
+        if c.leader is not None and c.multiplier != 0.0 and not any(c.higher):
+            edges.setdefault(c.follower, []).append((c.leader, c.offset, c.multiplier, True))
+            edges.setdefault(c.leader, []).append((c.follower, c.offset, c.multiplier, False))
+    out: dict = {}
+    for root in edges:
+        if root in out:
+            continue
+        out[root], todo = (root, 0.0, 1.0), [root]
+        while todo:
+            j = todo.pop()
+            _, o_j, m_j = out[j]
+            for k, o, m, j_follows in edges[j]:
+                if k not in out:  # q_j = o + m q_k, or q_k = o + m q_j
+                    out[k] = (root, (o_j - o) / m, m_j / m) if j_follows else (root, o + m * o_j, m * m_j)
+                    todo.append(k)
+    return out
+
+
+def _through(roots: dict, f: str, leader: str):
+    """``(offset, multiplier)`` of ``q_f = offset + multiplier q_leader`` as a file's linear couplings imply it through
+    other joints (:func:`_roots`), or None where they do not tie the two."""
+    if f not in roots or leader not in roots or roots[f][0] != roots[leader][0]:
+        return None
+    (_, o_f, m_f), (_, o_l, m_l) = roots[f], roots[leader]
+    return o_f - m_f / m_l * o_l, m_f / m_l
 
 
 def _compensation(out, el, ra, rb, a_parts: list, b: Part, tol) -> None:
