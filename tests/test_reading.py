@@ -669,6 +669,33 @@ def test_an_equality_or_tendon_naming_replicated_joints_is_replicated_as_mujoco_
     assert any(x.startswith("6 tendons") for x in reading.unevaluated), reading.unevaluated
 
 
+@pytest.mark.parametrize("body", ['body="link0"', ""])
+def test_an_attached_models_equalities_and_tendons_come_with_it_as_mujoco_compiles_them(tmp_path, body):
+    """An <attach>ed model's <equality> and <tendon> elements were left out with a note; MuJoCo 4.0.0 brings those
+    that name only attached elements, prefixed (measured). With body="link0" the equality tying the unattached
+    "slide" is left out (MuJoCo too), and said; with the whole world attached both come. MuJoCo's compiled model is
+    the reference: its counts, which joints each equality ties, and its eq_data."""
+    (tmp_path / "arm.xml").write_text(ATTACHED.replace("</worldbody>", "</worldbody><equality>"
+                                      '<joint name="e" joint1="j1" joint2="j0" polycoef="0.1 2"/>'
+                                      '<joint name="f" joint1="slide" joint2="j0"/></equality><tendon><fixed name="t">'
+                                      '<joint joint="j0" coef="1"/><joint joint="j1" coef="1"/></fixed></tendon>'))
+    path = tmp_path / "scene.xml"
+    path.write_text('<mujoco><asset><model name="arm" file="arm.xml"/></asset><worldbody><body name="mount" pos="0 0 '
+                    f'1"><joint name="m"/><geom size="0.1" mass="2"/><attach model="arm" {body} prefix="left_"/>'
+                    '</body></worldbody></mujoco>')
+    m = mujoco.MjModel.from_xml_path(str(path))
+    name = functools.partial(mujoco.mj_id2name, m, mujoco.mjtObj.mjOBJ_JOINT)
+    compiled = {(name(m.eq_obj1id[i]), name(m.eq_obj2id[i]), *m.eq_data[i][:2]) for i in range(m.neq)}
+    assert (m.neq, m.ntendon) == ((1, 1) if body else (2, 1))
+    reading = read(path)
+    assert {(c.follower, c.leader, c.offset, c.multiplier) for c in reading.couplings} == compiled
+    assert len(reading.couplings) == m.neq
+    assert any(x.startswith(f"{m.neq} equality constraint") for x in reading.unevaluated), reading.unevaluated
+    assert any(x.startswith("1 tendon") for x in reading.unevaluated), reading.unevaluated
+    left_out = [n for n in reading.notes if "left out, as MuJoCo leaves it out" in n]
+    assert len(left_out) == (1 if body else 0) and all("names slide" in n for n in left_out), reading.notes
+
+
 @pytest.mark.parametrize("polycoef", [None, "", "0.1", "0.1 2", "0.1 2 0.3 0.4 0.5", "0 1 2 3 4 5"])
 def test_a_joint_equality_is_read_as_mujoco_compiles_it(tmp_path, polycoef):
     """An <equality><joint>'s polycoef may give fewer than its 5 numbers: MuJoCo takes the rest from the default

@@ -302,17 +302,16 @@ def _renamed(node: Node, rename) -> Node:
     return Node(node.tag, attrib, node.file, node.line, [_renamed(c, rename) for c in node.children])
 
 
-def _walk(node: Node):
-    """``node`` and every element below it."""
-    yield node
-    for c in node.children:
-        yield from _walk(c)
+def _referring(node: Node, names: set, affix: str, before: bool = False) -> Node:
+    """A copy of ``node`` and everything below it whose ``name`` and references to ``names`` end with ``affix`` (a
+    ``<replicate>`` copy's suffix), or begin with it (``before``: an ``<attach>``'s prefix)."""
+    def renamed(k: str, v: str) -> str:
+        if k == "class" or (k != "name" and v not in names):
+            return v
+        return affix + v if before else v + affix
 
-
-def _referring(node: Node, names: set, suffix: str) -> Node:
-    """A copy of ``node`` and everything below it whose ``name`` and references to ``names`` end with ``suffix``."""
-    attrib = {k: v + suffix if (k == "name" or v in names) and k != "class" else v for k, v in node.attrib.items()}
-    return Node(node.tag, attrib, node.file, node.line, [_referring(c, names, suffix) for c in node.children])
+    return Node(node.tag, {k: renamed(k, v) for k, v in node.attrib.items()}, node.file, node.line,
+                [_referring(c, names, affix, before) for c in node.children])
 
 
 class _Reader:
@@ -522,7 +521,7 @@ class _Reader:
         for section in (s for tag in ("equality", "tendon") for s in root.findall(tag)):
             copies = []
             for e in section.children:
-                named = {v for n in _walk(e) for k, v in n.attrib.items()
+                named = {v for n in e.iter() for k, v in n.attrib.items()
                          if k not in ("name", "class") and v in suffixes}
                 common = set.intersection(*(suffixes[v] for v in named)) if named else set()
                 copies += [_referring(e, named, x) for x in sorted(common, key=lambda x: x[::-1])] if common else [e]
@@ -712,10 +711,28 @@ class _Reader:
         for counter in _COUNTERS:
             setattr(self, counter, getattr(sub, counter))
         self.driven |= sub.driven
-        left = sorted({e.tag for tag in ("equality", "tendon") for s in root.findall(tag) for e in s.children})
-        if left:
-            self.notes.append(f"{node.place}: the attached model {node.get('model')!r} ({file.name}) has "
-                              f"{', '.join(left)} elements, which relacc does not read there")
+        self._attach_references(node, root, held, prefix)
+
+    def _attach_references(self, node: Node, root: Node, held: list, prefix: str) -> None:
+        """The attached model's ``<equality>`` and ``<tendon>`` elements that name only elements attached, added to
+        this file's with ``prefix`` on their names and those references, as MuJoCo 4.0.0 compiles them (measured);
+        those naming an element left behind (another body than ``body``) are left out, as MuJoCo leaves them, and
+        said."""
+        attached = {n.get("name") for h in held for n in h.iter() if n.get("name")}
+        known = {n.get("name") for w in root.findall("worldbody") for n in w.iter() if n.get("name")}
+        for tag in ("equality", "tendon"):
+            for e in (e for s in root.findall(tag) for e in s.children):
+                named = {v for n in e.iter() for k, v in n.attrib.items() if k not in ("name", "class") and v in known}
+                if not named <= attached:
+                    self.notes.append(f"{e.place}: the attached model's <{e.tag}> names "
+                                      f"{', '.join(sorted(named - attached))}, which {node.place} does not attach: "
+                                      "left out, as MuJoCo leaves it out")
+                    continue
+                section = self.root.find(tag)
+                if section is None:
+                    section = Node(tag, {}, node.file, node.line, [])
+                    self.root.children.append(section)
+                section.children.append(_referring(e, named, prefix, before=True))
 
     def _body(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         name = node.get("name") or f"body {len(self.bodies) + 1}"  # MuJoCo's index: the world is body 0
