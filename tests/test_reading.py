@@ -696,6 +696,49 @@ def test_an_attached_models_equalities_and_tendons_come_with_it_as_mujoco_compil
     assert len(left_out) == (1 if body else 0) and all("names slide" in n for n in left_out), reading.notes
 
 
+PARTS_XACRO = """<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:macro name="arm_link" params="prefix name m">
+    <link name="${prefix}${name}"><inertial><mass value="${m}"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.03"/></inertial></link>
+  </xacro:macro>
+  <xacro:macro name="arm" params="prefix">
+    <link name="${prefix}base"/>
+    <xacro:arm_link prefix="${prefix}" name="upper" m="1"/>
+    <joint name="${prefix}shoulder" type="revolute"><parent link="${prefix}base"/><child link="${prefix}upper"/>
+      <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    <transmission name="${prefix}t"><joint name="${prefix}shoulder"><hardwareInterface>x</hardwareInterface></joint>
+    </transmission>
+  </xacro:macro>
+</robot>
+"""
+
+
+def test_a_xacro_macros_links_and_joints_are_placed_where_they_are_written(tmp_path):
+    """franka_description's fr3 (`b299b39`): every link and joint, built by macros in included files, was placed at
+    line 2 of the top xacro (the <robot> element's line, inherited): a finding about fer_link4 pointed a CI
+    annotation at the wrong file. Each is now placed by its name in the xacro or a file it includes: a joint at its
+    <joint name="${prefix}shoulder" type=...> (not the transmission's <joint> of that name), a link a macro names
+    from its arguments at the macro call with the name it ends with (<xacro:arm_link name="upper">). The expected
+    lines are found in the text the test writes."""
+    (tmp_path / "parts.xacro").write_text(PARTS_XACRO)
+    top = tmp_path / "robot.urdf.xacro"
+    top.write_text('<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                   '  <xacro:include filename="parts.xacro"/>\n  <xacro:arm prefix="left_"/>\n</robot>\n')
+
+    def line_of(text):
+        (number,) = [k for k, line in enumerate(PARTS_XACRO.splitlines(), start=1) if text in line]
+        return f"{tmp_path / 'parts.xacro'}:{number}"
+
+    reading = read(top)
+    assert reading.place("body", "left_base") == line_of('<link name="${prefix}base"/>')
+    assert reading.place("body", "left_upper") == line_of('name="upper"')
+    assert reading.place("joint", "left_shoulder") == line_of('type="revolute"')
+    assert not any("could not be placed" in n for n in reading.notes), reading.notes
+    (finding,) = reading.findings  # 0.01 + 0.01 < 0.03: the triangle inequality, at the macro call
+    assert finding.body == "left_upper" and finding.place == line_of('name="upper"')
+
+
 @pytest.mark.parametrize("polycoef", [None, "", "0.1", "0.1 2", "0.1 2 0.3 0.4 0.5", "0 1 2 3 4 5"])
 def test_a_joint_equality_is_read_as_mujoco_compiles_it(tmp_path, polycoef):
     """An <equality><joint>'s polycoef may give fewer than its 5 numbers: MuJoCo takes the rest from the default

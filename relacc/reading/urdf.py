@@ -74,29 +74,31 @@ def note_files(path: Path) -> None:
 
 
 def _xacro_root(path: Path, notes: list) -> Node:
-    """The root of a xacro file's expansion (:mod:`relacc.reading.xacro`), its elements placed in the source: where an
-    element's ``name`` is written literally once there, at that line, its children with it; else in the file, without
-    a line (said once in ``notes``)."""
-    from relacc.reading.xacro import expand, source_lines
+    """The root of a xacro file's expansion (:mod:`relacc.reading.xacro`), each link and joint placed in the source
+    by its ``name`` (:func:`relacc.reading.xacro.source_places`: in the xacro file or one it includes), the elements
+    inside it with it; one that cannot be placed in the xacro file without a line (said once in ``notes``)."""
+    from relacc.reading.xacro import expansion, source_places
 
     note_input(path)
-    root = parse_text(expand(path), str(path), notes)
-    lines = source_lines(path)
+    text, included = expansion(path)
+    root = parse_text(text, str(path), notes)
+    find = source_places([path, *included])
     unplaced = 0
 
-    def place(node: Node, inherited: int) -> None:
+    def place(node: Node, inherited: tuple[str, int]) -> None:
         nonlocal unplaced
-        line = lines.get(node.get("name") or "", inherited)
-        if line == 0 and node.tag in ("link", "joint"):
-            unplaced += 1
-        node.line = line
+        at = inherited
+        if node.tag in ("link", "joint", "robot"):
+            at = find(node.tag, node.get("name") or "") or (str(path), 0)
+            if at[1] == 0 and node.tag != "robot":
+                unplaced += 1
+        node.file, node.line = at
         for child in node.children:
-            place(child, line)
+            place(child, at if node.tag != "robot" else (str(path), 0))
 
-    place(root, 0)
-    notes.append(f"{path}: expanded by xacro" + (f"; {unplaced} links and joints come from its macros, whose source "
-                                                  "lines are not known: their places name the file only"
-                                                  if unplaced else ""))
+    place(root, (str(path), 0))
+    notes.append(f"{path}: expanded by xacro" + (f"; {unplaced} links and joints could not be placed in its source by "
+                                                  "their names: their places name the file only" if unplaced else ""))
     return root
 
 

@@ -7,9 +7,12 @@ conditionals, includes and ``$(arg name)`` with the arguments given (``relacc co
 the ``package.xml`` that names it).
 The text stays in memory: relacc's reader and every engine read the same expansion, and nothing is written.
 
-Places: xacro keeps no line numbers, so an element of the expansion is placed in the source where its ``name`` is
-written literally once in the xacro file (a link, a joint) and its children with it; an element whose name a macro
-builds (``${prefix}_link``) is placed in the file without a line, and the reading's notes say how many.
+Places: xacro keeps no line numbers, so a link or joint of the expansion is placed in the source by its ``name``
+(:func:`source_places`), in the xacro file or a file it includes, and its children with it: where that name is
+written literally once; else where one ``name="..."`` built from ``${...}`` matches it, the one with the most written
+characters (``${prefix}link8``); else where a macro is called with the longest name it ends with (franka's
+``<xacro:link_with_sc name="link4">`` for ``fr3_link4``). An element none of these places, or more than one equally,
+is placed in the xacro file without a line, and the reading's notes say how many.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from __future__ import annotations
 import contextlib
 import re
 import threading
+from collections.abc import Callable
 from pathlib import Path
 
 from relacc.errors import ModelError
@@ -47,7 +51,12 @@ def is_xacro(path) -> bool:
 
 
 def expand(path) -> str:
-    """The URDF text the xacro file at ``path`` expands to.
+    """The URDF text the xacro file at ``path`` expands to (:func:`expansion`)."""
+    return expansion(path)[0]
+
+
+def expansion(path) -> tuple[str, list[Path]]:
+    """The URDF text the xacro file at ``path`` expands to, and the files it includes.
 
     Raises:
         ModelError: the xacro package is missing, or the expansion fails (its message, one line).
@@ -85,7 +94,7 @@ def expand(path) -> str:
 
     for name in included:  # inputs of the command, as an MJCF's <include>s are: no output may be one of them
         note_input(Path(name))
-    return doc.toprettyxml(indent="  ")
+    return doc.toprettyxml(indent="  "), [Path(name) for name in included]
 
 
 @contextlib.contextmanager
@@ -111,16 +120,48 @@ def _find_without_ros(subst, path: Path, failed: list):
         subst._eval_find = saved
 
 
-NAME = re.compile(r"""\bname\s*=\s*["']([^"'$]+)["']""")
+NAMED = re.compile(r"""<([\w:.-]+)((?:\s+[\w:.-]+\s*=\s*(?:"[^"]*"|'[^']*'))*)""")
+NAME = re.compile(r"""(?<![\w:.-])name\s*=\s*["']([^"']+)["']""")
+SUBSTITUTION = re.compile(r"\$\{[^}]*\}|\$\([^)]*\)")
 
 
-def source_lines(path) -> dict[str, int]:
-    """``{name: line}`` for each ``name="..."`` written literally exactly once in the xacro file (1-based)."""
-    counts: dict[str, list[int]] = {}
-    for number, line in enumerate(Path(path).read_text(encoding="utf-8-sig").splitlines(), start=1):
-        for name in NAME.findall(line):
-            counts.setdefault(name, []).append(number)
-    return {name: lines[0] for name, lines in counts.items() if len(lines) == 1}
+def source_places(paths) -> Callable[[str, str], tuple[str, int] | None]:
+    """A function giving, for an element's tag and name in the expansion (a link, a joint, the robot), ``(file, line)``
+    of the start tag in ``paths`` (the xacro file and those it includes) that the module docstring's rules pick, or
+    None. A joint's is a ``<joint>`` with a ``type`` (not a transmission's); a macro call is a ``<xacro:...>``."""
+    literal: dict[tuple[str, str], list[tuple[str, int]]] = {}
+    built: list[tuple[str, re.Pattern, int, str, int]] = []  # (tag, pattern, characters written, file, line)
+    for path in paths:
+        for number, text in enumerate(Path(path).read_text(encoding="utf-8-sig").splitlines(), start=1):
+            for tag, attributes in NAMED.findall(text):
+                value = next(iter(NAME.findall(attributes)), None)
+                if value is None or (tag == "joint" and not re.search(r"(?<![\w:.-])type\s*=", attributes)):
+                    continue
+                if tag in ("xacro:macro", "xacro:property", "xacro:arg", "xacro:include"):
+                    continue  # definitions, not elements or macro calls
+                tag = "xacro:" if tag.startswith("xacro:") else tag
+                parts = SUBSTITUTION.split(value)
+                if len(parts) == 1:
+                    literal.setdefault((tag, value), []).append((str(path), number))
+                elif "".join(parts):
+                    built.append((tag, re.compile(".+".join(map(re.escape, parts))), len("".join(parts)), str(path),
+                                  number))
+
+    def one(found: list) -> tuple[str, int] | None:
+        best = max((k for k, _ in found), default=None)
+        chosen = [place for k, place in found if k == best]
+        return chosen[0] if len(chosen) == 1 else None
+
+    def place(tag: str, name: str) -> tuple[str, int] | None:
+        if (tag, name) in literal:
+            return literal[(tag, name)][0] if len(literal[(tag, name)]) == 1 else None
+        matched = one([(k, (f, n)) for t, rx, k, f, n in built if t == tag and rx.fullmatch(name)])
+        if matched is not None:
+            return matched
+        return one([(len(v), at[0]) for (t, v), at in literal.items() if t == "xacro:" and len(at) == 1
+                    and len(v) < len(name) and name.endswith(v) and not name[-len(v) - 1].isalnum()])
+
+    return place
 
 
-__all__ = ["ARGUMENTS", "expand", "is_xacro", "source_lines"]
+__all__ = ["ARGUMENTS", "expand", "expansion", "is_xacro", "source_places"]
