@@ -85,20 +85,19 @@ def _xacro_root(path: Path, notes: list) -> Node:
     find = source_places([path, *included])
     unplaced = 0
 
-    def place(node: Node, inherited: tuple[str, int]) -> None:
-        nonlocal unplaced
-        at = inherited
-        if node.tag in ("link", "joint", "robot"):
-            at = find(node.tag, node.get("name") or "") or (str(path), 0)
-            if at[1] == 0 and node.tag != "robot":
-                unplaced += 1
+    def place(node: Node, at: tuple[str, int]) -> None:  # an element inside a link or joint goes with it
         node.file, node.line = at
         for child in node.children:
-            place(child, at if node.tag != "robot" else (str(path), 0))
+            place(child, at)
 
-    place(root, (str(path), 0))
-    notes.append(f"{path}: expanded by xacro" + (f"; {unplaced} links and joints could not be placed in its source by "
-                                                  "their names: their places name the file only" if unplaced else ""))
+    root.file, root.line = find("robot", root.get("name") or "") or (str(path), 0)
+    for node in root.children:  # a robot's links and joints (a <transmission>'s <joint> goes with it)
+        at = find(node.tag, node.get("name") or "", node.get("type")) if node.tag in ("link", "joint") else None
+        unplaced += at is None and node.tag in ("link", "joint")
+        place(node, at or (str(path), 0))
+    which = "1 link or joint" if unplaced == 1 else f"{unplaced} links and joints"
+    notes.append(f"{path}: expanded by xacro" + (f"; {which} could not be placed in its source by name: placed in the "
+                                                  "file without a line" if unplaced else ""))
     return root
 
 

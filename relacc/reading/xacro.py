@@ -122,44 +122,52 @@ def _find_without_ros(subst, path: Path, failed: list):
 
 NAMED = re.compile(r"""<([\w:.-]+)((?:\s+[\w:.-]+\s*=\s*(?:"[^"]*"|'[^']*'))*)""")
 NAME = re.compile(r"""(?<![\w:.-])name\s*=\s*["']([^"']+)["']""")
+TYPE = re.compile(r"""(?<![\w:.-])type\s*=\s*["']([^"']*)["']""")
+DEFINITIONS = ("xacro:macro", "xacro:property", "xacro:arg", "xacro:include")
+"""xacro elements whose ``name`` defines something rather than names an element or calls a macro."""
 SUBSTITUTION = re.compile(r"\$\{[^}]*\}|\$\([^)]*\)")
 
 
-def source_places(paths) -> Callable[[str, str], tuple[str, int] | None]:
-    """A function giving, for an element's tag and name in the expansion (a link, a joint, the robot), ``(file, line)``
-    of the start tag in ``paths`` (the xacro file and those it includes) that the module docstring's rules pick, or
-    None. A joint's is a ``<joint>`` with a ``type`` (not a transmission's); a macro call is a ``<xacro:...>``."""
-    literal: dict[tuple[str, str], list[tuple[str, int]]] = {}
-    built: list[tuple[str, re.Pattern, int, str, int]] = []  # (tag, pattern, characters written, file, line)
+def source_places(paths) -> Callable[..., tuple[str, int] | None]:
+    """A function giving, for an element's tag and name in the expansion (a link, a joint and its type, the robot),
+    ``(file, line)`` of the start tag in ``paths`` (the xacro file and those it includes) that the module docstring's
+    rules pick, or None. A joint's is a ``<joint>`` with a ``type`` (not a transmission's) of the joint's type where
+    it is written out (a joint written in both an ``xacro:if`` and an ``xacro:unless`` is told apart by it); a macro
+    call is a ``<xacro:...>``."""
+    entries: list[tuple[str, str | None, list[str], str, int]] = []  # (tag, joint type, name's parts, file, line)
     for path in paths:
-        for number, text in enumerate(Path(path).read_text(encoding="utf-8-sig").splitlines(), start=1):
-            for tag, attributes in NAMED.findall(text):
-                value = next(iter(NAME.findall(attributes)), None)
-                if value is None or (tag == "joint" and not re.search(r"(?<![\w:.-])type\s*=", attributes)):
-                    continue
-                if tag in ("xacro:macro", "xacro:property", "xacro:arg", "xacro:include"):
-                    continue  # definitions, not elements or macro calls
-                tag = "xacro:" if tag.startswith("xacro:") else tag
-                parts = SUBSTITUTION.split(value)
-                if len(parts) == 1:
-                    literal.setdefault((tag, value), []).append((str(path), number))
-                elif "".join(parts):
-                    built.append((tag, re.compile(".+".join(map(re.escape, parts))), len("".join(parts)), str(path),
-                                  number))
+        text = Path(path).read_text(encoding="utf-8-sig")
+        for start in NAMED.finditer(text):  # a start tag may span lines: its line is where it starts
+            tag, attributes = start.group(1), start.group(2)
+            value = next(iter(NAME.findall(attributes)), None)
+            kind = next(iter(TYPE.findall(attributes)), None)
+            if value is None or (tag == "joint" and kind is None) or tag in DEFINITIONS:
+                continue
+            entries.append(("xacro:" if tag.startswith("xacro:") else tag,
+                            None if kind is None or SUBSTITUTION.search(kind) else kind,
+                            SUBSTITUTION.split(value), str(path), text.count("\n", 0, start.start()) + 1))
 
     def one(found: list) -> tuple[str, int] | None:
         best = max((k for k, _ in found), default=None)
-        chosen = [place for k, place in found if k == best]
+        chosen = [at for k, at in found if k == best]
         return chosen[0] if len(chosen) == 1 else None
 
-    def place(tag: str, name: str) -> tuple[str, int] | None:
-        if (tag, name) in literal:
-            return literal[(tag, name)][0] if len(literal[(tag, name)]) == 1 else None
-        matched = one([(k, (f, n)) for t, rx, k, f, n in built if t == tag and rx.fullmatch(name)])
+    def place(tag: str, name: str, kind: str | None = None) -> tuple[str, int] | None:
+        mine = [(parts, (f, n)) for t, k, parts, f, n in entries
+                if t == tag and (k is None or kind is None or k == kind)]
+        exact = [at for parts, at in mine if parts == [name]]
+        if exact:
+            return exact[0] if len(exact) == 1 else None
+        matched = one([(len("".join(p)), at) for p, at in mine if len(p) > 1 and "".join(p)
+                       and re.fullmatch(".*".join(map(re.escape, p)), name)])
         if matched is not None:
             return matched
-        return one([(len(v), at[0]) for (t, v), at in literal.items() if t == "xacro:" and len(at) == 1
-                    and len(v) < len(name) and name.endswith(v) and not name[-len(v) - 1].isalnum()])
+        calls: dict[str, list] = {}
+        for t, _, parts, f, n in entries:
+            if t == "xacro:" and len(parts) == 1:
+                calls.setdefault(parts[0], []).append((f, n))
+        return one([(len(v), at[0]) for v, at in calls.items() if len(at) == 1 and len(v) < len(name)
+                    and name.endswith(v) and not name[-len(v) - 1].isalnum()])
 
     return place
 
