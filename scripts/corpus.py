@@ -91,7 +91,9 @@ def summarize(code: int, stdout: str, stderr: str, root: Path) -> dict:
 
     # numba's first compilation in a process shows a bar (a line rewritten after each \r): a word about this
     # machine, not about the file
-    lines = [line for line in stderr.splitlines() if not line.split("\r")[-1].startswith(COMPILE_LABEL)]
+    lines = [line for line in stderr.split("\n") if not line.split("\r")[-1].startswith(COMPILE_LABEL)]
+    if lines and lines[-1] == "":  # the newline ending the last line (splitlines would split at \r too)
+        lines.pop()
     stderr = "\n".join(lines)
     row = {"exit": code, "stderr_lines": len(lines), "traceback": "Traceback" in stderr}
     if code == 2 or not stdout.strip():

@@ -125,11 +125,11 @@ def test_unknown_keys_in_an_eval_state_are_refused(tmp_path):
 
 def test_the_first_compilation_of_kernels_is_a_bar_with_an_estimate(capsys, monkeypatch):
     """Issues 49 and 52: the first simulate --model after install compiled for 444 s with no word. While numba compiles
-    relacc's kernels (its compile events), stderr shows a bar with the seconds so far and an estimate: the recorded
-    seconds of the kernels still expected, scaled by this run's pace. Numba compiling anything else, or a quiet
-    command, says nothing. Here with a clock the test moves and a record of two kernels, 10 s and 30 s: f takes 20 s
-    (twice the record), so g's 30 s are estimated at 60 s; g then takes 30 s, and the whole is said to take 50.4 s,
-    the time outside compilation (70 s) not counted. An outermost compilation shorter than a second shows no bar."""
+    relacc's kernels (its compile events), stderr shows a bar for the outermost compilation under way: its seconds so
+    far and an estimate, the recorded seconds of the kernels still expected under it scaled by this run's pace; when it
+    ends, "compiled in N s" on its own line. Numba compiling anything else, a quiet command, or a compilation under a
+    second says nothing. Here with a clock the test moves and a record of g's compilation: h 10 s, g itself 30 s. h
+    takes 20 s (twice the record), so g's 30 s are estimated at 60 s; g then takes 30 s: 50 s in all."""
     from types import SimpleNamespace
 
     from numba.core import event
@@ -147,62 +147,55 @@ def test_the_first_compilation_of_kernels_is_a_bar_with_an_estimate(capsys, monk
         now[0] += seconds
         event.end_event("numba:compile", data={"dispatcher": fn})
 
-    def last_line(err):
-        return err.split("\r")[-1].rstrip("\n").rstrip()
+    def lines(err):  # each line as it is left on a terminal (splitlines would split at the carriage returns too)
+        return [line.split("\r")[-1].rstrip() for line in err.split("\n") if line]
 
     before = {k: list(v) for k, v in event._registered.items()}
     state, counted = dict(progress.NOTICE), dict(jit.COMPILING)
     progress.NOTICE.update(listening=False)
     jit.COMPILING.update(clock=lambda: now[0], spent=0.0)
+    was_open, progress.OPEN[0] = progress.OPEN[0], False  # no bar left open by an earlier test in this process
     monkeypatch.setattr(progress, "recorded_compile_seconds",
-                        lambda key: {"relacc.k.f": 10.0, "relacc.k.g": 30.0} if key == "simulate --model" else {})
+                        lambda root: {"relacc.k.h": 10.0, "relacc.k.g": 30.0} if root == "relacc.k.g" else {})
     try:
-        progress.compile_notice(quiet=True, key="simulate --model")
-        compiled("relacc.k", "f", 20.0)
+        progress.compile_notice(quiet=True)
+        compiled("relacc.k", "g", 50.0, inner=[("relacc.k", "h", 20.0)])
         assert capsys.readouterr().err == ""
-        progress.compile_notice(quiet=False, key="simulate --model")
+        progress.compile_notice(quiet=False)
         compiled("numba.cpython.builtins", "impl", 5.0)
+        compiled("relacc.k", "short", 0.4, inner=[("relacc.k", "h", 0.2)])
         assert capsys.readouterr().err == ""
-        compiled("relacc.k", "f", 16.0, inner=[("numba.np.arrayobj", "impl", 4.0)])
+        compiled("relacc.k", "g", 30.0, inner=[("relacc.k", "h", 16.0, [("numba.np.arrayobj", "impl", 4.0)])])
         err = capsys.readouterr().err
-        assert err.endswith("\n") and err.count("\n") == 1, err
-        assert last_line(err) == f"{progress.COMPILE_LABEL} [#####               ] 20 s so far, about 60 s more"
-        now[0] += 70.0  # the command runs
-        compiled("relacc.k", "short", 0.4)  # an outermost compilation under SHOWN_AFTER: no bar
-        assert capsys.readouterr().err == ""
-        compiled("relacc.k", "g", 28.0, inner=[("relacc.k", "h", 2.0)])  # h is not in the record
-        err = capsys.readouterr().err
-        live = f"{progress.COMPILE_LABEL} [#####               ] 22 s, about 67 s left"  # 30 s at pace 22.4 / 10
+        live = f"{progress.COMPILE_LABEL} [#####               ] 20 s, about 60 s left"  # 30 s at pace 20 / 10
         assert err.split("\r")[1].rstrip() == live, err
-        assert last_line(err) == f"{progress.COMPILE_LABEL}: compiled in 50 s"  # 20 + 0.4 + 30 s
-        progress.compile_notice(quiet=False, key="check")  # a command without a record: seconds and kernels
-        compiled("relacc.k", "h", 3.0, inner=[("relacc.k", "i", 1.0)])
-        assert last_line(capsys.readouterr().err) == f"{progress.COMPILE_LABEL}: 4 s, 2 kernels so far"
+        assert lines(err) == [f"{progress.COMPILE_LABEL}: compiled in 50 s"], err
+        compiled("relacc.k", "x", 3.0, inner=[("relacc.k", "y", 1.0)])  # not in the record: seconds and kernels
+        err = capsys.readouterr().err
+        assert err.split("\r")[1].rstrip() == f"{progress.COMPILE_LABEL}: 1 s, 1 kernels so far", err
+        assert lines(err) == [f"{progress.COMPILE_LABEL}: compiled in 4 s"], err
     finally:
         event._registered.clear()
         event._registered.update(before)
         progress.NOTICE.clear()
         progress.NOTICE.update(state)
         jit.COMPILING.update(counted)
+        progress.OPEN[0] = was_open
 
 
-def test_the_recorded_first_compilations_name_kernels_and_commands_that_exist():
-    """The compile bar's record (written by the benchmark first_compile.py) names each kernel by module and qualified
-    name and each command as the command line keys it: a renamed kernel or command would leave the bar without its
-    estimate."""
-    import argparse
+def test_the_recorded_first_compilations_name_kernels_that_exist():
+    """The compile bar's record (written by the benchmark first_compile.py) names each outermost kernel and each kernel
+    compiled under it by module and qualified name: a renamed kernel would leave the bar without its estimate. The
+    first simulate --model's outermost kernel, the trees' stepper, is among them."""
     import importlib
+    import json
 
-    from relacc.cli.parser import build_parser
-    from relacc.cli.progress import COMPILE_RECORD, compile_key
+    from relacc.cli.progress import COMPILE_RECORD
     from relacc.fixtures.shipped import latest_recorded
 
-    (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]
-    keys = {compile_key(name, model) for name in sub.choices for model in (None, "m.xml")}
-    record = json.loads(latest_recorded(COMPILE_RECORD).read_text())
-    assert set(record["commands"]) <= keys
-    assert record["commands"]["simulate --model"]["kernels"], "the first simulate --model compiles kernels"
-    for command in record["commands"].values():
-        for name in command["kernels"]:  # module.function
+    roots = json.loads(latest_recorded(COMPILE_RECORD).read_text())["roots"]
+    assert roots["relacc.kernels.tree_step.record"], "the stepper's compilation is recorded"
+    for root, under in roots.items():
+        for name in (root, *under):  # module.function
             module, function = name.rsplit(".", 1)
             assert callable(getattr(importlib.import_module(module), function, None)), name

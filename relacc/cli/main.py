@@ -53,7 +53,7 @@ def _main(argv) -> int:
     except SystemExit as exc:  # --help, --version (0) and usage errors (2, one line already printed)
         return exc.code if isinstance(exc.code, int) else 2
     from relacc.cli import commands
-    from relacc.cli.progress import compile_key, compile_notice, end_line
+    from relacc.cli.progress import compile_notice, end_line
     from relacc.errors import RelaccError
 
     name = f"relacc {args.command}"
@@ -62,8 +62,7 @@ def _main(argv) -> int:
             warnings.simplefilter("error", RuntimeWarning)
             note_model_files(args)
             if args.command not in ("eval", "fixtures"):  # the commands that run compiled kernels
-                compile_notice(bool(getattr(args, "quiet", False)),
-                               compile_key(args.command, getattr(args, "model", None)))
+                compile_notice(bool(getattr(args, "quiet", False)))
             code = getattr(commands, f"cmd_{args.command}")(args)
             files.check_interrupt()  # an interrupt a C library's callback swallowed on the way
             return code

@@ -39,12 +39,13 @@ COMPILE_LABEL = "relacc: compiling its kernels for this machine, once (numba cac
 
 COMPILE_RECORD = "compile-seconds"
 """The prefix of the recorded first compilations (``benchmarks/first_compile.py``, in ``relacc.recorded``): for each
-command, the seconds numba took to compile each of relacc's kernels on a cold cache, on the machine it names."""
+outermost kernel numba compiles (a root: the kernel a command calls), the seconds each kernel compiled under it took
+on a cold cache, on the machine the record names."""
 
 
-def recorded_compile_seconds(key: str) -> dict[str, float]:
-    """Seconds each of relacc's kernels (``module.qualname``) took to compile on a cold cache for the command ``key``
-    (:func:`compile_key`) in the latest recorded run; empty where that command was not recorded."""
+def recorded_compile_seconds(root: str) -> dict[str, float]:
+    """Seconds each kernel (``module.qualname``) compiled under the outermost kernel ``root`` took on a cold cache in
+    the latest recorded run; empty where that kernel was not recorded."""
     import json
 
     from relacc.fixtures.shipped import latest_recorded
@@ -52,21 +53,14 @@ def recorded_compile_seconds(key: str) -> dict[str, float]:
     record = latest_recorded(COMPILE_RECORD)
     if record is None:
         return {}
-    return dict(json.loads(record.read_text())["commands"].get(key, {}).get("kernels", {}))
+    return dict(json.loads(record.read_text())["roots"].get(root, {}))
 
 
-def compile_key(command: str, model: object) -> str:
-    """The key of a command's first compilation in the record: the command, and ``--model`` where it runs a model
-    file (the tree's kernels) rather than the note's chain."""
-    return f"{command} --model" if model else command
-
-
-NOTICE: dict = {"listening": False, "quiet": False, "key": "", "compiled": set(), "depth": 0, "start": 0.0,
-                "since": 0.0, "shown": False, "expected": None}
-"""The compile bar's state in this process: one listener (``main`` may run many times in a process), the command's
-recorded kernels (read at its first compilation), those compiled, the seconds spent compiling when the command began
-and when its current outermost compilation began (:func:`relacc.kernels.jit.compiling_seconds`), and whether the
-bar is shown."""
+NOTICE: dict = {"listening": False, "quiet": False, "root": "", "compiled": set(), "depth": 0, "since": 0.0,
+                "shown": False, "expected": {}}
+"""The compile bar's state in this process: one listener (``main`` may run many times in a process); for the
+outermost compilation under way, its kernel, the kernels compiled under it, the record's seconds for them, and when it
+began (:func:`relacc.kernels.jit.compiling_seconds`), and whether its bar is shown."""
 
 
 def _qualname(ev) -> str:
@@ -74,25 +68,24 @@ def _qualname(ev) -> str:
     return f"{getattr(fn, '__module__', '') or ''}.{getattr(fn, '__qualname__', '')}"
 
 
-def compile_bar(final: bool) -> str:
-    """The compile bar's text: seconds so far and, from the record, about how many are left.
+def compile_bar() -> str:
+    """The compile bar's text for the outermost compilation under way: its seconds so far and, from the record, about
+    how many are left.
 
-    The record's seconds for the kernels still expected are scaled by this run's pace (seconds taken over the
-    record's seconds for the kernels compiled so far, once those are at least 2 s): a loaded machine gets a longer
-    estimate as it goes. Without a record for the command, the seconds so far and the count of kernels."""
+    The record's seconds for the kernels still expected under it are scaled by this run's pace (seconds taken over
+    the record's seconds for the kernels compiled so far, once those are at least 2 s): a loaded machine gets a longer
+    estimate as it goes. Without a record of it, the seconds so far and the count of kernels."""
     from relacc.kernels.jit import compiling_seconds
 
-    now = compiling_seconds() - NOTICE["start"]
+    now = compiling_seconds() - NOTICE["since"]
     done = sum(NOTICE["expected"].get(name, 0.0) for name in NOTICE["compiled"])
     left = sum(v for name, v in NOTICE["expected"].items() if name not in NOTICE["compiled"])
+    if NOTICE["depth"] == 0:
+        return f"{COMPILE_LABEL}: compiled in {now:.0f} s"
     if not NOTICE["expected"]:
         return f"{COMPILE_LABEL}: {now:.0f} s, {len(NOTICE['compiled'])} kernels so far"
     pace = now / done if done >= 2.0 else 1.0
-    if left * pace < 0.5:  # nothing left, or what is left rounds to no time
-        return f"{COMPILE_LABEL}: compiled in {now:.0f} s"
     fraction = done / (done + left)
-    if final:  # the outermost compilation has ended; the rest comes when the command needs those kernels
-        return f"{COMPILE_LABEL} [{'#' * int(20 * fraction):20s}] {now:.0f} s so far, about {left * pace:.0f} s more"
     return f"{COMPILE_LABEL} [{'#' * int(20 * fraction):20s}] {now:.0f} s, about {left * pace:.0f} s left"
 
 
@@ -100,30 +93,27 @@ SHOWN_AFTER = 1.0
 """Seconds an outermost compilation takes before its bar is shown (the bar is updated as each kernel is compiled)."""
 
 
-def compile_notice(quiet: bool, key: str = "") -> None:
+def compile_notice(quiet: bool) -> None:
     """A bar on stderr while numba compiles relacc's kernels in this process (a cached kernel is loaded, not compiled:
     nothing said), shown once an outermost compilation has taken :data:`SHOWN_AFTER` seconds, rewritten as each
-    kernel is compiled and ended on its own line when that compilation ends. Nothing with ``quiet``, for numba
-    compiling anything else, or without numba."""
-    from relacc.kernels.jit import compiling_seconds
-
-    NOTICE.update(quiet=quiet, key=key, compiled=set(), depth=0, start=compiling_seconds(), expected=None,
-                  shown=False)
+    kernel is compiled, and ended on its own line ("compiled in N s") when that compilation ends. Nothing with
+    ``quiet``, for numba compiling anything else, or without numba."""
+    NOTICE.update(quiet=quiet, depth=0, shown=False)
     if NOTICE["listening"]:
         return
     try:
         from numba.core import event
     except ImportError:  # pragma: no cover - numba is a dependency
         return
+    from relacc.kernels.jit import compiling_seconds
 
     class Bar(event.Listener):
         def on_start(self, ev) -> None:
             if NOTICE["quiet"] or not _qualname(ev).startswith("relacc."):
                 return
             if NOTICE["depth"] == 0:
-                if NOTICE["expected"] is None:  # the command's first compilation
-                    NOTICE["expected"] = recorded_compile_seconds(NOTICE["key"])
-                NOTICE["since"], NOTICE["shown"] = compiling_seconds(), False
+                NOTICE.update(root=_qualname(ev), expected=recorded_compile_seconds(_qualname(ev)), compiled=set(),
+                              since=compiling_seconds(), shown=False)
             NOTICE["depth"] += 1
 
         def on_end(self, ev) -> None:
@@ -135,9 +125,9 @@ def compile_notice(quiet: bool, key: str = "") -> None:
                 end_line()  # a run's bar, which this compilation interrupts
                 NOTICE["shown"] = True
             if NOTICE["shown"]:
-                _rewrite(compile_bar(final=NOTICE["depth"] == 0))
-            if NOTICE["depth"] == 0 and NOTICE["shown"]:
-                end_line()
+                _rewrite(compile_bar())
+                if NOTICE["depth"] == 0:
+                    end_line()
 
     event.register("numba:compile", Bar())
     NOTICE["listening"] = True
