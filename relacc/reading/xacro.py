@@ -135,8 +135,13 @@ def source_places(paths) -> Callable[..., tuple[str, int] | None]:
     it is written out (a joint written in both an ``xacro:if`` and an ``xacro:unless`` is told apart by it); a macro
     call is a ``<xacro:...>``."""
     entries: list[tuple[str, str | None, list[str], str, int]] = []  # (tag, joint type, name's parts, file, line)
-    for path in paths:
-        text = Path(path).read_text(encoding="utf-8-sig")
+    import bisect
+
+    from relacc.reading.xml import COMMENT
+
+    for path in paths:  # comments blanked, their lines kept: a commented-out <link> is not a candidate
+        text = COMMENT.sub(lambda m: "\n" * m.group(0).count("\n"), Path(path).read_text(encoding="utf-8-sig"))
+        ends = [k for k, c in enumerate(text) if c == "\n"]
         for start in NAMED.finditer(text):  # a start tag may span lines: its line is where it starts
             tag, attributes = start.group(1), start.group(2)
             value = next(iter(NAME.findall(attributes)), None)
@@ -145,7 +150,7 @@ def source_places(paths) -> Callable[..., tuple[str, int] | None]:
                 continue
             entries.append(("xacro:" if tag.startswith("xacro:") else tag,
                             None if kind is None or SUBSTITUTION.search(kind) else kind,
-                            SUBSTITUTION.split(value), str(path), text.count("\n", 0, start.start()) + 1))
+                            SUBSTITUTION.split(value), str(path), bisect.bisect_left(ends, start.start()) + 1))
 
     def one(found: list) -> tuple[str, int] | None:
         best = max((k for k, _ in found), default=None)
