@@ -703,6 +703,7 @@ PARTS_XACRO = """<?xml version="1.0"?>
       <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.03"/></inertial></link>
   </xacro:macro>
   <xacro:macro name="arm" params="prefix">
+    <!-- before: <link name="${prefix}base" /> -->
     <link name="${prefix}base"/>
     <xacro:arm_link prefix="${prefix}" name="upper" m="1"/>
     <joint name="${prefix}shoulder" type="revolute"><parent link="${prefix}base"/><child link="${prefix}upper"/>
@@ -719,8 +720,8 @@ def test_a_xacro_macros_links_and_joints_are_placed_where_they_are_written(tmp_p
     line 2 of the top xacro (the <robot> element's line, inherited): a finding about fer_link4 pointed a CI
     annotation at the wrong file. Each is now placed by its name in the xacro or a file it includes: a joint at its
     <joint name="${prefix}shoulder" type=...> (not the transmission's <joint> of that name), a link a macro names
-    from its arguments at the macro call with the name it ends with (<xacro:arm_link name="upper">). The expected
-    lines are found in the text the test writes."""
+    from its arguments at the macro call with the name it ends with (<xacro:arm_link name="upper">); a commented-out
+    element is not a candidate. The expected lines are found in the text the test writes."""
     (tmp_path / "parts.xacro").write_text(PARTS_XACRO)
     top = tmp_path / "robot.urdf.xacro"
     top.write_text('<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
