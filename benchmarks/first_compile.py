@@ -76,7 +76,8 @@ def first_compile(argv: list[str], tmp: str) -> dict:
     record = json.loads(out.stderr.strip().splitlines()[-1])
     kernels = {k: round(v, 3) for k, v in sorted(record["kernels"].items())}
     roots = {r: {k: round(v, 3) for k, v in sorted(under.items())} for r, under in record["roots"].items()}
-    return {"argv": argv, "exit": record["exit"], "wall_seconds": round(wall, 1),
+    shown = [str(Path(a).relative_to(ROOT)) if a == MODEL else a for a in argv]  # no local path in the record
+    return {"argv": shown, "exit": record["exit"], "wall_seconds": round(wall, 1),
             "seconds": round(sum(kernels.values()), 1), "kernels": kernels, "roots": roots}
 
 
