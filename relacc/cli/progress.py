@@ -6,6 +6,7 @@ starts on a line of its own.
 
 from __future__ import annotations
 
+import functools
 import sys
 
 OPEN = [False]
@@ -45,27 +46,31 @@ on a cold cache, on the machine the record names."""
 
 def recorded_compile_seconds(root: str) -> dict[str, float]:
     """Seconds each kernel (``module.qualname``) compiled under the outermost kernel ``root`` took on a cold cache in
-    the latest recorded run; empty where that kernel was not recorded."""
+    the latest recorded run; empty where that kernel was not recorded, or where the record cannot be read (the bar
+    then shows the seconds so far and the count of kernels: an estimate is never worth a failed command)."""
+    return dict(_compile_record().get(root, {}))
+
+
+@functools.cache
+def _compile_record() -> dict:
+    """The latest record's roots (:data:`COMPILE_RECORD`), read once per process."""
     import json
 
     from relacc.fixtures.shipped import latest_recorded
 
     record = latest_recorded(COMPILE_RECORD)
-    if record is None:
+    try:
+        return dict(json.loads(record.read_text())["roots"]) if record is not None else {}
+    except (OSError, ValueError, KeyError, TypeError):
         return {}
-    return dict(json.loads(record.read_text())["roots"].get(root, {}))
 
 
-NOTICE: dict = {"listening": False, "quiet": False, "root": "", "compiled": set(), "depth": 0, "since": 0.0,
-                "shown": False, "expected": {}}
+NOTICE: dict = {"listening": False, "quiet": False, "root": "", "compiled": set(), "since": 0.0, "shown": False,
+                "expected": {}}
 """The compile bar's state in this process: one listener (``main`` may run many times in a process); for the
-outermost compilation under way, its kernel, the kernels compiled under it, the record's seconds for them, and when it
-began (:func:`relacc.kernels.jit.compiling_seconds`), and whether its bar is shown."""
-
-
-def _qualname(ev) -> str:
-    fn = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
-    return f"{getattr(fn, '__module__', '') or ''}.{getattr(fn, '__qualname__', '')}"
+outermost compilation under way (how deep numba is in it: :data:`relacc.kernels.jit.COMPILING`), its kernel, the
+kernels compiled under it, the record's seconds for them, the compiling seconds when it began
+(:func:`relacc.kernels.jit.compiling_seconds`), and whether its bar is shown."""
 
 
 def compile_bar() -> str:
@@ -75,12 +80,12 @@ def compile_bar() -> str:
     The record's seconds for the kernels still expected under it are scaled by this run's pace (seconds taken over
     the record's seconds for the kernels compiled so far, once those are at least 2 s): a loaded machine gets a longer
     estimate as it goes. Without a record of it, the seconds so far and the count of kernels."""
-    from relacc.kernels.jit import compiling_seconds
+    from relacc.kernels.jit import COMPILING, compiling_seconds
 
     now = compiling_seconds() - NOTICE["since"]
     done = sum(NOTICE["expected"].get(name, 0.0) for name in NOTICE["compiled"])
     left = sum(v for name, v in NOTICE["expected"].items() if name not in NOTICE["compiled"])
-    if NOTICE["depth"] == 0:
+    if COMPILING["depth"] == 0:
         return f"{COMPILE_LABEL}: compiled in {now:.0f} s"
     if not NOTICE["expected"]:
         return f"{COMPILE_LABEL}: {now:.0f} s, {len(NOTICE['compiled'])} kernels so far"
@@ -98,35 +103,33 @@ def compile_notice(quiet: bool) -> None:
     nothing said), shown once an outermost compilation has taken :data:`SHOWN_AFTER` seconds, rewritten as each
     kernel is compiled, and ended on its own line ("compiled in N s") when that compilation ends. Nothing with
     ``quiet``, for numba compiling anything else, or without numba."""
-    NOTICE.update(quiet=quiet, depth=0, shown=False)
+    NOTICE.update(quiet=quiet, shown=False)
     if NOTICE["listening"]:
         return
     try:
         from numba.core import event
     except ImportError:  # pragma: no cover - numba is a dependency
         return
-    from relacc.kernels.jit import compiling_seconds
+    from relacc.kernels.jit import COMPILING, compiling_seconds, kernel_name
 
-    class Bar(event.Listener):
+    class Bar(event.Listener):  # called after jit's counter (registered first): COMPILING is up to date here
         def on_start(self, ev) -> None:
-            if NOTICE["quiet"] or not _qualname(ev).startswith("relacc."):
+            if NOTICE["quiet"] or not kernel_name(ev).startswith("relacc."):
                 return
-            if NOTICE["depth"] == 0:
-                NOTICE.update(root=_qualname(ev), expected=recorded_compile_seconds(_qualname(ev)), compiled=set(),
-                              since=compiling_seconds(), shown=False)
-            NOTICE["depth"] += 1
+            if COMPILING["depth"] == 1:  # an outermost compilation begins
+                NOTICE.update(root=kernel_name(ev), expected=recorded_compile_seconds(kernel_name(ev)),
+                              compiled=set(), since=compiling_seconds(), shown=False)
 
         def on_end(self, ev) -> None:
-            if NOTICE["quiet"] or not _qualname(ev).startswith("relacc."):
+            if NOTICE["quiet"] or not kernel_name(ev).startswith("relacc."):
                 return
-            NOTICE["compiled"].add(_qualname(ev))
-            NOTICE["depth"] -= 1
+            NOTICE["compiled"].add(kernel_name(ev))
             if not NOTICE["shown"] and compiling_seconds() - NOTICE["since"] >= SHOWN_AFTER:
                 end_line()  # a run's bar, which this compilation interrupts
                 NOTICE["shown"] = True
             if NOTICE["shown"]:
                 _rewrite(compile_bar())
-                if NOTICE["depth"] == 0:
+                if COMPILING["depth"] == 0:
                     end_line()
 
     event.register("numba:compile", Bar())

@@ -83,6 +83,12 @@ def compiling_seconds() -> float:
     return COMPILING["spent"] + now
 
 
+def kernel_name(ev) -> str:
+    """``module.qualname`` of the function a numba compile event is about."""
+    fn = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
+    return f"{getattr(fn, '__module__', '') or ''}.{getattr(fn, '__qualname__', '')}"
+
+
 def _count_compiling() -> None:
     """Keep :data:`COMPILING` from numba's compile events for relacc's kernels (a cached kernel is loaded: no event)."""
     import time
@@ -92,10 +98,9 @@ def _count_compiling() -> None:
     COMPILING["clock"] = time.perf_counter
 
     def ours(ev) -> bool:
-        fn = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
-        return (getattr(fn, "__module__", "") or "").startswith("relacc.")
+        return kernel_name(ev).startswith("relacc.")
 
-    class Count(event.Listener):
+    class Count(event.Listener):  # registered at this module's import: before any listener that reads COMPILING
         def on_start(self, ev) -> None:
             if ours(ev):
                 if COMPILING["depth"] == 0:

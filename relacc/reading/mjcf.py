@@ -302,6 +302,12 @@ def _renamed(node: Node, rename) -> Node:
     return Node(node.tag, attrib, node.file, node.line, [_renamed(c, rename) for c in node.children])
 
 
+def _references(node: Node, names) -> set:
+    """The values of ``node``'s attributes and those of the elements below it, but names and classes, that are among
+    ``names``: the elements an ``<equality>`` or ``<tendon>`` refers to."""
+    return {v for n in node.iter() for k, v in n.attrib.items() if k not in ("name", "class") and v in names}
+
+
 def _referring(node: Node, names: set, affix: str, before: bool = False) -> Node:
     """A copy of ``node`` and everything below it whose ``name`` and references to ``names`` end with ``affix`` (a
     ``<replicate>`` copy's suffix), or begin with it (``before``: an ``<attach>``'s prefix)."""
@@ -521,8 +527,7 @@ class _Reader:
         for section in (s for tag in ("equality", "tendon") for s in root.findall(tag)):
             copies = []
             for e in section.children:
-                named = {v for n in e.iter() for k, v in n.attrib.items()
-                         if k not in ("name", "class") and v in suffixes}
+                named = _references(e, suffixes)
                 common = set.intersection(*(suffixes[v] for v in named)) if named else set()
                 copies += [_referring(e, named, x) for x in sorted(common, key=lambda x: x[::-1])] if common else [e]
             section.children[:] = copies
@@ -722,7 +727,7 @@ class _Reader:
         known = {n.get("name") for w in root.findall("worldbody") for n in w.iter() if n.get("name")}
         for tag in ("equality", "tendon"):
             for e in (e for s in root.findall(tag) for e in s.children):
-                named = {v for n in e.iter() for k, v in n.attrib.items() if k not in ("name", "class") and v in known}
+                named = _references(e, known)
                 if not named <= attached:
                     self.notes.append(f"{e.place}: the attached model's <{e.tag}> names "
                                       f"{', '.join(sorted(named - attached))}, which {node.place} does not attach: "

@@ -733,8 +733,7 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
                 continue
             theirs_in_a = [-other.offset / (sf * other.multiplier), 1.0 / (sl * sf * other.multiplier), 0.0, 0.0, 0.0]
         else:
-            theirs_in_a = [sf * other.offset, sf * sl * other.multiplier,
-                           *(sf * sl ** (p + 2) * h for p, h in enumerate(other.higher))]
+            theirs_in_a = _in_signs(other, sf, sl)
         _number(out, el, "coupling", mine, theirs_in_a, tol, c.place, other.place)
     for c in rb.couplings:
         if (c.follower, c.leader) in seen or c.follower not in to_a or (c.leader is not None and c.leader not in to_a):
@@ -743,11 +742,18 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
         (fa, sf), (la, sl) = to_a[c.follower], to_a[c.leader] if c.leader is not None else (None, 1.0)
         through = _through(roots_a, fa, la) if la is not None else None
         if through is not None:  # A ties the two through other joints
-            _number(out, el, "coupling", list(through) + [0.0, 0.0, 0.0], [sf * c.offset, sf * sl * c.multiplier,
-                    *(sf * sl ** (p + 2) * h for p, h in enumerate(c.higher))], tol, ra.source, c.place)
+            _number(out, el, "coupling", list(through) + [0.0, 0.0, 0.0], _in_signs(c, sf, sl), tol, ra.source,
+                    c.place)
             continue
         out.append(Difference("added", el, "coupling", None, [c.offset, c.multiplier, *c.higher], None, ra.source,
                               c.place))
+
+
+def _in_signs(c, sf: float, sl: float) -> list[float]:
+    """Coupling ``c``'s ``[offset, multiplier, higher...]`` for the other file's joints, whose coordinates are
+    ``sf`` and ``sl`` (+1 or -1) times its follower's and leader's: ``q_f = o + m q_l + sum h_p q_l^(p+2)`` becomes
+    ``sf o + sf sl m q_l' + sum sf sl^(p+2) h_p q_l'^(p+2)``."""
+    return [sf * c.offset, sf * sl * c.multiplier, *(sf * sl ** (p + 2) * h for p, h in enumerate(c.higher))]
 
 
 def _roots(couplings) -> dict:
