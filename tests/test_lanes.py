@@ -4,6 +4,8 @@ tests/test_singular.py, parametrized over the algorithm); here what is its own: 
 its lane, its batch or the lane width; bad inputs are counted per state; the object code is cached and reused; a tree
 the lanes do not take runs the numba kernels."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -427,3 +429,43 @@ def test_a_damaged_numba_cache_file_is_compiled_again_and_said(tmp_path, damage)
     out, said = run()
     assert out == "42.0" and len(said) == 1 and "is damaged" in said[0] and "compiling it again" in said[0], said
     assert run() == ("42.0", [])
+
+
+@pytest.mark.slow
+def test_two_processes_compile_a_kernel_once_between_them(tmp_path):
+    """Two processes that ask at once for a kernel the shared cache lacks used to compile it side by side (pytest's
+    workers, three commands of one installation: the tree stepper alone takes 27 s cold). Now one compiles it and the
+    other waits for it and loads it from the cache: numba's own counters (``Dispatcher.stats``) of the chain's G2
+    kernel show one miss and one hit between the two, where the old code shows two misses. Both processes are ready
+    (relacc imported) before either calls, so that neither is late enough to find the kernel cached anyway; both
+    answers are the same bits."""
+    import os
+    import subprocess
+    import sys
+
+    script = (
+        "import json, os, sys, time\n"
+        "import numpy as np\n"
+        "import relacc\n"
+        "from relacc.core.kinematics import g2_kinematics\n"
+        "from relacc.kernels import kinematics as K\n"
+        "s = relacc.testing.states(1, 8, seed=5)\n"
+        "chain = relacc.fixtures.load().chain\n"
+        "print('ready', flush=True)\n"
+        "while not os.path.exists(sys.argv[1]):\n"
+        "    time.sleep(0.01)\n"
+        "k = g2_kinematics(chain, 1, s.q, s.u, s.udot, backend='fast')\n"
+        "st = K._full_loop.stats\n"
+        "print(json.dumps([sum(st.cache_misses.values()), sum(st.cache_hits.values()), k.acceleration.tolist()]))\n")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    go = tmp_path / "go"
+    procs = [subprocess.Popen([sys.executable, "-c", script, str(go)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True, env=env, cwd=tmp_path) for _ in range(2)]
+    for p in procs:
+        assert p.stdout.readline().strip() == "ready", p.stderr.read()[-2000:]
+    go.touch()
+    done = [p.communicate(timeout=300) for p in procs]
+    assert all(p.returncode == 0 for p in procs), [err[-2000:] for _, err in done]
+    (m0, h0, a0), (m1, h1, a1) = (json.loads(out) for out, _ in done)
+    assert sorted([(m0, h0), (m1, h1)]) == [(0, 1), (1, 0)], "each process compiled the kernel on its own"
+    assert a0 == a1  # the same bits: one compiled code

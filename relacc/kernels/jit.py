@@ -116,9 +116,83 @@ def _count_compiling() -> None:
     event.register("numba:compile", Count())
 
 
+LOCK_WAIT_S = 900.0
+"""Seconds a process waits for another one compiling the same kernel before it compiles the kernel itself: longer
+than the longest first compilation seen (the tree stepper, 444 s at load 12, issue 49), so that only a process that
+holds the lock and does not run (stopped with Ctrl-Z) makes the others compile on their own."""
+
+
+def _compile_once_across_processes() -> None:
+    """A kernel numba is about to compile, while another process compiles it into the same cache, is waited for and
+    loaded from the cache, not compiled a second time.
+
+    numba's cache is shared by every process of one installation, but each compiles what it lacks on its own: three
+    commands started together, or pytest's workers, compiled the same kernels side by side (the tree stepper takes
+    27 s on a cold cache, ``benchmarks/results/compile-seconds-*``). Each of relacc's cached kernels now compiles
+    under an exclusive ``flock`` on ``<its cache index>.lock`` beside numba's index. Lock order follows the call
+    graph (a kernel's callees are compiled inside it), which has no cycles, so two processes cannot wait on each
+    other. The lock is taken under numba's own compiler lock, so that threads of one process never wait on a lock
+    their process holds. Where the cache directory or ``flock`` is unavailable, a kernel compiles as before. While
+    a process waits, numba's compile event is open for the kernel, so the compile bar shows it
+    (:func:`relacc.cli.progress.compile_bar`)."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX: each process compiles on its own, as numba does
+        return
+    import time
+
+    from numba.core import caching, dispatcher, event, sigutils
+    from numba.core.compiler_lock import global_compiler_lock
+
+    compile_ = dispatcher.Dispatcher.compile
+    if getattr(compile_, "relacc_locked", False):
+        return
+
+    def compile(self, sig):
+        cache = self._cache
+        if (isinstance(cache, caching.NullCache)
+                or not (getattr(self.py_func, "__module__", "") or "").startswith("relacc.")):
+            return compile_(self, sig)
+        with global_compiler_lock:
+            args, return_type = sigutils.normalize_signature(sig)
+            if self.overloads.get(tuple(args)) is not None:
+                return compile_(self, sig)
+            try:
+                fd = os.open(os.path.join(cache._cache_path, cache._cache_file._index_name + ".lock"),
+                             os.O_RDWR | os.O_CREAT, 0o666)
+            except OSError:
+                return compile_(self, sig)
+            try:
+                if not _try_lock(fcntl, fd):
+                    with event.trigger_event("numba:compile", data=dict(dispatcher=self, args=args,
+                                                                        return_type=return_type)):
+                        until = time.monotonic() + LOCK_WAIT_S
+                        while not _try_lock(fcntl, fd) and time.monotonic() < until:
+                            time.sleep(0.05)
+                return compile_(self, sig)
+            finally:
+                os.close(fd)  # releases the lock
+
+    compile.relacc_locked = True  # type: ignore[attr-defined]
+    dispatcher.Dispatcher.compile = compile  # type: ignore[method-assign]
+
+
+def _try_lock(fcntl, fd: int) -> bool:
+    """Whether the exclusive ``flock`` on ``fd`` was taken without waiting (False: another process holds it, or the
+    file system has no locks, which the wait's deadline then ends)."""
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return True
+    except BlockingIOError:
+        return False
+    except OSError:
+        return True  # no locking here: compile as numba does
+
+
 if HAVE_NUMBA:
     _tolerate_damaged_caches()
     _count_compiling()
+    _compile_once_across_processes()
 
 
 def read_only(*arrays):
