@@ -133,8 +133,8 @@ def _compile_once_across_processes() -> None:
     graph (a kernel's callees are compiled inside it), which has no cycles, so two processes cannot wait on each
     other. The lock is taken under numba's own compiler lock, so that threads of one process never wait on a lock
     their process holds. Where the cache directory or ``flock`` is unavailable, a kernel compiles as before. While
-    a process waits, numba's compile event is open for the kernel, so the compile bar shows it
-    (:func:`relacc.cli.progress.compile_bar`)."""
+    a process waits, numba's compile event is open for the kernel (its data's ``waiting`` set), so the compile
+    bar shows it (:func:`relacc.cli.progress.compile_bar`)."""
     try:
         import fcntl
     except ImportError:  # pragma: no cover - not POSIX: each process compiles on its own, as numba does
@@ -165,7 +165,7 @@ def _compile_once_across_processes() -> None:
             try:
                 if not _try_lock(fcntl, fd):
                     with event.trigger_event("numba:compile", data=dict(dispatcher=self, args=args,
-                                                                        return_type=return_type)):
+                                                                        return_type=return_type, waiting=True)):
                         until = time.monotonic() + LOCK_WAIT_S
                         while not _try_lock(fcntl, fd) and time.monotonic() < until:
                             time.sleep(0.05)
