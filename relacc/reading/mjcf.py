@@ -609,6 +609,7 @@ class _Reader:
         if "first_body_only" in self.variant:  # and, as Pinocchio expands no <include>, none of its included parts
             first = None if self.first_body is None else _written_in(self.first_body, str(self.path))
             worlds = [Node("worldbody", {}, str(self.path), 0, [] if first is None else [first])]
+            self.first_body = first  # the copy read is the first body (``first_body_unplaced`` asks by identity)
         for world in worlds:
             self._children(world, -1, np.zeros(3), np.eye(3), "main")
             for site in world.findall("site"):  # the world's sites: points of the world
