@@ -272,6 +272,58 @@ def test_find_and_package_uris_name_the_package_its_package_xml_names(tmp_path, 
     assert "no package 'other_description' above the file" in err and "<class" not in err, err
 
 
+def test_a_package_across_the_repository_or_in_ros_package_path_is_found(tmp_path, monkeypatch, capsys):
+    """ROS finds a package anywhere in its workspace (colcon and rospack search every depth), not only beside the
+    file's folders. Found on fiveages-sim/robot_descriptions (`f609e7f`): humanoid/ARX/lift_description's xacro
+    includes $(find arx5_description), which lives in manipulator/ARX/: relacc refused 7 of its robots (exit 2). Now
+    the file's repository (the folder holding .git) is searched as a workspace, a folder with a COLCON_IGNORE is
+    skipped, and ROS_PACKAGE_PATH's folders are searched too. The robot read through the other package is the one
+    the test writes: its inertia is the box macro's, checked against the closed form."""
+    import os
+
+    import numpy as np
+
+    from relacc.reading import packages, read
+
+    repo = tmp_path / "repo"
+    arm = repo / "manipulator" / "vendor" / "arm_description"
+    (arm / "urdf").mkdir(parents=True)
+    (arm / "package.xml").write_text('<?xml version="1.0"?>\n<package format="3"><name>arm_description</name>'
+                                     "<version>1.0.0</version></package>\n")
+    (arm / "urdf" / "inertial.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="box_inertial" params="m x y z">\n'
+        '    <inertial><origin xyz="${x/2} 0 0"/><mass value="${m}"/>\n'
+        '      <inertia ixx="${m*(y*y+z*z)/12}" ixy="0" ixz="0" iyy="${m*(x*x+z*z)/12}" iyz="0" '
+        'izz="${m*(x*x+y*y)/12}"/></inertial>\n  </xacro:macro>\n</robot>\n')
+    robot = repo / "humanoid" / "vendor" / "body_description" / "urdf" / "body.urdf.xacro"
+    robot.parent.mkdir(parents=True)
+    robot.write_text(XACRO.replace('<xacro:macro name="box_inertial"',
+                                   '<xacro:include filename="$(find arm_description)/urdf/inertial.xacro"/>'
+                                   '<xacro:macro name="unused"').replace("${IZZ}", "0"))
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    monkeypatch.chdir(tmp_path)
+    assert main(["compare", str(robot), "--states", "2", "--engines", "mujoco"]) == 2  # no repository yet
+    assert "set ROS_PACKAGE_PATH" in capsys.readouterr().err
+    (repo / ".git").mkdir()
+    packages._crawled.cache_clear()
+    assert list(packages.package_folders("arm_description", robot)) == [arm]
+    (upper,) = [b for b in read(robot).tree.bodies if b.name == "upper"]
+    m, x, y, z = 1.0, 0.3, 0.05, 0.05  # XACRO's upper link: box_inertial m=$(arg mass) x=${len} y=z=0.05
+    # xacro writes the float it computes as repr (exact), so the two sides differ by a few ulp (8.7e-19) at most
+    np.testing.assert_allclose(np.diag(upper.inertia), [m * (y * y + z * z) / 12, m * (x * x + z * z) / 12,
+                                                        m * (x * x + y * y) / 12], rtol=0, atol=1e-15)
+    (arm / "COLCON_IGNORE").touch()
+    packages._crawled.cache_clear()
+    assert list(packages.package_folders("arm_description", robot)) == []
+    (repo / ".git").rmdir()
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "nothing") + os.pathsep + str(repo))
+    (arm / "COLCON_IGNORE").unlink()
+    packages._crawled.cache_clear()
+    assert list(packages.package_folders("arm_description", robot)) == [arm]
+    assert main(["compare", str(robot), "--states", "2", "--engines", "mujoco", "--json"]) == 0, capsys.readouterr()
+
+
 def test_models_only_skips_the_files_of_a_description_repository_that_hold_no_robot(tmp_path, monkeypatch, capsys):
     """A ROS description repository keeps its xacro macros and fragments beside the robots that include them:
     frankaemika/franka_description (`b299b39`: robots/common/franka_arm.xacro, utils.xacro, ...; a rigid tool,

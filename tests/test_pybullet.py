@@ -283,3 +283,38 @@ def test_a_mesh_missing_beside_the_file_is_not_found_from_the_working_directory(
     for where in (tmp_path, tmp_path / "robots"):
         monkeypatch.chdir(where)
         assert f'filename="{tmp_path / "robots" / cube.name}"' in text_for_pybullet(urdf)
+
+
+REPEATED_INERTIA = """<robot name="twice">
+  <link name="base"/>
+  <link name="arm"><inertial><origin xyz="0.1 0.02 0"/><mass value="0.4"/>
+    <inertia ixx="0.002" ixy="0.0003" ixz="-0.0001" iyy="0.003" iyz="0.0002" izz="0.004"/>
+    <inertia ixx="0.002" ixy="-0.0003" ixz="-0.0001" iyy="0.003" iyz="-0.0002" izz="0.004"/></inertial></link>
+  <joint name="hip" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0.6 0.8 0"/>
+    <limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+</robot>
+"""
+
+
+@NEEDS_IDYNTREE
+def test_a_repeated_inertia_is_read_by_its_first_and_idyntrees_last_is_explained(tmp_path):
+    """Found on deep_robotics' Lite3 (fiveages-sim/robot_descriptions f609e7f): 8 links whose <inertial> holds two
+    <inertia>, their products of inertia of opposite signs. urdfdom (Pinocchio's parser) reads the first: relacc
+    reads it too (held to Pinocchio's own reading, c eps) and says so in a note; iDynTree reads the last, and its
+    rows were "not explained". They now have that cause, which reproduces them."""
+    import pinocchio as pin
+
+    from relacc.reading import read
+    from relacc.validation.robots import compare
+
+    path = tmp_path / "twice.urdf"
+    path.write_text(REPEATED_INERTIA)
+    reading = read(path)
+    model = pin.buildModelFromUrdf(str(path))
+    arm = reading.tree.bodies[[b.name for b in reading.tree.bodies].index("arm")]
+    np.testing.assert_allclose(arm.inertia, model.inertias[1].inertia, rtol=0, atol=ROUNDING_FACTOR * EPS * 0.004)
+    assert any("more than one <inertia>" in n and "arm" in n for n in reading.notes), reading.notes
+    result = compare(path, engines=["pinocchio", "idyntree"], n_states=3, seed=2)
+    assert result.audit and all("reads the last of a link's repeated <inertia>" in a.cause for a in result.audit)
+    failing = [r for rows in result.dynamics.values() for e, r in rows.items() if not r.passed]
+    assert failing and all(r.cause_kind == "explained" for r in failing), [r.cause for r in failing]

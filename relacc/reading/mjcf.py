@@ -388,7 +388,7 @@ class _Reader:
         self.findings = []
         self.njoints = 0
         self.default_masses = 0
-        self.first_body = None
+        self.first_body: Node | None = None  # the first <body> of the main file's <worldbody>, as read
         self.visual_geoms = self.stacked = self.unactuated = self.damped_free = self.damped_balls = 0
         self.friction: list[str] = []  # joints with a frictionloss (dry friction, a constraint in MuJoCo)
         self.frictionloss: dict[str, float] = {}  # their frictionloss (N m or N)

@@ -76,8 +76,8 @@ class Reading:
             turns them (kg m^2, in the inertial's own axes): to reproduce an engine that drops the rotation.
         facts: what an engine's other reading depends on (an MJCF's ``world_children``, ``default_geom_masses``,
             ``gravity_written``, ``gravity_disabled``).
-        variant: the engine's way of reading the file this reading follows (:data:`relacc.reading.mjcf.VARIANTS`;
-            empty: the format's).
+        variant: the engine's way of reading the file this reading follows (:data:`relacc.reading.mjcf.VARIANTS`,
+            :data:`relacc.reading.urdf.VARIANTS`; empty: the format's).
         friction: ``{joint name: dry friction}`` (MJCF ``frictionloss``, URDF ``<dynamics friction>``; N m or N) of the
             joints that have one: compared by ``relacc diff``, not evaluated by the dynamics.
         gravcomp: ``{body name: factor}`` (MJCF ``gravcomp``: MuJoCo applies ``factor`` times the body's weight

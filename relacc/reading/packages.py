@@ -10,12 +10,30 @@ import functools
 from collections.abc import Iterator
 from pathlib import Path
 
+PACKAGE_PATH = "ROS_PACKAGE_PATH"
+"""The environment variable of folders (``os.pathsep``-separated) searched for packages after those around the file,
+as ROS 1's ``rospack`` searches them."""
+
+IGNORE_MARKERS = ("COLCON_IGNORE", "CATKIN_IGNORE", "AMENT_IGNORE")
+"""A folder holding one of these is not searched (colcon's and catkin's rule)."""
+
+CRAWL_LIMIT = 20_000
+"""Folders a search of one tree visits at most (a workspace of hundreds of packages has a few thousand)."""
+
 
 def package_folders(package: str, path: Path) -> Iterator[Path]:
     """The folders that may be the ROS package ``package`` for a file at ``path``, nearest first, found as ROS finds a
-    package but without ROS: each folder above the file that is named ``package``, holds a folder so named, or holds
-    a ``package.xml`` whose ``<name>`` is ``package``, itself or one folder down (ROS finds a package by that name, not
-    by its folder's: a repository cloned under another name, as a CI checkout is, is still the package)."""
+    package but without ROS:
+
+    * each folder above the file that is named ``package``, holds a folder so named, or holds a ``package.xml`` whose
+      ``<name>`` is ``package``, itself or one folder down (ROS finds a package by that name, not by its folder's: a
+      repository cloned under another name, as a CI checkout is, is still the package);
+    * then the packages of the file's repository (the nearest folder above it holding ``.git``) and of each folder of
+      :data:`PACKAGE_PATH`, searched as colcon and ``rospack`` search a workspace: every depth, a folder holding a
+      ``package.xml`` is a package and is not searched further, hidden folders and those holding a marker of
+      :data:`IGNORE_MARKERS` are skipped. A monorepo of descriptions (fiveages-sim/robot_descriptions: a humanoid's
+      xacro naming the arm package two folders across) is one workspace.
+    """
     seen: set[Path] = set()
 
     def new(found: Path) -> bool:
@@ -31,6 +49,47 @@ def package_folders(package: str, path: Path) -> Iterator[Path]:
         for manifest in [folder / "package.xml", *sorted(folder.glob("*/package.xml"))]:  # read only when asked on
             if _package_name(manifest) == package and new(manifest.parent):
                 yield manifest.parent
+    for root in _workspaces(path):
+        found = _crawled(str(root)).get(package)
+        if found is not None and new(Path(found)):
+            yield Path(found)
+
+
+def _workspaces(path: Path) -> list[Path]:
+    """The file's repository (the nearest folder above it holding ``.git``), then the folders of
+    :data:`PACKAGE_PATH`."""
+    import os
+
+    roots = [next((f for f in path.resolve().parents if (f / ".git").exists()), None)]
+    roots += [Path(p) for p in os.environ.get(PACKAGE_PATH, "").split(os.pathsep) if p]
+    return [r for r in roots if r is not None and r.is_dir()]
+
+
+@functools.lru_cache(maxsize=64)
+def _crawled(root: str) -> dict[str, str]:
+    """``{package name: folder}`` of every package below ``root`` (:func:`package_folders`), the first of a name kept;
+    searched once per process."""
+    import os
+
+    found: dict[str, str] = {}
+    pending, visited = [root], 0
+    while pending and visited < CRAWL_LIMIT:
+        folder = pending.pop()
+        visited += 1
+        try:
+            entries = sorted(os.scandir(folder), key=lambda e: e.name)
+        except OSError:
+            continue
+        names = {e.name for e in entries}
+        if any(m in names for m in IGNORE_MARKERS):
+            continue
+        if "package.xml" in names:
+            name = _package_name(Path(folder) / "package.xml")
+            if name is not None:
+                found.setdefault(name, folder)
+                continue
+        pending += [e.path for e in reversed(entries) if e.is_dir(follow_symlinks=False) and not e.name.startswith(".")]
+    return found
 
 
 def _package_name(manifest: Path) -> str | None:

@@ -26,8 +26,8 @@ def format_of(path) -> str | None:
 
 def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", variant: frozenset = frozenset()
          ) -> Reading:
-    """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file; ``variant``: an engine's way of reading an
-    MJCF (:data:`relacc.reading.mjcf.VARIANTS`), for reproducing that engine.
+    """relacc's reading of an MJCF (``.xml``) or URDF (``.urdf``) file; ``variant``: an engine's way of reading the
+    file (:data:`relacc.reading.mjcf.VARIANTS`, :data:`relacc.reading.urdf.VARIANTS`), for reproducing that engine.
 
     ``meshes``: where the mass properties of the mesh geoms relacc does not compute itself come from (a primitive
     fitted to a mesh, :func:`relacc.reading.mjcf.read`; relacc computes a ``type="mesh"`` geom's,
@@ -49,7 +49,7 @@ def read(path: str | os.PathLike, meshes: str | Callable | None = "engine", vari
         if kind == "urdf":
             from relacc.reading import urdf
 
-            return urdf.read(path)
+            return urdf.read(path, variant)
         from relacc.reading import mjcf
 
         return mjcf.read(path, _mesh_reader if meshes == "engine" else meshes, variant)

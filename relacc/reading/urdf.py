@@ -15,6 +15,9 @@
   URDF by default; a root link named ``world`` is the world itself, and a joint may name ``world`` as its parent
   without a link of that name (the world, as Gazebo and Drake read it).
 * Bodies are ordered depth first from the root, children in the order of their joints in the file.
+* A link's ``<inertial>`` with more than one ``<inertia>`` (deep_robotics' Lite3: two, their products of inertia of
+  opposite signs) is read by its first, as urdfdom (Pinocchio's and ROS's parser) and Drake read it, and noted;
+  MuJoCo refuses such a file ("repeated element"), iDynTree reads the last (:data:`VARIANTS`).
 * ``<mimic>`` couples a joint to another: a constraint, which relacc's comparisons (the tree without constraints,
   every joint free) leave out: said in ``unevaluated``. ``<transmission>`` and ``<gazebo>`` have no part in the
   dynamics compared.
@@ -35,6 +38,10 @@ from relacc.reading.model import Coupling, Reading
 from relacc.reading.packages import package_folders
 from relacc.reading.xacro import is_xacro
 from relacc.reading.xml import Node, number, numbers, parse_file, parse_text, rounding
+
+VARIANTS = ("last_inertia",)
+"""Engines' ways of reading a URDF that relacc's reader can follow (``read(path, variant)``, the audit's known
+readings): ``last_inertia``, the last of a link's repeated ``<inertia>`` elements instead of the first (iDynTree)."""
 
 GRAVITY = (0.0, 0.0, -9.81)
 """m/s^2: the gravity relacc gives a URDF, which has none (as MuJoCo, Pinocchio and Drake read one)."""
@@ -111,8 +118,8 @@ def _note_geometry(root: Node, path: Path) -> None:
                 note_input(target)
 
 
-def read(path) -> Reading:
-    """relacc's reading of the URDF at ``path`` (module docstring).
+def read(path, variant: frozenset = frozenset()) -> Reading:
+    """relacc's reading of the URDF at ``path`` (module docstring), the way ``variant`` says (:data:`VARIANTS`).
 
     Raises:
         ModelError: the file cannot be read, is not a URDF, or describes no tree (a link twice a child, a joint
@@ -203,6 +210,7 @@ def read(path) -> Reading:
         notes.append(f"{len(spherical)} spherical joint{'s' if len(spherical) > 1 else ''} ({', '.join(spherical[:3])}"
                      f"{' ...' if len(spherical) > 3 else ''}): not a URDF joint type; read as a ball about the joint "
                      "frame's origin, as MuJoCo's URDF reader does (urdfdom and Drake refuse it)")
+    repeats: list[str] = []  # links whose <inertial> has more than one <inertia>
     for name in order:
         if world and name == roots[0]:
             continue  # a root link named world is the world
@@ -231,7 +239,10 @@ def read(path) -> Reading:
                 dry = number(dyn, "friction", 0.0) if dyn is not None else 0.0
                 if dry:
                     friction[jname] = dry
-        mass, com, inertia, where, written, digits = _inertial(link, normalized)
+        repeated = link.find("inertial") is not None and len(link.find("inertial").findall("inertia")) > 1
+        if repeated:
+            repeats.append(name)
+        mass, com, inertia, where, written, digits = _inertial(link, normalized, "last_inertia" in variant)
         if written is not None:
             turned[name] = written
         if where:
@@ -246,9 +257,14 @@ def read(path) -> Reading:
         raise ModelError(f"{path}: the URDF has no link besides the world")
     tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array(GRAVITY), source=str(path))
     notes += normalized.notes("URDF")
+    if repeats:
+        notes.append(f"{len(repeats)} link{'s' if len(repeats) > 1 else ''} with more than one <inertia> in its "
+                     f"<inertial> ({', '.join(repeats[:5])}{', ...' if len(repeats) > 5 else ''}): relacc reads the "
+                     "first, as urdfdom (Pinocchio, ROS) and Drake do; MuJoCo refuses the file, iDynTree reads the "
+                     "last")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
-                   tuple(findings), turned, facts={"geometry": geometry}, friction=friction, couplings=couplings,
-                   unevaluated_kinds=tuple(kinds))
+                   tuple(findings), turned, facts={"geometry": geometry, "repeated_inertia": tuple(repeats)},
+                   friction=friction, couplings=couplings, unevaluated_kinds=tuple(kinds), variant=frozenset(variant))
 
 
 @dataclass(frozen=True)
@@ -348,14 +364,16 @@ def _joint(name: str, kind: str, node: Node, normalized) -> Joint:
     return Joint.hinge(name, unit) if kind == "hinge" else Joint.slide(name, unit)
 
 
-def _inertial(link: Node, normalized) -> tuple:
+def _inertial(link: Node, normalized, last: bool = False) -> tuple:
     """``(mass, mass centre (3,), inertia about it in the link's components (3, 3), place, the inertia as written
-    when its origin turns it, else None, the Frobenius norm of the rounding its written digits allow (kg m^2))``."""
+    when its origin turns it, else None, the Frobenius norm of the rounding its written digits allow (kg m^2))``;
+    ``last``: a repeated ``<inertia>``'s last (variant ``last_inertia``), else its first."""
     inertial = link.find("inertial")
     if inertial is None:
         return 0.0, np.zeros(3), np.zeros((3, 3)), "", None, 0.0
     pos, R = _origin(inertial, normalized)
-    mass_node, tensor = inertial.find("mass"), inertial.find("inertia")
+    tensors = inertial.findall("inertia")
+    mass_node, tensor = inertial.find("mass"), (tensors[-1] if last and tensors else inertial.find("inertia"))
     mass = number(mass_node, "value", 0.0) if mass_node is not None else 0.0
     I, digits = np.zeros((3, 3)), 0.0
     if tensor is not None:

@@ -109,8 +109,9 @@ def _find_without_ros(subst, path: Path, failed: list):
         folder = next(package_folders(pkg, path), None)
         if folder is not None:
             return str(folder)
-        failed.append(ModelError(f"{path}: $(find {pkg}): no package {pkg!r} above the file: no folder so named, and "
-                                 "no package.xml naming it (relacc finds a package as ROS does, without ROS)"))
+        failed.append(ModelError(f"{path}: $(find {pkg}): no package {pkg!r} above the file, in its repository or in "
+                                 "ROS_PACKAGE_PATH: no folder so named, and no package.xml naming it (relacc finds a "
+                                 "package as ROS does, without ROS; set ROS_PACKAGE_PATH to the folders that hold it)"))
         raise failed[-1]
 
     subst._eval_find = find

@@ -4,6 +4,8 @@
   inertia it carries without a mass is dropped (example-robot-data's bolt: its feet, mass 0 and an inertia; the same
   thing MuJoCo's fusion does). Measured with idyntree 15.1.0: a root ``world`` link turned into a frame of the robot's
   first link is handled in the adapter (the base is held so that the frame sits at the world's origin).
+* **A link's repeated ``<inertia>``: the last** (deep_robotics' Lite3 in fiveages-sim/robot_descriptions ``f609e7f``:
+  8 links with two, whose products of inertia differ in sign), where urdfdom, Pinocchio and Drake read the first.
 
 No difference in its algorithms is known (:data:`ENGINE_READINGS`). What it was tried on is in docs/compare.md.
 """
@@ -15,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from relacc.engines.base import KnownBehaviour
-from relacc.engines.known import with_bodies
+from relacc.engines.known import reread, with_bodies
 
 
 def _welded_massless_with_inertia(reading) -> bool:
@@ -34,6 +36,13 @@ FILE_READINGS = (
         "dropping the inertia the file gives it without a mass",
         _welded_massless_with_inertia,
         _as_frames,
+    ),
+    KnownBehaviour(
+        "last_inertia",
+        "iDynTree's URDF parser reads the last of a link's repeated <inertia> elements (urdfdom, Pinocchio and "
+        "Drake the first; MuJoCo refuses the file)",
+        lambda r: r.format == "urdf" and bool(r.facts.get("repeated_inertia")),
+        reread("last_inertia"),
     ),
 )
 """iDynTree's known readings of a URDF."""
