@@ -32,18 +32,23 @@ _LOCK = threading.Lock()  # xacro keeps its state in module globals
 
 
 def set_arguments(given) -> None:
-    """``NAME:=VALUE`` strings (``--xacro-arg``, as ROS's xacro takes them) set in :data:`ARGUMENTS`.
+    """:data:`ARGUMENTS` made the ``NAME:=VALUE`` strings ``given`` (``--xacro-arg``, as ROS's xacro takes them), and
+    only them: each command sets its own (they stayed in the process for every later command, and for
+    :meth:`relacc.Tree.from_file`, before).
 
     Raises:
-        InputError: one not of the form ``NAME:=VALUE``.
+        InputError: one not of the form ``NAME:=VALUE`` (then nothing is changed).
     """
+    parsed = {}
     for text in given or []:
         name, sep, value = text.partition(":=")
         if not sep or not name:
             from relacc.errors import InputError
 
             raise InputError(f"--xacro-arg {text!r}: expected NAME:=VALUE, as xacro takes its arguments")
-        ARGUMENTS[name] = value
+        parsed[name] = value
+    ARGUMENTS.clear()
+    ARGUMENTS.update(parsed)
 
 
 def is_xacro(path) -> bool:
