@@ -237,6 +237,18 @@ def test_a_file_a_xacro_includes_is_an_input(repo, capsys):
     assert (robots / "inertial.xacro").read_bytes() == before
 
 
+def _arm_package(folder):
+    """A ROS package ``arm_description`` in ``folder`` (its package.xml) with the box-inertial macro in urdf/."""
+    (folder / "package.xml").write_text('<?xml version="1.0"?>\n<package format="3"><name>arm_description</name>'
+                                        "<version>1.0.0</version></package>\n")
+    (folder / "urdf" / "inertial.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="box_inertial" params="m x y z">\n'
+        '    <inertial><origin xyz="${x/2} 0 0"/><mass value="${m}"/>\n'
+        '      <inertia ixx="${m*(y*y+z*z)/12}" ixy="0" ixz="0" iyy="${m*(x*x+z*z)/12}" iyz="0" '
+        'izz="${m*(x*x+y*y)/12}"/></inertial>\n  </xacro:macro>\n</robot>\n')
+
+
 def test_find_and_package_uris_name_the_package_its_package_xml_names(tmp_path, monkeypatch, capsys):
     """ROS finds a package by the <name> of its package.xml, not by its folder's name: a description repository
     cloned under another name (a CI checkout is named after the repository) is still that package. Found on
@@ -252,14 +264,7 @@ def test_find_and_package_uris_name_the_package_its_package_xml_names(tmp_path, 
     (checkout / "urdf").mkdir(parents=True)
     (checkout / "meshes").mkdir()
     (checkout / "meshes" / "part.stl").write_bytes(b"solid part\nendsolid part\n")
-    (checkout / "package.xml").write_text('<?xml version="1.0"?>\n<package format="3"><name>arm_description</name>'
-                                          "<version>1.0.0</version></package>\n")
-    (checkout / "urdf" / "inertial.xacro").write_text(
-        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-        '  <xacro:macro name="box_inertial" params="m x y z">\n'
-        '    <inertial><origin xyz="${x/2} 0 0"/><mass value="${m}"/>\n'
-        '      <inertia ixx="${m*(y*y+z*z)/12}" ixy="0" ixz="0" iyy="${m*(x*x+z*z)/12}" iyz="0" '
-        'izz="${m*(x*x+y*y)/12}"/></inertial>\n  </xacro:macro>\n</robot>\n')
+    _arm_package(checkout)
     arm = checkout / "urdf" / "arm.urdf.xacro"
     arm.write_text(XACRO.replace('<xacro:macro name="box_inertial"',
                                  '<xacro:include filename="$(find arm_description)/urdf/inertial.xacro"/>'
@@ -293,14 +298,7 @@ def test_a_package_across_the_repository_or_in_ros_package_path_is_found(tmp_pat
     repo = tmp_path / "repo"
     arm = repo / "manipulator" / "vendor" / "arm_description"
     (arm / "urdf").mkdir(parents=True)
-    (arm / "package.xml").write_text('<?xml version="1.0"?>\n<package format="3"><name>arm_description</name>'
-                                     "<version>1.0.0</version></package>\n")
-    (arm / "urdf" / "inertial.xacro").write_text(
-        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-        '  <xacro:macro name="box_inertial" params="m x y z">\n'
-        '    <inertial><origin xyz="${x/2} 0 0"/><mass value="${m}"/>\n'
-        '      <inertia ixx="${m*(y*y+z*z)/12}" ixy="0" ixz="0" iyy="${m*(x*x+z*z)/12}" iyz="0" '
-        'izz="${m*(x*x+y*y)/12}"/></inertial>\n  </xacro:macro>\n</robot>\n')
+    _arm_package(arm)
     robot = repo / "humanoid" / "vendor" / "body_description" / "urdf" / "body.urdf.xacro"
     robot.parent.mkdir(parents=True)
     robot.write_text(XACRO.replace('<xacro:macro name="box_inertial"',
