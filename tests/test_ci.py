@@ -382,3 +382,12 @@ def test_an_xacro_arg_xacro_cannot_substitute_is_named_with_the_flag_that_gives_
     assert err.count("\n") == 1 and "give it with --xacro-arg prefix:=VALUE" in err, err
     assert main(["compare", "arm.urdf.xacro", "--states", "2", "--json", "--xacro-arg", "prefix:=left_"]) == 0
     json.loads(capsys.readouterr().out)
+    # inside an expression (wei-hsuan-cheng/robot_descriptions `df424af`: "Undefined substitution argument
+    # ros2_control_hardware_type when evaluating expression ..."): the same flag, named
+    (tmp_path / "arm.urdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot name="robot" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        "<xacro:if value=\"${'$(arg hardware)' == 'gz'}\"><link name=\"gz\"/></xacro:if>\n"
+        + GOOD.split(">", 1)[1])
+    assert main(["compare", "arm.urdf.xacro", "--states", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "give it with --xacro-arg hardware:=VALUE" in err, err

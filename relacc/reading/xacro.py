@@ -90,8 +90,10 @@ def expansion(path) -> tuple[str, list[Path]]:
                 raise failed[0] from None
             text = " ".join(str(exc).split())
             where = " ".join((" ".join(said) + " " + written.getvalue()).split())
-            missing = text.removeprefix("Undefined substitution argument ").strip()
-            if missing != text and missing.isidentifier():  # $(arg X) with no value yet where it is used
+            missing = text.removeprefix("Undefined substitution argument ").split(" ", 1)[0].strip()
+            if missing and not text.startswith(missing) and missing.isidentifier():  # $(arg X) with no value there
+                # (alone, or inside an expression: "... X when evaluating expression '...'", wei-hsuan-cheng's
+                # robot_descriptions' ros2_control files)
                 text += f" (xacro has no value for it where it is used: give it with --xacro-arg {missing}:=VALUE)"
             raise ModelError(f"{path}: xacro cannot expand it: {text}" + (f" ({where[:300]})" if where else ""))
         included = list(xacro.all_includes)
