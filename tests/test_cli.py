@@ -139,13 +139,13 @@ def test_the_first_compilation_of_kernels_is_a_bar_with_an_estimate(capsys, monk
 
     now = [0.0]
 
-    def compiled(module, name, seconds, inner=()):
+    def compiled(module, name, seconds, inner=(), waiting=False):
         fn = SimpleNamespace(py_func=SimpleNamespace(__module__=module, __qualname__=name))
-        event.start_event("numba:compile", data={"dispatcher": fn})
+        event.start_event("numba:compile", data={"dispatcher": fn, "waiting": waiting})
         for args in inner:
             compiled(*args)
         now[0] += seconds
-        event.end_event("numba:compile", data={"dispatcher": fn})
+        event.end_event("numba:compile", data={"dispatcher": fn, "waiting": waiting})
 
     def lines(err):  # each line as it is left on a terminal (splitlines would split at the carriage returns too)
         return [line.split("\r")[-1].rstrip() for line in err.split("\n") if line]
@@ -176,6 +176,12 @@ def test_the_first_compilation_of_kernels_is_a_bar_with_an_estimate(capsys, monk
         err = capsys.readouterr().err
         assert err.split("\r")[1].rstrip() == f"{progress.COMPILE_LABEL}: 1 s, 1 kernels so far", err
         assert lines(err) == [f"{progress.COMPILE_LABEL}: compiled in 4 s"], err
+        # another process compiles g (kernels/jit's lock): said when the wait begins, whatever it lasts
+        compiled("relacc.k", "g", 25.0, waiting=True)  # as jit's lock opens it: the wait alone, then a cache load
+        err = capsys.readouterr().err
+        assert err.split("\r")[1].rstrip() == (f"{progress.COMPILE_LABEL}: waiting for another relacc process "
+                                               "compiling g (it is cached for both)"), err
+        assert lines(err) == [f"{progress.COMPILE_LABEL}: ready in 25 s"], err
     finally:
         event._registered.clear()
         event._registered.update(before)

@@ -86,7 +86,7 @@ def compile_bar() -> str:
     done = sum(NOTICE["expected"].get(name, 0.0) for name in NOTICE["compiled"])
     left = sum(v for name, v in NOTICE["expected"].items() if name not in NOTICE["compiled"])
     if COMPILING["depth"] == 0:
-        return f"{COMPILE_LABEL}: compiled in {now:.0f} s"
+        return f"{COMPILE_LABEL}: {'ready' if NOTICE.get('waited') else 'compiled'} in {now:.0f} s"
     if not NOTICE["expected"]:
         return f"{COMPILE_LABEL}: {now:.0f} s, {len(NOTICE['compiled'])} kernels so far"
     pace = now / done if done >= 2.0 else 1.0
@@ -101,7 +101,9 @@ SHOWN_AFTER = 1.0
 def compile_notice(quiet: bool) -> None:
     """A bar on stderr while numba compiles relacc's kernels in this process (a cached kernel is loaded, not compiled:
     nothing said), shown once an outermost compilation has taken :data:`SHOWN_AFTER` seconds, rewritten as each
-    kernel is compiled, and ended on its own line ("compiled in N s") when that compilation ends. Nothing with
+    kernel is compiled, and ended on its own line ("compiled in N s") when that compilation ends; a wait for another
+    process compiling the same kernel (:mod:`relacc.kernels.jit`'s lock) is said when it begins, and the line then
+    ends "ready in N s". Nothing with
     ``quiet``, for numba compiling anything else, or without numba."""
     NOTICE.update(quiet=quiet, shown=False)
     if NOTICE["listening"]:
@@ -118,7 +120,12 @@ def compile_notice(quiet: bool) -> None:
                 return
             if COMPILING["depth"] == 1:  # an outermost compilation begins
                 NOTICE.update(root=kernel_name(ev), expected=recorded_compile_seconds(kernel_name(ev)),
-                              compiled=set(), since=compiling_seconds(), shown=False)
+                              compiled=set(), since=compiling_seconds(), shown=False, waited=False)
+            if (ev.data or {}).get("waiting"):  # another process compiles this kernel (kernels/jit's lock): said now,
+                end_line()                      # as nothing else happens here until it has
+                NOTICE.update(shown=True, waited=True)
+                _rewrite(f"{COMPILE_LABEL}: waiting for another relacc process compiling "
+                         f"{kernel_name(ev).rsplit('.', 1)[-1]} (it is cached for both)")
 
         def on_end(self, ev) -> None:
             if NOTICE["quiet"] or not kernel_name(ev).startswith("relacc."):
