@@ -178,8 +178,8 @@ def _compile_once_across_processes() -> None:
 
 
 def _try_lock(fcntl, fd: int) -> bool:
-    """Whether the exclusive ``flock`` on ``fd`` was taken without waiting (False: another process holds it, or the
-    file system has no locks, which the wait's deadline then ends)."""
+    """Whether the exclusive ``flock`` on ``fd`` was taken without waiting: False while another process holds it; True
+    also where the file system has no locks (the kernel then compiles as numba does, without waiting)."""
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         return True
