@@ -325,6 +325,13 @@ def test_a_package_across_the_repository_or_in_ros_package_path_is_found(tmp_pat
     packages._crawled.cache_clear()
     assert list(packages.package_folders("arm_description", robot)) == [arm]
     assert main(["compare", str(robot), "--states", "2", "--engines", "mujoco", "--json"]) == 0, capsys.readouterr()
+    capsys.readouterr()
+    monkeypatch.setattr(packages, "CRAWL_LIMIT", 3)  # a search cut short is said with the error, never silently
+    packages._crawled.cache_clear()
+    assert main(["compare", str(robot), "--states", "2", "--engines", "mujoco"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"the search of {repo} stopped after 3 folders" in err, err
+    packages._crawled.cache_clear()
 
 
 def test_models_only_skips_the_files_of_a_description_repository_that_hold_no_robot(tmp_path, monkeypatch, capsys):

@@ -50,9 +50,15 @@ def package_folders(package: str, path: Path) -> Iterator[Path]:
             if _package_name(manifest) == package and new(manifest.parent):
                 yield manifest.parent
     for root in _workspaces(path):
-        found = _crawled(str(root)).get(package)
+        found = _crawled(str(root))[0].get(package)
         if found is not None and new(Path(found)):
             yield Path(found)
+
+
+def unfinished_searches(path: Path) -> list[str]:
+    """The workspaces of a file at ``path`` (:func:`package_folders`) whose search stopped at :data:`CRAWL_LIMIT`
+    folders: a package not found may lie beyond it (said with the error, never silently)."""
+    return [str(root) for root in _workspaces(path) if not _crawled(str(root))[1]]
 
 
 def _workspaces(path: Path) -> list[Path]:
@@ -66,9 +72,9 @@ def _workspaces(path: Path) -> list[Path]:
 
 
 @functools.lru_cache(maxsize=64)
-def _crawled(root: str) -> dict[str, str]:
-    """``{package name: folder}`` of every package below ``root`` (:func:`package_folders`), the first of a name kept;
-    searched once per process."""
+def _crawled(root: str) -> tuple[dict[str, str], bool]:
+    """``({package name: folder}, whether the search ended before the limit)`` of every package below ``root``
+    (:func:`package_folders`), the first of a name kept; searched once per process."""
     import os
 
     found: dict[str, str] = {}
@@ -89,7 +95,7 @@ def _crawled(root: str) -> dict[str, str]:
                 found.setdefault(name, folder)
                 continue
         pending += [e.path for e in reversed(entries) if e.is_dir(follow_symlinks=False) and not e.name.startswith(".")]
-    return found
+    return found, not pending
 
 
 def _package_name(manifest: Path) -> str | None:
@@ -112,4 +118,4 @@ def _read_package_name(manifest: str, mtime_ns: int) -> str | None:
     return None if name is None or name.text is None else name.text.strip()
 
 
-__all__ = ["package_folders"]
+__all__ = ["package_folders", "unfinished_searches"]

@@ -108,7 +108,7 @@ def expansion(path) -> tuple[str, list[Path]]:
 def _find_without_ros(subst, path: Path, failed: list):
     """``$(find pkg)`` resolved as a ``package://`` target is, for the expansion's duration; the error of one that
     cannot be resolved is kept in ``failed`` (xacro wraps what it raises in its own message)."""
-    from relacc.reading.packages import package_folders
+    from relacc.reading.packages import CRAWL_LIMIT, package_folders, unfinished_searches
 
     saved = subst._eval_find
 
@@ -116,9 +116,12 @@ def _find_without_ros(subst, path: Path, failed: list):
         folder = next(package_folders(pkg, path), None)
         if folder is not None:
             return str(folder)
+        cut = unfinished_searches(path)
         failed.append(ModelError(f"{path}: $(find {pkg}): no package {pkg!r} above the file, in its repository or in "
                                  "ROS_PACKAGE_PATH: no folder so named, and no package.xml naming it (relacc finds a "
-                                 "package as ROS does, without ROS; set ROS_PACKAGE_PATH to the folders that hold it)"))
+                                 "package as ROS does, without ROS; set ROS_PACKAGE_PATH to the folders that hold it)"
+                                 + (f"; the search of {', '.join(cut)} stopped after {CRAWL_LIMIT:,} folders"
+                                    if cut else "")))
         raise failed[-1]
 
     subst._eval_find = find
