@@ -351,12 +351,16 @@ def test_models_only_skips_the_files_of_a_description_repository_that_hold_no_ro
                                              '<parent link="base_link"/><child link="camera"/></joint>\n</robot>\n')
     (tmp_path / "tool.urdf").write_text('<robot name="tool"><link name="a"/><link name="b"/><joint name="w" '
                                         'type="fixed"><parent link="a"/><child link="b"/></joint></robot>')
+    # a MuJoCo scene of a floor and lights (NASA-JSC-Robotics/surface_robotics_mockups_description `041036d`,
+    # mujoco/cpc/scene.xml, the robot in another file): no <body> at all
+    (tmp_path / "scene.xml").write_text('<mujoco><worldbody><light pos="0 0 2"/><geom type="plane" size="1 1 0.1"/>'
+                                        "</worldbody></mujoco>")
     (tmp_path / "arm.urdf").write_text(GOOD)
     (tmp_path / "broken.urdf").write_text(GOOD.replace('<parent link="base"/>', '<parent link="nowhere"/>'))
-    skipped = ["macros.xacro", "fragment.xacro", "tool.urdf"]
+    skipped = ["macros.xacro", "fragment.xacro", "tool.urdf", "scene.xml"]
     assert main(["compare", "--models-only", "--states", "2", *skipped, "arm.urdf", "broken.urdf"]) == 2
     out, err = capsys.readouterr()
-    assert err.count("\n") == 1 and "skipped 3 files with no robot to compare" in err, err
+    assert err.count("\n") == 1 and "skipped 4 files with no robot to compare" in err, err
     assert all(name in err for name in skipped), err
     assert "arm.urdf" in out and "broken.urdf" in out and "macros.xacro" not in out, out
     assert main(["compare", "--models-only", "--states", "2", *skipped, "arm.urdf"]) == 0

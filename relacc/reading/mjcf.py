@@ -47,7 +47,7 @@ import numpy as np
 
 from relacc.core.tolerances import MJMINVAL, VERTEX_ROUNDING
 from relacc.core.tree.model import Body, Joint, Point, Tree
-from relacc.errors import ModelError
+from relacc.errors import ModelError, NotARobot
 from relacc.files import note_input, regular_file
 from relacc.reading import frames, inertia, physical
 from relacc.reading.model import Coupling, Reading
@@ -615,7 +615,7 @@ class _Reader:
             for site in world.findall("site"):  # the world's sites: points of the world
                 self._site(site, -1, np.zeros(3), np.eye(3), "main")
         if not self.bodies:
-            raise ModelError(f"{self.path}: the MJCF has no <body> in its <worldbody>: there is nothing to evaluate")
+            raise NotARobot(f"{self.path}: the MJCF has no <body> in its <worldbody>: there is nothing to evaluate")
         self._compiler_masses()
         gravity, disabled = np.array([0.0, 0.0, -9.81]), False
         for option in self.root.findall("option"):
