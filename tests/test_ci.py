@@ -269,7 +269,9 @@ def test_find_and_package_uris_name_the_package_its_package_xml_names(tmp_path, 
     arm.write_text(XACRO.replace('<xacro:macro name="box_inertial"',
                                  '<xacro:include filename="$(find arm_description)/urdf/inertial.xacro"/>'
                                  '<xacro:macro name="unused"').replace("${IZZ}", "0"))
-    assert list(package_folders("arm_description", arm)) == [checkout]
+    (checkout / "arm_description").mkdir()  # an ament_python package's module folder, named like the package
+    (checkout / "arm_description" / "__init__.py").write_text("")
+    assert list(package_folders("arm_description", arm))[0] == checkout  # the manifest's folder, not the module's
     assert resolve_uri("package://arm_description/meshes/part.stl", arm) == checkout / "meshes" / "part.stl"
     assert resolve_uri("package://arm_description/meshes/none.stl", arm) is None
     monkeypatch.chdir(tmp_path)
@@ -364,6 +366,12 @@ def test_models_only_skips_the_files_of_a_description_repository_that_hold_no_ro
     assert all(name in err for name in skipped), err
     assert "arm.urdf" in out and "broken.urdf" in out and "macros.xacro" not in out, out
     assert main(["compare", "--models-only", "--states", "2", *skipped, "arm.urdf"]) == 0
+    capsys.readouterr()
+    # a file that is not there is no "file that is not a robot description": a CI step's glob matching nothing
+    # (`relacc compare --models-only robots/*.urdf` hands the pattern itself) was skipped with exit 0
+    assert main(["compare", "--models-only", "--states", "2", "arm.urdf", "robots/*.urdf"]) == 2
+    out, err = capsys.readouterr()
+    assert "robots/*.urdf" in out + err and "not a robot description" not in err, (out, err)
     assert main(["compare", "--models-only", "--states", "2", "macros.xacro"]) == 0
     # every file skipped: the CI files asked for are written all the same (a CI step publishing them finds them)
     assert main(["compare", "--models-only", "--states", "2", "macros.xacro", "--junit", "j.xml", "--sarif",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 
 from relacc.core.tolerances import EPS
@@ -22,8 +23,11 @@ def cmd_compare(args) -> int:
     if getattr(args, "models_only", False):
         from relacc.reading.read import is_description
 
-        skipped = [shown for path, shown in found if not is_description(path)]
-        found = [(path, shown) for path, shown in found if is_description(path)]
+        def other(path) -> bool:  # a file that reads as something else; one missing or unreadable is an error
+            return os.path.isfile(path) and os.access(path, os.R_OK) and not is_description(path)
+
+        skipped = [shown for path, shown in found if other(path)]
+        found = [(path, shown) for path, shown in found if not other(path)]
         if skipped:
             print(f"relacc compare: skipped {len(skipped)} file{'s' if len(skipped) > 1 else ''} that "
                   f"{'are' if len(skipped) > 1 else 'is'} not a robot description: {', '.join(skipped[:5])}"

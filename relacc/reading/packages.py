@@ -25,9 +25,11 @@ def package_folders(package: str, path: Path) -> Iterator[Path]:
     """The folders that may be the ROS package ``package`` for a file at ``path``, nearest first, found as ROS finds a
     package but without ROS:
 
-    * each folder above the file that is named ``package``, holds a folder so named, or holds a ``package.xml`` whose
-      ``<name>`` is ``package``, itself or one folder down (ROS finds a package by that name, not by its folder's: a
-      repository cloned under another name, as a CI checkout is, is still the package);
+    * each folder above the file that holds a ``package.xml`` whose ``<name>`` is ``package``, itself or one folder
+      down (ROS finds a package by that name, not by its folder's: a repository cloned under another name, as a CI
+      checkout is, is still the package), then, at the same level, a folder named ``package`` whose own
+      ``package.xml``, if any, names no other (a package's Python module, ``ugv_description/ugv_description/``, is
+      not the package: LI-DC-Long-Island-Deer-Chaser/ugv_description);
     * then the packages of the file's repository (the nearest folder above it holding ``.git``) and of each folder of
       :data:`PACKAGE_PATH`, searched as colcon and ``rospack`` search a workspace: every depth, a folder holding a
       ``package.xml`` is a package and is not searched further, hidden folders and those holding a marker of
@@ -42,13 +44,13 @@ def package_folders(package: str, path: Path) -> Iterator[Path]:
         return fresh
 
     for folder in path.resolve().parents:
-        if folder.name == package and new(folder):
-            yield folder
-        if (folder / package).is_dir() and new(folder / package):
-            yield folder / package
         for manifest in [folder / "package.xml", *sorted(folder.glob("*/package.xml"))]:  # read only when asked on
             if _package_name(manifest) == package and new(manifest.parent):
                 yield manifest.parent
+        for named in (folder, folder / package):  # a folder of the package's name, without a manifest naming another
+            if named.name == package and named.is_dir() and _package_name(named / "package.xml") in (None, package) \
+                    and new(named):
+                yield named
     for root in _workspaces(path):
         found = _crawled(str(root))[0].get(package)
         if found is not None and new(Path(found)):
