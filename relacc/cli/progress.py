@@ -65,12 +65,13 @@ def _compile_record() -> dict:
         return {}
 
 
-NOTICE: dict = {"listening": False, "quiet": False, "root": "", "compiled": set(), "since": 0.0, "shown": False,
-                "expected": {}}
+NOTICE: dict = {"listening": False, "quiet": False, "compiled": set(), "since": 0.0, "shown": False, "expected": {},
+                "waited": False}
 """The compile bar's state in this process: one listener (``main`` may run many times in a process); for the
-outermost compilation under way (how deep numba is in it: :data:`relacc.kernels.jit.COMPILING`), its kernel, the
-kernels compiled under it, the record's seconds for them, the compiling seconds when it began
-(:func:`relacc.kernels.jit.compiling_seconds`), and whether its bar is shown."""
+outermost compilation under way (how deep numba is in it: :data:`relacc.kernels.jit.COMPILING`), the kernels
+compiled under it, the record's seconds for them, the compiling seconds when it began
+(:func:`relacc.kernels.jit.compiling_seconds`), whether its bar is shown, and whether it waited for another
+process."""
 
 
 def compile_bar() -> str:
@@ -86,7 +87,7 @@ def compile_bar() -> str:
     done = sum(NOTICE["expected"].get(name, 0.0) for name in NOTICE["compiled"])
     left = sum(v for name, v in NOTICE["expected"].items() if name not in NOTICE["compiled"])
     if COMPILING["depth"] == 0:
-        return f"{COMPILE_LABEL}: {'ready' if NOTICE.get('waited') else 'compiled'} in {now:.0f} s"
+        return f"{COMPILE_LABEL}: {'ready' if NOTICE['waited'] else 'compiled'} in {now:.0f} s"
     if not NOTICE["expected"]:
         return f"{COMPILE_LABEL}: {now:.0f} s, {len(NOTICE['compiled'])} kernels so far"
     pace = now / done if done >= 2.0 else 1.0
@@ -119,8 +120,8 @@ def compile_notice(quiet: bool) -> None:
             if NOTICE["quiet"] or not kernel_name(ev).startswith("relacc."):
                 return
             if COMPILING["depth"] == 1:  # an outermost compilation begins
-                NOTICE.update(root=kernel_name(ev), expected=recorded_compile_seconds(kernel_name(ev)),
-                              compiled=set(), since=compiling_seconds(), shown=False, waited=False)
+                NOTICE.update(expected=recorded_compile_seconds(kernel_name(ev)), compiled=set(),
+                              since=compiling_seconds(), shown=False, waited=False)
             if (ev.data or {}).get("waiting"):  # another process compiles this kernel (kernels/jit's lock): said now,
                 end_line()                      # as nothing else happens here until it has
                 NOTICE.update(shown=True, waited=True)

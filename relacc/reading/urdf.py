@@ -239,8 +239,7 @@ def read(path, variant: frozenset = frozenset()) -> Reading:
                 dry = number(dyn, "friction", 0.0) if dyn is not None else 0.0
                 if dry:
                     friction[jname] = dry
-        repeated = link.find("inertial") is not None and len(link.find("inertial").findall("inertia")) > 1
-        if repeated:
+        if len(link.find("inertial").findall("inertia") if link.find("inertial") is not None else ()) > 1:
             repeats.append(name)
         mass, com, inertia, where, written, digits = _inertial(link, normalized, "last_inertia" in variant)
         if written is not None:
@@ -373,7 +372,7 @@ def _inertial(link: Node, normalized, last: bool = False) -> tuple:
         return 0.0, np.zeros(3), np.zeros((3, 3)), "", None, 0.0
     pos, R = _origin(inertial, normalized)
     tensors = inertial.findall("inertia")
-    mass_node, tensor = inertial.find("mass"), (tensors[-1] if last and tensors else inertial.find("inertia"))
+    mass_node, tensor = inertial.find("mass"), (tensors[-1 if last else 0] if tensors else None)
     mass = number(mass_node, "value", 0.0) if mass_node is not None else 0.0
     I, digits = np.zeros((3, 3)), 0.0
     if tensor is not None:

@@ -163,6 +163,11 @@ def source_places(paths) -> Callable[..., tuple[str, int] | None]:
                             None if kind is None or SUBSTITUTION.search(kind) else kind,
                             SUBSTITUTION.split(value), str(path), bisect.bisect_left(ends, start.start()) + 1))
 
+    calls: dict[str, list] = {}  # a macro call's literal name: where it is called
+    for t, _, parts, f, n in entries:
+        if t == "xacro:" and len(parts) == 1:
+            calls.setdefault(parts[0], []).append((f, n))
+
     def one(found: list) -> tuple[str, int] | None:
         best = max((k for k, _ in found), default=None)
         chosen = [at for k, at in found if k == best]
@@ -178,10 +183,6 @@ def source_places(paths) -> Callable[..., tuple[str, int] | None]:
                        and re.fullmatch(".*".join(map(re.escape, p)), name)])
         if matched is not None:
             return matched
-        calls: dict[str, list] = {}
-        for t, _, parts, f, n in entries:
-            if t == "xacro:" and len(parts) == 1:
-                calls.setdefault(parts[0], []).append((f, n))
         return one([(len(v), at[0]) for v, at in calls.items() if len(at) == 1 and len(v) < len(name)
                     and name.endswith(v) and not name[-len(v) - 1].isalnum()])
 

@@ -723,7 +723,7 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
                 out.append(Difference("dropped", el, "coupling", mine, None, None, c.place, rb.source))
                 continue
             o, m = through  # B ties the two through other joints: its couplings' lines are in B's own entries
-            _number(out, el, "coupling", mine, [sf * o, sf * sl * m, 0.0, 0.0, 0.0], tol, c.place, rb.source)
+            _number(out, el, "coupling", mine, _in_signs(o, m, (0.0, 0.0, 0.0), sf, sl), tol, c.place, rb.source)
             continue
         seen.add((other.follower, other.leader))
         if flipped:  # B writes q_l = o + m q_f: A's q_f = (q_l - o) / m, in A's signs
@@ -733,7 +733,7 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
                 continue
             theirs_in_a = [-other.offset / (sf * other.multiplier), 1.0 / (sl * sf * other.multiplier), 0.0, 0.0, 0.0]
         else:
-            theirs_in_a = _in_signs(other, sf, sl)
+            theirs_in_a = _in_signs(other.offset, other.multiplier, other.higher, sf, sl)
         _number(out, el, "coupling", mine, theirs_in_a, tol, c.place, other.place)
     for c in rb.couplings:
         if (c.follower, c.leader) in seen or c.follower not in to_a or (c.leader is not None and c.leader not in to_a):
@@ -742,18 +742,18 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
         (fa, sf), (la, sl) = to_a[c.follower], to_a[c.leader] if c.leader is not None else (None, 1.0)
         through = _through(roots_a, fa, la) if la is not None else None
         if through is not None:  # A ties the two through other joints
-            _number(out, el, "coupling", list(through) + [0.0, 0.0, 0.0], _in_signs(c, sf, sl), tol, ra.source,
-                    c.place)
+            _number(out, el, "coupling", list(through) + [0.0, 0.0, 0.0],
+                    _in_signs(c.offset, c.multiplier, c.higher, sf, sl), tol, ra.source, c.place)
             continue
         out.append(Difference("added", el, "coupling", None, [c.offset, c.multiplier, *c.higher], None, ra.source,
                               c.place))
 
 
-def _in_signs(c, sf: float, sl: float) -> list[float]:
-    """Coupling ``c``'s ``[offset, multiplier, higher...]`` for the other file's joints, whose coordinates are
-    ``sf`` and ``sl`` (+1 or -1) times its follower's and leader's: ``q_f = o + m q_l + sum h_p q_l^(p+2)`` becomes
+def _in_signs(offset: float, multiplier: float, higher, sf: float, sl: float) -> list[float]:
+    """A coupling ``q_f = o + m q_l + sum h_p q_l^(p+2)`` as ``[offset, multiplier, higher...]`` for the other
+    file's joints, whose coordinates are ``sf`` and ``sl`` (+1 or -1) times its follower's and leader's:
     ``sf o + sf sl m q_l' + sum sf sl^(p+2) h_p q_l'^(p+2)``."""
-    return [sf * c.offset, sf * sl * c.multiplier, *(sf * sl ** (p + 2) * h for p, h in enumerate(c.higher))]
+    return [sf * offset, sf * sl * multiplier, *(sf * sl ** (p + 2) * h for p, h in enumerate(higher))]
 
 
 def _roots(couplings) -> dict:
