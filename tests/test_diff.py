@@ -736,3 +736,37 @@ def test_a_floating_base_s_children_are_matched_to_the_fixed_base_s_by_structure
     assert any("free joint 'floating_base' (of base) held" in n for n in d.notes), d.notes
     assert {row["quantity"] for row in d.dynamics} == {"mass matrix", "bias forces", "forward dynamics"}
     assert not any(row["beyond"] for row in d.dynamics), d.dynamics
+
+
+def test_a_body_with_several_joints_is_the_same_part_as_a_urdf_chain_of_massless_links(tmp_path):
+    """The shipped pair: the MJCF gives each body six joints (three slides, three hinges), the URDF reaches each
+    through five massless links, one joint each (URDF has one joint a link). relacc called them "not the same robot",
+    20 parts unmatched. A massless link with joints whose one child has joints is a frame of that child's part, its
+    joints first. What the files really write differently (their texts): the URDF's placeholder limits of +-1000 on
+    all twelve joints, and gravity (the MJCF's option is off; a URDF has none, read as standard gravity)."""
+    from relacc.fixtures.shipped import models_dir
+
+    d = diff(models_dir() / "two_body_euler.xml", models_dir() / "two_body_euler.urdf")
+    joints = [f"s{i}_{x}" for i in (1, 2) for x in "xyz"] + [f"theta_B{i}_{k}" for i in (1, 2) for k in (1, 2, 3)]
+    assert kinds(d) == sorted([("added", j, "range") for j in joints] + [("changed", "world", "gravity")]), kinds(d)
+    assert [(p["a"], p["b"], p["how"]) for p in d.matched["parts"]] == [("B1", "B1", "joint name"),
+                                                                       ("B2", "B2", "joint name")]
+    assert d.matched["parts"][0]["bodies_b"] == ["B1", "B1_s1_x_link", "B1_s1_y_link", "B1_s1_z_link",
+                                                 "B1_theta_B1_1_link", "B1_theta_B1_2_link"]
+    rows = {row["quantity"]: row for row in d.dynamics}
+    # the mass matrix does not see gravity: the same written numbers, composed through six joints of one body in A
+    # and six bodies in B, agree to rounding (a few hundred eps of the largest entry at most; 1e-12 is 4,500 eps)
+    assert not rows["mass matrix"]["beyond"] and rows["mass matrix"]["normalized"] <= 1e-12, rows
+    # gravity's: A given B's gravity agrees to rounding, the forward dynamics' times the mass matrix's condition number
+    # (up to 1.8e5 at these states; 1e-9 is 25 eps cond)
+    for quantity in ("bias forces", "forward dynamics"):
+        assert rows[quantity]["beyond"] and rows[quantity]["explained"]["normalized"] <= 1e-9, rows
+
+    # an armature on one of A's frames' joints (the URDF as A): A given B's armatures puts it on that joint alone
+    heavy = tmp_path / "armature.xml"
+    heavy.write_text((models_dir() / "two_body_euler.xml").read_text().replace(
+        'name="theta_B1_2" type="hinge"', 'name="theta_B1_2" type="hinge" armature="0.5"'))
+    d = diff(models_dir() / "two_body_euler.urdf", heavy)
+    assert ("added", "theta_B1_2", "armature") in kinds(d), kinds(d)
+    rows = {row["quantity"]: row for row in d.dynamics}
+    assert rows["mass matrix"]["beyond"] and rows["mass matrix"]["explained"]["normalized"] <= 1e-12, rows

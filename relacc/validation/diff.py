@@ -6,6 +6,8 @@ the physics depends on, in a way that does not depend on either file's choice of
 * **Parts.** A body with joints and every body welded to it (a URDF link on a fixed joint, an MJCF body without
   joints) make one *part*: its mass, its mass centre and its inertia about the mass centre are the composite's. Bodies
   welded to the world make the world's part: on a fixed base their mass moves nothing, and is said once (a note).
+  A massless body with joints whose one child has joints is a frame of that child's part, its joints first (URDF
+  has one joint a link: an MJCF body's six joints are a URDF chain of five massless links and the massive one).
 * **At the reference configuration** (every joint at its ``ref``: a file's zero), in world components: each part's
   mass centre, inertia and gravity compensation (MJCF ``gravcomp``: the fraction of its weight MuJoCo holds up), each
   joint's axis and (hinge, ball) anchor, zero, armature, damping, friction loss, spring and range, a hinge's anchor
@@ -109,12 +111,13 @@ def _show(x) -> str:
 
 @dataclass(frozen=True, eq=False)
 class Part:
-    """A moving part of one file (module docstring): its first body ``name`` (the one with joints; ``""`` the
-    world's part), ``bodies`` (names, that body first), the ``parent`` part's index (-1 the world), its joints with
-    their world ``anchors`` and ``axes`` ``(nj, 3)``, ``mass`` (kg), ``com`` ``(3,)`` (m) and ``inertia`` ``(3, 3)``
-    about it (kg m^2), world components at the reference configuration, ``R``/``origin`` its first body's frame
-    in the world, and the tolerance scales (module docstring) of each quantity (``turn_scale``: of its frame's
-    orientation)."""
+    """A moving part of one file (module docstring): its body ``name`` (the one with joints that carries the rest;
+    ``""`` the world's part), ``bodies`` (names, that body first), the ``parent`` part's index (-1 the world), its
+    joints (its massless frames' first, root first: module docstring) with the name of each one's body
+    (``joint_bodies``) and their world ``anchors`` and ``axes`` ``(nj, 3)``, ``mass`` (kg), ``com`` ``(3,)`` (m) and
+    ``inertia`` ``(3, 3)`` about it (kg m^2), world components at the reference configuration, ``R``/``origin`` its
+    body's frame in the world, and the tolerance scales (module docstring) of each quantity (``turn_scale``: of its
+    frame's orientation)."""
 
     name: str
     bodies: tuple
@@ -122,6 +125,7 @@ class Part:
     parent: int
     index: int
     joints: tuple
+    joint_bodies: tuple
     anchors: np.ndarray
     axes: np.ndarray
     anchor_scales: tuple
@@ -145,6 +149,16 @@ def parts_of(reading) -> tuple[list[Part], Part]:
     R = [np.eye(3)] * n
     p = [np.zeros(3)] * n
     chain: list[list[int]] = [[] for _ in range(n)]
+    children: list[list[int]] = [[] for _ in range(n)]
+    for b, body in enumerate(tree.bodies):
+        if body.parent >= 0:
+            children[body.parent].append(b)
+    top = list(range(n))  # a massless frame's part is its one child's (module docstring); children follow parents
+    for b in reversed(range(n)):
+        body, kids = tree.bodies[b], children[b]
+        if body.joints and len(kids) == 1 and tree.bodies[kids[0]].joints and body.mass == 0 and \
+                not np.any(body.inertia):
+            top[b] = top[kids[0]]
     owner = [-1] * n
     for b, body in enumerate(tree.bodies):
         parent = body.parent
@@ -152,7 +166,7 @@ def parts_of(reading) -> tuple[list[Part], Part]:
         R[b] = Rp @ matrix_from_quaternion(body.quat)
         p[b] = pp + Rp @ body.pos
         chain[b] = ([] if parent < 0 else chain[parent]) + [b]
-        owner[b] = b if body.joints else (owner[parent] if parent >= 0 else -1)
+        owner[b] = top[b] if body.joints else (owner[parent] if parent >= 0 else -1)
 
     def scale(b: int, x: np.ndarray) -> float:
         """Position scale of the world point ``x`` moved with body ``b``: the placements on its path, and pi times
@@ -171,6 +185,8 @@ def parts_of(reading) -> tuple[list[Part], Part]:
     parts: list[Part] = []
     world = None
     for o, members in groups.items():
+        if o >= 0:  # the body that carries the rest first
+            members = [o] + [b for b in members if b != o]
         body_names = tuple(tree.bodies[b].name for b in members)
         masses = tuple(float(tree.bodies[b].mass) for b in members)
         m = float(sum(masses))
@@ -190,21 +206,24 @@ def parts_of(reading) -> tuple[list[Part], Part]:
             c_scale += mi * (s + float(np.linalg.norm(d)))
         c_scale = c_scale / m if m > 0 else 0.0
         if o < 0:
-            world = Part("", body_names, masses, -1, -1, (), np.zeros((0, 3)), np.zeros((0, 3)), (), (), m, com,
+            world = Part("", body_names, masses, -1, -1, (), (), np.zeros((0, 3)), np.zeros((0, 3)), (), (), m, com,
                          inertia, c_scale, i_scale, np.eye(3), np.zeros(3), np.zeros(3), False)
             continue
+        frames = sorted(b for b in members if tree.bodies[b].joints)  # root first: the order the joints act in
+        joints = tuple(j for b in frames for j in tree.bodies[b].joints)
+        anchors = np.array([p[b] + R[b] @ j.pos for b in frames for j in tree.bodies[b].joints]).reshape(-1, 3)
+        axes = np.array([R[b] @ j.axis for b in frames for j in tree.bodies[b].joints]).reshape(-1, 3)
+        depth = [len(chain[b]) for b in frames for _ in tree.bodies[b].joints]
+        holder = [b for b in frames for _ in tree.bodies[b].joints]
+        parent = tree.bodies[frames[0]].parent
         body = tree.bodies[o]
-        joints = body.joints
-        anchors = np.array([p[o] + R[o] @ j.pos for j in joints]).reshape(-1, 3)
-        axes = np.array([R[o] @ j.axis for j in joints]).reshape(-1, 3)
-        parent = body.parent
         parts.append(Part(body.name, body_names, masses, index[owner[parent]] if parent >= 0 and owner[parent] >= 0
-                          else -1, index[o], joints, anchors, axes,
-                          tuple(scale(o, a) for a in anchors), tuple(1 + np.pi * len(chain[o]) for _ in joints),
+                          else -1, index[o], joints, tuple(tree.bodies[b].name for b in holder), anchors, axes,
+                          tuple(scale(b, a) for b, a in zip(holder, anchors)), tuple(1 + np.pi * d for d in depth),
                           m, com, inertia, c_scale, i_scale, R[o], p[o], body.com.copy(), len(members) == 1,
                           1 + np.pi * len(chain[o])))
     if world is None:
-        world = Part("", (), (), -1, -1, (), np.zeros((0, 3)), np.zeros((0, 3)), (), (), 0.0, np.zeros(3),
+        world = Part("", (), (), -1, -1, (), (), np.zeros((0, 3)), np.zeros((0, 3)), (), (), 0.0, np.zeros(3),
                      np.zeros((3, 3)), 0.0, 0.0, np.eye(3), np.zeros(3), np.zeros(3), False)
     return parts, world
 
@@ -613,7 +632,7 @@ def _welded(reading, parts: list[Part], only: list) -> tuple:
 
     if not only:
         return reading, []
-    held = {parts[i].name for i in only}
+    held = {name for i in only for name in parts[i].joint_bodies}
     t = reading.tree
     names = [j.name or f"(unnamed, of {b.name})" for b in t.bodies if b.name in held for j in b.joints]
     bodies = tuple(replace(b, joints=()) if b.name in held else b for b in t.bodies)
@@ -842,12 +861,13 @@ def _joint_terms(out, ra, rb, a: Part, b: Part, ja: int, jb: int, R, p, tol) -> 
         if j.type == "hinge":
             off = off - float(off @ a.axes[ja]) * a.axes[ja]
         if np.linalg.norm(off) > tol(a.anchor_scales[ja] + b.anchor_scales[jb]):
-            pos_a = ra.tree.bodies[ra.tree.body(a.name)].pos
-            pos_b = rb.tree.bodies[rb.tree.body(b.name)].pos
+            body_a, body_b = a.joint_bodies[ja], b.joint_bodies[jb]
+            pos_a = ra.tree.bodies[ra.tree.body(body_a)].pos
+            pos_b = rb.tree.bodies[rb.tree.body(body_b)].pos
             if rounded_pair(pos_a, pos_b):  # the body's place in its parent, written to fewer digits
                 out.append(Difference("rounded", el, "anchor (position in the parent)", _values(pos_a),
-                                      _values(pos_b), _relative(pos_a, pos_b), ra.place("body", a.name),
-                                      rb.place("body", b.name)))
+                                      _values(pos_b), _relative(pos_a, pos_b), ra.place("body", body_a),
+                                      rb.place("body", body_b)))
             else:
                 out.append(Difference("changed", el, "anchor", _values(a.anchors[ja]), _values(anchor_b),
                                       float(np.linalg.norm(off)), wa, wb))

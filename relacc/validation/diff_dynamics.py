@@ -55,12 +55,12 @@ def coordinate_map(ra, rb, parts_a, parts_b, m, R, p, signs, joints: dict
         jp, only_a, only_b = joints[(i, k)]
         if only_a or only_b:
             return None, f"joints without a counterpart in {a.name}"
-        ba, bb = ta.body(a.name), tb.body(b.name)
         coincide = np.allclose(a.R, R @ b.R, rtol=0, atol=1e-6) and np.allclose(a.origin, R @ b.origin + p, rtol=0,
                                                                                   atol=1e-6)
         for ja, jb in jp:
             j, jbj = a.joints[ja], b.joints[jb]
-            na, nb = jindex_a[(ba, j.name)], jindex_b[(bb, jbj.name)]
+            na = jindex_a[(ta.body(a.joint_bodies[ja]), j.name)]
+            nb = jindex_b[(tb.body(b.joint_bodies[jb]), jbj.name)]
             if j.type != jbj.type:
                 return None, f"joint {j.name} is a {j.type} in A and a {jbj.type} in B"
             da, db = ta.dofadr[na], tb.dofadr[nb]
@@ -156,10 +156,10 @@ def compare_dynamics(ra, rb, parts_a, parts_b, m, R, p, signs, joints, rtol, sta
 
 def with_inertials_of(ra, rb, parts_a, parts_b, m, R, p, joints):
     """A's reading with each matched part's mass, mass centre and inertia B's (B's world values at the reference
-    configuration, taken to A's world by the placement ``x_A = R x_B + p``, put in the part's first body; its other
-    bodies massless), each matched joint's armature B's, and B's gravity as B writes it (in its own world: a placement
-    that turns the robot stays a difference of geometry): A as it would be if the differences of those numbers were
-    all there is (module docstring). ``joints`` as in :func:`coordinate_map`."""
+    configuration, taken to A's world by the placement ``x_A = R x_B + p``, put in the part's body that carries the
+    rest; its other bodies massless), each matched joint's armature B's, and B's gravity as B writes it (in its own
+    world: a placement that turns the robot stays a difference of geometry): A as it would be if the differences of
+    those numbers were all there is (module docstring). ``joints`` as in :func:`coordinate_map`."""
     from relacc.core.tree.model import Tree
 
     t = ra.tree
@@ -170,12 +170,18 @@ def with_inertials_of(ra, rb, parts_a, parts_b, m, R, p, joints):
             n = t.body(name)
             bodies[n] = replace(bodies[n], mass=0.0, com=np.zeros(3), inertia=np.zeros((3, 3)), written=0.0)
         first = t.body(a.name)
-        armature = {ja: b.joints[jb].armature for ja, jb in joints[(i, k)][0]}
         inertia = a.R.T @ (R @ b.inertia @ R.T) @ a.R
         bodies[first] = replace(  # B's numbers as written: not held to A's body's physical checks (B's may fail them)
             bodies[first], mass=b.mass, com=a.R.T @ (R @ b.com + p - a.origin), inertia=0.5 * (inertia + inertia.T),
-            physical=False,
-            joints=tuple(replace(j, armature=armature.get(n, j.armature)) for n, j in enumerate(bodies[first].joints)))
+            physical=False)
+        armature = {ja: b.joints[jb].armature for ja, jb in joints[(i, k)][0]}
+        ja = 0
+        for name in dict.fromkeys(a.joint_bodies):  # each body with joints, root first: the part's joints in order
+            n = t.body(name)
+            held = bodies[n].joints
+            bodies[n] = replace(bodies[n], joints=tuple(replace(j, armature=armature.get(ja + x, j.armature))
+                                                        for x, j in enumerate(held)))
+            ja += len(held)
     tree = Tree(t.name, tuple(bodies), gravity=rb.tree.gravity, points=t.points, source=t.source)
     return replace(ra, tree=tree)
 
