@@ -161,9 +161,11 @@ def test_recorded_runs_ratios_are_time_ratios(tmp_path):
     data = {"machine": {"date": "2026-11-22", "cpu": "x", "logical_cpus": 2}, "n_states": 10,
             "rows": [row("relacc", 0.004, 0.003), row("relacc-1-thread", 0.008, 0.007), row("pinocchio", 0.2, 0.15),
                      row("mujoco", 0.3, 0.25)]}
-    (tmp_path / "throughput-x.json").write_text(json.dumps(data))
-    (run,) = recorded_runs(tmp_path)
-    r = run["ratios"][(2, "acceleration")]
+    for name in ("throughput-2026-11-22-run10.json", "throughput-2026-11-22-run9.json", "throughput-x.json"):
+        (tmp_path / name).write_text(json.dumps(data))
+    runs = recorded_runs(tmp_path)  # oldest first, run numbers as numbers; a file not named as a run is not one
+    assert [run["file"] for run in runs] == ["throughput-2026-11-22-run9.json", "throughput-2026-11-22-run10.json"]
+    r = runs[-1]["ratios"][(2, "acceleration")]
     assert r["pinocchio"] == 0.2 / 0.004 and r["pinocchio_best"] == 0.15 / 0.003 and r["mujoco"] == 0.3 / 0.004
     assert r["one_thread_over_pinocchio"] == 0.2 / 0.008
     assert recorded_runs(tmp_path / "missing") == []
@@ -188,7 +190,7 @@ def test_batched_ratios_compare_like_with_like(tmp_path):
     assert (r["dynamics"], r["dynamics_best"]) == (1200.0 / 300.0, 1120.0 / 280.0)
     assert (r["ensemble"], r["ensemble_best"]) == (8.0, 8.0)
     assert (r["step"], r["step_best"]) == (3.5, 4.0) and (r["step_loop"], r["step_loop_best"]) == (6.5, 8.0)
-    (tmp_path / "batched-x.json").write_text(json.dumps({"machine": {"date": "d"}, "rows": rows}))
+    (tmp_path / "batched-2026-11-22-run1.json").write_text(json.dumps({"machine": {"date": "d"}, "rows": rows}))
     assert [run["ratios"] for run in recorded_runs(tmp_path)] == [r]
 
 

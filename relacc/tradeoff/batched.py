@@ -253,7 +253,9 @@ def recorded_runs(directory: Path | None = None) -> list[dict]:
 
         directory = recorded_dir()
     directory = Path(directory)
-    paths = sorted(directory.glob("batched-*.json")) if directory.is_dir() else []
+    from relacc.fixtures.shipped import recorded_runs as runs_of
+
+    paths = runs_of("batched", directory)
     return [{"file": p.name, "machine": (d := json.loads(p.read_text()))["machine"], "ratios": ratios(d)}
             for p in paths]
 

@@ -178,7 +178,9 @@ def recorded_runs(directory: Path | None = None) -> list[dict]:
         directory = recorded_dir()
     directory = Path(directory)
     runs = []
-    for path in sorted(directory.glob("throughput-*.json")) if directory.is_dir() else []:
+    from relacc.fixtures.shipped import recorded_runs as runs_of
+
+    for path in runs_of("throughput", directory):
         data = json.loads(path.read_text())
         rows = {(r["case"], r["who"], r["output"]): r for r in data["rows"]}
         ratios = {}
