@@ -770,3 +770,29 @@ def test_a_body_with_several_joints_is_the_same_part_as_a_urdf_chain_of_massless
     assert ("added", "theta_B1_2", "armature") in kinds(d), kinds(d)
     rows = {row["quantity"]: row for row in d.dynamics}
     assert rows["mass matrix"]["beyond"] and rows["mass matrix"]["explained"]["normalized"] <= 1e-12, rows
+
+
+def test_a_massless_link_given_a_small_mass_by_the_other_file_stays_a_part_of_its_own(tmp_path):
+    """MuJoCo refuses a massless body that moves, so an MJCF made from a URDF with a massless link between two
+    jointed ones gives it a small mass. Then the link is a part in both files (not a frame of its child's part in the
+    URDF alone, which left the child's joint and part unmatched): one mass and one inertia changed, and the 1 g
+    changes the dynamics by less than printing does."""
+    j2 = '''  <joint name="j2" type="revolute">
+    <parent link="l1"/><child link="l2"/><origin xyz="0 0.138 0" rpy="0 1.5708 0"/>'''
+    tiny = URDF.replace(j2, '''  <joint name="j2a" type="revolute">
+    <parent link="l1"/><child link="l1a"/><origin xyz="0 0.05 0"/><axis xyz="1 0 0"/>
+    <limit lower="-3" upper="3" effort="10" velocity="1"/>
+  </joint>
+  <link name="l1a">
+    <inertial><mass value="0.001"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-6"/></inertial>
+  </link>
+  <joint name="j2" type="revolute">
+    <parent link="l1a"/><child link="l2"/><origin xyz="0 0.088 0" rpy="0 1.5708 0"/>''')
+    assert tiny != URDF
+    _, xml = saved_by_mujoco(tmp_path, tiny)
+    massless = tmp_path / "massless.urdf"
+    massless.write_text(tiny.replace('<inertial><mass value="0.001"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" '
+                                     'iyz="0" izz="1e-6"/></inertial>', ""))
+    d = diff(massless, xml)
+    assert kinds(d) == [("changed", "l1a", "inertia"), ("changed", "l1a", "mass")], kinds(d)
+    assert len(d.dynamics) == 3 and not any(row["beyond"] for row in d.dynamics), d.dynamics

@@ -7,7 +7,8 @@ the physics depends on, in a way that does not depend on either file's choice of
   joints) make one *part*: its mass, its mass centre and its inertia about the mass centre are the composite's. Bodies
   welded to the world make the world's part: on a fixed base their mass moves nothing, and is said once (a note).
   A massless body with joints whose one child has joints is a frame of that child's part, its joints first (URDF
-  has one joint a link: an MJCF body's six joints are a URDF chain of five massless links and the massive one).
+  has one joint a link: an MJCF body's six joints are a URDF chain of five massless links and the massive one), in
+  each file where that leaves fewer parts and joints without a counterpart (:func:`_matched`).
 * **At the reference configuration** (every joint at its ``ref``: a file's zero), in world components: each part's
   mass centre, inertia and gravity compensation (MJCF ``gravcomp``: the fraction of its weight MuJoCo holds up), each
   joint's axis and (hinge, ball) anchor, zero, armature, damping, friction loss, spring and range, a hinge's anchor
@@ -142,8 +143,9 @@ class Part:
     turn_scale: float = 1.0
 
 
-def parts_of(reading) -> tuple[list[Part], Part]:
-    """``(parts, world part)`` of a reading (module docstring), parts in file order (parents first)."""
+def parts_of(reading, frames: bool = True) -> tuple[list[Part], Part]:
+    """``(parts, world part)`` of a reading (module docstring), parts in file order (parents first); ``frames``
+    false: each massless body with joints a part of its own."""
     tree = reading.tree
     n = len(tree.bodies)
     R = [np.eye(3)] * n
@@ -156,7 +158,7 @@ def parts_of(reading) -> tuple[list[Part], Part]:
     top = list(range(n))  # a massless frame's part is its one child's (module docstring); children follow parents
     for b in reversed(range(n)):
         body, kids = tree.bodies[b], children[b]
-        if body.joints and len(kids) == 1 and tree.bodies[kids[0]].joints and body.mass == 0 and \
+        if frames and body.joints and len(kids) == 1 and tree.bodies[kids[0]].joints and body.mass == 0 and \
                 not np.any(body.inertia):
             top[b] = top[kids[0]]
     owner = [-1] * n
@@ -209,13 +211,13 @@ def parts_of(reading) -> tuple[list[Part], Part]:
             world = Part("", body_names, masses, -1, -1, (), (), np.zeros((0, 3)), np.zeros((0, 3)), (), (), m, com,
                          inertia, c_scale, i_scale, np.eye(3), np.zeros(3), np.zeros(3), False)
             continue
-        frames = sorted(b for b in members if tree.bodies[b].joints)  # root first: the order the joints act in
-        joints = tuple(j for b in frames for j in tree.bodies[b].joints)
-        anchors = np.array([p[b] + R[b] @ j.pos for b in frames for j in tree.bodies[b].joints]).reshape(-1, 3)
-        axes = np.array([R[b] @ j.axis for b in frames for j in tree.bodies[b].joints]).reshape(-1, 3)
-        depth = [len(chain[b]) for b in frames for _ in tree.bodies[b].joints]
-        holder = [b for b in frames for _ in tree.bodies[b].joints]
-        parent = tree.bodies[frames[0]].parent
+        jointed = sorted(b for b in members if tree.bodies[b].joints)  # root first: the order the joints act in
+        joints = tuple(j for b in jointed for j in tree.bodies[b].joints)
+        anchors = np.array([p[b] + R[b] @ j.pos for b in jointed for j in tree.bodies[b].joints]).reshape(-1, 3)
+        axes = np.array([R[b] @ j.axis for b in jointed for j in tree.bodies[b].joints]).reshape(-1, 3)
+        depth = [len(chain[b]) for b in jointed for _ in tree.bodies[b].joints]
+        holder = [b for b in jointed for _ in tree.bodies[b].joints]
+        parent = tree.bodies[jointed[0]].parent
         body = tree.bodies[o]
         parts.append(Part(body.name, body_names, masses, index[owner[parent]] if parent >= 0 and owner[parent] >= 0
                           else -1, index[o], joints, tuple(tree.bodies[b].name for b in holder), anchors, axes,
@@ -467,9 +469,7 @@ def diff(path_a, path_b, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: i
 
 def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: int = 0) -> Diff:
     """:func:`diff` of two readings."""
-    parts_a, world_a = parts_of(ra)
-    parts_b, world_b = parts_of(rb)
-    m = match(parts_a, parts_b)
+    (parts_a, world_a), (parts_b, world_b), m, frames_a = _matched(ra, rb)
     out: list[Difference] = []
     notes: list[str] = []
 
@@ -578,8 +578,8 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
         except RelaccError as exc:  # said, not skipped: the rows stand without the explanation
             notes.append(f"the dynamics beyond printing not compared again with A given B's inertial numbers: {exc}")
         else:
-            again, why_not = compare_dynamics(a_with_b, rb, parts_of(a_with_b)[0], parts_b, m, R, p, signs, joints,
-                                              rtol, states, seed)
+            again, why_not = compare_dynamics(a_with_b, rb, parts_of(a_with_b, frames_a)[0], parts_b, m, R, p, signs,
+                                              joints, rtol, states, seed)
             explain(dynamics, again)
             if why_not:
                 notes.append(f"the dynamics beyond printing not compared again with A given B's inertial numbers: "
@@ -608,6 +608,26 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
     trees = {"a": _tree(parts_a, world_a), "b": _tree(parts_b, world_b),
              "pairs": [[i, k, how] for i, k, how in m.pairs]}
     return Diff(str(ra.source), str(rb.source), matched, out, notes, dynamics, rtol, trees, beyond=beyond)
+
+
+def _matched(ra, rb) -> tuple:
+    """``(parts of A, parts of B, their match, whether A's massless frames joined their child's part)``: each file's
+    massless bodies with joints kept parts of their own, or made frames of their one child's part (module
+    docstring), whichever leaves fewest parts and joints without a counterpart, kept parts first: a URDF's chain of
+    massless links against an MJCF body with several joints, and against an MJCF that gave those links a small mass
+    (MuJoCo refuses a massless body that moves)."""
+    parts = {(r, f): parts_of(reading, f) for r, reading in enumerate((ra, rb)) for f in (False, True)}
+    best: tuple | None = None
+    for fa, fb in ((False, False), (True, True), (True, False), (False, True)):
+        (pa, _), (pb, _) = parts[(0, fa)], parts[(1, fb)]
+        m = match(pa, pb)
+        left = len(m.only_a) + len(m.only_b) + sum(len(x) for i, k, _ in m.pairs for x in joint_pairs(pa[i], pb[k])[1:])
+        if best is None or left < best[0]:
+            best = (left, parts[(0, fa)], parts[(1, fb)], m, fa)
+        if not left:
+            break
+    assert best is not None
+    return best[1:]
 
 
 def _held_root(reading, parts: list[Part], only: list, others_only: list) -> tuple | None:
