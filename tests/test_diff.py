@@ -636,7 +636,9 @@ def test_a_coupling_written_through_another_joint_is_the_relation_it_implies(tmp
     if expected is None:
         assert found == [], [x.line() for x in d.differences]
         return
-    assert found == [("changed", "j3", "coupling")] * 2, [x.line() for x in d.differences]
+    # each names its leader: A's q3 on q2, B's on q1
+    assert found == [("changed", "j3", "coupling (on j2)"), ("changed", "j3", "coupling (on j1)")], \
+        [x.line() for x in d.differences]
     (on_q2, on_q1), eps = d.differences, np.finfo(float).eps
     np.testing.assert_allclose(on_q2.a, [0.1, -0.5, 0.0, 0.0, 0.0], rtol=0, atol=0)  # A's, as written
     np.testing.assert_allclose(on_q2.b, expected, rtol=0, atol=4 * eps)  # a few products and sums of printed numbers
@@ -649,11 +651,11 @@ def test_a_coupling_written_through_another_joint_is_the_relation_it_implies(tmp
 
 @pytest.mark.parametrize("edit, expected", [
     (None, []),
-    ("multiplier", [("changed", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], [0.1, -0.4, 0.0, 0.0, 0.0])]),
+    ("multiplier", [("changed", "j3", "coupling (on j2)", [0.1, -0.5, 0.0, 0.0, 0.0], [0.1, -0.4, 0.0, 0.0, 0.0])]),
     ("inverted", []),
-    ("removed", [("dropped", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], None)]),
-    ("inactive", [("dropped", "j3", "coupling", [0.1, -0.5, 0.0, 0.0, 0.0], None)]),
-    ("no mimic in A", [("added", "j3", "coupling", None, [0.1, -0.5, 0.0, 0.0, 0.0])]),
+    ("removed", [("dropped", "j3", "coupling (on j2)", [0.1, -0.5, 0.0, 0.0, 0.0], None)]),
+    ("inactive", [("dropped", "j3", "coupling (on j2)", [0.1, -0.5, 0.0, 0.0, 0.0], None)]),
+    ("no mimic in A", [("added", "j3", "coupling (on j2)", None, [0.1, -0.5, 0.0, 0.0, 0.0])]),
 ])
 def test_a_joint_coupling_is_compared_whichever_way_each_file_writes_it(tmp_path, edit, expected):
     """A URDF's <mimic> and an MJCF's <equality><joint> are one relation, q_follower = offset + multiplier q_leader

@@ -740,7 +740,8 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
     both tied to a third) compared with the relation those imply (:func:`_through`, its linear couplings as one
     system); a coupling the other file does not tie at all is ``dropped`` or ``added``. Couplings of joints without a
     counterpart are left to those joints' ``unmatched`` entries. ``joints``: each matched pair of parts'
-    :func:`joint_pairs`; ``signs``: each matched joint's (-1 where B reverses its axis)."""
+    :func:`joint_pairs`; ``signs``: each matched joint's (-1 where B reverses its axis). The quantity names the
+    leader: ``coupling (on j2)``, ``coupling (on j2 / k2)`` where the files name it differently."""
     to_b = {parts_a[i].joints[ja].name: (parts_b[k].joints[jb].name, signs[(i, ja)])
             for (i, k), (pairs, _, _) in joints.items() for ja, jb in pairs}
     to_a = {b: (a, sign) for a, (b, sign) in to_b.items()}
@@ -752,6 +753,7 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
             continue
         (fb, sf), (lb, sl) = to_b[c.follower], to_b[c.leader] if c.leader is not None else (None, 1.0)
         el = c.follower if c.follower == fb else f"{c.follower} / {fb}"
+        what = _coupling_on(c.leader, lb)
         mine = [c.offset, c.multiplier, *c.higher]
         other, flipped = theirs.get((fb, lb)), False
         if other is None and lb is not None:
@@ -759,33 +761,44 @@ def _coupling_terms(out, ra, rb, parts_a: list[Part], parts_b: list[Part], joint
         if other is None:
             through = _through(roots_b, fb, lb) if lb is not None else None
             if through is None:
-                out.append(Difference("dropped", el, "coupling", mine, None, None, c.place, rb.source))
+                out.append(Difference("dropped", el, what, mine, None, None, c.place, rb.source))
                 continue
             o, m = through  # B ties the two through other joints: its couplings' lines are in B's own entries
-            _number(out, el, "coupling", mine, _in_signs(o, m, (0.0, 0.0, 0.0), sf, sl), tol, c.place, rb.source)
+            _number(out, el, what, mine, _in_signs(o, m, (0.0, 0.0, 0.0), sf, sl), tol, c.place, rb.source)
             continue
         seen.add((other.follower, other.leader))
         if flipped:  # B writes q_l = o + m q_f: A's q_f = (q_l - o) / m, in A's signs
             if other.multiplier == 0 or any(other.higher):
-                out.append(Difference("changed", el, "coupling", mine, [other.offset, other.multiplier,
+                out.append(Difference("changed", el, what, mine, [other.offset, other.multiplier,
                                                                           *other.higher], None, c.place, other.place))
                 continue
             theirs_in_a = [-other.offset / (sf * other.multiplier), 1.0 / (sl * sf * other.multiplier), 0.0, 0.0, 0.0]
         else:
             theirs_in_a = _in_signs(other.offset, other.multiplier, other.higher, sf, sl)
-        _number(out, el, "coupling", mine, theirs_in_a, tol, c.place, other.place)
+        _number(out, el, what, mine, theirs_in_a, tol, c.place, other.place)
     for c in rb.couplings:
         if (c.follower, c.leader) in seen or c.follower not in to_a or (c.leader is not None and c.leader not in to_a):
             continue
         el = c.follower if to_a[c.follower][0] == c.follower else f"{to_a[c.follower][0]} / {c.follower}"
         (fa, sf), (la, sl) = to_a[c.follower], to_a[c.leader] if c.leader is not None else (None, 1.0)
+        what = _coupling_on(la, c.leader)
         through = _through(roots_a, fa, la) if la is not None else None
         if through is not None:  # A ties the two through other joints
-            _number(out, el, "coupling", list(through) + [0.0, 0.0, 0.0],
+            _number(out, el, what, list(through) + [0.0, 0.0, 0.0],
                     _in_signs(c.offset, c.multiplier, c.higher, sf, sl), tol, ra.source, c.place)
             continue
-        out.append(Difference("added", el, "coupling", None, [c.offset, c.multiplier, *c.higher], None, ra.source,
+        out.append(Difference("added", el, what, None, [c.offset, c.multiplier, *c.higher], None, ra.source,
                               c.place))
+
+
+def _coupling_on(leader_a: str | None, leader_b: str | None) -> str:
+    """The quantity of a coupling difference: ``coupling (on LEADER)``, both files' names where they differ; plain
+    ``coupling`` for one that fixes its joint (no leader)."""
+    if leader_a is None and leader_b is None:
+        return "coupling"
+    name = leader_a if leader_b is None or leader_a == leader_b else \
+        leader_b if leader_a is None else f"{leader_a} / {leader_b}"
+    return f"coupling (on {name})"
 
 
 def _in_signs(offset: float, multiplier: float, higher, sf: float, sl: float) -> list[float]:
