@@ -192,6 +192,30 @@ def robot_tolerance(n_links: int) -> float:
     return ROUNDING_FACTOR * EPS * max(int(n_links), 1)
 
 
+def inverse_diagonal_sensitivity(Minv: np.ndarray, moves: np.ndarray, rotational: np.ndarray, masses: np.ndarray,
+                                  inertias: np.ndarray, length: float) -> np.ndarray:
+    """``(nv,)``: how much the mass matrix's rounding moves each diagonal entry of its inverse, relatively, per unit of
+    :func:`robot_tolerance` (MuJoCo's ``dof_invweight0``, from which its compiler derives a ``springdamper`` joint's
+    stiffness and damping).
+
+    First order, ``d(M^-1)_ii = -x^T dM x`` with ``x = M^-1 e_i``. Each entry of ``M`` is a sum over the bodies both
+    speeds move of ``m_b g_k g_l`` (lever arms: ``g`` = ``length``, the model's extent from the world origin, for a
+    rotational speed, 1 for a translational one) and ``|I_b|`` (rotational pairs), each rounded to ``robot_tolerance``
+    of its magnitude; so ``|x^T dM x| <= tol sum_b m_b (sum_k g_k |x_k|)^2 + |I_b| (sum_k rot_k |x_k|)^2`` over the
+    speeds ``k`` that move ``b``, and the relative change is that over ``(M^-1)_ii``.
+
+    Args:
+        Minv: ``(nv, nv)`` the inverse mass matrix. moves: ``(nb, nv)`` bool, the speeds that move each body.
+        rotational: ``(nv,)`` bool. masses: ``(nb,)`` kg. inertias: ``(nb,)`` the 2-norm of each body's inertia
+            (kg m^2). length: m.
+    """
+    g = np.where(rotational, length, 1.0)
+    A = np.abs(Minv)
+    lever = (moves * g) @ A
+    turn = (moves * rotational) @ A
+    return (masses @ lever**2 + inertias @ turn**2) / np.diag(Minv)
+
+
 def central_difference_bound(h: float, third_derivative_scale, value_scale):
     """Error bound of the central difference ``(f(x + h) - f(x - h)) / 2h``.
 

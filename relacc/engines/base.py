@@ -57,6 +57,8 @@ class BuiltJoint:
         axis: ``(3,)`` unit axis in world components (hinge, slide), else None.
         anchor: ``(3,)`` the joint's position in world (m); a hinge's, the point of its axis nearest the origin.
         armature, damping: ``(nv,)`` per degree of freedom (kg m^2 or kg; N m s/rad or N s/m).
+        sensitivity: of a damping derived from the mass matrix (:attr:`relacc.reading.Reading.sensitivity`; 0 for
+            one written).
     """
 
     name: str
@@ -66,6 +68,7 @@ class BuiltJoint:
     anchor: np.ndarray | None = field(repr=False)
     armature: np.ndarray = field(repr=False)
     damping: np.ndarray = field(repr=False)
+    sensitivity: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -378,6 +378,7 @@ class _Reader:
         self.bodies: list[Body] = []
         self.points: list[Point] = []
         self.places, self.ranges, self.damping, self.stiffness, self.taken = {}, {}, {}, {}, {}
+        self.sensitivity: dict[str, float] = {}  # springdamper joints' (Reading.sensitivity)
         self.mesh_geoms = 0
         self.legacy_meshes = 0  # mesh geoms in MuJoCo's default legacy mode (Drake computes them exactly)
         self.mesh_density: dict[str, float] = {}  # each body's mesh geoms' densities, summed (kg/m^3)
@@ -579,13 +580,15 @@ class _Reader:
             M += body.mass * V.T @ V + W.T @ (R @ body.inertia @ R.T) @ W
         names = ", ".join(list(self.springdamper)[:3]) + (" ..." if len(self.springdamper) > 3 else "")
         try:
-            inverse = np.diag(np.linalg.inv(M)).copy()
+            Minv = np.linalg.inv(M)
         except np.linalg.LinAlgError:
-            inverse = np.full(tree.nv, np.nan)
+            Minv = np.full(M.shape, np.nan)
+        inverse = np.diag(Minv).copy()
         if not np.all(np.isfinite(inverse)):
             self.notes.append(f"springdamper of {names}: the mass matrix at the reference configuration is singular; "
                               "the stiffness and damping written are kept (MuJoCo's compiler divides by its inverse)")
             return
+        sensitivity = _sensitivity(tree, k, Minv)
         for (_, joint), d in zip(tree.joints, tree.dofadr):  # dof_invweight0: averaged per block
             blocks = {"free": ((d, d + 3), (d + 3, d + 6)), "ball": ((d, d + 3),)}.get(joint.type, ())
             for lo, hi in blocks:
@@ -599,6 +602,7 @@ class _Reader:
             if joint.type != "free":  # relacc keeps no free joint's spring (as for one written)
                 self.stiffness[joint.name] = (stiffness, springref)
             self.damping[joint.name] = np.full(joint.nv, 2 * inertia / max(MJMINVAL, timeconst))
+            self.sensitivity[joint.name] = float(sensitivity[d:d + joint.nv].max())
         self.notes.append(f"{len(self.springdamper)} joint{'s' if len(self.springdamper) > 1 else ''} with "
                           f"springdamper ({names}): stiffness and damping set from the joint's inertia at the "
                           "reference configuration, as MuJoCo's compiler does")
@@ -655,7 +659,7 @@ class _Reader:
                        tuple(self.notes + self.normalized.notes("MJCF")),
                        tuple(self.findings), facts=facts, variant=self.variant, friction=self.frictionloss,
                        gravcomp=self.gravcomp, couplings=couplings,
-                       unevaluated_kinds=tuple(kind for kind, _ in unevaluated))
+                       unevaluated_kinds=tuple(kind for kind, _ in unevaluated), sensitivity=self.sensitivity)
 
     def _children(self, node: Node, parent: int, at: np.ndarray, R: np.ndarray, childclass: str) -> None:
         """Bodies and frames directly in ``node`` (a body, a frame or the world), placed by ``(at, R)`` in the parent
@@ -1124,3 +1128,24 @@ class _Reader:
                         f"({', '.join(self.friction[:5])}{', ...' if n > 5 else ''}): a constraint in MuJoCo's step, "
                         "not evaluated"))
         return out
+
+
+def _sensitivity(tree: Tree, k, Minv: np.ndarray) -> np.ndarray:
+    """``(nv,)``: :func:`relacc.core.tolerances.inverse_diagonal_sensitivity` of the tree at its reference
+    configuration (``k`` its kinematics there): :attr:`relacc.reading.Reading.sensitivity`."""
+    from relacc.core.tolerances import inverse_diagonal_sensitivity
+
+    moves = np.zeros((len(tree.bodies), tree.nv), dtype=bool)
+    rotational = np.zeros(tree.nv, dtype=bool)
+    own: dict[int, list[int]] = {}
+    for (b, joint), d in zip(tree.joints, tree.dofadr):
+        own.setdefault(b, []).extend(range(d, d + joint.nv))
+        rotational[d:d + joint.nv] = {"hinge": [True], "slide": [False], "ball": [True] * 3,
+                                      "free": [False] * 3 + [True] * 3}[joint.type]
+    for b, body in enumerate(tree.bodies):  # bodies come after their parents
+        if body.parent >= 0:
+            moves[b] = moves[body.parent]
+        moves[b, own.get(b, [])] = True
+    return inverse_diagonal_sensitivity(Minv, moves, rotational, np.array([b.mass for b in tree.bodies]),
+                                        np.array([np.linalg.norm(b.inertia, 2) for b in tree.bodies]),
+                                        max([float(np.linalg.norm(p)) for p in k.position] + [1e-3]))

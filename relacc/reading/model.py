@@ -86,6 +86,11 @@ class Reading:
         couplings: :class:`Coupling` per URDF ``<mimic>`` and active MJCF joint equality: compared by ``relacc diff``,
             not evaluated by the dynamics (said in ``unevaluated``).
         unevaluated_kinds: the kind of each line of ``unevaluated`` (:data:`UNEVALUATED_KINDS`).
+        sensitivity: ``{joint name: s}`` of the joints whose stiffness and damping the format derives from the mass
+            matrix at the reference configuration (MJCF ``springdamper``, from the diagonal of its inverse): how
+            much the mass matrix's rounding moves them, relatively, per unit of
+            :func:`relacc.core.tolerances.robot_tolerance` (the largest over the joint's speeds of
+            :func:`relacc.core.tolerances.inverse_diagonal_sensitivity`).
     """
 
     tree: Tree
@@ -106,6 +111,7 @@ class Reading:
     gravcomp: dict = field(default_factory=dict)
     couplings: tuple = ()
     unevaluated_kinds: tuple = ()
+    sensitivity: dict = field(default_factory=dict)
 
     def place(self, kind: str, name: str) -> str:
         """``file:line`` of an element, or the file when unknown."""

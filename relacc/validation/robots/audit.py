@@ -6,7 +6,9 @@ degrees of freedom; joints missing or of another type, their axes and positions,
 damping; links (a moving body and the bodies welded to it) missing, their masses, centres of mass
 and inertias (world components); the total mass; gravity. A value differs when it is off by more
 than :func:`relacc.core.tolerances.robot_tolerance` times its scale (:class:`Scales`, from the
-reference model: its total mass, its size, its largest inertia).
+reference model: its total mass, its size, its largest inertia); a damping derived from the mass matrix
+(MJCF ``springdamper``) by more than that times ``1 +`` its sensitivity
+(:attr:`relacc.reading.Reading.sensitivity`): the mass matrix's rounding, amplified by its inverse.
 
 Causes are not guessed but reproduced (:mod:`relacc.validation.robots.causes`): relacc's reader reads the file
 the engine's way (e.g. Pinocchio ignoring ``settotalmass``), and a reading is the cause of the differences it makes
@@ -121,8 +123,9 @@ def differences(ref, other, ref_name: str, engine: str, sc: Scales, inertia_slac
         if differ(j.armature, o.armature, max(np.abs(j.armature).max(initial=0), np.abs(o.armature).max(initial=0),
                                                 1e-300)):
             add("armature", where, j.armature, o.armature)
-        if differ(j.damping, o.damping, max(np.abs(j.damping).max(initial=0), np.abs(o.damping).max(initial=0),
-                                              1e-300)):
+        derived = 1.0 + max(j.sensitivity, o.sensitivity)  # springdamper's: the mass matrix's rounding, amplified
+        if differ(j.damping, o.damping, derived * max(np.abs(j.damping).max(initial=0),
+                                                      np.abs(o.damping).max(initial=0), 1e-300)):
             add("damping", where, j.damping, o.damping)
     links = {link.name: link for link in other.links}
     for link in ref.links:

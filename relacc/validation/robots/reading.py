@@ -51,7 +51,8 @@ def structure(reading) -> Structure:
         if j.type == "hinge":
             anchor = anchor - (anchor @ axis) * axis
         joints.append(BuiltJoint(j.name, j.type, body.name, axis, None if j.type == "slide" else anchor,
-                            np.array(j.armature, dtype=float), reading.joint_damping(j.name, j.nv)))
+                            np.array(j.armature, dtype=float), reading.joint_damping(j.name, j.nv),
+                            reading.sensitivity.get(j.name, 0.0)))
     links = []
     for head, members in groups(tree).items():
         parts = [(tree.bodies[c].mass, k.position[c], R[c] @ tree.bodies[c].inertia @ R[c].T) for c in members]
