@@ -606,6 +606,68 @@ def test_pinocchios_unit_mesh_inertia_is_a_known_reading(tmp_path):
                if not r.passed)
 
 
+def test_a_mesh_beside_a_primitive_whose_class_mass_pinocchio_ignores_is_explained(tmp_path):
+    """dm_control's Jaco arm (dm_control 1.0.50, ``third_party/kinova/jaco_arm.xml``): each link a mesh geom with its
+    own mass beside a ring, a cylinder whose class sets ``mass="0"``. Pinocchio read each link as 1 kg plus the ring
+    at its density (1.13381 kg for the first link: 1 + 1000 pi 0.044^2 0.022), and all 24 of its rows were "not
+    explained": its unit mesh inertia was reproduced only in bodies whose colliding geoms are all meshes, and the
+    audit tried each known reading once, so the class's mass, which removes a difference only after the mesh's,
+    was never kept. Both are reproduced now (the readings tried again while one is kept); by hand, the link is
+    Pinocchio's 1 kg at the mesh's frame plus the ring's 1000 pi r^2 2h kg."""
+    _stl(tmp_path / "part.stl")
+    path = tmp_path / "arm.xml"
+    path.write_text("""<mujoco model="arm">
+  <asset><mesh name="part" file="part.stl"/></asset>
+  <default><default class="ring"><geom type="cylinder" size="0.044 0.011" mass="0"/></default></default>
+  <worldbody>
+    <body name="a"><joint name="j" axis="0 0 1"/>
+      <geom type="mesh" mesh="part" mass="0.643205"/><geom class="ring" pos="0 0 0.05"/>
+      <body name="b" pos="0.2 0 0"><joint name="k" axis="0 1 0"/>
+        <geom type="mesh" mesh="part" mass="0.3"/><geom class="ring"/></body>
+    </body>
+  </worldbody>
+</mujoco>
+""")
+    result = compare(path, engines=["pinocchio"], n_states=3, seed=10)
+    rows = [a.as_json() for a in result.audit]
+    assert rows and not [r for r in rows if r["cause_kind"] == "not explained"], rows
+    ring = 1000 * np.pi * 0.044**2 * 0.022
+    masses = {a.where: a.values["pinocchio"] for a in result.audit if a.item == "mass (kg)"}
+    np.testing.assert_allclose([masses["link a"], masses["link b"]], [1 + ring, 1 + ring], rtol=0,
+                               atol=8 * np.finfo(float).eps)  # a sum of two, the cylinder's volume a few products
+
+
+def test_an_inertial_without_an_inertia_is_mujocos_zero_and_pinocchios_unit_inertia(tmp_path):
+    """dm_control's ``mjcf/test_assets/test_model.xml`` writes ``<inertial pos="0 0 0" mass="1"/>``. relacc refused
+    any such file, MuJoCo 4.0.0 reads the inertia as zero (it loads the file where the body is welded: measured),
+    Pinocchio as the identity (``convertInertiaFromMjcf`` starts from it), Drake refuses it. relacc now reads it as
+    MuJoCo does, with a note, and Pinocchio's reading is a known one."""
+    import mujoco
+
+    from relacc.reading import read
+
+    path = tmp_path / "point.xml"
+    path.write_text("""<mujoco><worldbody>
+  <body name="arm"><joint name="h" axis="0 1 0"/><geom type="sphere" size="0.1"/>
+    <body name="point" pos="0.3 0 0"><inertial pos="0 0 0.1" mass="0.5"/></body></body>
+</worldbody></mujoco>""")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    reading = read(path)
+    point = reading.tree.bodies[reading.tree.body("point")]
+    assert point.mass == model.body("point").mass[0] == 0.5
+    np.testing.assert_array_equal(np.diag(point.inertia), model.body("point").inertia)  # both exactly zero
+    assert any("gives no inertia" in n for n in reading.notes), reading.notes
+    result = compare(path, engines=["mujoco", "pinocchio"], n_states=3, seed=10)
+    rows = [a.as_json() for a in result.audit]
+    assert rows and all("mujoco" not in r for r in rows), rows
+    assert all("as the unit inertia" in r["cause"] for r in rows), rows
+    both = tmp_path / "both.xml"
+    both.write_text(path.read_text().replace('mass="0.5"/>',
+                                             'mass="0.5" diaginertia="1 1 1" fullinertia="1 1 1 0 0 0"/>'))
+    with pytest.raises(ModelError, match="diaginertia and fullinertia"):
+        read(both)
+
+
 DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
   <default>
     <default class="body">

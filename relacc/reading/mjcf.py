@@ -87,7 +87,7 @@ VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored
             "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
             "unnamed_siblings_dropped", "default_joint_pos_ignored", "default_geom_pose_ignored",
             "springdamper_ignored", "ball_damping_dropped", "mesh_obj_first_object", "mesh_inertia_exact",
-            "replicate_skipped", "attach_skipped")
+            "replicate_skipped", "attach_skipped", "inertial_unit_inertia")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
@@ -99,8 +99,11 @@ Pinocchio's:
 * ``default_geom_mass_ignored``: a geom's ``mass`` inherited from a ``<default>`` class ignored, its density used (a
   mass written on the geom is honoured);
 * ``visual_geoms_ignored``: geoms with ``contype = conaffinity = 0`` out of the inertia;
-* ``mesh_unit_inertia``: in a body whose colliding geoms (not ``contype = conaffinity = 0``) are all meshes, each
-  of them 1 kg with a unit inertia at its frame (neither the mesh nor the geom's mass read), the others none;
+* ``mesh_unit_inertia``: in a body with a colliding mesh geom (not ``contype = conaffinity = 0``), the colliding
+  geoms alone, each mesh 1 kg with a unit inertia at its frame (neither the mesh nor the geom's mass read:
+  Pinocchio's ``MjcfGeom::computeInertia`` leaves a mesh's default, the identity inertia), the others as they are
+  (measured on pin 4.1: dm_control's Jaco arm, each link a mesh of its own mass beside a cylinder, read as 1 kg plus
+  the cylinder);
 * ``gravity_default``: gravity ``(0, 0, -9.81)`` whatever ``<option>`` says;
 * ``unnamed_siblings_dropped``: of several unnamed ``<body>`` children of one body only the first, with its subtree
   (Pinocchio names an unnamed body after its parent, ``<parent>Bis``, so the later ones collide and are dropped;
@@ -116,6 +119,9 @@ Pinocchio's:
   on pin 4.1: its model's damping is 0 on a ball's and a free joint's speeds, the written value on a hinge's);
 * ``springdamper_ignored`` (Pinocchio's and Drake's): a joint's ``springdamper`` ignored, the stiffness and damping
   written kept;
+* ``inertial_unit_inertia``: an ``<inertial>`` with neither ``diaginertia`` nor ``fullinertia`` read with the unit
+  inertia, 1 kg m^2 about each axis (MuJoCo's compiler reads it as zero; Pinocchio's ``convertInertiaFromMjcf``
+  starts from the identity; measured on pin 4.1);
 * ``settotalmass_ignored`` (Pinocchio's and Drake's): no scaling by ``<compiler settotalmass>``.
 * ``replicate_skipped`` (Pinocchio's and Drake's): a ``<replicate>`` and everything in it left out (measured on
   pin 4.1 and Drake 1.51: a body with two replicated arms read without them, Drake without a word).
@@ -289,7 +295,7 @@ def _written_in(node: Node, file: str) -> Node:
 
 _COUNTERS = ("njoints", "mesh_geoms", "legacy_meshes", "default_masses", "visual_geoms", "stacked", "unactuated",
              "damped_free", "damped_balls", "broken_defaults", "default_joint_pos", "default_geom_pose",
-             "unnamed_dropped", "replicates", "attaches")
+             "unnamed_dropped", "replicates", "attaches", "inertia_less")
 """The reading's counts that an attached model's reading adds to (:meth:`_Reader._attach`)."""
 
 
@@ -363,6 +369,7 @@ class _Reader:
         self.default_joint_pos = 0  # joints whose pos comes from a <default>
         self.default_geom_pose = 0  # geoms whose pos or orientation comes from a <default>
         self.unnamed_dropped = 0  # unnamed bodies after the first among one parent's children
+        self.inertia_less = 0  # <inertial> elements with neither diaginertia nor fullinertia
         self.springdamper: dict[str, tuple] = {}  # joint: (timeconst, dampratio, springref) of a springdamper
         self.assets = {m.get("name") or Path(m.get("file", "")).stem: m
                        for a in root.findall("asset") for m in a.findall("mesh")}
@@ -651,7 +658,7 @@ class _Reader:
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
                  "default_joint_pos": self.default_joint_pos, "default_geom_pose": self.default_geom_pose,
                  "springdamper": tuple(self.springdamper), "replicates": self.replicates,
-                 "attaches": self.attaches}
+                 "attaches": self.attaches, "inertia_less": self.inertia_less}
         couplings = self._couplings()
         unevaluated = self._unevaluated(len(couplings))
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
@@ -880,8 +887,14 @@ class _Reader:
             if mass is None:
                 raise ModelError(f"{inertial.place}: <inertial> without a mass")
             full, diag = numbers(inertial, "fullinertia", 6), numbers(inertial, "diaginertia", 3)
-            if (full is None) == (diag is None):
-                raise ModelError(f"{inertial.place}: <inertial> gives diaginertia or fullinertia, one of them")
+            if full is not None and diag is not None:
+                raise ModelError(f"{inertial.place}: <inertial> gives diaginertia and fullinertia: one of them "
+                                 "(MuJoCo's compiler refuses both)")
+            if full is None and diag is None:  # MJCF's reference asks for one; MuJoCo's compiler reads no inertia as 0
+                self.notes.append(f"{inertial.place}: <inertial> of {body} gives no inertia (neither diaginertia nor "
+                                  "fullinertia): read as zero, as MuJoCo's compiler reads it")
+                self.inertia_less += 1
+                diag = [1.0, 1.0, 1.0] if "inertial_unit_inertia" in self.variant else [0.0, 0.0, 0.0]
             turned = [k for k in ("quat", "axisangle", "euler", "xyaxes", "zaxis") if inertial.get(k) is not None]
             if full is not None and turned:
                 raise ModelError(f"{inertial.place}: <inertial> gives fullinertia and {turned[0]}: the full tensor is "
@@ -893,24 +906,27 @@ class _Reader:
                 xx, yy, zz, xy, xz, yz = full
                 I = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
             else:
-                I = np.diag(required_numbers(inertial, "diaginertia", 3))
+                I = np.diag(np.asarray(diag, dtype=float))
             I = R @ I @ R.T
             return mass, pos, 0.5 * (I + I.T)
         if self.fromgeom == "false":
             return 0.0, np.zeros(3), np.zeros((3, 3))
-        parts, meshy, solid = [], [], []
+        parts, meshy, solid, solid_mesh = [], [], [], False
         for g, at, R in self._elements(node, "geom", cls):
             part = self._geom(g, at, R, body)
-            if part is not None:
-                parts.append(part[:3])
-                if part[3]:
-                    self.mesh_body_names.add(body)
-                if part[4]:
-                    meshy.append(part[3])
-                if not (number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0):
-                    solid.append((bool(part[3]), at + R @ np.array(numbers(g, "pos", 3, [0.0, 0.0, 0.0]))))
-        if "mesh_unit_inertia" in self.variant and solid and all(m for m, _ in solid):  # Pinocchio's meshes
-            return inertia.combine((1.0, c, np.eye(3)) for _, c in solid)
+            if part is None:
+                continue
+            parts.append(part[:3])
+            if part[3]:
+                self.mesh_body_names.add(body)
+            if part[4]:
+                meshy.append(part[3])
+            if not (number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0):  # Pinocchio's own sum
+                solid_mesh = solid_mesh or bool(part[3])
+                solid.append(part[:3] if not part[3] else
+                             (1.0, at + R @ np.array(numbers(g, "pos", 3, [0.0, 0.0, 0.0])), np.eye(3)))
+        if "mesh_unit_inertia" in self.variant and solid_mesh:
+            return inertia.combine(solid)
         if meshy:
             self.taken[body] = f"inertia from {', '.join(meshy)}: computed by MuJoCo, not by relacc"
         return inertia.combine(parts)

@@ -112,6 +112,13 @@ FILE_READINGS = (
     ),
     springdamper_ignored("Pinocchio"),
     KnownBehaviour(
+        "inertial_unit_inertia",
+        "Pinocchio's MJCF parser reads an <inertial> with neither diaginertia nor fullinertia as the unit inertia "
+        "(1 kg m^2 about each axis); MuJoCo's compiler reads it as zero",
+        lambda r: mjcf(r) and r.facts.get("inertia_less", 0) > 0,
+        reread("inertial_unit_inertia"),
+    ),
+    KnownBehaviour(
         "ball_free_damping",
         "Pinocchio's MJCF parser drops the damping of a ball or free joint (it keeps a hinge's and a slide's)",
         lambda r: mjcf(r) and (r.facts.get("damped_free", 0) + r.facts.get("damped_balls", 0)) > 0,

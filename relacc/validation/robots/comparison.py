@@ -337,7 +337,9 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
     """``robot``'s audit against relacc's reading, each difference with its cause
     (:mod:`relacc.validation.robots.causes`): a reading of :data:`relacc.validation.robots.causes.READINGS` (relacc's
     reader reading the file as the engine does) that makes it disappear, applied one after the other and kept when
-    it does; ``unexplained`` (a user's URDF); what relacc took from the engine; a finding about the file; else not
+    it does, over again while one is kept (one may need another first: a mesh's unit inertia before a default's
+    mass, in dm_control's Jaco arm); ``unexplained`` (a user's URDF); what relacc took from the engine; a finding
+    about the file; else not
     explained, with the element's place in the file."""
     engine = robot.engine
     sc = scales.larger(Scales.of(robot.structure))
@@ -348,20 +350,28 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
     causes: dict = {}
     left = {i.key for i in items}
     current = reading
-    for known in READINGS.get(engine, ()):
-        text = known.text
-        if not left or not known.applies(current):
-            continue
+
+    def attempt(known) -> bool:
+        """Apply ``known`` to the current reading; keep it where it makes a difference disappear."""
+        nonlocal current, left
         try:
             candidate = known.change(current)
         except ModelError:
-            continue
+            return False
         after = {i.key for i in differences(structure(candidate), robot.structure, REFERENCE, engine, sc, slack)}
         gone = left - after
         for k in gone:
-            causes[k] = Cause(CauseKind.EXPLAINED, text)
+            causes[k] = Cause(CauseKind.EXPLAINED, known.text)
         if gone:
             current, left = candidate, after
+        return bool(gone)
+
+    unused = list(READINGS.get(engine, ()))
+    while left and unused:  # again over those left, after each pass that kept one: one may need another first
+        kept = [known for known in unused if left and known.applies(current) and attempt(known)]
+        unused = [known for known in unused if known not in kept]
+        if not kept:
+            break
     out = []
     for item in items:
         cause = causes.get(item.key) or _fallback(item, reading, engine, unexplained)
