@@ -668,6 +668,33 @@ def test_an_inertial_without_an_inertia_is_mujocos_zero_and_pinocchios_unit_iner
         read(both)
 
 
+def test_inertiagrouprange_is_mujocos_and_the_other_parsers_ignore_it(tmp_path):
+    """metaworld 3.1.1's Sawyer (``assets/objects/xyz_base.xml``) counts only geoms of groups 4 and 5 in the inertia
+    (``<compiler inertiagrouprange="4 5"/>``); its gripper's pads and rail are in group 1. Drake's masses were "not
+    explained" (36 rows): Drake and Pinocchio count every geom's mass (Drake warns that it ignores the attribute).
+    Reproduced now. By hand: a group-4 box of 0.2 m sides at 1000 kg/m^3 is MuJoCo's 8 kg; the others add a 2 kg
+    box and a 5 cm sphere, 8 + 2 + 4/3 pi 0.05^3 1000 kg."""
+    import mujoco
+
+    path = tmp_path / "groups.xml"
+    path.write_text("""<mujoco model="groups"><compiler inertiagrouprange="4 5"/><worldbody>
+  <body name="a"><joint name="j" axis="0 0 1"/>
+    <geom type="box" size="0.1 0.1 0.1" group="4"/>
+    <geom type="box" size="0.05 0.05 0.05" pos="0.2 0 0" group="1" mass="2"/>
+    <geom type="sphere" size="0.05" pos="0 0.2 0"/></body>
+</worldbody></mujoco>""")
+    np.testing.assert_allclose(mujoco.MjModel.from_xml_path(str(path)).body("a").mass[0], 8.0, rtol=0,
+                               atol=4 * np.finfo(float).eps * 8)  # (2 x 0.1)^3 1000: a few products
+    result = compare(path, engines=["mujoco", "pinocchio", "drake"], n_states=3, seed=10)
+    rows = [a.as_json() for a in result.audit]
+    assert rows and all("mujoco" not in r for r in rows), rows
+    assert all("ignores <compiler inertiagrouprange>" in r["cause"] for r in rows), rows
+    mass = next(r for r in rows if r["item"] == "mass (kg)")
+    everything = 8 + 2 + 4 / 3 * np.pi * 0.05**3 * 1000
+    np.testing.assert_allclose([mass["pinocchio"], mass["drake"]], [everything] * 2, rtol=0,
+                               atol=8 * np.finfo(float).eps * everything)  # three volumes summed
+
+
 DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
   <default>
     <default class="body">

@@ -107,6 +107,18 @@ def element_skipped(engine: str, element: str, fact: str, what: str) -> KnownBeh
     )
 
 
+def inertiagrouprange_ignored(engine: str) -> KnownBehaviour:
+    """``engine``'s MJCF parser counting every geom's mass whatever ``<compiler inertiagrouprange>`` says (Pinocchio's
+    and Drake's, measured on pin 4.1 and Drake 1.51)."""
+    return KnownBehaviour(
+        "inertiagrouprange",
+        f"{engine}'s MJCF parser ignores <compiler inertiagrouprange>: it counts the mass of geoms of every group, "
+        "MuJoCo only of those in the range",
+        lambda r: mjcf(r) and r.facts.get("group_excluded", 0) > 0,
+        reread("inertiagrouprange_ignored"),
+    )
+
+
 def springdamper_ignored(engine: str) -> KnownBehaviour:
     """``engine``'s MJCF parser keeping the written stiffness and damping of a joint with ``springdamper`` (Pinocchio's
     and Drake's, measured on pin 4.1 and Drake 1.51)."""

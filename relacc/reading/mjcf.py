@@ -87,7 +87,7 @@ VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored
             "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
             "unnamed_siblings_dropped", "default_joint_pos_ignored", "default_geom_pose_ignored",
             "springdamper_ignored", "ball_damping_dropped", "mesh_obj_first_object", "mesh_inertia_exact",
-            "replicate_skipped", "attach_skipped", "inertial_unit_inertia")
+            "replicate_skipped", "attach_skipped", "inertial_unit_inertia", "inertiagrouprange_ignored")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
@@ -123,6 +123,9 @@ Pinocchio's:
   inertia, 1 kg m^2 about each axis (MuJoCo's compiler reads it as zero; Pinocchio's ``convertInertiaFromMjcf``
   starts from the identity; measured on pin 4.1);
 * ``settotalmass_ignored`` (Pinocchio's and Drake's): no scaling by ``<compiler settotalmass>``.
+* ``inertiagrouprange_ignored`` (Pinocchio's and Drake's): ``<compiler inertiagrouprange>`` ignored, every geom's
+  mass counted whatever its ``group`` (measured on pin 4.1 and Drake 1.51, which warns so: a body of a group-4 box
+  of 8 kg beside a group-1 box and sphere read as 10.52 kg, MuJoCo's 8; found on metaworld's Sawyer gripper).
 * ``replicate_skipped`` (Pinocchio's and Drake's): a ``<replicate>`` and everything in it left out (measured on
   pin 4.1 and Drake 1.51: a body with two replicated arms read without them, Drake without a word).
 * ``attach_skipped`` (Pinocchio's and Drake's): an ``<attach>`` left out (measured on pin 4.1 and Drake 1.51: a mount
@@ -295,7 +298,7 @@ def _written_in(node: Node, file: str) -> Node:
 
 _COUNTERS = ("njoints", "mesh_geoms", "legacy_meshes", "default_masses", "visual_geoms", "stacked", "unactuated",
              "damped_free", "damped_balls", "broken_defaults", "default_joint_pos", "default_geom_pose",
-             "unnamed_dropped", "replicates", "attaches", "inertia_less")
+             "unnamed_dropped", "replicates", "attaches", "inertia_less", "group_excluded")
 """The reading's counts that an attached model's reading adds to (:meth:`_Reader._attach`)."""
 
 
@@ -370,6 +373,7 @@ class _Reader:
         self.default_geom_pose = 0  # geoms whose pos or orientation comes from a <default>
         self.unnamed_dropped = 0  # unnamed bodies after the first among one parent's children
         self.inertia_less = 0  # <inertial> elements with neither diaginertia nor fullinertia
+        self.group_excluded = 0  # geoms left out of the inertia by inertiagrouprange
         self.springdamper: dict[str, tuple] = {}  # joint: (timeconst, dampratio, springref) of a springdamper
         self.assets = {m.get("name") or Path(m.get("file", "")).stem: m
                        for a in root.findall("asset") for m in a.findall("mesh")}
@@ -658,7 +662,8 @@ class _Reader:
                  "broken_defaults": self.broken_defaults, "unnamed_dropped": self.unnamed_dropped,
                  "default_joint_pos": self.default_joint_pos, "default_geom_pose": self.default_geom_pose,
                  "springdamper": tuple(self.springdamper), "replicates": self.replicates,
-                 "attaches": self.attaches, "inertia_less": self.inertia_less}
+                 "attaches": self.attaches, "inertia_less": self.inertia_less,
+                 "group_excluded": self.group_excluded}
         couplings = self._couplings()
         unevaluated = self._unevaluated(len(couplings))
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
@@ -940,7 +945,9 @@ class _Reader:
             _check_geom(g, kind)  # broken default chain leaves a geom without its class's size)
         group = int(number(g, "group", 0))
         if not self.groups[0] <= group <= self.groups[1]:
-            return None
+            self.group_excluded += 1
+            if "inertiagrouprange_ignored" not in self.variant:
+                return None
         visual = number(g, "contype", 1) == 0 and number(g, "conaffinity", 1) == 0
         if visual and self.discardvisual:
             return None

@@ -6,6 +6,7 @@ from __future__ import annotations
 from relacc.engines.base import KnownBehaviour
 from relacc.engines.known import (
     element_skipped,
+    inertiagrouprange_ignored,
     massless_get_a_kilogram,
     massless_with_inertia,
     mjcf,
@@ -50,6 +51,7 @@ FILE_READINGS = (
     ),
     settotalmass_ignored("Drake", " (it warns so)"),
     springdamper_ignored("Drake"),
+    inertiagrouprange_ignored("Drake"),
     KnownBehaviour(
         "mesh_exact",
         "Drake computes a mesh geom's volume, mass centre and inertia exactly (tetrahedra from the mesh's origin), "

@@ -11,6 +11,7 @@ from __future__ import annotations
 from relacc.engines.base import KnownBehaviour
 from relacc.engines.known import (
     element_skipped,
+    inertiagrouprange_ignored,
     mjcf,
     reread,
     settotalmass_ignored,
@@ -111,6 +112,7 @@ FILE_READINGS = (
         reread("default_geom_pose_ignored"),
     ),
     springdamper_ignored("Pinocchio"),
+    inertiagrouprange_ignored("Pinocchio"),
     KnownBehaviour(
         "inertial_unit_inertia",
         "Pinocchio's MJCF parser reads an <inertial> with neither diaginertia nor fullinertia as the unit inertia "
