@@ -695,6 +695,39 @@ def test_inertiagrouprange_is_mujocos_and_the_other_parsers_ignore_it(tmp_path):
                                atol=8 * np.finfo(float).eps * everything)  # three volumes summed
 
 
+@pytest.mark.parametrize("product, replaced", [(1e-16, False), (1.7e-15, False), (2.1e-15, True), (1e-14, True)])
+def test_drakes_water_sphere_is_reproduced_where_drake_refuses_an_inertia_and_only_there(tmp_path, product, replaced):
+    """icub-models 3.2.0's iCubNancy01 (and Lisboa01, Genova03): Drake's dynamics "not explained" after its known
+    readings were applied. The head's only inertia term is a product of 2.4e-35 kg m^2: relacc's own check calls it
+    not physical, Drake's ``CouldBePhysicallyValid()`` (principal moments within 16 eps max(1, trace / 2) of valid)
+    keeps it, a point mass, and the reproduction had put a water sphere there. The reproduction now asks Drake's
+    question (``relacc.engines.known.drake_invalid``), held here to Drake's own parser on a link whose only inertia
+    term is one product: its principal moments are -x, 0, x, valid to Drake while 2 x <= 3.6e-15."""
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    from relacc.engines.known import drake_invalid, water_sphere
+
+    path = tmp_path / "link.urdf"
+    path.write_text(f"""<robot name="r"><link name="base"/>
+  <link name="a"><inertial><mass value="1.3"/><origin xyz="0.02 -0.1 0"/>
+    <inertia ixx="0" ixy="0" ixz="{product!r}" iyy="0" iyz="0" izz="0"/></inertial></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>""")
+    plant = MultibodyPlant(0.0)
+    Parser(plant).AddModels(str(path))
+    plant.Finalize()
+    central = plant.GetBodyByName("a").default_rotational_inertia().ShiftToCenterOfMass(1.3, np.array([0.02, -0.1, 0]))
+    ours = np.zeros((3, 3))
+    ours[0, 2] = ours[2, 0] = product
+    assert drake_invalid(ours) is replaced
+    expected = water_sphere(1.3) if replaced else ours  # kept as written
+    np.testing.assert_allclose(central.CopyToFullMatrix3(), expected, rtol=0,
+                               atol=16 * np.finfo(float).eps * 1.3 * 0.1**2)  # shifted by m |c|^2 and back
+    result = compare(path, engines=["drake"], n_states=3, seed=4)
+    assert "not explained" not in json.dumps(result.as_json()), f"product {product}"
+
+
 DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
   <default>
     <default class="body">
