@@ -728,6 +728,28 @@ def test_drakes_water_sphere_is_reproduced_where_drake_refuses_an_inertia_and_on
     assert "not explained" not in json.dumps(result.as_json()), f"product {product}"
 
 
+def test_a_com_jacobian_far_from_the_origin_is_judged_on_the_positions_its_lever_arms_are_differences_of(tmp_path):
+    """rtb-data 2.0.0's Clearpath Ridgeback: a planar base on two slides and a yaw joint whose limits are +-999999 (m
+    and rad), so the states put it up to 1e6 m out. Pinocchio, Drake and iDynTree agreed with each other and read
+    relacc's COM Jacobian 2.9e-11 of its 1 m lever arms away: "relacc the odd one out". A Jacobian's entries are
+    differences of world positions, rounded to eps times the farthest of them (about 2e-10 m there), and are now
+    judged on that extent, as ``J_dot v`` already was (``point_terms``); relacc and the engines agree."""
+    path = tmp_path / "base.urdf"
+    limit = '<limit lower="-999999" upper="999999" effort="1" velocity="1"/>'
+    path.write_text(f"""<robot name="planar"><link name="world_link"/>
+  <link name="x"/><link name="y"/>
+  <link name="base"><inertial><origin xyz="0.31 -0.12 0.2"/><mass value="40"/>
+    <inertia ixx="1.2" ixy="0.1" ixz="0" iyy="2.3" iyz="0" izz="2.9"/></inertial></link>
+  <joint name="jx" type="prismatic"><parent link="world_link"/><child link="x"/><axis xyz="1 0 0"/>{limit}</joint>
+  <joint name="jy" type="prismatic"><parent link="x"/><child link="y"/><axis xyz="0 1 0"/>{limit}</joint>
+  <joint name="yaw" type="revolute"><parent link="y"/><child link="base"/><axis xyz="0 0 1"/>{limit}</joint>
+</robot>""")
+    result = compare(path, engines=["pinocchio"], n_states=3, seed=0)
+    row = result.dynamics[Quantity.COM_JACOBIAN]["pinocchio"]
+    assert row.passed, f"seed 0: {row.max_error:.3g} against {row.tolerance:.3g}"
+    assert "not explained" not in json.dumps(result.as_json()), "seed 0"
+
+
 DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
   <default>
     <default class="body">

@@ -318,3 +318,32 @@ def test_a_repeated_inertia_is_read_by_its_first_and_idyntrees_last_is_explained
     assert result.audit and all("reads the last of a link's repeated <inertia>" in a.cause for a in result.audit)
     failing = [r for rows in result.dynamics.values() for e, r in rows.items() if not r.passed]
     assert failing and all(r.cause_kind == "explained" for r in failing), [r.cause for r in failing]
+
+
+def test_a_turned_base_inertial_frame_does_not_turn_pybullets_jacobians(tmp_path):
+    """rtb-data 2.0.0's Trossen arms turn their base link's inertial frame 90 deg about z. PyBullet's
+    ``calculateJacobian`` gives its rows in the base's inertial frame's axes (measured on pybullet 3.2.7), and relacc's
+    adapter read them as the world's: every joint axis turned 90 deg, the COM Jacobian "not explained", an external
+    load turned. Held to Pinocchio (the audit and every row agree) and to the file's geometry by hand: the hinge is
+    about world y, the arm's mass centre (0.2, 0, 0.1) m from the joint, so a force of 3 N along world x loads it by
+    (r x F) . y = 0.1 3 = 0.3 N m and a torque of 0.5 N m about y by 0.5 (before: 0, both turned onto x)."""
+    from relacc.core.tree import Tree
+    from relacc.dynamics.tree_effects import BodyLoad, TreeEffects
+    from relacc.validation.robots import compare
+
+    path = tmp_path / "turned.urdf"
+    path.write_text("""<robot name="turned">
+  <link name="base"><inertial><origin xyz="0.03 0.01 0.02" rpy="0 0 1.5707963267948966"/><mass value="0.4"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.0003" iyz="0" izz="0.0012"/></inertial></link>
+  <link name="arm"><inertial><origin xyz="0.2 0 0.1"/><mass value="1.5"/>
+    <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><origin xyz="0 0 0.1"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+</robot>""")
+    result = compare(path, n_states=3, seed=5, engines=["pybullet_file", "pinocchio"])
+    assert not [a.as_json() for a in result.audit], [a.as_json() for a in result.audit]
+    assert result.agree, "seed 5"
+    adapter = load("pybullet_file", path, Tree.from_file(path))
+    effects = TreeEffects(bodies={"arm": BodyLoad(force=np.array([3.0, 0.0, 0.0]), torque=np.array([0.0, 0.5, 0.0]))})
+    tau = adapter.load_forces(adapter.engine_q(np.zeros((1, 1))), effects)
+    np.testing.assert_allclose(tau, [[0.8]], rtol=0, atol=8 * EPS)  # a cross product and a sum of printed numbers

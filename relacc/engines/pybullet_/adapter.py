@@ -210,11 +210,16 @@ class PyBulletAdapter(FixedBaseAdapter):
         the link frame's origin as the point of reference and the inertial frame's axes as the components (measured
         on pybullet 3.2.7: a point 0.1 m off a hinge's axis given as ``[0, 0, 0]`` has a zero Jacobian when the link
         frame sits on the axis; with the Panda's turned inertial frames, the offset in the link frame's axes is
-        1.3e-3 to 3.2e-2 m/rad off and in the inertial frame's agrees to 4e-16): :meth:`_local`."""
+        1.3e-3 to 3.2e-2 m/rad off and in the inertial frame's agrees to 4e-16): :meth:`_local`. Its rows are in the
+        base's *inertial* frame's axes, not the world's (measured on pybullet 3.2.7: the rtb-data Trossen arms, whose
+        base inertial frame is turned 90 deg, read with every joint axis turned 90 deg and their COM Jacobian "not
+        explained"): turned to the world's here."""
         zeros = [0.0] * self.nv_e
         lin, ang = pb.calculateJacobian(self.body, link, [float(x) for x in local], [float(x) for x in qe], zeros,
                                         zeros, physicsClientId=self.client)
-        return np.array(lin).reshape(3, self.nv_e), np.array(ang).reshape(3, self.nv_e)
+        _, base = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
+        R = np.array(pb.getMatrixFromQuaternion(base)).reshape(3, 3)  # its components are the base's inertial frame's
+        return R @ np.array(lin).reshape(3, self.nv_e), R @ np.array(ang).reshape(3, self.nv_e)
 
 
     # --- evaluations ----------------------------------------------------------------------------------------

@@ -205,10 +205,13 @@ def compare_dynamics(reference, robot, states: States, reading=None) -> dict:
             if links:
                 J0, J1 = k0.J[i][:, :, cols0], k1.J[i][:, :, cols1]
                 jdv, acc = point_terms(J0, k0.position[i], v[i, dofs], a[i, dofs], sc.length, paths)
-                # positions and Jacobians: at least the model's size (a lever arm is a difference of positions)
+                # positions and Jacobians: at least the model's size; a Jacobian's entries are lever arms, differences
+                # of world positions, rounded to eps times the farthest of them (as point_terms' lever: the
+                # Ridgeback's planar base 1e6 m out, its lever arms 1 m, read 2.9e-11 apart)
+                extent = max(np.linalg.norm(k0.position[i], axis=1).max(initial=0), sc.length)
                 add(Quantity.COM_POSITION, k1.position[i], k0.position[i],
                     max(np.abs(k0.position[i]).max(initial=0), sc.length))
-                add(Quantity.COM_JACOBIAN, J1, J0, max(np.abs(J0).max(initial=0), sc.length))
+                add(Quantity.COM_JACOBIAN, J1, J0, max(np.abs(J0).max(initial=0), extent))
                 if rates:  # an engine that offers no J_dot v and no classical acceleration (PyBullet) is not asked
                     add(Quantity.JDOT_V, k1.Jdot_v[i], k0.Jdot_v[i], jdv)
                     add(Quantity.CLASSICAL_ACCELERATION, k1.acceleration[i], k0.acceleration[i], acc)
