@@ -798,3 +798,59 @@ def test_a_massless_link_given_a_small_mass_by_the_other_file_stays_a_part_of_it
     d = diff(massless, xml)
     assert kinds(d) == [("changed", "l1a", "inertia"), ("changed", "l1a", "mass")], kinds(d)
     assert len(d.dynamics) == 3 and not any(row["beyond"] for row in d.dynamics), d.dynamics
+
+
+def _legs(mjcf: bool, com_shift: float, mass_factor: float, up: float) -> str:
+    """A base with four legs of a hip (about x), a thigh and a calf (about y) each: a URDF on a fixed base, or an
+    MJCF on a free base ``up`` m above the world origin with each leg link's mass centre ``com_shift`` m further along
+    x and its mass ``mass_factor`` times the URDF's (unitree's Go2 and B2, URDF against MJCF)."""
+    legs = [("FL", 0.19, 0.05), ("FR", 0.19, -0.05), ("RL", -0.19, 0.05), ("RR", -0.19, -0.05)]
+    parts = [("hip", "1 0 0", "0 {y2} 0", 0.7), ("thigh", "0 1 0", "0 0 -0.21", 1.1),
+             ("calf", "0 1 0", "0 0 -0.21", 0.2)]
+    if not mjcf:
+        out = ['<robot name="legs"><link name="base"><inertial><mass value="6"/>'
+               '<inertia ixx="0.03" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>']
+        for leg, x, y in legs:
+            parent, origin = "base", f"{x} {y} 0"
+            for name, axis, nxt, m in parts:
+                out.append(f'<link name="{leg}_{name}"><inertial><origin xyz="0.01 0 -0.05"/><mass value="{m}"/>'
+                           '<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.0015"/></inertial></link>')
+                out.append(f'<joint name="{leg}_{name}_joint" type="revolute"><parent link="{parent}"/>'
+                           f'<child link="{leg}_{name}"/><origin xyz="{origin}"/><axis xyz="{axis}"/>'
+                           '<limit lower="-3" upper="3" effort="1" velocity="1"/></joint>')
+                parent, origin = f"{leg}_{name}", nxt.format(y2=0.09 if y > 0 else -0.09)
+        return "\n".join(out + ["</robot>"])
+    out = [f'<mujoco model="legs"><worldbody><body name="base" pos="0 0 {up}"><freejoint/>'
+           '<inertial pos="0 0 0" mass="6" diaginertia="0.03 0.1 0.1"/>']
+    for leg, x, y in legs:
+        pos, close = f"{x} {y} 0", 0
+        for name, axis, nxt, m in parts:
+            out.append(f'<body name="{leg}_{name}" pos="{pos}"><joint name="{leg}_{name}_joint" axis="{axis}"/>'
+                       f'<inertial pos="{0.01 + com_shift} 0 -0.05" mass="{m * mass_factor!r}" '
+                       'diaginertia="0.001 0.002 0.0015"/>')
+            pos, close = nxt.format(y2=0.09 if y > 0 else -0.09), close + 1
+        out.append("</body>" * close)
+    return "\n".join(out + ["</body></worldbody></mujoco>"])
+
+
+def test_a_floating_base_placed_up_with_its_own_masses_is_one_placement_and_the_masses_explain_the_dynamics(
+        tmp_path):
+    """unitree's Go2 and B2 (unitree_ros `d6f13aa` against unitree_mujoco `c598f10`): the MJCF floats its base 0.445 m
+    (0.8 m) up and has its own mass model, every mass centre elsewhere. The placement was fitted on mass centres and
+    their feet on the joint axes, all moved, so none was found: every joint's anchor read "changed" by 0.445 m, and
+    the dynamics "differ ... so the geometry differs too", which is wrong. The fit now also takes the points where two
+    joint axes pass nearest each other (the joints' geometry alone) and starts from the translation most points agree
+    on: one placement (0.445 m up), the masses and mass centres changed, no anchor, and A given B's masses agrees."""
+    a, b = tmp_path / "legs.urdf", tmp_path / "legs.xml"
+    a.write_text(_legs(False, 0, 1, 0))
+    b.write_text(_legs(True, 0.02, 1.2, 0.445))
+    d = diff(a, b)
+    assert not [x for x in d.differences if x.quantity == "anchor"], [x.line() for x in d.differences]
+    (placement,) = [x for x in d.differences if x.kind == "placement"]
+    np.testing.assert_allclose(placement.b["moved_m"], [0, 0, 0.445], rtol=0, atol=1e-12)  # printed numbers summed
+    assert placement.b["turned_deg"] == 0.0
+    # besides: the URDF's limits (the MJCF has none), and the free joint alone without a counterpart (held)
+    assert {x.quantity for x in d.differences} == {"placement", "mass", "mass centre", "range", "part"}, \
+        [x.line() for x in d.differences]
+    rows = {row["quantity"]: row for row in d.dynamics}
+    assert rows["mass matrix"]["beyond"] and not rows["mass matrix"]["explained"]["beyond"], rows

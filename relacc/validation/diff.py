@@ -368,13 +368,17 @@ def _values(x):
 
 def fit_placement(points_a: np.ndarray, points_b: np.ndarray, tolerances: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(R, p)``: the rigid motion taking B's world points ``(n, 3)`` to A's, ``x_a = R x_b + p`` (Kabsch), refitted on
-    the points within ``tolerances`` ``(n,)`` (m) of it, so that a few moved points do not spread over the rest; the
+    the points within ``tolerances`` ``(n,)`` (m) of it, so that a few moved points do not spread over the rest (first
+    fitted on the points that the median translation fits, where they are most of them); the
     identity when it already fits every point, or when too few points remain; a translation alone (``R`` the identity)
     when that fits those points within their tolerances, rather than the tiny turn the printed digits' rounding gives
     a least-squares fit (unitree_ros' G1: its MJCF's robot 0.793 m up and "turned 1.9e-5 deg")."""
     if len(points_a) == 0 or np.all(np.linalg.norm(points_a - points_b, axis=1) <= tolerances):
         return np.eye(3), np.zeros(3)
     keep = np.ones(len(points_a), dtype=bool)
+    start = np.linalg.norm(points_a - (points_b + np.median(points_a - points_b, axis=0)), axis=1) <= tolerances
+    if start.sum() >= max(3, (len(points_a) + 1) // 2):  # a translation most points agree on: fit from its points
+        keep = start  # (unitree's Go2: a floating base 0.445 m up, every mass centre its own, the geometry the same)
     R, p = np.eye(3), np.zeros(3)
     for _ in range(4):
         if keep.sum() < 3:
@@ -503,7 +507,11 @@ def diff_readings(ra, rb, *, rtol: float = PRINTED_RTOL, states: int = 8, seed: 
                     pa.append(_foot(a.com, a.anchors[ja], a.axes[ja]))
                     pb.append(_foot(b.com, b.anchors[jb], b.axes[jb]))
                     pt.append(tol(max(a.anchor_scales[ja], b.anchor_scales[jb]) + a.com_scale + b.com_scale))
-    floating = any(j.type == "free" for part in parts_a for j in part.joints)
+    for x, y in _axis_pairs(parts_a, parts_b, m, joints, tol):  # the joints' geometry alone, whatever the masses
+        pa.append(x[0])
+        pb.append(x[1])
+        pt.append(y)
+    floating = any(j.type == "free" for parts in (parts_a, parts_b) for part in parts for j in part.joints)
     R, p = fit_placement(np.array(pa).reshape(-1, 3), np.array(pb).reshape(-1, 3), np.array(pt))
     if not np.allclose(R, np.eye(3), rtol=0, atol=0) or np.any(p != 0):
         from scipy.spatial.transform import Rotation
@@ -665,6 +673,40 @@ def _tree(parts: list[Part], world: Part) -> dict:
     return {"world": list(world.bodies),
             "parts": [{"name": p.name, "parent": p.parent, "bodies": list(p.bodies),
                        "joints": [[j.name, j.type] for j in p.joints]} for p in parts]}
+
+
+def _axis_pairs(parts_a: list[Part], parts_b: list[Part], m: Match, joints: dict, tol) -> list:
+    """``[((x_A, x_B), tolerance m)]``: for each two matched hinges whose axes are at least 0.1 rad from parallel, the
+    point of A's two axis lines nearest both (the middle of their common perpendicular) and B's: points of the joints'
+    geometry alone, which a placement fit can use where every mass centre moved (unitree's Go2 and B2, URDF against
+    MJCF: the MJCF's own masses and its floating base 0.445 m up read as a changed anchor at every joint). Each is
+    off by its anchors' tolerance plus its axes' times its distance from them, over the sine between the axes."""
+    lines = []
+    for i, k, _ in m.pairs:
+        a, b = parts_a[i], parts_b[k]
+        for ja, jb in joints[(i, k)][0]:
+            if a.joints[ja].type == "hinge" and b.joints[jb].type == "hinge":
+                lines.append((a.anchors[ja], a.axes[ja], b.anchors[jb], b.axes[jb],
+                              tol(a.anchor_scales[ja] + b.anchor_scales[jb]),
+                              tol(a.axis_scales[ja] + b.axis_scales[jb])))
+    out = []
+    for (p1, u1, q1, v1, t1, r1), (p2, u2, q2, v2, t2, r2) in itertools.combinations(lines, 2):
+        sine = float(np.linalg.norm(np.cross(u1, u2)))
+        if sine < 0.1:
+            continue
+        x_a, x_b = _nearest(p1, u1, p2, u2), _nearest(q1, v1, q2, v2)
+        lever = float(np.linalg.norm(x_a - p1) + np.linalg.norm(x_a - p2))
+        out.append(((x_a, x_b), (t1 + t2 + (r1 + r2) * lever) / sine))
+    return out
+
+
+def _nearest(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> np.ndarray:
+    """The middle of the common perpendicular of the lines ``p1 + s u1`` and ``p2 + t u2`` (not parallel) (m)."""
+    w = p1 - p2
+    b, d, e = float(u1 @ u2), float(u1 @ w), float(u2 @ w)
+    den = 1.0 - b * b  # unit axes
+    s, t = (b * e - d) / den, (e - b * d) / den
+    return 0.5 * ((p1 + s * u1) + (p2 + t * u2))
 
 
 def _foot(x: np.ndarray, anchor: np.ndarray, axis: np.ndarray) -> np.ndarray:
