@@ -96,47 +96,37 @@ def mjcf(reading) -> bool:
     return reading.format == "mjcf"
 
 
+def mjcf_reading(key: str, text: str, fact: str, variant: str) -> KnownBehaviour:
+    """An engine's MJCF parser reading the file its own way (``text``, the sentence a cause quotes): it applies where
+    the reading's ``facts[fact]`` is set, and is reproduced by reading the file again with ``variant``."""
+    return KnownBehaviour(key, text, lambda r: mjcf(r) and bool(r.facts.get(fact)), reread(variant))
+
+
 def settotalmass_ignored(engine: str, said: str = "") -> KnownBehaviour:
     """``engine`` ignoring ``<compiler settotalmass>`` (Pinocchio's and Drake's; ``said``: what it says of it, as
     ``" (it warns so)"``)."""
-    return KnownBehaviour(
-        "settotalmass",
-        f"{engine} ignores <compiler settotalmass>{said}, which makes MuJoCo scale every mass",
-        lambda r: mjcf(r) and r.facts["settotalmass"],
-        reread("settotalmass_ignored"),
-    )
+    return mjcf_reading("settotalmass", f"{engine} ignores <compiler settotalmass>{said}, which makes MuJoCo scale "
+                        "every mass", "settotalmass", "settotalmass_ignored")
 
 
 def element_skipped(engine: str, element: str, fact: str, what: str) -> KnownBehaviour:
     """``engine``'s MJCF parser skipping every ``<element>`` (counted in the reading's ``facts[fact]``; ``what``: what
     is then absent, and what it says), read again with the variant ``<element>_skipped``."""
-    return KnownBehaviour(
-        element,
-        f"{engine}'s MJCF parser skips {'an' if element[0] in 'aeiou' else 'a'} <{element}> ({what})",
-        lambda r: mjcf(r) and r.facts.get(fact, 0) > 0,
-        reread(f"{element}_skipped"),
-    )
+    return mjcf_reading(element, f"{engine}'s MJCF parser skips {'an' if element[0] in 'aeiou' else 'a'} <{element}> "
+                        f"({what})", fact, f"{element}_skipped")
 
 
 def inertiagrouprange_ignored(engine: str) -> KnownBehaviour:
     """``engine``'s MJCF parser counting every geom's mass whatever ``<compiler inertiagrouprange>`` says (Pinocchio's
     and Drake's, measured on pin 4.1 and Drake 1.51)."""
-    return KnownBehaviour(
-        "inertiagrouprange",
-        f"{engine}'s MJCF parser ignores <compiler inertiagrouprange>: it counts the mass of geoms of every group, "
-        "MuJoCo only of those in the range",
-        lambda r: mjcf(r) and r.facts.get("group_excluded", 0) > 0,
-        reread("inertiagrouprange_ignored"),
-    )
+    return mjcf_reading("inertiagrouprange", f"{engine}'s MJCF parser ignores <compiler inertiagrouprange>: it counts "
+                        "the mass of geoms of every group, MuJoCo only of those in the range", "group_excluded",
+                        "inertiagrouprange_ignored")
 
 
 def springdamper_ignored(engine: str) -> KnownBehaviour:
     """``engine``'s MJCF parser keeping the written stiffness and damping of a joint with ``springdamper`` (Pinocchio's
     and Drake's, measured on pin 4.1 and Drake 1.51)."""
-    return KnownBehaviour(
-        "springdamper",
-        f"{engine}'s MJCF parser ignores a joint's springdamper, from which MuJoCo's compiler sets the stiffness and "
-        "damping (it keeps those written)",
-        lambda r: mjcf(r) and bool(r.facts.get("springdamper")),
-        reread("springdamper_ignored"),
-    )
+    return mjcf_reading("springdamper", f"{engine}'s MJCF parser ignores a joint's springdamper, from which MuJoCo's "
+                        "compiler sets the stiffness and damping (it keeps those written)", "springdamper",
+                        "springdamper_ignored")
