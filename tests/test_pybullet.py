@@ -7,6 +7,7 @@ shape; the done-when files of the issue are compared whole.
 """
 
 import itertools
+import json
 import struct
 from pathlib import Path
 
@@ -347,3 +348,38 @@ def test_a_turned_base_inertial_frame_does_not_turn_pybullets_jacobians(tmp_path
     effects = TreeEffects(bodies={"arm": BodyLoad(force=np.array([3.0, 0.0, 0.0]), torque=np.array([0.0, 0.5, 0.0]))})
     tau = adapter.load_forces(adapter.engine_q(np.zeros((1, 1))), effects)
     np.testing.assert_allclose(tau, [[0.8]], rtol=0, atol=8 * EPS)  # a cross product and a sum of printed numbers
+
+
+@NEEDS_IDYNTREE
+def test_idyntree_makes_only_a_massless_leaf_link_a_frame(tmp_path):
+    """genesis-world 1.4.5's Panda (``assets/urdf/panda_bullet/panda.urdf``): two massless links with an inertia of 0.1
+    kg m^2 each on fixed joints, ``panda_link8`` (which holds the hand) and the leaf ``panda_grasptarget``. iDynTree
+    makes only the leaf a frame (measured here with its own loader: ``mid`` stays a link, ``tip`` becomes a frame),
+    while the reproduction dropped both: its dynamics "not explained". By hand, the arm's composite inertia about
+    x (the links are offset along x, which adds nothing about it) keeps ``mid``'s 0.1: 0.01 + 0.1 + 0.001 = 0.111;
+    relacc's reading adds the tip's 0.1."""
+    import idyntree.bindings as idt
+
+    from relacc.validation.robots import compare
+
+    inertial = ('<inertial><mass value="{m}"/><inertia ixx="{i}" ixy="0" ixz="0" iyy="{i}" iyz="0" izz="{i}"/>'
+                '</inertial>')
+    links = {"base": (1, 0.1), "arm": (1, 0.01), "mid": (0, 0.1), "hand": (0.5, 0.001), "tip": (0, 0.1)}
+    path = tmp_path / "chain.urdf"
+    path.write_text('<robot name="chain">' + "".join(f'<link name="{n}">{inertial.format(m=m, i=i)}</link>'
+                                                      for n, (m, i) in links.items())
+                    + '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="1 0 0"/>'
+                      '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+                    + "".join(f'<joint name="f{k}" type="fixed"><parent link="{p}"/><child link="{c}"/>'
+                              f'<origin xyz="0.1 0 0"/></joint>'
+                              for k, (p, c) in enumerate([("arm", "mid"), ("mid", "hand"), ("hand", "tip")]))
+                    + "</robot>")
+    loader = idt.ModelLoader()
+    assert loader.loadModelFromFile(str(path))
+    model = loader.model()
+    assert [model.getLinkName(i) for i in range(model.getNrOfLinks())] == ["base", "arm", "mid", "hand"]
+    result = compare(path, n_states=3, seed=3, engines=["idyntree", "pinocchio"])
+    (row,) = [a.as_json() for a in result.audit]
+    assert "massless leaf link" in row["cause"], row
+    np.testing.assert_allclose(np.asarray(row["idyntree"])[0, 0], 0.111, rtol=0, atol=8 * EPS)  # a sum of three
+    assert "not explained" not in json.dumps(result.as_json()), "seed 3"
