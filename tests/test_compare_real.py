@@ -1328,3 +1328,31 @@ def test_pinocchio_and_drake_skipping_an_attach_is_their_known_reading(tmp_path)
     assert rows and all("skips an <attach>" in r["cause"] for r in rows), rows
     assert result.engines["drake"].nv == result.engines["pinocchio"].nv == 1 and result.engines["mujoco"].nv == 3
     assert "not explained" not in json.dumps(result.as_json()), f"seed {result.seed}"
+
+
+def test_mujoco_reads_a_file_given_by_a_relative_path_as_by_its_absolute_one(tmp_path, monkeypatch):
+    """genesis-world 1.4.5's ``franka_sim/franka_panda.xml`` includes ``assets/assets.xml``, which names its meshes
+    ``../meshes/...`` relative to itself. MuJoCo 4.0.0 reads them from the file's absolute path, but given the
+    relative path from another working directory it looks for them under that directory and refuses the file
+    (reproduced here with MuJoCo itself), so ``compare``'s verdict depended on where it was run. relacc now hands
+    MuJoCo the absolute path: the same answer from any working directory."""
+    import mujoco
+
+    (tmp_path / "a" / "b" / "sub").mkdir(parents=True)
+    (tmp_path / "a" / "b" / "meshes").mkdir()
+    _stl(tmp_path / "a" / "b" / "meshes" / "part.stl")
+    (tmp_path / "a" / "b" / "sub" / "assets.xml").write_text(
+        '<mujoco><asset><mesh name="part" file="../meshes/part.stl"/></asset></mujoco>')
+    (tmp_path / "a" / "b" / "main.xml").write_text(
+        '<mujoco model="m"><include file="sub/assets.xml"/><worldbody><body name="b"><joint name="j" axis="0 0 1"/>'
+        '<geom type="mesh" mesh="part" pos="0.1 0 0"/></body></worldbody></mujoco>')
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match="Error opening file"):  # MuJoCo's own behaviour, the reason for the fix
+        mujoco.MjModel.from_xml_path("a/b/main.xml")
+    answers = []
+    for where, path in ((tmp_path, "a/b/main.xml"), (tmp_path / "a" / "b", "main.xml")):
+        monkeypatch.chdir(where)
+        result = compare(path, engines=["mujoco"], n_states=2, seed=1)
+        assert result.compared == ["relacc", "mujoco"] and result.agree, where
+        answers.append(json.dumps(result.as_json()["dynamics"], sort_keys=True))
+    assert answers[0] == answers[1]

@@ -15,6 +15,7 @@ place in the body it was fused into.
 from __future__ import annotations
 
 import contextlib
+import os
 import warnings as warnings_module
 from pathlib import Path
 
@@ -71,7 +72,9 @@ def load_spec(path) -> "mujoco.MjSpec":
     path = regular_file(path, ModelError, "model file")
     text = dynamics_text(path)[0] if is_urdf(path) else None  # a URDF's kinematics and inertials only
     try:
-        return mujoco.MjSpec.from_file(str(path)) if text is None else mujoco.MjSpec.from_string(text)
+        # the file by its absolute path: given a relative one, MuJoCo (4.0.0) looks for a mesh that an included file in
+        # a subfolder names relative to itself under the working directory instead (genesis-world's franka_sim)
+        return mujoco.MjSpec.from_file(os.path.abspath(path)) if text is None else mujoco.MjSpec.from_string(text)
     except Exception as exc:  # mujoco raises ValueError with the parser's message
         raise ModelError(f"{path}: MuJoCo cannot read it: {' '.join(str(exc).split())}") from None
 
