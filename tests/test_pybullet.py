@@ -297,10 +297,17 @@ REPEATED_INERTIA = """<robot name="twice">
 """
 
 
+REPEATED_INERTIAL = REPEATED_INERTIA.replace(
+    '\n    <inertia ixx="0.002" ixy="-0.0003"',
+    '</inertial>\n    <inertial><origin xyz="0.05 0 0.01"/><mass value="0.25"/><inertia ixx="0.002" ixy="-0.0003"')
+
+
 @NEEDS_IDYNTREE
-def test_a_repeated_inertia_is_read_by_its_first_and_idyntrees_last_is_explained(tmp_path):
+@pytest.mark.parametrize("text", [REPEATED_INERTIA, REPEATED_INERTIAL], ids=["inertia", "inertial"])
+def test_a_repeated_inertia_is_read_by_its_first_and_idyntrees_last_is_explained(tmp_path, text):
     """Found on deep_robotics' Lite3 (fiveages-sim/robot_descriptions f609e7f): 8 links whose <inertial> holds two
-    <inertia>, their products of inertia of opposite signs. urdfdom (Pinocchio's parser) reads the first: relacc
+    <inertia>, their products of inertia of opposite signs; and on mani_skill 3.0.1's TriFinger Pro, whose fingertips
+    hold two <inertial> (iDynTree's 36 rows "not explained"). urdfdom (Pinocchio's parser) reads the first: relacc
     reads it too (held to Pinocchio's own reading, c eps) and says so in a note; iDynTree reads the last, and its
     rows were "not explained". They now have that cause, which reproduces them."""
     import pinocchio as pin
@@ -308,15 +315,18 @@ def test_a_repeated_inertia_is_read_by_its_first_and_idyntrees_last_is_explained
     from relacc.reading import read
     from relacc.validation.robots import compare
 
+    assert text.count("<inertial>") == (2 if text is REPEATED_INERTIAL else 1)
     path = tmp_path / "twice.urdf"
-    path.write_text(REPEATED_INERTIA)
+    path.write_text(text)
     reading = read(path)
     model = pin.buildModelFromUrdf(str(path))
     arm = reading.tree.bodies[[b.name for b in reading.tree.bodies].index("arm")]
     np.testing.assert_allclose(arm.inertia, model.inertias[1].inertia, rtol=0, atol=ROUNDING_FACTOR * EPS * 0.004)
-    assert any("more than one <inertia>" in n and "arm" in n for n in reading.notes), reading.notes
+    np.testing.assert_allclose(arm.mass, model.inertias[1].mass, rtol=0, atol=0)  # the first's, as written
+    assert any("more than one <inertial>, or <inertia>" in n and "arm" in n for n in reading.notes), reading.notes
     result = compare(path, engines=["pinocchio", "idyntree"], n_states=3, seed=2)
-    assert result.audit and all("reads the last of a link's repeated <inertia>" in a.cause for a in result.audit)
+    assert result.audit and all("reads the last of a link's repeated <inertial> or <inertia>" in a.cause
+                                for a in result.audit)
     failing = [r for rows in result.dynamics.values() for e, r in rows.items() if not r.passed]
     assert failing and all(r.cause_kind == "explained" for r in failing), [r.cause for r in failing]
 

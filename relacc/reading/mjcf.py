@@ -87,7 +87,8 @@ VARIANTS = ("first_body_only", "first_body_unplaced", "default_geom_mass_ignored
             "stacked_joints_in_parent", "armature_without_actuator", "free_damping_dropped", "default_chain_broken",
             "unnamed_siblings_dropped", "default_joint_pos_ignored", "default_geom_pose_ignored",
             "springdamper_ignored", "ball_damping_dropped", "mesh_obj_first_object", "mesh_inertia_exact",
-            "replicate_skipped", "attach_skipped", "inertial_unit_inertia", "inertiagrouprange_ignored")
+            "replicate_skipped", "attach_skipped", "inertial_unit_inertia", "inertiagrouprange_ignored",
+            "bare_bodies_dropped")
 """How an engine's MJCF parser reads a file differently, as relacc's reader can read it too (``variant``).
 Pinocchio's:
 
@@ -105,6 +106,9 @@ Pinocchio's:
   (measured on pin 4.1: dm_control's Jaco arm, each link a mesh of its own mass beside a cylinder, read as 1 kg plus
   the cylinder);
 * ``gravity_default``: gravity ``(0, 0, -9.81)`` whatever ``<option>`` says;
+* ``bare_bodies_dropped``: a ``<body>`` written with no attribute at all left out, with everything in it (Pinocchio's
+  parser takes a body's name, parent and place from the element's attributes, and with none it never records the
+  body; measured on pin 4.1: safety_gymnasium's racecar, whose differentials hang on such a body);
 * ``unnamed_siblings_dropped``: of several unnamed ``<body>`` children of one body only the first, with its subtree
   (Pinocchio names an unnamed body after its parent, ``<parent>Bis``, so the later ones collide and are dropped;
   measured on pin 4.1: three unnamed children of 10, 100 and 1000 kg read as 10 kg);
@@ -298,7 +302,7 @@ def _written_in(node: Node, file: str) -> Node:
 
 _COUNTERS = ("njoints", "mesh_geoms", "legacy_meshes", "default_masses", "visual_geoms", "stacked", "unactuated",
              "damped_free", "damped_balls", "broken_defaults", "default_joint_pos", "default_geom_pose",
-             "unnamed_dropped", "replicates", "attaches", "inertia_less", "group_excluded")
+             "unnamed_dropped", "replicates", "attaches", "inertia_less", "group_excluded", "bare_bodies")
 """The reading's counts that an attached model's reading adds to (:meth:`_Reader._attach`)."""
 
 
@@ -372,6 +376,7 @@ class _Reader:
         self.default_joint_pos = 0  # joints whose pos comes from a <default>
         self.default_geom_pose = 0  # geoms whose pos or orientation comes from a <default>
         self.unnamed_dropped = 0  # unnamed bodies after the first among one parent's children
+        self.bare_bodies = 0  # bodies written with no attribute
         self.inertia_less = 0  # <inertial> elements with neither diaginertia nor fullinertia
         self.group_excluded = 0  # geoms left out of the inertia by inertiagrouprange
         self.springdamper: dict[str, tuple] = {}  # joint: (timeconst, dampratio, springref) of a springdamper
@@ -663,7 +668,7 @@ class _Reader:
                  "default_joint_pos": self.default_joint_pos, "default_geom_pose": self.default_geom_pose,
                  "springdamper": tuple(self.springdamper), "replicates": self.replicates,
                  "attaches": self.attaches, "inertia_less": self.inertia_less,
-                 "group_excluded": self.group_excluded}
+                 "group_excluded": self.group_excluded, "bare_bodies": self.bare_bodies}
         couplings = self._couplings()
         unevaluated = self._unevaluated(len(couplings))
         return Reading(tree, "mjcf", str(self.path), self.places, self.ranges, self.damping, self.stiffness,
@@ -679,6 +684,10 @@ class _Reader:
         unnamed = False  # Pinocchio names an unnamed body after its parent ("<parent>Bis"): one per parent survives
         for child in node.children:
             if child.tag == "body":
+                if not child.attrib:  # Pinocchio never records a body written with no attribute
+                    self.bare_bodies += 1
+                    if "bare_bodies_dropped" in self.variant:
+                        continue
                 if not child.get("name"):
                     if unnamed:
                         self.unnamed_dropped += 1

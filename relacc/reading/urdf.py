@@ -16,8 +16,9 @@
   without a link of that name (the world, as Gazebo and Drake read it).
 * Bodies are ordered depth first from the root, children in the order of their joints in the file.
 * A link's ``<inertial>`` with more than one ``<inertia>`` (deep_robotics' Lite3: two, their products of inertia of
-  opposite signs) is read by its first, as urdfdom (Pinocchio's and ROS's parser) and Drake read it, and noted;
-  MuJoCo refuses such a file ("repeated element"), iDynTree reads the last (:data:`VARIANTS`).
+  opposite signs), or a link with more than one ``<inertial>`` (mani_skill's TriFinger Pro: its fingertips), is read
+  by the first, as urdfdom (Pinocchio's and ROS's parser), Drake and PyBullet read it, and noted; MuJoCo refuses such
+  a file ("repeated element"), iDynTree reads the last (:data:`VARIANTS`).
 * ``<mimic>`` couples a joint to another: a constraint, which relacc's comparisons (the tree without constraints,
   every joint free) leave out: said in ``unevaluated``. ``<transmission>`` and ``<gazebo>`` have no part in the
   dynamics compared.
@@ -41,7 +42,8 @@ from relacc.reading.xml import Node, number, numbers, parse_file, parse_text, ro
 
 VARIANTS = ("last_inertia",)
 """Engines' ways of reading a URDF that relacc's reader can follow (``read(path, variant)``, the audit's known
-readings): ``last_inertia``, the last of a link's repeated ``<inertia>`` elements instead of the first (iDynTree)."""
+readings): ``last_inertia``, the last of a link's repeated ``<inertial>`` and ``<inertia>`` elements instead of the
+first (iDynTree)."""
 
 GRAVITY = (0.0, 0.0, -9.81)
 """m/s^2: the gravity relacc gives a URDF, which has none (as MuJoCo, Pinocchio and Drake read one)."""
@@ -210,7 +212,7 @@ def read(path, variant: frozenset = frozenset()) -> Reading:
         notes.append(f"{len(spherical)} spherical joint{'s' if len(spherical) > 1 else ''} ({', '.join(spherical[:3])}"
                      f"{' ...' if len(spherical) > 3 else ''}): not a URDF joint type; read as a ball about the joint "
                      "frame's origin, as MuJoCo's URDF reader does (urdfdom and Drake refuse it)")
-    repeats: list[str] = []  # links whose <inertial> has more than one <inertia>
+    repeats: list[str] = []  # links with more than one <inertial>, or an <inertial> with more than one <inertia>
     for name in order:
         if world and name == roots[0]:
             continue  # a root link named world is the world
@@ -239,7 +241,8 @@ def read(path, variant: frozenset = frozenset()) -> Reading:
                 dry = number(dyn, "friction", 0.0) if dyn is not None else 0.0
                 if dry:
                     friction[jname] = dry
-        if len(link.find("inertial").findall("inertia") if link.find("inertial") is not None else ()) > 1:
+        inertials = link.findall("inertial")
+        if len(inertials) > 1 or any(len(x.findall("inertia")) > 1 for x in inertials):
             repeats.append(name)
         mass, com, inertia, where, written, digits = _inertial(link, normalized, "last_inertia" in variant)
         if written is not None:
@@ -257,10 +260,10 @@ def read(path, variant: frozenset = frozenset()) -> Reading:
     tree = Tree(root.get("name") or path.stem, tuple(bodies), gravity=np.array(GRAVITY), source=str(path))
     notes += normalized.notes("URDF")
     if repeats:
-        notes.append(f"{len(repeats)} link{'s' if len(repeats) > 1 else ''} with more than one <inertia> in its "
-                     f"<inertial> ({', '.join(repeats[:5])}{', ...' if len(repeats) > 5 else ''}): relacc reads the "
-                     "first, as urdfdom (Pinocchio, ROS) and Drake do; MuJoCo refuses the file, iDynTree reads the "
-                     "last")
+        notes.append(f"{len(repeats)} link{'s' if len(repeats) > 1 else ''} with more than one <inertial>, or "
+                     f"<inertia> in its <inertial> ({', '.join(repeats[:5])}{', ...' if len(repeats) > 5 else ''}): "
+                     "relacc reads the first, as urdfdom (Pinocchio, ROS) and Drake do; MuJoCo refuses the file, "
+                     "iDynTree reads the last")
     return Reading(tree, "urdf", str(path), places, ranges, damping, {}, {}, tuple(unevaluated), tuple(notes),
                    tuple(findings), turned, facts={"geometry": geometry, "repeated_inertia": tuple(repeats)},
                    friction=friction, couplings=couplings, unevaluated_kinds=tuple(kinds), variant=frozenset(variant))
@@ -366,8 +369,10 @@ def _joint(name: str, kind: str, node: Node, normalized) -> Joint:
 def _inertial(link: Node, normalized, last: bool = False) -> tuple:
     """``(mass, mass centre (3,), inertia about it in the link's components (3, 3), place, the inertia as written
     when its origin turns it, else None, the Frobenius norm of the rounding its written digits allow (kg m^2))``;
-    ``last``: a repeated ``<inertia>``'s last (variant ``last_inertia``), else its first."""
-    inertial = link.find("inertial")
+    ``last``: of repeated ``<inertial>`` and ``<inertia>`` elements the last (variant ``last_inertia``), else the
+    first."""
+    inertials = link.findall("inertial")
+    inertial = inertials[-1 if last else 0] if inertials else None
     if inertial is None:
         return 0.0, np.zeros(3), np.zeros((3, 3)), "", None, 0.0
     pos, R = _origin(inertial, normalized)

@@ -5,8 +5,10 @@
   massless ``panda_link8`` holds the hand) (example-robot-data's bolt: its feet, mass 0 and an inertia; the same
   thing MuJoCo's fusion does). Measured with idyntree 15.1.0: a root ``world`` link turned into a frame of the robot's
   first link is handled in the adapter (the base is held so that the frame sits at the world's origin).
-* **A link's repeated ``<inertia>``: the last** (deep_robotics' Lite3 in fiveages-sim/robot_descriptions ``f609e7f``:
-  8 links with two, whose products of inertia differ in sign), where urdfdom, Pinocchio and Drake read the first.
+* **A link's repeated ``<inertia>`` or ``<inertial>``: the last** (deep_robotics' Lite3 in
+  fiveages-sim/robot_descriptions ``f609e7f``: 8 links with two ``<inertia>``, whose products of inertia differ in
+  sign; mani_skill 3.0.1's TriFinger Pro: its fingertips have two ``<inertial>``), where urdfdom, Pinocchio and Drake
+  read the first.
 
 No difference in its algorithms is known (:data:`ENGINE_READINGS`). What it was tried on is in docs/compare.md.
 """
@@ -50,8 +52,8 @@ FILE_READINGS = (
     ),
     KnownBehaviour(
         "last_inertia",
-        "iDynTree's URDF parser reads the last of a link's repeated <inertia> elements (urdfdom, Pinocchio and "
-        "Drake the first; MuJoCo refuses the file)",
+        "iDynTree's URDF parser reads the last of a link's repeated <inertial> or <inertia> elements (urdfdom, "
+        "Pinocchio and Drake the first; MuJoCo refuses the file)",
         lambda r: r.format == "urdf" and bool(r.facts.get("repeated_inertia")),
         reread("last_inertia"),
     ),

@@ -13,6 +13,7 @@ from relacc.engines.known import (
     element_skipped,
     inertiagrouprange_ignored,
     mjcf,
+    mjcf_reading,
     reread,
     settotalmass_ignored,
     springdamper_ignored,
@@ -97,6 +98,9 @@ FILE_READINGS = (
         lambda r: mjcf(r) and r.facts.get("unnamed_dropped", 0) > 0,
         reread("unnamed_siblings_dropped"),
     ),
+    mjcf_reading("bare_bodies", "Pinocchio's MJCF parser drops a <body> written with no attribute at all, with "
+                 "everything in it (it takes a body's name, parent and place from the element's attributes)",
+                 "bare_bodies", "bare_bodies_dropped"),
     KnownBehaviour(
         "default_joint_pos",
         "Pinocchio's MJCF parser ignores a joint's pos inherited from a <default> (it honours one written on "
