@@ -777,6 +777,36 @@ def test_a_body_written_without_attributes_is_read_and_pinocchios_dropping_it_is
                                                                   seed=6).agree
 
 
+def test_a_mesh_geom_made_one_by_its_class_is_not_dropped_for_drake(tmp_path):
+    """dm_robotics_moma 0.10.0's Robotiq 2F-85 (``robotiq_beta_robots/mujoco/robotiq_2f85.xml``): its pads' geoms
+    name only a class, whose default gives the mesh. For Drake, which reads ``.obj`` meshes only, relacc drops mesh
+    geoms where every body's inertia is explicit; it looked at each geom's own attributes, gave Drake a text whose
+    silicon pads had lost their only mass, and Drake's rows were "not explained". Each geom is now read with its
+    class's defaults (the body's ``childclass`` too): a body whose inertia comes from such a geom is named and Drake
+    does not take part; where the inertia is explicit, the class-made mesh geom is dropped like a written one."""
+    _stl(tmp_path / "pad.stl")
+    path = tmp_path / "gripper.xml"
+    path.write_text("""<mujoco model="gripper">
+  <asset><mesh name="pad_mesh" file="pad.stl"/></asset>
+  <default><default class="pad"><geom mesh="pad_mesh" contype="0" conaffinity="0"/></default>
+    <default class="fingers"><geom type="mesh"/></default></default>
+  <worldbody><body name="base"><joint name="j" axis="0 0 1"/>
+    <inertial pos="0 0 0" mass="0.2" diaginertia="0.001 0.001 0.001"/>
+    <body name="pad" pos="0.05 0 0"><geom name="pad_geom" class="pad"/></body>
+  </body></worldbody>
+</mujoco>""")
+    result = compare(path, engines=["mujoco", "drake"], n_states=3, seed=8)
+    assert not result.engines["drake"].loaded, result.engines["drake"]
+    assert "body 'pad' takes its inertia from a mesh" in result.engines["drake"].error
+    explicit = tmp_path / "explicit.xml"
+    explicit.write_text(path.read_text().replace(
+        '<geom name="pad_geom" class="pad"/>',
+        '<inertial pos="0 0 0" mass="0.01" diaginertia="1e-6 1e-6 1e-6"/><geom name="pad_geom" class="pad"/>'))
+    result = compare(explicit, engines=["mujoco", "drake"], n_states=3, seed=8)
+    assert result.engines["drake"].loaded and result.agree, result.engines["drake"]
+    assert any("dropped the file's 1 mesh geoms" in w for w in result.engines["drake"].warnings)
+
+
 DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
   <default>
     <default class="body">

@@ -24,8 +24,38 @@ from pathlib import Path
 from relacc.errors import ModelError
 
 
-def _mesh_geom(geom) -> bool:
-    return geom.get("type") == "mesh" or geom.get("mesh") is not None
+def _mesh_geom(geom, defaults: dict | None = None, cls: str = "main") -> bool:
+    """Whether a ``<geom>`` is a mesh, its class's defaults (``defaults``: :func:`_geom_defaults`; ``cls`` its class,
+    or its body's ``childclass``) under its own attributes: ``type="mesh"``, or a ``mesh`` and no other type."""
+    attrs = {**(defaults or {}).get(geom.get("class") or cls, {}), **geom.attrib}
+    return attrs.get("type") == "mesh" or (attrs.get("mesh") is not None and attrs.get("type") in (None, "mesh"))
+
+
+def _geom_defaults(root) -> dict:
+    """``{class: the <geom> attributes it gives}``, each class's ancestors' under its own; the top-level
+    ``<default>`` is ``main`` (MuJoCo's names)."""
+    out: dict = {}
+
+    def walk(node, inherited: dict, name: str) -> None:
+        mine = {**inherited, **(node.find("geom").attrib if node.find("geom") is not None else {})}
+        out[name] = {**out.get(name, {}), **mine}
+        for child in node.findall("default"):
+            walk(child, mine, child.get("class", ""))
+
+    for top in root.findall("default"):
+        walk(top, out.get("main", {}), "main")
+    return out
+
+
+def _bodies_with_class(node, cls: str = "main"):
+    """Each ``<body>`` under ``node`` with the class its geoms default to (its own or an ancestor's ``childclass``,
+    a ``<frame>``'s too; ``main`` where none is given)."""
+    for child in node:
+        if child.tag in ("body", "frame", "worldbody"):
+            inner = child.get("childclass") or cls
+            if child.tag == "body":
+                yield child, inner
+            yield from _bodies_with_class(child, inner)
 
 
 def without_meshes(path) -> tuple[str, str]:
@@ -41,17 +71,20 @@ def without_meshes(path) -> tuple[str, str]:
     mode = "auto"
     for compiler in root.iter("compiler"):  # the last one given holds
         mode = compiler.get("inertiafromgeom", mode)
-    for body in root.iter("body") if mode != "false" else ():
+    defaults = _geom_defaults(root)
+    classes = list(_bodies_with_class(root))
+    for body, cls in classes if mode != "false" else ():
         explicit = body.find("inertial") is not None and mode != "true"  # "true": geoms override <inertial>
-        if not explicit and any(_mesh_geom(g) for g in body.findall("geom")):
+        if not explicit and any(_mesh_geom(g, defaults, cls) for g in body.findall("geom")):
             why = 'inertiafromgeom="true"' if mode == "true" else "no <inertial>"
             raise ModelError(f"{path}: body {body.get('name', '(unnamed)')!r} takes its inertia from a mesh "
                              f"({why}), so the meshes cannot be dropped")
     massless = _drop_zero_inertials(root) if mode != "true" else 0
     geoms = assets = 0
+    meshes = {id(g) for body, cls in classes for g in body.findall("geom") if _mesh_geom(g, defaults, cls)}
     for parent in list(root.iter()):
         for child in list(parent):
-            if child.tag == "geom" and _mesh_geom(child) and parent.tag != "default":
+            if child.tag == "geom" and (id(child) in meshes or _mesh_geom(child)) and parent.tag != "default":
                 parent.remove(child)
                 geoms += 1
             elif child.tag == "mesh" and parent.tag == "asset":
