@@ -807,6 +807,33 @@ def test_a_mesh_geom_made_one_by_its_class_is_not_dropped_for_drake(tmp_path):
     assert any("dropped the file's 1 mesh geoms" in w for w in result.engines["drake"].warnings)
 
 
+@pytest.mark.parametrize("offset, snapped", [(5e-7, True), (2e-6, False)])
+def test_mujoco_puts_a_mass_centre_within_a_micrometre_of_the_origin_at_the_origin(tmp_path, offset, snapped):
+    """brax 0.14.2's ``test_data/convex_convex.xml``: a free dodecahedron mesh whose mass centre MuJoCo computes 2e-9 m
+    from its body's origin, and relacc likewise; but MuJoCo's kinematics put an inertial frame within ``kFrameEps``
+    = 1e-6 of its body frame on it (``body_sameframe``, ``user_model.cc``), so its mass centre is the origin, and
+    the audit's row blaming MuJoCo was "not explained". Held to MuJoCo's own ``xipos``: 5e-7 m out it is snapped (a
+    known reading now explains the row), 2e-6 m out it is not (no row at all)."""
+    import mujoco
+
+    path = tmp_path / "near.xml"
+    path.write_text(f"""<mujoco model="near"><worldbody>
+  <body name="arm" pos="0.3 0 1"><joint name="j" axis="0 1 0"/>
+    <inertial pos="{offset!r} 0 0" mass="2" diaginertia="0.01 0.02 0.03"/></body>
+</worldbody></mujoco>""")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    assert data.xipos[1][0] == (0.3 if snapped else 0.3 + offset)
+    result = compare(path, engines=["mujoco"], n_states=2, seed=1)
+    rows = [a.as_json() for a in result.audit]
+    if snapped:
+        assert rows and all("body_sameframe" in r["cause"] for r in rows), rows
+    else:
+        assert not rows, rows
+    assert "not explained" not in json.dumps(result.as_json()), f"offset {offset}"
+
+
 DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
   <default>
     <default class="body">
