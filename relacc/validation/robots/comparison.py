@@ -37,7 +37,7 @@ from relacc.files import regular_file
 from relacc.limits import require_comparable
 from relacc.reading import read_moving
 from relacc.reading.read import format_of
-from relacc.validation.robots.agreement import compare_dynamics
+from relacc.validation.robots.agreement import away_from_lock, compare_dynamics, lock_note, padded, states_at
 from relacc.validation.robots.audit import Item, Scales, differences, inertia_slack, merge
 from relacc.validation.robots.causes import READINGS, Cause, CauseKind
 from relacc.validation.robots.reading import BACKEND, structure
@@ -231,20 +231,29 @@ def compare(model: str | os.PathLike, *, urdf: str | os.PathLike | None = None, 
             continue
         audits.append(items)
     _at_least_one(model, reports, robots)
+    said: list[str] = []
     for case in (1, 3):  # relacc's own evaluation in the other cases, against its case 2
         evaluator, memo = TreeRobot(reading, case), {}
-        for quantity, row in compare_dynamics(reference, evaluator, states).items():
+        keep = away_from_lock(reading.tree, states, case)
+        if not keep.all():
+            said.append(lock_note(keep))
+            if not keep.any():
+                continue
+        at = states_at(states, keep)
+        for quantity, row in compare_dynamics(reference, evaluator, at).items():
             cause = Cause("", "") if row.passed else _dynamics_cause(quantity, row, reading, reference, evaluator,
-                                                                     states, memo=memo) if row.singular else \
+                                                                     at, memo=memo) if row.singular else \
                 Cause(CauseKind.NOT_EXPLAINED, "relacc's case differs from its case 2 on its own reading",
                       reading.source)
+            row = padded(row, keep)
             dynamics[quantity][evaluator.engine] = replace(row, case=case, cause=str(cause), cause_kind=cause.kind)
     verdicts = referee(voters(reference, robots, states, reading), states, dynamics, reading)
     geometry = {r.engine: _geometry(r.structure) for r in [reference, *robots]}
     findings = tuple(reading.findings) + _massless_speeds(reading, reference, states)
     return RobotComparison(str(model), None if urdf is None or urdf == model else str(urdf), reports, merge(audits),
                            {q: r for q, r in dynamics.items() if r}, n_states, seed, verdicts, geometry,
-                           findings, dict(reading.taken), tuple(reading.unevaluated), tuple(reading.notes))
+                           findings, dict(reading.taken), tuple(reading.unevaluated),
+                           tuple(reading.notes) + tuple(said))
 
 
 def _massless_speeds(reading, reference, states) -> tuple:
