@@ -10,6 +10,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from relacc.core.tolerances import EPS
 from relacc.core.tree.model import Tree
 from relacc.engines.base import KnownBehaviour
 
@@ -53,7 +54,7 @@ def drake_invalid(inertia: np.ndarray) -> bool:
     kept, of 2.1e-15 replaced by a water sphere; iCub's head, whose only product is 2.4e-35, is a point mass to Drake
     and not physical to relacc's own check)."""
     p = np.linalg.eigvalsh(0.5 * (inertia + inertia.T))
-    e = 16 * np.finfo(float).eps * max(1.0, 0.5 * float(np.trace(inertia)))
+    e = 16 * EPS * max(1.0, 0.5 * float(np.trace(inertia)))
     return bool(p[0] < -e or p[0] + p[1] + e < p[2])
 
 

@@ -1168,16 +1168,12 @@ def _sensitivity(tree: Tree, k, Minv: np.ndarray) -> np.ndarray:
     from relacc.core.tolerances import inverse_diagonal_sensitivity
 
     moves = np.zeros((len(tree.bodies), tree.nv), dtype=bool)
+    for b, dofs in enumerate(tree.path_dofs):
+        moves[b, list(dofs)] = True
     rotational = np.zeros(tree.nv, dtype=bool)
-    own: dict[int, list[int]] = {}
-    for (b, joint), d in zip(tree.joints, tree.dofadr):
-        own.setdefault(b, []).extend(range(d, d + joint.nv))
+    for (_, joint), d in zip(tree.joints, tree.dofadr):
         rotational[d:d + joint.nv] = {"hinge": [True], "slide": [False], "ball": [True] * 3,
                                       "free": [False] * 3 + [True] * 3}[joint.type]
-    for b, body in enumerate(tree.bodies):  # bodies come after their parents
-        if body.parent >= 0:
-            moves[b] = moves[body.parent]
-        moves[b, own.get(b, [])] = True
     return inverse_diagonal_sensitivity(Minv, moves, rotational, np.array([b.mass for b in tree.bodies]),
                                         np.array([np.linalg.norm(b.inertia, 2) for b in tree.bodies]),
                                         max([float(np.linalg.norm(p)) for p in k.position] + [1e-3]))

@@ -212,16 +212,17 @@ def parts_of(reading, frames: bool = True) -> tuple[list[Part], Part]:
                          inertia, c_scale, i_scale, np.eye(3), np.zeros(3), np.zeros(3), False)
             continue
         jointed = sorted(b for b in members if tree.bodies[b].joints)  # root first: the order the joints act in
-        joints = tuple(j for b in jointed for j in tree.bodies[b].joints)
-        anchors = np.array([p[b] + R[b] @ j.pos for b in jointed for j in tree.bodies[b].joints]).reshape(-1, 3)
-        axes = np.array([R[b] @ j.axis for b in jointed for j in tree.bodies[b].joints]).reshape(-1, 3)
-        depth = [len(chain[b]) for b in jointed for _ in tree.bodies[b].joints]
-        holder = [b for b in jointed for _ in tree.bodies[b].joints]
+        held = [(b, j) for b in jointed for j in tree.bodies[b].joints]  # each joint with the body it moves
+        joints = tuple(j for _, j in held)
+        holder = [b for b, _ in held]
+        anchors = np.array([p[b] + R[b] @ j.pos for b, j in held]).reshape(-1, 3)
+        axes = np.array([R[b] @ j.axis for b, j in held]).reshape(-1, 3)
         parent = tree.bodies[jointed[0]].parent
         body = tree.bodies[o]
         parts.append(Part(body.name, body_names, masses, index[owner[parent]] if parent >= 0 and owner[parent] >= 0
                           else -1, index[o], joints, tuple(tree.bodies[b].name for b in holder), anchors, axes,
-                          tuple(scale(b, a) for b, a in zip(holder, anchors)), tuple(1 + np.pi * d for d in depth),
+                          tuple(scale(b, a) for b, a in zip(holder, anchors)),
+                          tuple(1 + np.pi * len(chain[b]) for b in holder),
                           m, com, inertia, c_scale, i_scale, R[o], p[o], body.com.copy(), len(members) == 1,
                           1 + np.pi * len(chain[o])))
     if world is None:

@@ -81,18 +81,29 @@ def check_u(tree, name: str, u, values: bool = True) -> np.ndarray:
     return as_numbers(name, u, tree.nv, lambda: "the joints' speeds in order: " + ", ".join(tree.speed_names()), values)
 
 
+def rate_map_conditions(tree, q3) -> np.ndarray:
+    """``(n_rotations, ...)``: the condition number of each ball's and free joint's map from angular velocity to 1-2-3
+    rates, ``(1 + |sin theta2|) / |cos theta2|`` (:func:`relacc.core.so3.condition_123`), at the case-3 coordinates
+    ``q3 (..., nq)``, in the order of :func:`rotations`; 0 where ``theta2`` is not finite (the value checks judge
+    that)."""
+    out = []
+    for _, _, a, _ in rotations(tree, 3):
+        theta2 = np.real(q3[..., a + 1])
+        with np.errstate(invalid="ignore"):
+            out.append(np.where(np.isfinite(theta2), condition_123(theta2), 0.0))
+    return np.array(out).reshape((len(out),) + np.shape(q3)[:-1])
+
+
 def check_invertible(tree, q3):
     """Raise :class:`SingularityError` naming the joint whose 1-2-3 rate map is too ill-conditioned.
 
     ``q3``: case-3 coordinates. Angular velocity to rates amplifies errors by the condition number
-    ``(1 + |sin theta2|) / |cos theta2|`` (:func:`relacc.core.so3.condition_123`); above
-    :data:`relacc.core.tolerances.MAX_CONDITION` the rates are not defined to useful accuracy.
+    (:func:`rate_map_conditions`); above :data:`relacc.core.tolerances.MAX_CONDITION` the rates are not defined to
+    useful accuracy.
     """
-    for k, _, a, _ in rotations(tree, 3):
-        theta2 = np.real(q3[..., a + 1])
-        with np.errstate(invalid="ignore"):  # a non-finite angle is judged (and named) by the value checks
-            cond = np.where(np.isfinite(theta2), condition_123(theta2), 0.0)
+    for (k, _, a, _), cond in zip(rotations(tree, 3), rate_map_conditions(tree, q3)):
         if np.any(cond > MAX_CONDITION):
+            theta2 = np.real(q3[..., a + 1])
             idx = np.unravel_index(np.argmax(cond), cond.shape) if cond.ndim else ()
             t = float(theta2[idx])
             raise SingularityError(

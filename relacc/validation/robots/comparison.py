@@ -348,8 +348,7 @@ def _audit(reading, reference, robot, scales, unexplained: str | None) -> list[I
     reader reading the file as the engine does) that makes it disappear, applied one after the other and kept when
     it does, over again while one is kept (one may need another first: a mesh's unit inertia before a default's
     mass, in dm_control's Jaco arm); ``unexplained`` (a user's URDF); what relacc took from the engine; a finding
-    about the file; else not
-    explained, with the element's place in the file."""
+    about the file; else not explained, with the element's place in the file."""
     engine = robot.engine
     sc = scales.larger(Scales.of(robot.structure))
     slack = inertia_slack(robot, reading)
